@@ -1,0 +1,57 @@
+// What every plumb subcommand shares: exit codes, error reporting, model loading with
+// the chapter's hints, signal handling, and option parsing helpers.
+
+#ifndef PLUMB_APPS_PLUMB_CLI_COMMON_H_
+#define PLUMB_APPS_PLUMB_CLI_COMMON_H_
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+
+namespace plumb::cli {
+
+// Documented exit codes (README, `plumb --help`).
+enum ExitCode : int {
+  kExitOk = 0,           // success
+  kExitCheckFailed = 1,  // a check failed
+  kExitBadInput = 2,     // bad input or usage: missing file, XML error, unknown path, ...
+  kExitDiverged = 3,     // the simulation diverged (a repro folder was written)
+  kExitInterrupted = 130,
+};
+
+// Shared state of one invocation.
+struct Context {
+  std::vector<std::string> argv;  // the exact command line
+  // The selected subcommand's action, returning its exit code.
+  std::function<int()> action;
+};
+
+// Maps an exception to its exit code after printing it on stderr as one paragraph.
+int ReportError(const std::exception& error);
+
+// Loads a model, printing MuJoCo's compile warnings on stderr.
+Model LoadModel(const std::string& path);
+
+// Parses every --set assignment against the model.
+std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
+
+// Splits a comma-separated list of paths, keeping commas inside [...] together.
+std::vector<std::string> SplitPathList(const std::string& text);
+
+// Set by SIGINT/SIGTERM once InstallSignalHandlers ran.
+const std::atomic<bool>& StopRequested();
+void InstallSignalHandlers();
+
+// Registers the subcommands; each sets ctx.action when selected.
+void SetupRunCommand(CLI::App& app, Context& ctx);
+void SetupInspectCommand(CLI::App& app, Context& ctx);
+
+}  // namespace plumb::cli
+
+#endif  // PLUMB_APPS_PLUMB_CLI_COMMON_H_

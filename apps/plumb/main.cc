@@ -1,0 +1,45 @@
+// plumb: makes MuJoCo simulations credible. One file per subcommand beside this one.
+
+#include <cstdio>
+#include <exception>
+
+#include "cli_common.h"
+#include "core/version.h"
+#include "plumb/error.h"
+#include "plumb/model.h"
+
+int main(int argc, char** argv) {
+  using namespace plumb::cli;
+  Context ctx;
+  ctx.argv.assign(argv, argv + argc);
+
+  CLI::App app{"plumb " PLUMB_VERSION
+               ": load an MJCF model, run it headless, and check the numbers are credible."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", [] {
+    return std::string("plumb " PLUMB_VERSION ", MuJoCo ") + plumb::MujocoVersion();
+  });
+  app.footer(
+      "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged.\n"
+      "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
+  SetupRunCommand(app, ctx);
+  SetupInspectCommand(app, ctx);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "plumb: error: %s\nRun '%s --help' for usage.\n", e.what(), argv[0]);
+    return kExitBadInput;
+  }
+  try {
+    return ctx.action ? ctx.action() : kExitBadInput;
+  } catch (const std::exception& e) {
+    return ReportError(e);
+  }
+}

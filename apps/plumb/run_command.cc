@@ -1,0 +1,123 @@
+// plumb run: step a model and print or record chosen paths at exact sample times.
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "cli_common.h"
+#include "plumb/error.h"
+#include "plumb/output.h"
+#include "plumb/run.h"
+
+namespace plumb::cli {
+namespace {
+
+struct RunOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  double until = 2.0;
+  double every = 0.1;
+  std::string columns;
+  std::string format = "table";
+  std::string output;
+  std::string repro;
+};
+
+int RunRun(const RunOptions& o, const Context& ctx) {
+  Model model = LoadModel(o.model);
+  Data data(model);
+  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+
+  RunSpec spec;
+  spec.until = o.until;
+  spec.every = o.every;
+  if (o.columns.empty()) {
+    spec.columns = DefaultColumns(model);
+  } else {
+    for (const std::string& text : SplitPathList(o.columns)) {
+      for (const Path& p : ExpandPath(model, text)) {
+        for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
+      }
+    }
+  }
+  // validate the schedule before any output file appears
+  MakeSchedule(model->opt.timestep, o.until, o.every);
+  ApplyAssignments(model, data, sets);
+  MakeSchedule(model->opt.timestep, o.until, o.every);  // --set may change the timestep
+
+  SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
+                        : o.format == "jsonl" ? SampleFormat::kJsonl
+                                              : SampleFormat::kTable;
+  std::optional<AtomicFile> file;
+  if (!o.output.empty()) file.emplace(o.output);
+  std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
+
+  for (const std::string& hint : StartHints(model, data)) {
+    std::fprintf(stderr, "plumb: %s\n", hint.c_str());
+  }
+  InstallSignalHandlers();
+  spec.stop = &StopRequested();
+  RunResult result = Run(model, data, spec, *writer);
+
+  for (const WarningSummary& w : result.warnings) {
+    std::fprintf(stderr,
+                 "plumb: warning: MuJoCo %s raised %d time(s), first at t = %g s (step %ld): %s\n",
+                 w.kind.c_str(), w.count, w.first_time, w.first_step, w.message.c_str());
+  }
+  if (result.diverged) {
+    std::string dir = o.repro.empty()
+                          ? "plumb-repro-" + std::filesystem::path(o.model).stem().string()
+                          : o.repro;
+    std::string written = WriteRepro(model, result, ctx.argv, dir);
+    std::fprintf(stderr,
+                 "plumb: error: %s\n"
+                 "plumb: hint: a timestep that is too large or a mass/inertia that is far off "
+                 "makes a simulation blow up: halve opt.timestep (--set opt.timestep=...) and "
+                 "check the compiler's warnings.\n"
+                 "plumb: repro folder: %s/ (model, last good and bad state, command line)%s\n",
+                 result.divergence->reason.c_str(), written.c_str(),
+                 file ? "; no output file was written" : "");
+    return kExitDiverged;
+  }
+  if (file) file->Commit();
+  return kExitOk;
+}
+
+}  // namespace
+
+void SetupRunCommand(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<RunOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "Step a model with mj_step and sample paths over time");
+  cmd->footer(
+      "Examples:\n"
+      "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1\n"
+      "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --format csv -o traj.csv\n"
+      "  plumb run humanoid.xml --columns 'time,xpos[torso][2],qpos[root]' --until 1\n"
+      "Default columns: time, qpos and qvel of every joint, sensordata of every sensor.\n"
+      "Paths: qpos[joint], qvel[joint], ctrl[actuator], xpos[body][2], sensordata[sensor],\n"
+      "  opt.timestep, opt.gravity, dof_damping[joint], body_mass[body], ... (any mjModel\n"
+      "  or mjData array by name). Angles are radians.\n"
+      "Exit codes: 0 ok, 2 bad input, 3 diverged (a repro folder is written).");
+  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  cmd->add_option("--set", o->sets,
+                  "PATH=VALUE before the run, e.g. 'qpos[hinge]=0.7', 'opt.gravity=0,0,-1.62', "
+                  "'opt.integrator=RK4' (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--until", o->until, "final time in seconds")->capture_default_str();
+  cmd->add_option("--every", o->every, "sampling interval in seconds (a multiple of the timestep)")
+      ->capture_default_str();
+  cmd->add_option("--columns", o->columns,
+                  "comma-separated paths to sample instead of the defaults ('*' expands rows, "
+                  "e.g. 'qpos[*]')");
+  cmd->add_option("--format", o->format, "table (5 decimals), csv (full precision) or jsonl")
+      ->check(CLI::IsMember({"table", "csv", "jsonl"}))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output,
+                  "write samples to FILE (atomically: complete or not at all) instead of stdout");
+  cmd->add_option("--repro", o->repro,
+                  "folder for the repro of a diverged run (default plumb-repro-<model name>)");
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRun(*o, ctx); }; });
+}
+
+}  // namespace plumb::cli

@@ -1,0 +1,94 @@
+// A description of a compiled model: the chapter's tables (sizes, options, bodies,
+// joints, actuators, sensors), every quantity with its unit, and the classification
+// of what is a parameter, state, input or derived. `plumb inspect` prints it.
+//
+// Example:
+//   plumb::ModelDescription d = plumb::Describe(model);
+//   d.sizes  // {{"nbody", 2}, {"njnt", 1}, {"nq", 1}, {"nv", 1}, {"nu", 0}, ...}
+
+#ifndef PLUMB_INCLUDE_PLUMB_DESCRIBE_H_
+#define PLUMB_INCLUDE_PLUMB_DESCRIBE_H_
+
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "plumb/model.h"
+
+namespace plumb {
+
+struct BodyDescription {
+  int id = 0;
+  std::string name;
+  int parent = 0;                    // parent body id (world is 0 and its own parent)
+  double mass = 0;                   // kg
+  std::array<double, 3> com{};       // centre of mass in the body frame, m (body_ipos)
+  std::array<double, 3> inertia{};   // principal moments of inertia about the com, kg*m^2
+};
+
+struct JointDescription {
+  int id = 0;
+  std::string name;
+  std::string type;  // free, ball, slide, hinge
+  int body = 0;
+  int qposadr = 0, dofadr = 0;  // first index in qpos / qvel
+  int nq = 1, nv = 1;           // number of qpos / qvel entries
+  bool limited = false;
+  std::array<double, 2> range{};  // rad (hinge) or m (slide), meaningful when limited
+  double damping = 0;    // N*m*s/rad or N*s/m (first dof)
+  double armature = 0;   // kg*m^2 or kg (first dof)
+  double stiffness = 0;  // N*m/rad or N/m
+  double frictionloss = 0;  // N*m or N (first dof)
+  std::string position_unit;  // "rad", "m", or "m, quat" for free/ball blocks
+};
+
+struct ActuatorDescription {
+  int id = 0;
+  std::string name;
+  std::string transmission;  // joint, tendon, site, ...
+  std::string target;        // name of the joint/tendon/site it drives
+  double gear = 1;           // first gear component
+  bool ctrllimited = false;
+  std::array<double, 2> ctrlrange{};
+  bool forcelimited = false;
+  std::array<double, 2> forcerange{};  // N*m or N
+};
+
+struct SensorDescription {
+  int id = 0;
+  std::string name;
+  std::string type;  // accelerometer, jointpos, ...
+  int adr = 0;       // first index in sensordata
+  int dim = 1;       // number of sensordata entries
+};
+
+// One row of the chapter's classification table.
+struct RoleDescription {
+  std::string role;         // parameter, state, input, derived
+  std::string where;        // mjModel / mjData
+  std::string examples;     // fields with this model's sizes, e.g. "qpos (nq=1)"
+  std::string who_writes;   // who changes it, e.g. "you, before mj_forward"
+};
+
+struct ModelDescription {
+  std::string file;
+  std::string model_name;
+  std::vector<std::pair<std::string, long>> sizes;  // nbody, njnt, nq, nv, nu, na, ...
+  double timestep = 0;                               // s
+  std::string integrator;                            // Euler, RK4, implicit, ...
+  std::array<double, 3> gravity{};                   // m/s^2
+  std::vector<BodyDescription> bodies;
+  std::vector<JointDescription> joints;
+  std::vector<ActuatorDescription> actuators;
+  std::vector<SensorDescription> sensors;
+  std::vector<RoleDescription> roles;
+  double total_mass = 0;  // kg
+};
+
+// Describes `model` as compiled.
+ModelDescription Describe(const Model& model);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_DESCRIBE_H_

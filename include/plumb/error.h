@@ -1,0 +1,72 @@
+// plumb's error hierarchy.
+//
+// Every expected failure (missing file, XML error, unknown path, bad value, MuJoCo
+// calling mju_error) is reported as a subclass of plumb::Error carrying the whole
+// story: what failed, where (file, line, option), and what to do about it. The
+// command-line tool maps each class to an exit code in one place
+// (apps/plumb/cli_common.cc): bad input is 2, divergence is 3.
+
+#ifndef PLUMB_INCLUDE_PLUMB_ERROR_H_
+#define PLUMB_INCLUDE_PLUMB_ERROR_H_
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace plumb {
+
+// Base of every error plumb throws. what() is a complete, human-readable paragraph.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+// A model file could not be read or compiled. what() holds the file name and
+// MuJoCo's complete error text (element, name, id, line); hint() adds advice for
+// known pitfalls (e.g. `range` without `limited` on MuJoCo 2.x), or is empty.
+class LoadError : public Error {
+ public:
+  LoadError(const std::string& message, std::string hint)
+      : Error(message), hint_(std::move(hint)) {}
+  const std::string& hint() const { return hint_; }
+
+ private:
+  std::string hint_;
+};
+
+// A path such as `qpos[hinge]` names no array, element or name in the model. what()
+// lists the nearest valid names.
+class PathError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A value is unusable: non-numeric, NaN/Inf, out of range, or inconsistent with the
+// model (e.g. a sampling interval that is not a multiple of the timestep).
+class ValueError : public Error {
+ public:
+  using Error::Error;
+};
+
+// MuJoCo reported a fatal error through mju_error (e.g. out of stack memory). The
+// mjData involved is left in an undefined state and must be reset before reuse.
+class MujocoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A file could not be written (unwritable directory, disk full, ...).
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// The run was stopped by a signal (SIGINT/SIGTERM) before it finished.
+class Interrupted : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_ERROR_H_

@@ -1,0 +1,105 @@
+// Paths: one small grammar that names any element of mjModel, mjOption or mjData.
+//
+//   time                     simulation time (s)
+//   qpos[hinge]              joint name -> its qpos address; a free joint is a block of 7
+//   qpos[root][2]            element 2 of that block (the free joint's z)
+//   qpos[3]                  raw row index
+//   qpos                     the whole array
+//   xpos[link][2]            z of a body's position (rows of xpos are bodies)
+//   sensordata[imu_acc][1]   rows of sensordata are sensors, each a block of sensor_dim
+//   dof_damping[hinge]       model parameters use the same grammar (rows of nv -> dofs)
+//   opt.timestep, opt.gravity, opt.gravity[2], opt.integrator
+//
+// Which names index an array follows from its row count in MuJoCo's X-macro tables
+// (mjxmacro.h): nbody -> body names, njnt -> joints, nq/nv -> joints (through
+// jnt_qposadr/jnt_dofadr), nu -> actuators, nsensordata -> sensors, and so on, so every
+// array of the MuJoCo version plumb is built with is reachable without hand-kept lists.
+//
+// Example:
+//   plumb::Path q = plumb::ResolvePath(model, "qpos[hinge]");
+//   double angle = plumb::ReadValue(model, data, q);          // rad
+//   auto set = plumb::ParseAssignment(model, "opt.gravity=0,0,-1.62");
+//   plumb::ApplyAssignments(model, data, {set});
+
+#ifndef PLUMB_INCLUDE_PLUMB_PATH_H_
+#define PLUMB_INCLUDE_PLUMB_PATH_H_
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plumb/model.h"
+
+namespace plumb {
+
+// The chapter's classification of every quantity in a simulation.
+enum class Role {
+  kParameter,  // mjModel / mjOption: fixed during a run (body_mass, opt.timestep)
+  kState,      // mjData state the integrator advances (time, qpos, qvel, act)
+  kInput,      // mjData inputs the user or controller writes (ctrl, qfrc_applied, mocap_pos)
+  kDerived,    // mjData outputs MuJoCo computes (xpos, qacc, sensordata, contact)
+};
+
+// "parameter", "state", "input" or "derived".
+const char* RoleName(Role role);
+
+// A resolved reference to a block of consecutive elements of one field.
+struct Path {
+  std::string text;   // canonical text, e.g. "qpos[hinge]" or "xpos[link][2]"
+  std::string field;  // the field: "qpos", "body_mass", "opt.gravity", "time"
+  Role role = Role::kDerived;
+  bool writable = false;  // whether WriteValues accepts it
+  int field_index = -1;   // internal: which field
+  long first = 0;         // flat index of the first element within the field
+  long count = 1;         // number of elements in the block (1 for a single element)
+};
+
+// Resolves `text` against `model`.
+// @throws PathError naming the unknown field or name, with the nearest valid ones,
+//         or the index that is out of bounds.
+Path ResolvePath(const Model& model, std::string_view text);
+
+// Splits a block into one path per element ("qpos[root]" -> "qpos[root][0]" ... [6]);
+// a single-element path is returned as it is.
+std::vector<Path> ScalarPaths(const Path& path);
+
+// Resolves `text`, where the row index may be `*` (every named row:
+// "body_mass[*]", "geom_friction[*][0]"), into one path per match.
+// @throws PathError as ResolvePath does.
+std::vector<Path> ExpandPath(const Model& model, std::string_view text);
+
+// The default columns of `plumb run`: time, qpos and qvel of every joint (one column
+// per coordinate), then sensordata of every sensor (one column per dimension).
+std::vector<Path> DefaultColumns(const Model& model);
+
+// Reads element `k` (0 <= k < path.count) as a double.
+double ReadValue(const Model& model, const Data& data, const Path& path, long k = 0);
+
+// Writes `values` (exactly path.count of them) into the block. Integer fields take
+// integral values only.
+// @throws ValueError for a wrong count, NaN/Inf, non-integral or out-of-range values;
+//         PathError when the path is not writable (derived quantities, structure).
+void WriteValues(Model& model, Data& data, const Path& path, const std::vector<double>& values);
+
+// `PATH=VALUE` as typed on the command line: `qpos[hinge]=0.7`,
+// `opt.gravity=0,0,-1.62`, `opt.integrator=RK4` (enumerations by MJCF name).
+struct Assignment {
+  std::string text;  // as typed
+  Path path;
+  std::vector<double> values;  // path.count values
+};
+
+// Parses and validates `text`. A single value given for a block is repeated over it.
+// @throws PathError / ValueError with the option text quoted.
+Assignment ParseAssignment(const Model& model, std::string_view text);
+
+// Applies assignments in the order a run needs them: parameter edits to the model
+// first, then mj_setConst when any model array changed (derived constants such as
+// body_subtreemass stay right), then mj_resetData, then state and input edits, then
+// mj_forward so derived quantities (xpos, sensordata) are consistent with the state.
+// @throws ValueError / PathError as WriteValues does.
+void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_PATH_H_

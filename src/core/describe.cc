@@ -1,0 +1,106 @@
+#include "plumb/describe.h"
+
+#include "core/mujoco_compat.h"
+
+namespace plumb {
+
+ModelDescription Describe(const Model& model) {
+  const mjModel* m = model.get();
+  ModelDescription out;
+  out.file = model.file();
+  out.model_name = m->names;  // the model name comes first in the names buffer
+  out.sizes = {{"nbody", m->nbody}, {"njnt", m->njnt}, {"nq", m->nq},       {"nv", m->nv},
+               {"nu", m->nu},       {"na", m->na},     {"nsensor", m->nsensor},
+               {"nsensordata", m->nsensordata},        {"ngeom", m->ngeom}, {"nsite", m->nsite},
+               {"ntendon", m->ntendon}, {"neq", m->neq}, {"nmocap", m->nmocap}, {"nkey", m->nkey}};
+  out.timestep = m->opt.timestep;
+  out.integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
+  for (int i = 0; i < 3; ++i) out.gravity[i] = m->opt.gravity[i];
+
+  for (int b = 0; b < m->nbody; ++b) {
+    BodyDescription body;
+    body.id = b;
+    body.name = b == 0 ? "world" : model.Name(mjOBJ_BODY, b);
+    body.parent = m->body_parentid[b];
+    body.mass = m->body_mass[b];
+    for (int i = 0; i < 3; ++i) {
+      body.com[i] = m->body_ipos[3 * b + i];
+      body.inertia[i] = m->body_inertia[3 * b + i];
+    }
+    out.total_mass += body.mass;
+    out.bodies.push_back(body);
+  }
+
+  for (int j = 0; j < m->njnt; ++j) {
+    JointDescription joint;
+    joint.id = j;
+    joint.name = model.Name(mjOBJ_JOINT, j);
+    int type = m->jnt_type[j];
+    joint.type = compat::NameOf(compat::kJointTypes, type);
+    joint.body = m->jnt_bodyid[j];
+    joint.qposadr = m->jnt_qposadr[j];
+    joint.dofadr = m->jnt_dofadr[j];
+    joint.nq = type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1;
+    joint.nv = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+    joint.limited = m->jnt_limited[j];
+    joint.range = {m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
+    joint.damping = m->dof_damping[joint.dofadr];
+    joint.armature = m->dof_armature[joint.dofadr];
+    joint.stiffness = m->jnt_stiffness[j];
+    joint.frictionloss = m->dof_frictionloss[joint.dofadr];
+    joint.position_unit = type == mjJNT_HINGE   ? "rad"
+                          : type == mjJNT_SLIDE ? "m"
+                          : type == mjJNT_BALL  ? "quat"
+                                                : "m, quat";
+    out.joints.push_back(joint);
+  }
+
+  for (int u = 0; u < m->nu; ++u) {
+    ActuatorDescription act;
+    act.id = u;
+    act.name = model.Name(mjOBJ_ACTUATOR, u);
+    int trn = m->actuator_trntype[u];
+    act.transmission = compat::NameOf(compat::kTransmissions, trn);
+    int target_type = trn == mjTRN_TENDON ? mjOBJ_TENDON
+                      : trn == mjTRN_SITE ? mjOBJ_SITE
+                      : trn == mjTRN_BODY ? mjOBJ_BODY
+                                          : mjOBJ_JOINT;
+    act.target = model.Name(target_type, m->actuator_trnid[2 * u]);
+    act.gear = m->actuator_gear[6 * u];
+    act.ctrllimited = m->actuator_ctrllimited[u];
+    act.ctrlrange = {m->actuator_ctrlrange[2 * u], m->actuator_ctrlrange[2 * u + 1]};
+    act.forcelimited = m->actuator_forcelimited[u];
+    act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
+    out.actuators.push_back(act);
+  }
+
+  for (int s = 0; s < m->nsensor; ++s) {
+    out.sensors.push_back({s, model.Name(mjOBJ_SENSOR, s),
+                           compat::NameOf(compat::kSensorTypes, m->sensor_type[s]),
+                           m->sensor_adr[s], m->sensor_dim[s]});
+  }
+
+  auto n = [](const char* field, long size) {
+    return std::string(field) + " (" + std::to_string(size) + ")";
+  };
+  out.roles = {
+      {"parameter", "mjModel",
+       "opt.timestep, opt.gravity, body_mass, body_inertia, dof_damping, geom_size, "
+       "actuator_gear, ...",
+       "the MJCF compiler; fixed while the simulation runs (--set before a run)"},
+      {"state", "mjData",
+       "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na),
+       "mj_step advances it; you may set it, then call mj_forward"},
+      {"input", "mjData",
+       n("ctrl", m->nu) + ", " + n("qfrc_applied", m->nv) + ", " +
+           n("xfrc_applied", 6L * m->nbody) + ", " + n("mocap_pos", 3L * m->nmocap),
+       "your controller, before each mj_step"},
+      {"derived", "mjData",
+       n("qacc", m->nv) + ", " + n("xpos", 3L * m->nbody) + ", " +
+           n("sensordata", m->nsensordata) + ", contact, qfrc_bias, ...",
+       "MuJoCo, in mj_forward/mj_step; stale until one of them runs"},
+  };
+  return out;
+}
+
+}  // namespace plumb

@@ -1,0 +1,50 @@
+// The table of every mjModel, mjOption and mjData field reachable through a path,
+// generated from MuJoCo's X-macros so it follows the MuJoCo version plumb is built with.
+
+#ifndef PLUMB_SRC_CORE_FIELDS_H_
+#define PLUMB_SRC_CORE_FIELDS_H_
+
+#include <mujoco/mujoco.h>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/mujoco_compat.h"
+
+namespace plumb {
+
+enum class FieldSource {
+  kModelArray,  // pointer field of mjModel
+  kModelSize,   // int size field of mjModel (nq, nv, ...), read-only
+  kOption,      // field of mjModel::opt
+  kDataArray,   // pointer field of mjData
+  kDataScalar,  // time and other scalar/vector fields stored inline in mjData
+};
+
+struct FieldInfo {
+  std::string name;       // as users type it: "qpos", "body_mass", "opt.gravity", "time"
+  FieldSource source;
+  compat::ElemType type;
+  std::size_t offset;     // byte offset within mjModel, mjOption or mjData
+  std::string row_kind;   // mjModel size naming the rows ("nbody", "nq", ...); "" if none
+  long (*rows)(const mjModel*);
+  long (*cols)(const mjModel*);
+};
+
+// Every field, in X-macro order: model arrays, model sizes, options, data arrays,
+// data scalars.
+const std::vector<FieldInfo>& Fields();
+
+// The field called `name`, or nullptr.
+const FieldInfo* FindField(std::string_view name);
+
+// Address of element 0 of the field in `m`/`d` (d may be null for model fields).
+const void* FieldBase(const FieldInfo& field, const mjModel* m, const mjData* d);
+
+// Size in bytes of one element.
+std::size_t ElemSize(compat::ElemType type);
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_CORE_FIELDS_H_

@@ -1,0 +1,309 @@
+// Model and Data ownership, loading with complete diagnostics, MuJoCo handlers.
+
+#include "plumb/model.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include "core/mujoco_compat.h"
+#include "core/strings.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// MuJoCo's XML loader and mj_saveLastXML share global state ("the last XML parsed").
+std::mutex& LoaderMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// Identifies the most recent successful XML parse, so SaveXml knows whether MuJoCo's
+// global "last XML" still belongs to the model being saved.
+std::uint64_t g_last_xml_load_id = 0;
+std::uint64_t g_next_xml_load_id = 1;
+
+// Warnings are kept per thread, so parallel workers never see each other's messages.
+constexpr std::size_t kMaxKeptWarnings = 1000;
+thread_local std::vector<std::string> t_warnings;
+
+std::string Trimmed(const char* text) {
+  std::string s(text);
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r')) s.pop_back();
+  return s;
+}
+
+void OnMujocoError(const char* msg) {
+  // mju_error must not return into MuJoCo (2.x would carry on with bad memory), and
+  // must not exit(): unwind to the plumb call that entered MuJoCo. libmujoco is built
+  // with unwind tables, which tests/core/model_test.cc exercises (also under ASan).
+  throw MujocoError("MuJoCo error: " + Trimmed(msg));
+}
+
+void OnMujocoWarning(const char* msg) {
+  if (t_warnings.size() < kMaxKeptWarnings) t_warnings.push_back(Trimmed(msg));
+}
+
+bool EndsWith(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Reads a whole file. Returns false and sets `reason` when it cannot.
+bool ReadFile(const std::string& path, std::string* out, std::string* reason) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    *reason = "it is a directory, not a model file";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    *reason = std::strerror(errno);
+    return false;
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  *out = buffer.str();
+  return true;
+}
+
+// Inserts <compiler autolimits="true"/> right after the <mujoco ...> tag, or returns ""
+// when there is no such tag.
+std::string WithAutolimits(const std::string& xml) {
+  std::size_t open = xml.find("<mujoco");
+  if (open == std::string::npos) return "";
+  std::size_t close = xml.find('>', open);
+  if (close == std::string::npos || xml[close - 1] == '/') return "";
+  return xml.substr(0, close + 1) + "<compiler autolimits=\"true\"/>" + xml.substr(close + 1);
+}
+
+// Compiles `xml` from a temporary file in `dir` (so relative includes and assets
+// resolve as for the original). Returns nullptr on any failure. Caller holds the lock.
+mjModel* CompileFromTempFile(const std::string& xml, const fs::path& dir, char* error,
+                             int error_size) {
+  std::string pattern = (dir / ".plumb-XXXXXX.xml").string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  int fd = mkstemps(name.data(), 4);
+  if (fd < 0) return nullptr;
+  bool written = ::write(fd, xml.data(), xml.size()) == static_cast<ssize_t>(xml.size());
+  ::close(fd);
+  mjModel* m = nullptr;
+  if (written) {
+    try {
+      m = mj_loadXML(name.data(), nullptr, error, error_size);
+    } catch (const MujocoError&) {
+      m = nullptr;
+    }
+  }
+  std::remove(name.data());
+  return m;
+}
+
+// On MuJoCo 2.x, `range` without `limited` is an error unless autolimits is on; MuJoCo
+// 3 turned autolimits on by default, so 3.x-era models fail here. Detects that case
+// by compiling again with autolimits, without matching on error text.
+std::string AutolimitsHint(const std::string& xml, const fs::path& dir) {
+  if constexpr (compat::kMujoco3) return "";
+  std::string patched = WithAutolimits(xml);
+  if (patched.empty()) return "";
+  char error[1024] = {0};
+  mjModel* m = CompileFromTempFile(patched, dir, error, sizeof(error));
+  if (!m) m = CompileFromTempFile(patched, fs::temp_directory_path(), error, sizeof(error));
+  if (!m) return "";
+  mj_deleteModel(m);
+  return "hint: this model compiles once <compiler autolimits=\"true\"/> is added. MuJoCo " +
+         MujocoVersion() +
+         " requires limited=\"true\" next to every range (joints, actuator ctrlrange/"
+         "forcerange, tendons) unless autolimits is on; MuJoCo 3 turns autolimits on by "
+         "default, so models written for 3.x often fail here. To load on both, add "
+         "<compiler autolimits=\"true\"/> inside <mujoco>, or write limited=\"true\" "
+         "wherever a range is given.";
+}
+
+}  // namespace
+
+void InstallMujocoHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning);
+  });
+  if (mj_version() != mjVERSION_HEADER) {
+    throw Error("MuJoCo library version " + std::to_string(mj_version()) +
+                " does not match the headers plumb was built with (" +
+                std::to_string(mjVERSION_HEADER) +
+                "); rebuild plumb against the MuJoCo it runs with (-DMUJOCO_ROOT=...).");
+  }
+}
+
+std::vector<std::string> TakeMujocoWarnings() {
+  std::vector<std::string> out;
+  out.swap(t_warnings);
+  return out;
+}
+
+std::string MujocoVersion() { return mj_versionString(); }
+
+void Model::Deleter::operator()(mjModel* m) const { mj_deleteModel(m); }
+
+Model::Model(mjModel* m, std::string file) : m_(m), file_(std::move(file)) {}
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+Model::~Model() = default;
+
+Model Model::Load(const std::string& path) {
+  InstallMujocoHandlers();
+  std::string text, reason;
+  if (!ReadFile(path, &text, &reason)) {
+    throw LoadError("cannot open model file '" + path + "': " + reason +
+                        ". Check the path (it is relative to the current directory).",
+                    "");
+  }
+
+  // binary models: mj_loadModel reports problems as warnings and returns nullptr
+  if (EndsWith(path, ".mjb")) {
+    mjModel* m = nullptr;
+    TakeMujocoWarnings();
+    try {
+      m = mj_loadModel(path.c_str(), nullptr);
+    } catch (const MujocoError& e) {
+      throw LoadError("cannot load binary model '" + path + "': " + e.what(), "");
+    }
+    if (!m) {
+      std::string detail = Join(TakeMujocoWarnings(), "; ");
+      throw LoadError("cannot load binary model '" + path + "': " +
+                          (detail.empty() ? "not a valid .mjb file for MuJoCo " + MujocoVersion()
+                                          : detail) +
+                          ". A .mjb file only loads in the MuJoCo version that wrote it.",
+                      "");
+    }
+    return Model(m, path);
+  }
+
+  // MJCF: keep MuJoCo's whole error buffer, which names the element, its name/id and line
+  std::lock_guard<std::mutex> lock(LoaderMutex());
+  char error[4096] = {0};
+  mjModel* m = nullptr;
+  try {
+    m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+  } catch (const MujocoError& e) {
+    throw LoadError("cannot load model '" + path + "': " + e.what(), "");
+  }
+  if (!m) {
+    std::string detail = Trimmed(error);
+    if (detail.empty()) detail = "MuJoCo gave no further detail";
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    throw LoadError("cannot load model '" + path + "':\n" + detail, AutolimitsHint(text, dir));
+  }
+  Model model(m, path);
+  model.compile_warnings_ = Trimmed(error);
+  model.xml_load_id_ = g_next_xml_load_id++;
+  g_last_xml_load_id = model.xml_load_id_;
+  return model;
+}
+
+Model Model::FromXmlString(std::string_view xml, std::string_view name) {
+  InstallMujocoHandlers();
+  std::lock_guard<std::mutex> lock(LoaderMutex());
+  std::string text(xml);
+  char error[4096] = {0};
+  mjModel* m = CompileFromTempFile(text, fs::temp_directory_path(), error, sizeof(error));
+  if (!m) {
+    std::string detail = Trimmed(error);
+    throw LoadError("cannot load model " + std::string(name) + ":\n" +
+                        (detail.empty() ? "MuJoCo gave no further detail" : detail),
+                    AutolimitsHint(text, fs::temp_directory_path()));
+  }
+  Model model(m, std::string(name));
+  model.compile_warnings_ = Trimmed(error);
+  model.xml_source_ = std::make_shared<const std::string>(std::move(text));
+  model.xml_load_id_ = g_next_xml_load_id++;
+  g_last_xml_load_id = model.xml_load_id_;
+  return model;
+}
+
+Model Model::Clone() const {
+  mjModel* copy = mj_copyModel(nullptr, m_.get());
+  if (!copy) throw MujocoError("MuJoCo could not copy the model (out of memory?)");
+  Model clone(copy, file_);
+  clone.compile_warnings_ = compile_warnings_;
+  clone.xml_source_ = xml_source_;
+  clone.xml_load_id_ = xml_load_id_;
+  return clone;
+}
+
+void Model::SaveXml(const std::string& path) const {
+  if (xml_load_id_ == 0) {
+    throw IoError("cannot write '" + path + "' as MJCF: model '" + file_ +
+                  "' was not loaded from XML (save it with SaveBinary instead)");
+  }
+  std::lock_guard<std::mutex> lock(LoaderMutex());
+  // make MuJoCo's global "last XML" this model's again by parsing its source once more
+  if (g_last_xml_load_id != xml_load_id_) {
+    char error[1024] = {0};
+    mjModel* reparsed =
+        xml_source_ ? CompileFromTempFile(*xml_source_, fs::temp_directory_path(), error,
+                                          sizeof(error))
+                    : mj_loadXML(file_.c_str(), nullptr, error, sizeof(error));
+    if (!reparsed) {
+      throw IoError("cannot write '" + path + "': re-reading '" + file_ + "' failed: " + error);
+    }
+    mj_deleteModel(reparsed);
+    g_last_xml_load_id = xml_load_id_;
+  }
+  char error[1024] = {0};
+  if (!mj_saveLastXML(path.c_str(), m_.get(), error, sizeof(error))) {
+    throw IoError("cannot write MJCF to '" + path + "': " + Trimmed(error));
+  }
+}
+
+void Model::SaveBinary(const std::string& path) const {
+  // mj_saveModel reports an unopenable file through mju_warning only: check first
+  FILE* probe = std::fopen(path.c_str(), "wb");
+  if (!probe) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  std::fclose(probe);
+  mj_saveModel(m_.get(), path.c_str(), nullptr, 0);
+}
+
+std::string Model::Name(int type, int id) const {
+  const char* name = mj_id2name(m_.get(), type, id);
+  return name ? name : "";
+}
+
+void Data::Deleter::operator()(mjData* d) const { mj_deleteData(d); }
+
+Data::Data(const mjModel* m, mjData* d) : m_(m), d_(d) {}
+
+Data::Data(const Model& model) : m_(model.get()) {
+  InstallMujocoHandlers();
+  mjData* d = mj_makeData(m_);
+  if (!d) throw MujocoError("MuJoCo could not allocate data for model '" + model.file() + "'");
+  d_.reset(d);
+}
+
+Data::Data(Data&&) noexcept = default;
+Data& Data::operator=(Data&&) noexcept = default;
+Data::~Data() = default;
+
+Data Data::Clone() const {
+  mjData* copy = mj_makeData(m_);
+  if (!copy) throw MujocoError("MuJoCo could not allocate a copy of the data");
+  mj_copyData(copy, m_, d_.get());
+  return Data(m_, copy);
+}
+
+void Data::Reset() { mj_resetData(m_, d_.get()); }
+void Data::Forward() { mj_forward(m_, d_.get()); }
+void Data::Step() { mj_step(m_, d_.get()); }
+
+}  // namespace plumb

@@ -1,0 +1,214 @@
+// Every difference between the MuJoCo versions plumb builds against lives here.
+//
+// plumb's default is Debian's MuJoCo 2.2.2 (mjVERSION_HEADER 222); a 3.x release
+// (mjVERSION_HEADER >= 300, and from 3.5.0 the 7-digit major*10^6 + minor*10^3 + patch
+// encoding) is supported through -DMUJOCO_ROOT. Code elsewhere uses enum names and the
+// helpers below, never raw enum values or version numbers.
+
+#ifndef PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
+#define PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
+
+#include <mujoco/mjxmacro.h>
+#include <mujoco/mujoco.h>
+
+#include <cstddef>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace plumb::compat {
+
+// True for any MuJoCo 3.x release.
+inline constexpr bool kMujoco3 = mjVERSION_HEADER >= 300;
+
+// The 3.5.0 release switched to a 7-digit encoding of the version number.
+inline constexpr bool kMujoco35 = mjVERSION_HEADER >= 3005000;
+
+// 3.6.0 merged the option X-macros into MJOPTION_FIELDS.
+inline constexpr bool kMujoco36 = mjVERSION_HEADER >= 3006000;
+
+// The X-macro listing the integer size fields of mjModel (nq, nv, nbody, ...).
+#if mjVERSION_HEADER >= 3005000
+#define PLUMB_MJMODEL_SIZES MJMODEL_SIZES
+#else
+#define PLUMB_MJMODEL_SIZES MJMODEL_INTS
+#endif
+
+// Newer releases tag some rows of MJMODEL_POINTERS / MJDATA_POINTERS with other
+// macro names; by default they mean the same as X.
+#ifndef XMJV
+#define XMJV X
+#endif
+#ifndef XNV
+#define XNV X
+#endif
+
+// Element types of the arrays plumb reads and writes through paths.
+enum class ElemType { kNum, kInt, kInt64, kByte, kBool, kFloat, kChar, kOther };
+
+template <typename T>
+constexpr ElemType ElemTypeOf() {
+  if constexpr (std::is_same_v<T, mjtNum>) return ElemType::kNum;
+  if constexpr (std::is_same_v<T, int>) return ElemType::kInt;
+  if constexpr (std::is_same_v<T, long> || std::is_same_v<T, long long>) return ElemType::kInt64;
+  if constexpr (std::is_same_v<T, bool>) return ElemType::kBool;
+  if constexpr (std::is_same_v<T, mjtByte>) return ElemType::kByte;
+  if constexpr (std::is_same_v<T, float>) return ElemType::kFloat;
+  if constexpr (std::is_same_v<T, char>) return ElemType::kChar;
+  return ElemType::kOther;
+}
+
+// One field of mjOption: its name, byte offset in mjOption, element type and length.
+struct OptionField {
+  const char* name;
+  std::size_t offset;
+  ElemType type;
+  int size;
+};
+
+// Every field of mjOption, scalars and vectors, from MuJoCo's own X-macros.
+inline const std::vector<OptionField>& OptionFields() {
+  static const std::vector<OptionField> fields = [] {
+    std::vector<OptionField> f;
+#if mjVERSION_HEADER >= 3006000
+#define X(type, name, n) f.push_back({#name, offsetof(mjOption, name), ElemTypeOf<type>(), n});
+#define XVEC(type, name, n) X(type, name, n)
+    MJOPTION_FIELDS
+#undef XVEC
+#undef X
+#else
+#define X(type, name) f.push_back({#name, offsetof(mjOption, name), ElemTypeOf<type>(), 1});
+    MJOPTION_SCALARS
+#undef X
+#define X(name, n) f.push_back({#name, offsetof(mjOption, name), ElemType::kNum, n});
+    MJOPTION_VECTORS
+#undef X
+#endif
+    return f;
+  }();
+  return fields;
+}
+
+// Integrator values and their MJCF names, in enum order.
+struct EnumName {
+  int value;
+  const char* name;
+};
+inline constexpr EnumName kIntegrators[] = {
+    {mjINT_EULER, "Euler"},
+    {mjINT_RK4, "RK4"},
+    {mjINT_IMPLICIT, "implicit"},
+#if mjVERSION_HEADER >= 233
+    {mjINT_IMPLICITFAST, "implicitfast"},
+#endif
+};
+
+// Friction cone, solver and Jacobian types by their MJCF names.
+inline constexpr EnumName kCones[] = {{mjCONE_PYRAMIDAL, "pyramidal"},
+                                      {mjCONE_ELLIPTIC, "elliptic"}};
+inline constexpr EnumName kSolvers[] = {{mjSOL_PGS, "PGS"}, {mjSOL_CG, "CG"}, {mjSOL_NEWTON, "Newton"}};
+inline constexpr EnumName kJacobians[] = {
+    {mjJAC_DENSE, "dense"}, {mjJAC_SPARSE, "sparse"}, {mjJAC_AUTO, "auto"}};
+
+// Warning kinds by enum name. Values shift between releases (VGEOMFULL was removed in
+// 3.7.0), so the table is built from the names that exist in this header.
+inline constexpr EnumName kWarnings[] = {
+    {mjWARN_INERTIA, "INERTIA"},       {mjWARN_CONTACTFULL, "CONTACTFULL"},
+    {mjWARN_CNSTRFULL, "CNSTRFULL"},
+#if mjVERSION_HEADER < 3007000
+    {mjWARN_VGEOMFULL, "VGEOMFULL"},
+#endif
+    {mjWARN_BADQPOS, "BADQPOS"},       {mjWARN_BADQVEL, "BADQVEL"},
+    {mjWARN_BADQACC, "BADQACC"},       {mjWARN_BADCTRL, "BADCTRL"},
+};
+
+// Joint, transmission and sensor types by their MJCF names.
+inline constexpr EnumName kJointTypes[] = {
+    {mjJNT_FREE, "free"}, {mjJNT_BALL, "ball"}, {mjJNT_SLIDE, "slide"}, {mjJNT_HINGE, "hinge"}};
+inline constexpr EnumName kTransmissions[] = {
+    {mjTRN_JOINT, "joint"},   {mjTRN_JOINTINPARENT, "jointinparent"},
+    {mjTRN_SLIDERCRANK, "slidercrank"}, {mjTRN_TENDON, "tendon"},
+    {mjTRN_SITE, "site"},     {mjTRN_BODY, "body"}};
+inline constexpr EnumName kSensorTypes[] = {
+    {mjSENS_TOUCH, "touch"},
+    {mjSENS_ACCELEROMETER, "accelerometer"},
+    {mjSENS_VELOCIMETER, "velocimeter"},
+    {mjSENS_GYRO, "gyro"},
+    {mjSENS_FORCE, "force"},
+    {mjSENS_TORQUE, "torque"},
+    {mjSENS_MAGNETOMETER, "magnetometer"},
+    {mjSENS_RANGEFINDER, "rangefinder"},
+    {mjSENS_JOINTPOS, "jointpos"},
+    {mjSENS_JOINTVEL, "jointvel"},
+    {mjSENS_TENDONPOS, "tendonpos"},
+    {mjSENS_TENDONVEL, "tendonvel"},
+    {mjSENS_ACTUATORPOS, "actuatorpos"},
+    {mjSENS_ACTUATORVEL, "actuatorvel"},
+    {mjSENS_ACTUATORFRC, "actuatorfrc"},
+    {mjSENS_BALLQUAT, "ballquat"},
+    {mjSENS_BALLANGVEL, "ballangvel"},
+    {mjSENS_JOINTLIMITPOS, "jointlimitpos"},
+    {mjSENS_JOINTLIMITVEL, "jointlimitvel"},
+    {mjSENS_JOINTLIMITFRC, "jointlimitfrc"},
+    {mjSENS_TENDONLIMITPOS, "tendonlimitpos"},
+    {mjSENS_TENDONLIMITVEL, "tendonlimitvel"},
+    {mjSENS_TENDONLIMITFRC, "tendonlimitfrc"},
+    {mjSENS_FRAMEPOS, "framepos"},
+    {mjSENS_FRAMEQUAT, "framequat"},
+    {mjSENS_FRAMEXAXIS, "framexaxis"},
+    {mjSENS_FRAMEYAXIS, "frameyaxis"},
+    {mjSENS_FRAMEZAXIS, "framezaxis"},
+    {mjSENS_FRAMELINVEL, "framelinvel"},
+    {mjSENS_FRAMEANGVEL, "frameangvel"},
+    {mjSENS_FRAMELINACC, "framelinacc"},
+    {mjSENS_FRAMEANGACC, "frameangacc"},
+    {mjSENS_SUBTREECOM, "subtreecom"},
+    {mjSENS_SUBTREELINVEL, "subtreelinvel"},
+    {mjSENS_SUBTREEANGMOM, "subtreeangmom"},
+    {mjSENS_CLOCK, "clock"},
+    {mjSENS_USER, "user"},
+};
+
+// The name of `value` in `table`, or "type <value>" when the table lacks it.
+template <std::size_t N>
+std::string NameOf(const EnumName (&table)[N], int value) {
+  for (const EnumName& e : table) {
+    if (e.value == value) return e.name;
+  }
+  return "type " + std::to_string(value);
+}
+
+// Value above which MuJoCo's own mj_checkPos/Vel/Acc consider a number diverged.
+inline constexpr double kMaxVal = mjMAXVAL;
+
+// Address in d->act of actuator i's activation, or -1 when it has none.
+inline int ActuatorActAddress(const mjModel* m, int i) {
+#if mjVERSION_HEADER >= 300
+  return m->actuator_actadr[i];
+#else
+  // 2.x keeps stateful actuators last: the final na actuators own act[0..na).
+  int first_stateful = m->nu - m->na;
+  return i >= first_stateful ? i - first_stateful : -1;
+#endif
+}
+
+// Solver iterations used by the last step (summed over islands on 3.x).
+inline int SolverIterations(const mjData* d) {
+#if mjVERSION_HEADER >= 300
+  int total = 0;
+  for (int i = 0; i < mjNISLAND; ++i) total += d->solver_niter[i];
+  return total;
+#else
+  return d->solver_iter;
+#endif
+}
+
+// Installs process-wide error and warning handlers (deprecated but working on 3.10+).
+inline void SetMujocoHandlers(void (*error)(const char*), void (*warning)(const char*)) {
+  mju_user_error = error;
+  mju_user_warning = warning;
+}
+
+}  // namespace plumb::compat
+
+#endif  // PLUMB_SRC_CORE_MUJOCO_COMPAT_H_

@@ -1,0 +1,640 @@
+#include "plumb/path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "core/fields.h"
+#include "core/strings.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using compat::ElemType;
+
+// How the rows of an array are named: the mjModel size counting them tells which
+// object type names them and how a name maps to a block of rows.
+enum class RowMap { kDirect, kQpos, kDof, kAct, kMocap, kAdrNum };
+
+struct RowKind {
+  const char* size;  // "nbody", "nq", ...
+  int obj;           // mjOBJ_* naming the rows
+  RowMap map;
+  const char* noun;  // for messages
+};
+
+constexpr RowKind kRowKinds[] = {
+    {"nbody", mjOBJ_BODY, RowMap::kDirect, "body"},
+    {"njnt", mjOBJ_JOINT, RowMap::kDirect, "joint"},
+    {"ngeom", mjOBJ_GEOM, RowMap::kDirect, "geom"},
+    {"nsite", mjOBJ_SITE, RowMap::kDirect, "site"},
+    {"ncam", mjOBJ_CAMERA, RowMap::kDirect, "camera"},
+    {"nlight", mjOBJ_LIGHT, RowMap::kDirect, "light"},
+    {"nmesh", mjOBJ_MESH, RowMap::kDirect, "mesh"},
+    {"nskin", mjOBJ_SKIN, RowMap::kDirect, "skin"},
+    {"nhfield", mjOBJ_HFIELD, RowMap::kDirect, "height field"},
+    {"ntex", mjOBJ_TEXTURE, RowMap::kDirect, "texture"},
+    {"nmat", mjOBJ_MATERIAL, RowMap::kDirect, "material"},
+    {"npair", mjOBJ_PAIR, RowMap::kDirect, "contact pair"},
+    {"nexclude", mjOBJ_EXCLUDE, RowMap::kDirect, "contact exclude"},
+    {"neq", mjOBJ_EQUALITY, RowMap::kDirect, "equality"},
+    {"ntendon", mjOBJ_TENDON, RowMap::kDirect, "tendon"},
+    {"nu", mjOBJ_ACTUATOR, RowMap::kDirect, "actuator"},
+    {"nsensor", mjOBJ_SENSOR, RowMap::kDirect, "sensor"},
+    {"nnumeric", mjOBJ_NUMERIC, RowMap::kDirect, "numeric"},
+    {"ntext", mjOBJ_TEXT, RowMap::kDirect, "text"},
+    {"ntuple", mjOBJ_TUPLE, RowMap::kDirect, "tuple"},
+    {"nkey", mjOBJ_KEY, RowMap::kDirect, "keyframe"},
+    {"nq", mjOBJ_JOINT, RowMap::kQpos, "joint"},
+    {"nv", mjOBJ_JOINT, RowMap::kDof, "joint"},
+    {"na", mjOBJ_ACTUATOR, RowMap::kAct, "actuator"},
+    {"nmocap", mjOBJ_BODY, RowMap::kMocap, "mocap body"},
+    {"nsensordata", mjOBJ_SENSOR, RowMap::kAdrNum, "sensor"},
+    {"nnumericdata", mjOBJ_NUMERIC, RowMap::kAdrNum, "numeric"},
+    {"ntupledata", mjOBJ_TUPLE, RowMap::kAdrNum, "tuple"},
+    {"ntextdata", mjOBJ_TEXT, RowMap::kAdrNum, "text"},
+};
+
+const RowKind* FindRowKind(const std::string& size) {
+  for (const RowKind& k : kRowKinds) {
+    if (size == k.size) return &k;
+  }
+  return nullptr;
+}
+
+// Data arrays the user may write, with their role; every other data array is derived.
+struct DataRole {
+  const char* name;
+  Role role;
+};
+constexpr DataRole kWritableData[] = {
+    {"qpos", Role::kState},          {"qvel", Role::kState},
+    {"act", Role::kState},           {"qacc_warmstart", Role::kState},
+    {"ctrl", Role::kInput},          {"qfrc_applied", Role::kInput},
+    {"xfrc_applied", Role::kInput},  {"mocap_pos", Role::kInput},
+    {"mocap_quat", Role::kInput},    {"userdata", Role::kInput},
+};
+
+// Model constants recomputed by the compiler and mj_setConst: writing them is undone.
+constexpr const char* kConstants[] = {
+    "body_subtreemass", "body_invweight0",   "dof_invweight0",   "dof_M0",
+    "tendon_length0",   "tendon_invweight0", "actuator_acc0",    "actuator_length0",
+    "cam_poscom0",      "cam_pos0",          "cam_mat0",         "light_poscom0",
+    "light_pos0",       "light_dir0",        "geom_rbound",
+};
+
+// Integer model fields that are switches users set, not structure.
+constexpr const char* kWritableIntFields[] = {
+    "geom_contype", "geom_conaffinity", "geom_condim",     "geom_priority",
+    "geom_group",   "jnt_limited",      "jnt_group",       "tendon_limited",
+    "eq_active",    "actuator_ctrllimited", "actuator_forcelimited", "actuator_actlimited",
+    "actuator_group", "light_active",   "site_group",      "tendon_group",
+};
+
+template <std::size_t N>
+bool Contains(const char* const (&list)[N], const std::string& name) {
+  for (const char* item : list) {
+    if (name == item) return true;
+  }
+  return false;
+}
+
+struct Access {
+  Role role;
+  bool writable;
+};
+
+Access AccessOf(const FieldInfo& field) {
+  switch (field.source) {
+    case FieldSource::kModelArray: {
+      bool numeric = field.type == ElemType::kNum || field.type == ElemType::kFloat;
+      bool writable = numeric ? !Contains(kConstants, field.name)
+                              : Contains(kWritableIntFields, field.name);
+      return {Role::kParameter, writable};
+    }
+    case FieldSource::kModelSize: return {Role::kParameter, false};
+    case FieldSource::kOption: return {Role::kParameter, true};
+    case FieldSource::kDataArray:
+      for (const DataRole& w : kWritableData) {
+        if (field.name == w.name) return {w.role, true};
+      }
+      return {Role::kDerived, false};
+    case FieldSource::kDataScalar:
+      if (field.name == "time") return {Role::kState, true};
+      return {Role::kDerived, false};
+  }
+  return {Role::kDerived, false};
+}
+
+// Names of every object of type `obj` (empty names skipped).
+std::vector<std::string> NamesOf(const Model& model, int obj, long count) {
+  std::vector<std::string> names;
+  for (long i = 0; i < count; ++i) {
+    std::string name = model.Name(obj, static_cast<int>(i));
+    if (!name.empty()) names.push_back(name);
+  }
+  return names;
+}
+
+long ObjectCount(const mjModel* m, int obj) {
+  switch (obj) {
+    case mjOBJ_BODY: return m->nbody;
+    case mjOBJ_JOINT: return m->njnt;
+    case mjOBJ_GEOM: return m->ngeom;
+    case mjOBJ_SITE: return m->nsite;
+    case mjOBJ_CAMERA: return m->ncam;
+    case mjOBJ_LIGHT: return m->nlight;
+    case mjOBJ_MESH: return m->nmesh;
+    case mjOBJ_SKIN: return m->nskin;
+    case mjOBJ_HFIELD: return m->nhfield;
+    case mjOBJ_TEXTURE: return m->ntex;
+    case mjOBJ_MATERIAL: return m->nmat;
+    case mjOBJ_PAIR: return m->npair;
+    case mjOBJ_EXCLUDE: return m->nexclude;
+    case mjOBJ_EQUALITY: return m->neq;
+    case mjOBJ_TENDON: return m->ntendon;
+    case mjOBJ_ACTUATOR: return m->nu;
+    case mjOBJ_SENSOR: return m->nsensor;
+    case mjOBJ_NUMERIC: return m->nnumeric;
+    case mjOBJ_TEXT: return m->ntext;
+    case mjOBJ_TUPLE: return m->ntuple;
+    case mjOBJ_KEY: return m->nkey;
+    default: return 0;
+  }
+}
+
+int JointQposSize(int type) {
+  return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1;
+}
+int JointDofSize(int type) {
+  return type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+}
+
+// Rows [first, first + count) that object `id` of `kind` occupies; count 0 if none.
+std::pair<long, long> RowsOf(const mjModel* m, const RowKind& kind, int id) {
+  switch (kind.map) {
+    case RowMap::kDirect: return {id, 1};
+    case RowMap::kQpos: return {m->jnt_qposadr[id], JointQposSize(m->jnt_type[id])};
+    case RowMap::kDof: return {m->jnt_dofadr[id], JointDofSize(m->jnt_type[id])};
+    case RowMap::kAct: {
+      int adr = compat::ActuatorActAddress(m, id);
+      return {adr, adr < 0 ? 0 : 1};
+    }
+    case RowMap::kMocap: {
+      int adr = m->body_mocapid[id];
+      return {adr, adr < 0 ? 0 : 1};
+    }
+    case RowMap::kAdrNum:
+      switch (kind.obj) {
+        case mjOBJ_SENSOR: return {m->sensor_adr[id], m->sensor_dim[id]};
+        case mjOBJ_NUMERIC: return {m->numeric_adr[id], m->numeric_size[id]};
+        case mjOBJ_TUPLE: return {m->tuple_adr[id], m->tuple_size[id]};
+        case mjOBJ_TEXT: return {m->text_adr[id], m->text_size[id]};
+      }
+  }
+  return {0, 0};
+}
+
+std::vector<std::string> FieldNames() {
+  std::vector<std::string> names;
+  for (const FieldInfo& f : Fields()) names.push_back(f.name);
+  return names;
+}
+
+// A path split into its parts: FIELD [ '[' row ']' [ '[' element ']' ] ].
+struct Parsed {
+  std::string field;
+  std::vector<std::string> indices;
+};
+
+Parsed Parse(std::string_view text) {
+  Parsed parsed;
+  std::string s;
+  for (char c : text) {
+    if (c != ' ' && c != '\t') s += c;
+  }
+  std::size_t bracket = s.find('[');
+  parsed.field = s.substr(0, bracket);
+  auto bad = [&](const std::string& why) {
+    return PathError("bad path '" + std::string(text) + "': " + why +
+                     ". Paths look like qpos[hinge], xpos[link][2], opt.timestep or time.");
+  };
+  if (parsed.field.empty()) throw bad("it has no field name");
+  for (char c : parsed.field) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.') {
+      throw bad(std::string("unexpected character '") + c + "' in the field name");
+    }
+  }
+  std::size_t at = bracket;
+  while (at != std::string::npos && at < s.size()) {
+    if (s[at] != '[') throw bad("expected '[' at '" + s.substr(at) + "'");
+    std::size_t close = s.find(']', at);
+    if (close == std::string::npos) throw bad("a '[' is not closed");
+    std::string index = s.substr(at + 1, close - at - 1);
+    if (index.empty()) throw bad("empty []");
+    parsed.indices.push_back(index);
+    at = close + 1;
+  }
+  if (parsed.indices.size() > 2) throw bad("at most two indices: [row][element]");
+  return parsed;
+}
+
+// Resolves one parsed path whose row index is not `*`.
+Path ResolveParsed(const Model& model, std::string_view text, const Parsed& parsed) {
+  const mjModel* m = model.get();
+  const FieldInfo* field = FindField(parsed.field);
+  if (!field) {
+    throw PathError("unknown field '" + parsed.field + "' in path '" + std::string(text) + "': " +
+                    DidYouMean(parsed.field, FieldNames()) +
+                    " Fields are the mjModel/mjData array names (qpos, qvel, ctrl, xpos, "
+                    "sensordata, body_mass, dof_damping, ...), opt.<option> or time.");
+  }
+  if (field->type == ElemType::kOther) {
+    throw PathError("field '" + field->name + "' in path '" + std::string(text) +
+                    "' holds structures, not numbers, and cannot be read as a path.");
+  }
+  Access access = AccessOf(*field);
+  Path path;
+  path.field = field->name;
+  path.role = access.role;
+  path.writable = access.writable;
+  path.field_index = static_cast<int>(field - Fields().data());
+
+  long rows = field->rows(m);
+  long cols = field->cols(m);
+  path.first = 0;
+  path.count = rows * cols;
+  std::string canonical = field->name;
+  if (parsed.indices.empty()) {
+    path.text = canonical;
+    if (path.count == 0) {
+      throw PathError("path '" + std::string(text) + "' is empty in this model (" +
+                      field->row_kind + " = 0).");
+    }
+    return path;
+  }
+
+  // first index: a row by number, or by the name of the object owning the rows
+  const std::string& row = parsed.indices[0];
+  long row_first = 0, row_count = 1;
+  if (field->row_kind.empty()) {
+    // options and scalars: a single index selects an element of the vector
+    if (parsed.indices.size() > 1) {
+      throw PathError("path '" + std::string(text) + "': '" + field->name +
+                      "' takes a single index.");
+    }
+    std::optional<long> k = ParseIndex(row);
+    if (!k) {
+      throw PathError("path '" + std::string(text) + "': '" + field->name +
+                      "' is indexed by number (0.." + std::to_string(path.count - 1) + ").");
+    }
+    if (*k >= path.count) {
+      throw PathError("path '" + std::string(text) + "': index " + row + " is out of bounds; '" +
+                      field->name + "' has " + std::to_string(path.count) + " element(s).");
+    }
+    path.first = *k;
+    path.count = 1;
+    path.text = canonical + "[" + row + "]";
+    return path;
+  }
+  const RowKind* kind = FindRowKind(field->row_kind);
+  if (std::optional<long> index = ParseIndex(row)) {
+    if (*index >= rows) {
+      throw PathError("path '" + std::string(text) + "': row " + row + " is out of bounds; '" +
+                      field->name + "' has " + std::to_string(rows) + " row(s) (" +
+                      field->row_kind + " = " + std::to_string(rows) + ").");
+    }
+    row_first = *index;
+  } else {
+    if (!kind) {
+      throw PathError("path '" + std::string(text) + "': the rows of '" + field->name +
+                      "' (counted by " + field->row_kind +
+                      ") have no names; use a number from 0 to " + std::to_string(rows - 1) + ".");
+    }
+    int id = mj_name2id(m, kind->obj, row.c_str());
+    if (id < 0) {
+      std::vector<std::string> names = NamesOf(model, kind->obj, ObjectCount(m, kind->obj));
+      std::string listing = names.empty() ? std::string(" This model has no named ") +
+                                                kind->noun + "."
+                                          : " " + DidYouMean(row, names);
+      throw PathError("path '" + std::string(text) + "': no " + kind->noun + " named '" + row +
+                      "' (the rows of '" + field->name + "' are " + kind->noun + "s)." + listing);
+    }
+    auto [first, count] = RowsOf(m, *kind, id);
+    if (count == 0) {
+      throw PathError("path '" + std::string(text) + "': " + kind->noun + " '" + row +
+                      "' has no row in '" + field->name + "' (for example, an actuator without "
+                      "activation has no act, a body that is not mocap has no mocap_pos).");
+    }
+    row_first = first;
+    row_count = count;
+  }
+  path.first = row_first * cols;
+  path.count = row_count * cols;
+  canonical += "[" + row + "]";
+
+  // second index: an element within the row block
+  if (parsed.indices.size() == 2) {
+    std::optional<long> k = ParseIndex(parsed.indices[1]);
+    if (!k) {
+      throw PathError("path '" + std::string(text) + "': the element index '" + parsed.indices[1] +
+                      "' must be a number from 0 to " + std::to_string(path.count - 1) + ".");
+    }
+    if (*k >= path.count) {
+      throw PathError("path '" + std::string(text) + "': element " + parsed.indices[1] +
+                      " is out of bounds; '" + canonical + "' has " +
+                      std::to_string(path.count) + " element(s).");
+    }
+    path.first += *k;
+    path.count = 1;
+    canonical += "[" + parsed.indices[1] + "]";
+  }
+  path.text = canonical;
+  return path;
+}
+
+// Throws PathError explaining why `path` cannot be set, unless it can.
+void RequireWritable(const Path& path) {
+  if (path.writable) return;
+  const FieldInfo& field = Fields()[path.field_index];
+  std::string why;
+  if (path.role == Role::kDerived) {
+    why = "it is derived: MuJoCo computes it from the state (qpos, qvel, act) and inputs "
+          "(ctrl) in mj_forward/mj_step; set those instead.";
+  } else if (Contains(kConstants, field.name)) {
+    why = "it is a constant the compiler derives (mj_setConst recomputes it); change the "
+          "quantities it comes from instead (e.g. body_mass, body_inertia).";
+  } else {
+    why = "it describes the model's structure (sizes, addresses, ids, types), which "
+          "cannot change after compilation; edit the MJCF instead.";
+  }
+  throw PathError("cannot set '" + path.text + "': " + why);
+}
+
+void* MutableElement(Model& model, Data& data, const Path& path, long k) {
+  const FieldInfo& field = Fields()[path.field_index];
+  const void* base = FieldBase(field, model.get(), data.get());
+  return const_cast<char*>(static_cast<const char*>(base)) +
+         (path.first + k) * ElemSize(field.type);
+}
+
+}  // namespace
+
+const char* RoleName(Role role) {
+  switch (role) {
+    case Role::kParameter: return "parameter";
+    case Role::kState: return "state";
+    case Role::kInput: return "input";
+    case Role::kDerived: return "derived";
+  }
+  return "?";
+}
+
+Path ResolvePath(const Model& model, std::string_view text) {
+  Parsed parsed = Parse(text);
+  if (!parsed.indices.empty() && parsed.indices[0] == "*") {
+    throw PathError("path '" + std::string(text) + "': '*' names several rows; it is only "
+                    "accepted where a list of paths is expected.");
+  }
+  return ResolveParsed(model, text, parsed);
+}
+
+std::vector<Path> ExpandPath(const Model& model, std::string_view text) {
+  Parsed parsed = Parse(text);
+  if (parsed.indices.empty() || parsed.indices[0] != "*") {
+    return {ResolveParsed(model, text, parsed)};
+  }
+  const FieldInfo* field = FindField(parsed.field);
+  if (!field) ResolveParsed(model, text, parsed);  // throws the unknown-field message
+  const RowKind* kind = FindRowKind(field->row_kind);
+  if (!kind) {
+    throw PathError("path '" + std::string(text) + "': the rows of '" + parsed.field +
+                    "' have no names, so '*' cannot expand them.");
+  }
+  const mjModel* m = model.get();
+  std::vector<Path> paths;
+  for (long id = 0; id < ObjectCount(m, kind->obj); ++id) {
+    std::string name = model.Name(kind->obj, static_cast<int>(id));
+    if (name.empty() || RowsOf(m, *kind, static_cast<int>(id)).second == 0) continue;
+    Parsed one = parsed;
+    one.indices[0] = name;
+    paths.push_back(ResolveParsed(model, text, one));
+  }
+  if (paths.empty()) {
+    throw PathError("path '" + std::string(text) + "' matches nothing: this model has no named " +
+                    kind->noun + " with a row in '" + parsed.field + "'.");
+  }
+  return paths;
+}
+
+std::vector<Path> ScalarPaths(const Path& path) {
+  if (path.count == 1) return {path};
+  std::vector<Path> out;
+  for (long k = 0; k < path.count; ++k) {
+    Path one = path;
+    one.first = path.first + k;
+    one.count = 1;
+    one.text = path.text + "[" + std::to_string(k) + "]";
+    out.push_back(one);
+  }
+  return out;
+}
+
+std::vector<Path> DefaultColumns(const Model& model) {
+  const mjModel* m = model.get();
+  std::vector<Path> columns = {ResolvePath(model, "time")};
+  auto add = [&](const std::string& text) {
+    for (Path& p : ScalarPaths(ResolvePath(model, text))) columns.push_back(std::move(p));
+  };
+  for (const char* field : {"qpos", "qvel"}) {
+    for (int j = 0; j < m->njnt; ++j) {
+      std::string name = model.Name(mjOBJ_JOINT, j);
+      add(std::string(field) + "[" + (name.empty() ? std::to_string(
+                                                         std::string(field) == "qpos"
+                                                             ? m->jnt_qposadr[j]
+                                                             : m->jnt_dofadr[j])
+                                                   : name) +
+          "]");
+    }
+  }
+  for (int s = 0; s < m->nsensor; ++s) {
+    std::string name = model.Name(mjOBJ_SENSOR, s);
+    if (name.empty()) {
+      // unnamed sensors: address the raw sensordata rows
+      for (int k = 0; k < m->sensor_dim[s]; ++k) {
+        add("sensordata[" + std::to_string(m->sensor_adr[s] + k) + "]");
+      }
+    } else {
+      add("sensordata[" + name + "]");
+    }
+  }
+  return columns;
+}
+
+double ReadValue(const Model& model, const Data& data, const Path& path, long k) {
+  const FieldInfo& field = Fields()[path.field_index];
+  const char* at = static_cast<const char*>(FieldBase(field, model.get(), data.get())) +
+                   (path.first + k) * ElemSize(field.type);
+  switch (field.type) {
+    case ElemType::kNum: return *reinterpret_cast<const mjtNum*>(at);
+    case ElemType::kInt: return *reinterpret_cast<const int*>(at);
+    case ElemType::kInt64: return static_cast<double>(*reinterpret_cast<const long long*>(at));
+    case ElemType::kByte: return *reinterpret_cast<const mjtByte*>(at);
+    case ElemType::kBool: return *reinterpret_cast<const bool*>(at) ? 1 : 0;
+    case ElemType::kFloat: return *reinterpret_cast<const float*>(at);
+    case ElemType::kChar: return *reinterpret_cast<const char*>(at);
+    case ElemType::kOther: break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+void WriteValues(Model& model, Data& data, const Path& path, const std::vector<double>& values) {
+  const FieldInfo& field = Fields()[path.field_index];
+  RequireWritable(path);
+  if (static_cast<long>(values.size()) != path.count) {
+    throw ValueError("'" + path.text + "' takes " + std::to_string(path.count) +
+                     " value(s), got " + std::to_string(values.size()) + ".");
+  }
+  for (long k = 0; k < path.count; ++k) {
+    double v = values[k];
+    if (!std::isfinite(v)) {
+      throw ValueError("value for '" + path.text + "' is " + std::to_string(v) +
+                       ": NaN and Inf are not allowed.");
+    }
+    void* at = MutableElement(model, data, path, k);
+    auto require_integral = [&](double lo, double hi) {
+      if (v != std::floor(v) || v < lo || v > hi) {
+        throw ValueError("'" + path.text + "' is an integer field; " + std::to_string(v) +
+                         " is not an integer between " + std::to_string(static_cast<long>(lo)) +
+                         " and " + std::to_string(static_cast<long>(hi)) + ".");
+      }
+    };
+    switch (field.type) {
+      case ElemType::kNum: *static_cast<mjtNum*>(at) = v; break;
+      case ElemType::kFloat:
+        if (std::fabs(v) > std::numeric_limits<float>::max()) {
+          throw ValueError("value " + std::to_string(v) + " for '" + path.text +
+                           "' does not fit a float.");
+        }
+        *static_cast<float*>(at) = static_cast<float>(v);
+        break;
+      case ElemType::kInt:
+        require_integral(std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
+        *static_cast<int*>(at) = static_cast<int>(v);
+        break;
+      case ElemType::kInt64:
+        require_integral(-9.0e15, 9.0e15);
+        *static_cast<long long*>(at) = static_cast<long long>(v);
+        break;
+      case ElemType::kByte:
+        require_integral(0, 255);
+        *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v);
+        break;
+      case ElemType::kBool:
+        require_integral(0, 1);
+        *static_cast<bool*>(at) = v != 0;
+        break;
+      case ElemType::kChar:
+      case ElemType::kOther:
+        throw PathError("cannot set '" + path.text + "': it is not numeric.");
+    }
+  }
+}
+
+namespace {
+
+// MJCF names of enumerated options, accepted as values.
+const compat::EnumName* EnumTable(const std::string& field, std::size_t* size) {
+  if (field == "opt.integrator") {
+    *size = std::size(compat::kIntegrators);
+    return compat::kIntegrators;
+  }
+  if (field == "opt.cone") {
+    *size = std::size(compat::kCones);
+    return compat::kCones;
+  }
+  if (field == "opt.solver") {
+    *size = std::size(compat::kSolvers);
+    return compat::kSolvers;
+  }
+  if (field == "opt.jacobian") {
+    *size = std::size(compat::kJacobians);
+    return compat::kJacobians;
+  }
+  *size = 0;
+  return nullptr;
+}
+
+}  // namespace
+
+Assignment ParseAssignment(const Model& model, std::string_view text) {
+  std::size_t eq = text.find('=');
+  if (eq == std::string_view::npos) {
+    throw ValueError("--set '" + std::string(text) +
+                     "': expected PATH=VALUE, e.g. qpos[hinge]=0.7 or opt.gravity=0,0,-1.62.");
+  }
+  Assignment a;
+  a.text = std::string(text);
+  a.path = ResolvePath(model, text.substr(0, eq));
+  std::string value_text(text.substr(eq + 1));
+  std::size_t enum_size = 0;
+  const compat::EnumName* names = EnumTable(a.path.field, &enum_size);
+  for (const std::string& item : Split(value_text, ',')) {
+    std::optional<double> v = ParseNumber(item);
+    if (!v && names) {
+      for (std::size_t i = 0; i < enum_size; ++i) {
+        if (EqualsIgnoreCase(item, names[i].name)) v = names[i].value;
+      }
+      if (!v) {
+        std::vector<std::string> valid;
+        for (std::size_t i = 0; i < enum_size; ++i) valid.push_back(names[i].name);
+        throw ValueError("--set '" + a.text + "': '" + item + "' is not a valid " + a.path.field +
+                         "; valid names: " + Join(valid, ", ") + ".");
+      }
+    }
+    if (!v) {
+      throw ValueError("--set '" + a.text + "': '" + item + "' is not a number.");
+    }
+    if (!std::isfinite(*v)) {
+      throw ValueError("--set '" + a.text + "': " + item + " is not a finite number.");
+    }
+    a.values.push_back(*v);
+  }
+  if (a.values.size() == 1 && a.path.count > 1) a.values.assign(a.path.count, a.values[0]);
+  if (static_cast<long>(a.values.size()) != a.path.count) {
+    throw ValueError("--set '" + a.text + "': '" + a.path.text + "' takes " +
+                     std::to_string(a.path.count) + " value(s) separated by commas, got " +
+                     std::to_string(a.values.size()) + ".");
+  }
+  RequireWritable(a.path);
+  if (a.path.field == "opt.timestep" && a.values[0] <= 0) {
+    throw ValueError("--set '" + a.text + "': the timestep must be positive.");
+  }
+  return a;
+}
+
+void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments) {
+  // parameters first: the state edits below may depend on them (qpos0, sizes)
+  bool arrays_changed = false;
+  for (const Assignment& a : assignments) {
+    if (a.path.role != Role::kParameter) continue;
+    WriteValues(model, data, a.path, a.values);
+    if (Fields()[a.path.field_index].source == FieldSource::kModelArray) arrays_changed = true;
+  }
+  // recompute constants derived from masses, inertias and qpos0 (uses its own data:
+  // mj_setConst overwrites the state it is given)
+  if (arrays_changed) {
+    Data scratch(model);
+    mj_setConst(model.get_mutable(), scratch.get());
+  }
+  data.Reset();
+  for (const Assignment& a : assignments) {
+    if (a.path.role != Role::kParameter) WriteValues(model, data, a.path, a.values);
+  }
+  // the chapter's rule: after setting state, make derived quantities consistent
+  data.Forward();
+}
+
+}  // namespace plumb

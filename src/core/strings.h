@@ -1,0 +1,40 @@
+// Small string helpers shared by the core: joining, strict number parsing, and
+// "did you mean" suggestions.
+
+#ifndef PLUMB_SRC_CORE_STRINGS_H_
+#define PLUMB_SRC_CORE_STRINGS_H_
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace plumb {
+
+// Joins `parts` with `separator` between them.
+std::string Join(const std::vector<std::string>& parts, std::string_view separator);
+
+// Parses the whole of `text` (surrounding blanks allowed) as a finite or non-finite
+// double; nullopt when anything else is left over or nothing is a number.
+std::optional<double> ParseNumber(std::string_view text);
+
+// Parses a non-negative integer index ("3"); nullopt for anything else.
+std::optional<long> ParseIndex(std::string_view text);
+
+// Splits on `separator`, keeping empty parts.
+std::vector<std::string> Split(std::string_view text, char separator);
+
+// Case-insensitive ASCII equality.
+bool EqualsIgnoreCase(std::string_view a, std::string_view b);
+
+// Up to `count` entries of `candidates` closest to `word` (edit distance, then
+// prefix/substring matches first), for "did you mean" messages.
+std::vector<std::string> Nearest(std::string_view word, const std::vector<std::string>& candidates,
+                                 std::size_t count = 5);
+
+// "did you mean: a, b, c?" or "" when there is nothing to suggest.
+std::string DidYouMean(std::string_view word, const std::vector<std::string>& candidates);
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_CORE_STRINGS_H_

@@ -1,0 +1,98 @@
+// The repro folder of a diverged run: everything needed to reproduce it elsewhere.
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "core/version.h"
+#include "plumb/error.h"
+#include "plumb/output.h"
+
+namespace plumb {
+
+namespace fs = std::filesystem;
+
+namespace {
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw IoError("cannot write '" + path.string() + "': " + std::strerror(errno));
+}
+}  // namespace
+
+std::string ShellQuote(const std::string& arg) {
+  if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                            "0123456789_-+=/.,:@%") == std::string::npos) {
+    return arg;
+  }
+  std::string out = "'";
+  for (char c : arg) {
+    if (c == '\'') {
+      out += "'\\''";
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+std::string WriteRepro(const Model& model, const RunResult& result,
+                       const std::vector<std::string>& argv, const std::string& dir) {
+  // pick a name that does not exist yet
+  std::string final_dir = dir;
+  std::error_code ec;
+  for (int n = 2; fs::exists(final_dir, ec); ++n) final_dir = dir + "-" + std::to_string(n);
+  fs::path temp = fs::path(final_dir).parent_path();
+  if (temp.empty()) temp = ".";
+  temp /= "." + fs::path(final_dir).filename().string() + ".tmp-" + std::to_string(getpid());
+  fs::remove_all(temp, ec);
+  if (!fs::create_directories(temp, ec)) {
+    throw IoError("cannot create repro folder '" + final_dir + "': " + ec.message());
+  }
+  try {
+    std::string command;
+    for (const std::string& a : argv) command += (command.empty() ? "" : " ") + ShellQuote(a);
+    WriteText(temp / "command.txt", "# run from: " + fs::current_path().string() + "\n" +
+                                        command + "\n");
+    model.SaveBinary((temp / "model.mjb").string());
+    std::string xml_note;
+    try {
+      model.SaveXml((temp / "model.xml").string());
+    } catch (const IoError& e) {
+      xml_note = std::string("model.xml was not written: ") + e.what() + "\n";
+    }
+    if (result.divergence) {
+      WriteText(temp / "last_good.json", StateToJson(result.divergence->last_good));
+      WriteText(temp / "bad.json", StateToJson(result.divergence->bad));
+    }
+    WriteText(temp / "warnings.json", WarningsToJson(result.warnings));
+    WriteText(temp / "README.txt",
+              "plumb " PLUMB_VERSION " repro folder, MuJoCo " + MujocoVersion() + "\n\n" +
+                  (result.divergence ? result.divergence->reason + "\n\n" : "") +
+                  "command.txt     the exact command line that diverged\n"
+                  "model.xml       the model as MuJoCo saves it (mj_saveLastXML); runtime edits\n"
+                  "                of body_mass are not written there, see model.mjb\n"
+                  "model.mjb       the exact compiled model with every edit (mj_loadModel)\n"
+                  "last_good.json  state after the last step that passed every check\n"
+                  "bad.json        state right after the step that failed\n"
+                  "warnings.json   MuJoCo warnings raised during the run\n\n"
+                  "To reproduce: load model.mjb, set time/qpos/qvel/act/ctrl from\n"
+                  "last_good.json, call mj_forward, then mj_step once.\n" +
+                  xml_note);
+  } catch (...) {
+    fs::remove_all(temp, ec);
+    throw;
+  }
+  fs::rename(temp, final_dir, ec);
+  if (ec) {
+    fs::remove_all(temp, ec);
+    throw IoError("cannot create repro folder '" + final_dir + "': " + ec.message());
+  }
+  return final_dir;
+}
+
+}  // namespace plumb

@@ -1,0 +1,155 @@
+// Table, CSV and JSON-lines writers for sampled rows.
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include "plumb/error.h"
+#include "plumb/output.h"
+
+namespace plumb {
+namespace {
+
+class Writer : public SampleSink {
+ public:
+  explicit Writer(std::FILE* out) : out_(out) {}
+  void End() override {
+    if (std::fflush(out_) != 0 || std::ferror(out_)) {
+      throw IoError(std::string("cannot write samples: ") + std::strerror(errno));
+    }
+  }
+
+ protected:
+  void Put(const std::string& s) { std::fwrite(s.data(), 1, s.size(), out_); }
+  std::FILE* out_;
+};
+
+// Fixed-width columns with 5 decimals, as the chapter prints them.
+class TableWriter : public Writer {
+ public:
+  using Writer::Writer;
+  void Begin(const std::vector<Path>& columns) override {
+    std::string header;
+    for (const Path& p : columns) {
+      int width = std::max<int>(12, static_cast<int>(p.text.size()) + 2);
+      widths_.push_back(width);
+      header += fmt::format("{:>{}}", p.text, width);
+    }
+    Put(header + "\n");
+  }
+  void Sample(const std::vector<double>& row) override {
+    line_.clear();
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      fmt::format_to(std::back_inserter(line_), "{:>{}.5f}", row[c], widths_[c]);
+    }
+    line_ += '\n';
+    Put(line_);
+  }
+
+ private:
+  std::vector<int> widths_;
+  std::string line_;
+};
+
+// RFC 4180 quoting for header names that need it.
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// %.17g round-trips every double exactly.
+void AppendNumber(std::string* out, double v) {
+  char buffer[32];
+  int n = std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+  out->append(buffer, n);
+}
+
+class CsvWriter : public Writer {
+ public:
+  using Writer::Writer;
+  void Begin(const std::vector<Path>& columns) override {
+    std::string header;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) header += ',';
+      header += CsvField(columns[c].text);
+    }
+    Put(header + "\n");
+  }
+  void Sample(const std::vector<double>& row) override {
+    line_.clear();
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      if (c) line_ += ',';
+      AppendNumber(&line_, row[c]);
+    }
+    line_ += '\n';
+    Put(line_);
+  }
+
+ private:
+  std::string line_;
+};
+
+std::string JsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          out += fmt::format("\\u{:04x}", c);
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+class JsonlWriter : public Writer {
+ public:
+  using Writer::Writer;
+  void Begin(const std::vector<Path>& columns) override {
+    for (const Path& p : columns) keys_.push_back(JsonString(p.text) + ":");
+  }
+  void Sample(const std::vector<double>& row) override {
+    line_ = "{";
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      if (c) line_ += ',';
+      line_ += keys_[c];
+      // JSON has no NaN or Inf
+      if (std::isfinite(row[c])) {
+        AppendNumber(&line_, row[c]);
+      } else {
+        line_ += "null";
+      }
+    }
+    line_ += "}\n";
+    Put(line_);
+  }
+
+ private:
+  std::vector<std::string> keys_;
+  std::string line_;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out) {
+  switch (format) {
+    case SampleFormat::kTable: return std::make_unique<TableWriter>(out);
+    case SampleFormat::kCsv: return std::make_unique<CsvWriter>(out);
+    case SampleFormat::kJsonl: return std::make_unique<JsonlWriter>(out);
+  }
+  return nullptr;
+}
+
+}  // namespace plumb
