@@ -355,6 +355,36 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
   return path;
 }
 
+// Throws ValueError unless `v` can be stored in an element of `type`.
+void CheckValue(ElemType type, const std::string& where, double v) {
+  if (!std::isfinite(v)) {
+    throw ValueError("value for '" + where + "' is " + std::to_string(v) +
+                     ": NaN and Inf are not allowed.");
+  }
+  auto require_integral = [&](double lo, double hi) {
+    if (v != std::floor(v) || v < lo || v > hi) {
+      throw ValueError("'" + where + "' is an integer field; " + std::to_string(v) +
+                       " is not an integer between " + std::to_string(static_cast<long>(lo)) +
+                       " and " + std::to_string(static_cast<long>(hi)) + ".");
+    }
+  };
+  switch (type) {
+    case ElemType::kFloat:
+      if (std::fabs(v) > std::numeric_limits<float>::max()) {
+        throw ValueError("value " + std::to_string(v) + " for '" + where +
+                         "' does not fit a float.");
+      }
+      break;
+    case ElemType::kInt:
+      require_integral(std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
+      break;
+    case ElemType::kInt64: require_integral(-9.0e15, 9.0e15); break;
+    case ElemType::kByte: require_integral(0, 255); break;
+    case ElemType::kBool: require_integral(0, 1); break;
+    default: break;
+  }
+}
+
 // Throws PathError explaining why `path` cannot be set, unless it can.
 void RequireWritable(const Path& path) {
   if (path.writable) return;
@@ -449,14 +479,17 @@ std::vector<Path> DefaultColumns(const Model& model) {
     for (Path& p : ScalarPaths(ResolvePath(model, text))) columns.push_back(std::move(p));
   };
   for (const char* field : {"qpos", "qvel"}) {
+    bool is_qpos = std::string(field) == "qpos";
     for (int j = 0; j < m->njnt; ++j) {
       std::string name = model.Name(mjOBJ_JOINT, j);
-      add(std::string(field) + "[" + (name.empty() ? std::to_string(
-                                                         std::string(field) == "qpos"
-                                                             ? m->jnt_qposadr[j]
-                                                             : m->jnt_dofadr[j])
-                                                   : name) +
-          "]");
+      if (!name.empty()) {
+        add(std::string(field) + "[" + name + "]");
+        continue;
+      }
+      // unnamed joints: address their raw rows, one per coordinate
+      int adr = is_qpos ? m->jnt_qposadr[j] : m->jnt_dofadr[j];
+      int n = is_qpos ? JointQposSize(m->jnt_type[j]) : JointDofSize(m->jnt_type[j]);
+      for (int k = 0; k < n; ++k) add(std::string(field) + "[" + std::to_string(adr + k) + "]");
     }
   }
   for (int s = 0; s < m->nsensor; ++s) {
@@ -499,43 +532,15 @@ void WriteValues(Model& model, Data& data, const Path& path, const std::vector<d
   }
   for (long k = 0; k < path.count; ++k) {
     double v = values[k];
-    if (!std::isfinite(v)) {
-      throw ValueError("value for '" + path.text + "' is " + std::to_string(v) +
-                       ": NaN and Inf are not allowed.");
-    }
+    CheckValue(field.type, path.text, v);
     void* at = MutableElement(model, data, path, k);
-    auto require_integral = [&](double lo, double hi) {
-      if (v != std::floor(v) || v < lo || v > hi) {
-        throw ValueError("'" + path.text + "' is an integer field; " + std::to_string(v) +
-                         " is not an integer between " + std::to_string(static_cast<long>(lo)) +
-                         " and " + std::to_string(static_cast<long>(hi)) + ".");
-      }
-    };
     switch (field.type) {
       case ElemType::kNum: *static_cast<mjtNum*>(at) = v; break;
-      case ElemType::kFloat:
-        if (std::fabs(v) > std::numeric_limits<float>::max()) {
-          throw ValueError("value " + std::to_string(v) + " for '" + path.text +
-                           "' does not fit a float.");
-        }
-        *static_cast<float*>(at) = static_cast<float>(v);
-        break;
-      case ElemType::kInt:
-        require_integral(std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
-        *static_cast<int*>(at) = static_cast<int>(v);
-        break;
-      case ElemType::kInt64:
-        require_integral(-9.0e15, 9.0e15);
-        *static_cast<long long*>(at) = static_cast<long long>(v);
-        break;
-      case ElemType::kByte:
-        require_integral(0, 255);
-        *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v);
-        break;
-      case ElemType::kBool:
-        require_integral(0, 1);
-        *static_cast<bool*>(at) = v != 0;
-        break;
+      case ElemType::kFloat: *static_cast<float*>(at) = static_cast<float>(v); break;
+      case ElemType::kInt: *static_cast<int*>(at) = static_cast<int>(v); break;
+      case ElemType::kInt64: *static_cast<long long*>(at) = static_cast<long long>(v); break;
+      case ElemType::kByte: *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v); break;
+      case ElemType::kBool: *static_cast<bool*>(at) = v != 0; break;
       case ElemType::kChar:
       case ElemType::kOther:
         throw PathError("cannot set '" + path.text + "': it is not numeric.");
@@ -609,6 +614,7 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
                      std::to_string(a.values.size()) + ".");
   }
   RequireWritable(a.path);
+  for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
   if (a.path.field == "opt.timestep" && a.values[0] <= 0) {
     throw ValueError("--set '" + a.text + "': the timestep must be positive.");
   }

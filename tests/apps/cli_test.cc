@@ -1,0 +1,233 @@
+// The plumb command line as a user meets it: outputs, bad input, exit codes.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CommandResult;
+using testing::kPendulum;
+using testing::ReadFile;
+using testing::RunPlumb;
+using testing::TempDir;
+using testing::WriteFile;
+
+const std::string kSet = " --set 'qpos[hinge]=0.7' ";
+
+TEST(CliRunTest, TableReproducesTheChapter) {
+  CommandResult r = RunPlumb("run " + kPendulum + kSet + "--until 2 --every 0.1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("time  qpos[hinge]  qvel[hinge]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("     0.10000      0.65403     -0.89118"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("     0.50000     -0.16156     -2.40852"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("     2.00000"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, "");
+}
+
+TEST(CliRunTest, CsvToFileHasExactHeader) {
+  TempDir dir;
+  CommandResult r = RunPlumb("run " + kPendulum + kSet +
+                             "--until 2 --every 0.1 --format csv -o traj.csv", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  std::string csv = ReadFile(dir.File("traj.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "time,qpos[hinge],qvel[hinge]");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 22);
+}
+
+TEST(CliRunTest, ColumnsChooseAnyPaths) {
+  CommandResult r = RunPlumb("run " + kPendulum + kSet +
+                             "--until 0.2 --format csv --columns 'time,xpos[link][2],qacc[hinge]'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')), "time,xpos[link][2],qacc[hinge]");
+}
+
+TEST(CliRunTest, JsonLinesOnePerSample) {
+  CommandResult r = RunPlumb("run " + kPendulum + kSet + "--until 0.5 --format jsonl");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    nlohmann::json row = nlohmann::json::parse(line);
+    EXPECT_TRUE(row.contains("qvel[hinge]"));
+    ++n;
+  }
+  EXPECT_EQ(n, 6);
+}
+
+TEST(CliRunTest, AtRestPendulumGetsAHintOnStderr) {
+  CommandResult r = RunPlumb("run " + kPendulum + " --until 0.2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("will not move"), std::string::npos) << r.err;
+}
+
+TEST(CliInspectTest, TableShowsTheChaptersFields) {
+  CommandResult r = RunPlumb("inspect " + kPendulum);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* text : {"nbody", "njnt", "opt.timestep", "0.002", "hinge", "link",
+                           "parameter", "derived", "rad"}) {
+    EXPECT_NE(r.out.find(text), std::string::npos) << text;
+  }
+}
+
+TEST(CliInspectTest, JsonUsesMujocoNames) {
+  CommandResult r = RunPlumb("inspect " + kPendulum + " --format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["sizes"]["nbody"], 2);
+  EXPECT_EQ(j["sizes"]["njnt"], 1);
+  EXPECT_EQ(j["sizes"]["nq"], 1);
+  EXPECT_EQ(j["sizes"]["nv"], 1);
+  EXPECT_EQ(j["sizes"]["nu"], 0);
+  EXPECT_EQ(j["options"]["opt.timestep"], 0.002);
+  EXPECT_EQ(j["joints"][0]["name"], "hinge");
+}
+
+TEST(CliInspectTest, HumanoidHasNqDifferentFromNv) {
+  CommandResult r = RunPlumb("inspect " + testing::kHumanoid + " --format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["sizes"]["nq"], 28);
+  EXPECT_EQ(j["sizes"]["nv"], 27);
+  CommandResult table = RunPlumb("inspect " + testing::kHumanoid);
+  EXPECT_NE(table.out.find("nq != nv"), std::string::npos);
+}
+
+// Every bad input: a message on stderr saying what and where, exit 2, no output file.
+class CliBadInputTest : public ::testing::Test {
+ protected:
+  CommandResult Expect2(const std::string& args, const std::string& must_mention) {
+    CommandResult r = RunPlumb(args + " -o out.csv", dir_.path());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find(must_mention), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_TRUE(fs::is_empty(dir_.path())) << "output left behind";
+    return r;
+  }
+  TempDir dir_;
+};
+
+TEST_F(CliBadInputTest, MissingFile) { Expect2("run missing.xml", "missing.xml"); }
+
+TEST_F(CliBadInputTest, MalformedXml) {
+  TempDir models;
+  WriteFile(models.File("bad.xml"), "<mujoco>\n<worldbody>\n<body>\n<geom size=\"1\"\n");
+  Expect2("run " + models.File("bad.xml"), "Line number=4");
+}
+
+TEST_F(CliBadInputTest, NegativeGeomSizeGivesObjectAndLine) {
+  TempDir models;
+  WriteFile(models.File("neg.xml"),
+            "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
+            "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
+  CommandResult r = Expect2("run " + models.File("neg.xml"), "neg.xml");
+  EXPECT_NE(r.err.find("Object name = rod"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("line = 5"), std::string::npos) << r.err;
+}
+
+TEST_F(CliBadInputTest, RangeWithoutLimitedExplainsAutolimits) {
+  TempDir models;
+  WriteFile(models.File("lim.xml"),
+            "<mujoco><worldbody><body><joint name=\"j\" range=\"-1 1\"/><geom size=\"1\"/></body>"
+            "</worldbody></mujoco>");
+  Expect2("run " + models.File("lim.xml"), "autolimits");
+}
+
+TEST_F(CliBadInputTest, UnknownPath) {
+  CommandResult r = Expect2("run " + kPendulum + " --set 'qpos[hnge]=0.7'", "qpos[hnge]");
+  EXPECT_NE(r.err.find("did you mean: hinge"), std::string::npos) << r.err;
+  Expect2("run " + kPendulum + " --columns 'time,qpso[hinge]'", "qpso");
+}
+
+TEST_F(CliBadInputTest, NonNumericValue) {
+  Expect2("run " + kPendulum + " --set 'qpos[hinge]=abc'", "not a number");
+}
+
+TEST_F(CliBadInputTest, NanValue) { Expect2("run " + kPendulum + " --set 'qpos[hinge]=nan'", "nan"); }
+
+TEST_F(CliBadInputTest, EveryNotAMultipleOfTheTimestep) {
+  Expect2("run " + kPendulum + " --every 0.003", "--every 0.003");
+}
+
+TEST_F(CliBadInputTest, NegativeUntil) { Expect2("run " + kPendulum + " --until -1", "--until"); }
+
+TEST_F(CliBadInputTest, UnknownOption) { Expect2("run " + kPendulum + " --untill 2", "untill"); }
+
+TEST(CliOutputTest, UnwritableOutputPathIsBadInput) {
+  TempDir dir;
+  CommandResult r = RunPlumb("run " + kPendulum + " -o /nonexistent-dir/traj.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent-dir/traj.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists("/nonexistent-dir/traj.csv"));
+}
+
+TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), R"(<mujoco model="stiff">
+    <option timestep="0.01" gravity="0 0 0"/>
+    <worldbody><body name="mass">
+      <joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
+      <geom type="sphere" size="0.05" mass="1"/>
+    </body></worldbody></mujoco>)");
+  CommandResult r = RunPlumb("run stiff.xml --set 'qpos[slider]=0.01' --until 10 --every 0.01 "
+                             "-o traj.csv",
+                             dir.path());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("diverged"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("plumb-repro-stiff"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.File("traj.csv")));
+  std::string repro = dir.File("plumb-repro-stiff");
+  for (const char* name : {"model.xml", "model.mjb", "last_good.json", "bad.json", "command.txt"}) {
+    EXPECT_TRUE(fs::exists(repro + "/" + name)) << name;
+  }
+  EXPECT_NE(ReadFile(repro + "/command.txt").find("'qpos[slider]=0.01'"), std::string::npos);
+  nlohmann::json good = nlohmann::json::parse(ReadFile(repro + "/last_good.json"));
+  EXPECT_TRUE(good["qpos"][0].is_number());
+  // the saved model reproduces the divergence on its own
+  CommandResult again = RunPlumb("run " + repro + "/model.mjb --set 'qpos[slider]=0.01' "
+                                 "--until 10 --every 0.01 --repro again",
+                                 dir.path());
+  EXPECT_EQ(again.exit_code, 3);
+}
+
+TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {
+  TempDir dir;
+  // a long run in the background, interrupted once it has started writing
+  std::string command = std::string("'") + PLUMB_CLI + "' run " + kPendulum + kSet +
+                        "--until 100000 --every 0.002 --format csv -o traj.csv";
+  std::string script = command + " 2>err.txt & pid=$!; "
+                       "for i in $(seq 100); do ls -a | grep -q 'traj.csv.tmp' && break; "
+                       "sleep 0.05; done; sleep 0.2; kill -INT $pid; wait $pid; echo $? >rc.txt";
+  WriteFile(dir.File("interrupt.sh"), script + "\n");
+  testing::RunShell("bash interrupt.sh", dir.path());
+  EXPECT_EQ(ReadFile(dir.File("rc.txt")), "130\n") << ReadFile(dir.File("err.txt"));
+  EXPECT_NE(ReadFile(dir.File("err.txt")).find("interrupted"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir.File("traj.csv")));
+  for (const auto& entry : fs::directory_iterator(dir.path())) {
+    EXPECT_EQ(entry.path().filename().string().find("traj.csv"), std::string::npos)
+        << entry.path();
+  }
+}
+
+TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
+  CommandResult r = RunPlumb("run --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("plumb run models/pendulum.xml"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Exit codes"), std::string::npos) << r.out;
+  EXPECT_EQ(RunPlumb("").exit_code, 2);
+  EXPECT_EQ(RunPlumb("frobnicate").exit_code, 2);
+  EXPECT_NE(RunPlumb("--version").out.find("MuJoCo 2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace plumb

@@ -1,0 +1,67 @@
+#include "plumb/describe.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+using testing::MujocoTest;
+
+long Size(const ModelDescription& d, const std::string& name) {
+  for (const auto& [key, value] : d.sizes) {
+    if (key == name) return value;
+  }
+  return -1;
+}
+
+using DescribeTest = MujocoTest;
+
+TEST_F(DescribeTest, PendulumMatchesTheChaptersTable) {
+  ModelDescription d = Describe(Model::Load(testing::kPendulum));
+  EXPECT_EQ(Size(d, "nbody"), 2);
+  EXPECT_EQ(Size(d, "njnt"), 1);
+  EXPECT_EQ(Size(d, "nq"), 1);
+  EXPECT_EQ(Size(d, "nv"), 1);
+  EXPECT_EQ(Size(d, "nu"), 0);
+  EXPECT_EQ(d.timestep, 0.002);
+  EXPECT_EQ(d.integrator, "Euler");
+  EXPECT_EQ(d.gravity[2], -9.81);
+  ASSERT_EQ(d.bodies.size(), 2u);
+  EXPECT_EQ(d.bodies[1].name, "link");
+  EXPECT_EQ(d.bodies[1].mass, 1);
+  EXPECT_NEAR(d.bodies[1].com[2], -0.5, 1e-12);  // the capsule's middle
+  ASSERT_EQ(d.joints.size(), 1u);
+  EXPECT_EQ(d.joints[0].type, "hinge");
+  EXPECT_EQ(d.joints[0].damping, 0.05);
+  EXPECT_EQ(d.joints[0].position_unit, "rad");
+  EXPECT_EQ(d.roles.size(), 4u);
+}
+
+TEST_F(DescribeTest, CapsuleInertiaIsTheCompilersAboutTheCom) {
+  // a solid capsule (cylinder length 1, radius 0.05, two hemispheres) of mass 1 kg:
+  // the moment about a transverse axis through the centre is well below m*L^2/12
+  ModelDescription d = Describe(Model::Load(testing::kPendulum));
+  double transverse = d.bodies[1].inertia[0];
+  EXPECT_GT(transverse, 0.08);
+  EXPECT_LT(transverse, 1.0 / 12 + 0.02);
+  EXPECT_NEAR(d.bodies[1].inertia[0], d.bodies[1].inertia[1], 1e-12);
+  EXPECT_LT(d.bodies[1].inertia[2], 0.01);  // about the capsule's own axis
+}
+
+TEST_F(DescribeTest, HumanoidShowsNqDiffersFromNv) {
+  ModelDescription d = Describe(Model::Load(testing::kHumanoid));
+  EXPECT_EQ(Size(d, "nq"), 28);
+  EXPECT_EQ(Size(d, "nv"), 27);
+  EXPECT_EQ(d.joints[0].type, "free");
+  EXPECT_EQ(d.joints[0].nq, 7);
+  EXPECT_EQ(d.joints[0].nv, 6);
+  EXPECT_EQ(d.actuators.size(), 21u);
+  EXPECT_FALSE(d.actuators[0].target.empty());
+}
+
+}  // namespace
+}  // namespace plumb

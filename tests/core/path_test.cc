@@ -1,0 +1,242 @@
+#include "plumb/path.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/fields.h"
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using testing::kHumanoid;
+using testing::kPendulum;
+using testing::MujocoTest;
+
+// A small robot with every kind of row the grammar names: a free base, a ball joint,
+// a hinge, a motor, a sensor of dimension 3 and a mocap body.
+constexpr char kRobot[] = R"(
+<mujoco model="robot">
+  <worldbody>
+    <body name="mocap" mocap="true" pos="1 0 0"/>
+    <body name="torso" pos="0 0 1">
+      <freejoint name="root"/>
+      <geom name="chest" type="box" size="0.1 0.1 0.1" mass="10"/>
+      <site name="imu"/>
+      <body name="arm" pos="0.2 0 0">
+        <joint name="shoulder" type="ball"/>
+        <geom name="upper" type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" type="hinge" axis="0 1 0" damping="0.1"/>
+          <geom name="foot" type="sphere" size="0.05" friction="0.8 0.01 0.001"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><motor name="motor" joint="elbow" gear="50"/></actuator>
+  <sensor>
+    <accelerometer name="imu_acc" site="imu"/>
+    <jointpos name="elbow_angle" joint="elbow"/>
+  </sensor>
+</mujoco>)";
+
+class PathTest : public MujocoTest {
+ protected:
+  Model robot_ = Model::FromXmlString(kRobot, "robot.xml");
+  Data data_{robot_};
+};
+
+TEST_F(PathTest, JointNamesMapToQposAndDofBlocks) {
+  Path root = ResolvePath(robot_, "qpos[root]");
+  EXPECT_EQ(root.first, 0);
+  EXPECT_EQ(root.count, 7);
+  Path z = ResolvePath(robot_, "qpos[root][2]");
+  EXPECT_EQ(z.first, 2);
+  EXPECT_EQ(z.count, 1);
+  EXPECT_EQ(z.text, "qpos[root][2]");
+  Path shoulder = ResolvePath(robot_, "qvel[shoulder]");
+  EXPECT_EQ(shoulder.first, robot_->jnt_dofadr[1]);
+  EXPECT_EQ(shoulder.count, 3);
+  Path elbow = ResolvePath(robot_, "qpos[elbow]");
+  EXPECT_EQ(elbow.first, robot_->jnt_qposadr[2]);
+  EXPECT_EQ(elbow.count, 1);
+  EXPECT_EQ(ResolvePath(robot_, "qpos[3]").first, 3);
+  EXPECT_EQ(ResolvePath(robot_, "qpos").count, robot_->nq);
+}
+
+TEST_F(PathTest, ReadsWhatMujocoHolds) {
+  data_->qpos[2] = 1.25;
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "qpos[root][2]")), 1.25);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "time")), data_->time);
+  data_.Forward();
+  Path x = ResolvePath(robot_, "xpos[forearm][0]");
+  int forearm = mj_name2id(robot_.get(), mjOBJ_BODY, "forearm");
+  EXPECT_EQ(ReadValue(robot_, data_, x), data_->xpos[3 * forearm]);
+  Path acc = ResolvePath(robot_, "sensordata[imu_acc][1]");
+  EXPECT_EQ(acc.first, 1);
+  EXPECT_EQ(ResolvePath(robot_, "sensordata[elbow_angle]").first, 3);
+  EXPECT_EQ(ResolvePath(robot_, "ctrl[motor]").first, 0);
+  EXPECT_EQ(ResolvePath(robot_, "mocap_pos[mocap][0]").first, 0);
+}
+
+TEST_F(PathTest, ModelParametersUseTheSameGrammar) {
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "dof_damping[elbow]")), 0.1);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "body_mass[torso]")), 10);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "geom_friction[foot][0]")), 0.8);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "actuator_gear[motor][0]")), 50);
+  EXPECT_EQ(ResolvePath(robot_, "opt.gravity").count, 3);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "opt.gravity[2]")), -9.81);
+  EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "opt.timestep")), 0.002);
+  EXPECT_EQ(ResolvePath(robot_, "nq").role, Role::kParameter);
+  EXPECT_FALSE(ResolvePath(robot_, "nq").writable);
+}
+
+TEST_F(PathTest, RolesFollowTheChaptersClassification) {
+  EXPECT_EQ(ResolvePath(robot_, "qpos[elbow]").role, Role::kState);
+  EXPECT_EQ(ResolvePath(robot_, "time").role, Role::kState);
+  EXPECT_EQ(ResolvePath(robot_, "ctrl[motor]").role, Role::kInput);
+  EXPECT_EQ(ResolvePath(robot_, "xpos[torso]").role, Role::kDerived);
+  EXPECT_EQ(ResolvePath(robot_, "body_mass[torso]").role, Role::kParameter);
+  EXPECT_STREQ(RoleName(Role::kDerived), "derived");
+}
+
+TEST_F(PathTest, EveryArrayOfTheXMacroTablesIsReachable) {
+  // every numeric field with rows in this model (or a scalar) resolves and reads
+  int resolved = 0;
+  for (const FieldInfo& field : Fields()) {
+    if (field.type == compat::ElemType::kOther) continue;
+    if (field.rows(robot_.get()) * field.cols(robot_.get()) == 0) continue;
+    Path p = ResolvePath(robot_, field.name);
+    double v = ReadValue(robot_, data_, p, p.count - 1);
+    EXPECT_FALSE(std::isnan(v) && field.type != compat::ElemType::kNum) << field.name;
+    ++resolved;
+  }
+  EXPECT_GT(resolved, 150);
+}
+
+TEST_F(PathTest, UnknownNameListsTheNearest) {
+  try {
+    ResolvePath(robot_, "qpos[elbw]");
+    FAIL();
+  } catch (const PathError& e) {
+    std::string what = e.what();
+    EXPECT_NE(what.find("no joint named 'elbw'"), std::string::npos) << what;
+    EXPECT_NE(what.find("did you mean: elbow"), std::string::npos) << what;
+  }
+}
+
+TEST_F(PathTest, UnknownFieldListsTheNearest) {
+  try {
+    ResolvePath(robot_, "qpso[elbow]");
+    FAIL();
+  } catch (const PathError& e) {
+    EXPECT_NE(std::string(e.what()).find("qpos"), std::string::npos) << e.what();
+  }
+  try {
+    ResolvePath(robot_, "opt.timstep");
+    FAIL();
+  } catch (const PathError& e) {
+    EXPECT_NE(std::string(e.what()).find("opt.timestep"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(PathTest, OutOfBoundsIndicesAreRejected) {
+  EXPECT_THROW(ResolvePath(robot_, "qpos[99]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "qpos[root][7]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "xpos[torso][3]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "opt.gravity[3]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "qpos[elbow"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "qpos[a][0][1]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "qpos[*]"), PathError);  // only lists take '*'
+}
+
+TEST_F(PathTest, RowsWithoutThatKindOfEntryAreExplained) {
+  // the motor has no activation state; torso is not a mocap body
+  EXPECT_THROW(ResolvePath(robot_, "act[motor]"), PathError);
+  EXPECT_THROW(ResolvePath(robot_, "mocap_pos[torso]"), PathError);
+}
+
+TEST_F(PathTest, AssignmentsParseVectorsAndEnumNames) {
+  Assignment g = ParseAssignment(robot_, "opt.gravity=0,0,-1.62");
+  EXPECT_EQ(g.values, (std::vector<double>{0, 0, -1.62}));
+  Assignment rk4 = ParseAssignment(robot_, "opt.integrator=RK4");
+  EXPECT_EQ(rk4.values[0], mjINT_RK4);
+  EXPECT_EQ(ParseAssignment(robot_, "opt.integrator=implicit").values[0], mjINT_IMPLICIT);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.integrator=Verlet"), ValueError);
+  Assignment broadcast = ParseAssignment(robot_, "qvel[shoulder]=0.5");
+  EXPECT_EQ(broadcast.values, (std::vector<double>{0.5, 0.5, 0.5}));
+}
+
+TEST_F(PathTest, BadValuesAreRejected) {
+  EXPECT_THROW(ParseAssignment(robot_, "qpos[elbow]=abc"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "qpos[elbow]=nan"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "qpos[elbow]=inf"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "qpos[elbow]"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.gravity=1,2"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.timestep=0"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.iterations=2.5"), ValueError);
+  // derived quantities and structure cannot be set
+  EXPECT_THROW(ParseAssignment(robot_, "xpos[torso][2]=1"), PathError);
+  EXPECT_THROW(ParseAssignment(robot_, "jnt_qposadr[elbow]=0"), PathError);
+  EXPECT_THROW(ParseAssignment(robot_, "body_subtreemass[torso]=1"), PathError);
+}
+
+TEST_F(PathTest, MassEditsRecomputeDerivedConstants) {
+  int torso = mj_name2id(robot_.get(), mjOBJ_BODY, "torso");
+  double subtree_before = robot_->body_subtreemass[torso];
+  ApplyAssignments(robot_, data_, {ParseAssignment(robot_, "body_mass[torso]=20")});
+  EXPECT_EQ(robot_->body_mass[torso], 20);
+  EXPECT_NEAR(robot_->body_subtreemass[torso], subtree_before + 10, 1e-12);
+  EXPECT_NEAR(robot_->body_subtreemass[0], subtree_before + 10 + robot_->body_mass[1], 1e-12);
+}
+
+TEST_F(PathTest, ApplyAssignmentsSetsStateAfterParametersAndForwards) {
+  ApplyAssignments(robot_, data_,
+                   {ParseAssignment(robot_, "qpos[root][2]=3"),
+                    ParseAssignment(robot_, "opt.gravity=0,0,-1.62")});
+  EXPECT_EQ(robot_->opt.gravity[2], -1.62);
+  EXPECT_EQ(data_->qpos[2], 3);
+  // mj_forward ran: the derived body position agrees with the state
+  EXPECT_EQ(data_->xpos[3 * 2 + 2], 3);
+}
+
+TEST_F(PathTest, StarExpandsEveryNamedRow) {
+  std::vector<Path> masses = ExpandPath(robot_, "body_mass[*]");
+  ASSERT_EQ(masses.size(), 5u);  // world, mocap, torso, arm, forearm
+  EXPECT_EQ(masses[0].text, "body_mass[world]");
+  EXPECT_EQ(masses[2].text, "body_mass[torso]");
+  std::vector<Path> friction = ExpandPath(robot_, "geom_friction[*][0]");
+  EXPECT_EQ(friction.size(), 3u);
+  EXPECT_EQ(friction[2].count, 1);
+}
+
+TEST_F(PathTest, DefaultColumnsExpandBlocks) {
+  std::vector<Path> columns = DefaultColumns(robot_);
+  // time + qpos (7 + 4 + 1) + qvel (6 + 3 + 1) + sensordata (3 + 1)
+  ASSERT_EQ(columns.size(), 1u + 12 + 10 + 4);
+  EXPECT_EQ(columns[0].text, "time");
+  EXPECT_EQ(columns[1].text, "qpos[root][0]");
+  EXPECT_EQ(columns[12].text, "qpos[elbow]");
+  EXPECT_EQ(columns.back().text, "sensordata[elbow_angle]");
+}
+
+TEST_F(PathTest, HumanoidNamesResolve) {
+  Model humanoid = Model::Load(kHumanoid);
+  EXPECT_EQ(ResolvePath(humanoid, "qpos[root]").count, 7);
+  EXPECT_EQ(ResolvePath(humanoid, "qvel[root]").count, 6);
+  EXPECT_EQ(ResolvePath(humanoid, "xpos[torso][2]").first,
+            3 * mj_name2id(humanoid.get(), mjOBJ_BODY, "torso") + 2);
+}
+
+TEST_F(PathTest, PendulumHingeIsAScalar) {
+  Model pendulum = Model::Load(kPendulum);
+  Path hinge = ResolvePath(pendulum, "qpos[hinge]");
+  EXPECT_EQ(hinge.first, 0);
+  EXPECT_EQ(hinge.count, 1);
+  EXPECT_EQ(ResolvePath(pendulum, "geom_size[rod][0]").count, 1);
+}
+
+}  // namespace
+}  // namespace plumb

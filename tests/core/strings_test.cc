@@ -1,0 +1,43 @@
+#include "core/strings.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace plumb {
+namespace {
+
+TEST(StringsTest, ParseNumberIsStrict) {
+  EXPECT_EQ(ParseNumber("0.7"), 0.7);
+  EXPECT_EQ(ParseNumber(" -1.62 "), -1.62);
+  EXPECT_EQ(ParseNumber("1e-3"), 1e-3);
+  EXPECT_FALSE(ParseNumber("0.7rad"));
+  EXPECT_FALSE(ParseNumber("abc"));
+  EXPECT_FALSE(ParseNumber(""));
+  EXPECT_FALSE(ParseNumber("0x10"));
+  ASSERT_TRUE(ParseNumber("nan"));
+  EXPECT_TRUE(std::isnan(*ParseNumber("nan")));  // callers reject it with a message
+}
+
+TEST(StringsTest, ParseIndexTakesDigitsOnly) {
+  EXPECT_EQ(ParseIndex("3"), 3);
+  EXPECT_FALSE(ParseIndex("-1"));
+  EXPECT_FALSE(ParseIndex("hinge"));
+  EXPECT_FALSE(ParseIndex(""));
+}
+
+TEST(StringsTest, SplitKeepsEmptyParts) {
+  EXPECT_EQ(Split("0,0,-1.62", ','), (std::vector<std::string>{"0", "0", "-1.62"}));
+  EXPECT_EQ(Split("a,,b", ','), (std::vector<std::string>{"a", "", "b"}));
+}
+
+TEST(StringsTest, NearestPutsTyposFirst) {
+  std::vector<std::string> names = {"torso", "head", "hinge", "hip"};
+  std::vector<std::string> near = Nearest("hnge", names, 2);
+  ASSERT_FALSE(near.empty());
+  EXPECT_EQ(near[0], "hinge");
+  EXPECT_EQ(DidYouMean("tors", names).rfind("did you mean: torso", 0), 0u);
+}
+
+}  // namespace
+}  // namespace plumb

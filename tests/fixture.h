@@ -1,0 +1,99 @@
+// Test helpers: a fixture that fails on any MuJoCo warning, inline models, and running
+// the plumb binary as a user would.
+
+#ifndef PLUMB_TESTS_FIXTURE_H_
+#define PLUMB_TESTS_FIXTURE_H_
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+
+namespace plumb::testing {
+
+inline const std::string kSourceDir = PLUMB_SOURCE_DIR;
+inline const std::string kPendulum = kSourceDir + "/models/pendulum.xml";
+inline const std::string kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";
+
+// The chapter's printed lines for the pendulum started at 0.7 rad (t = 0.1 ... 0.5 s).
+inline constexpr double kChapterQ[] = {0.65403, 0.52386, 0.32596, 0.08646, -0.16156};
+inline constexpr double kChapterDq[] = {-0.89118, -1.66939, -2.23353, -2.49511, -2.40852};
+
+// Fails the test when MuJoCo raised a warning through its handler (as MuJoCo's own
+// MujocoTest fixture does).
+class MujocoTest : public ::testing::Test {
+ protected:
+  void SetUp() override { TakeMujocoWarnings(); }
+  void TearDown() override {
+    for (const std::string& w : TakeMujocoWarnings()) ADD_FAILURE() << "MuJoCo warning: " << w;
+  }
+};
+
+// A fresh empty directory under the system temp dir, removed when it goes out of scope.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "plumb-test-XXXXXX").string();
+    std::vector<char> name(pattern.begin(), pattern.end());
+    name.push_back('\0');
+    path_ = mkdtemp(name.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::permissions(path_, std::filesystem::perms::owner_all, ec);
+    std::filesystem::remove_all(path_, ec);
+  }
+  std::string File(const std::string& name) const { return path_ + "/" + name; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+inline void WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+inline std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Output of one command run.
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs `command` with /bin/sh in `dir` (default: current), capturing stdout and stderr.
+inline CommandResult RunShell(const std::string& command, const std::string& dir = ".") {
+  TempDir capture;
+  std::string full = "cd '" + dir + "' && " + command + " >'" + capture.File("out") + "' 2>'" +
+                     capture.File("err") + "' </dev/null";
+  int status = std::system(full.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = ReadFile(capture.File("out"));
+  r.err = ReadFile(capture.File("err"));
+  return r;
+}
+
+// Runs the plumb binary with `args` (already shell-quoted where needed).
+inline CommandResult RunPlumb(const std::string& args, const std::string& dir = ".") {
+  return RunShell(std::string("'") + PLUMB_CLI + "' " + args, dir);
+}
+
+}  // namespace plumb::testing
+
+#endif  // PLUMB_TESTS_FIXTURE_H_

@@ -1,0 +1,191 @@
+#include "plumb/run.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using testing::kChapterDq;
+using testing::kChapterQ;
+using testing::kPendulum;
+using testing::MujocoTest;
+
+// Keeps every row (tests only: real sinks stream).
+class RecordingSink : public SampleSink {
+ public:
+  void Begin(const std::vector<Path>& columns) override { columns_ = columns; }
+  void Sample(const std::vector<double>& row) override { rows.push_back(row); }
+  void End() override { ended = true; }
+  std::vector<std::vector<double>> rows;
+  std::vector<Path> columns_;
+  bool ended = false;
+};
+
+RunSpec PendulumSpec(const Model& model, double until = 2.0, double every = 0.1) {
+  RunSpec spec;
+  spec.until = until;
+  spec.every = every;
+  spec.columns = DefaultColumns(model);
+  return spec;
+}
+
+using RunTest = MujocoTest;
+
+TEST_F(RunTest, ReproducesTheChaptersPrintedLines) {
+  Model model = Model::Load(kPendulum);
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
+  RecordingSink sink;
+  RunResult result = plumb::Run(model, data, PendulumSpec(model), sink);
+  ASSERT_FALSE(result.diverged);
+  EXPECT_EQ(result.steps, 1000);
+  ASSERT_EQ(sink.rows.size(), 21u);  // t = 0, 0.1, ..., 2
+  EXPECT_TRUE(sink.ended);
+  // the chapter prints 5 decimals: agreement to half a unit in the last place
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(sink.rows[k + 1][1], kChapterQ[k], 5e-6) << "t = " << 0.1 * (k + 1);
+    EXPECT_NEAR(sink.rows[k + 1][2], kChapterDq[k], 5e-6) << "t = " << 0.1 * (k + 1);
+  }
+  EXPECT_TRUE(result.warnings.empty());
+}
+
+TEST_F(RunTest, SampleTimesAreExactStepMultiples) {
+  Model model = Model::Load(kPendulum);
+  Data data(model);
+  RecordingSink sink;
+  plumb::Run(model, data, PendulumSpec(model, 2.0, 0.1), sink);
+  for (std::size_t k = 0; k < sink.rows.size(); ++k) {
+    EXPECT_EQ(sink.rows[k][0], static_cast<double>(50 * k) * 0.002);
+  }
+  // d->time accumulated by addition agrees to round-off only
+  EXPECT_NEAR(data->time, 2.0, 1e-12);
+}
+
+TEST_F(RunTest, ScheduleRejectsBadIntervals) {
+  EXPECT_EQ(MakeSchedule(0.002, 2.0, 0.1).steps, 1000);
+  EXPECT_EQ(MakeSchedule(0.002, 2.0, 0.1).stride, 50);
+  EXPECT_EQ(MakeSchedule(0.002, 0.0031, 0.002).steps, 2);  // like while (time < until)
+  EXPECT_EQ(MakeSchedule(0.002, 0, 0.002).steps, 0);
+  EXPECT_THROW(MakeSchedule(0.002, 2.0, 0.003), ValueError);
+  EXPECT_THROW(MakeSchedule(0.002, 2.0, 0.001), ValueError);
+  EXPECT_THROW(MakeSchedule(0.002, 2.0, 0), ValueError);
+  EXPECT_THROW(MakeSchedule(0.002, -1, 0.1), ValueError);
+  EXPECT_THROW(MakeSchedule(0.002, NAN, 0.1), ValueError);
+  try {
+    MakeSchedule(0.002, 2.0, 0.003);
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("0.002 or 0.004"), std::string::npos) << e.what();
+  }
+}
+
+// A stiff spring: semi-implicit Euler is unstable once omega * dt > 2 (here 10).
+constexpr char kStiffSpring[] = R"(
+<mujoco model="stiff">
+  <option timestep="0.01" gravity="0 0 0"/>
+  <worldbody>
+    <body name="mass">
+      <joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
+      <geom type="sphere" size="0.05" mass="1"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+TEST_F(RunTest, DivergenceStopsTheRunWithBothStates) {
+  Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[slider]=0.01")});
+  RecordingSink sink;
+  RunResult result = plumb::Run(model, data, PendulumSpec(model, 10, 0.01), sink);
+  ASSERT_TRUE(result.diverged);
+  ASSERT_TRUE(result.divergence);
+  EXPECT_LT(result.steps, 1000);
+  const Divergence& div = *result.divergence;
+  EXPECT_EQ(div.bad.step, div.last_good.step + 1);
+  EXPECT_LE(std::fabs(div.last_good.qpos[0]), 1e10);
+  EXPECT_TRUE(std::isfinite(div.last_good.qvel[0]));
+  EXPECT_NE(div.reason.find("diverged"), std::string::npos) << div.reason;
+  EXPECT_TRUE(sink.ended);
+  TakeMujocoWarnings();  // MuJoCo may have warned about the bad state: expected here
+}
+
+TEST_F(RunTest, TheSameSpringIsStableWithASmallTimestep) {
+  Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
+  Data data(model);
+  ApplyAssignments(model, data,
+                   {ParseAssignment(model, "opt.timestep=0.0001"),
+                    ParseAssignment(model, "qpos[slider]=0.01")});
+  NullSink sink;
+  RunSpec spec = PendulumSpec(model, 0.1, 0.01);
+  EXPECT_FALSE(plumb::Run(model, data, spec, sink).diverged);
+}
+
+// Contacts overflow a deliberately tiny contact buffer: MuJoCo warns, the run goes on.
+constexpr char kCrowded[] = R"(
+<mujoco model="crowded">
+  <size nconmax="1"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <body name="a" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
+  </worldbody>
+</mujoco>)";
+
+TEST_F(RunTest, WarningsAreSummarisedWithFirstTime) {
+  Model model = Model::FromXmlString(kCrowded, "crowded.xml");
+  Data data(model);
+  NullSink sink;
+  RunResult result = plumb::Run(model, data, PendulumSpec(model, 0.1, 0.01), sink);
+  TakeMujocoWarnings();
+  EXPECT_FALSE(result.diverged);
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].kind, "CONTACTFULL");
+  EXPECT_GT(result.warnings[0].count, 0);
+  EXPECT_GE(result.warnings[0].first_step, 1);
+  EXPECT_FALSE(result.warnings[0].message.empty());
+}
+
+TEST_F(RunTest, StopFlagInterrupts) {
+  Model model = Model::Load(kPendulum);
+  Data data(model);
+  std::atomic<bool> stop{true};
+  RunSpec spec = PendulumSpec(model);
+  spec.stop = &stop;
+  NullSink sink;
+  EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
+}
+
+TEST_F(RunTest, AtRestInEquilibriumGetsTheChaptersHint) {
+  Model model = Model::Load(kPendulum);
+  Data data(model);
+  ApplyAssignments(model, data, {});
+  std::vector<std::string> hints = StartHints(model, data);
+  ASSERT_EQ(hints.size(), 1u);
+  EXPECT_NE(hints[0].find("will not move"), std::string::npos);
+  EXPECT_NE(hints[0].find("qpos[hinge]=0.7"), std::string::npos);
+
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
+  EXPECT_TRUE(StartHints(model, data).empty());
+  ApplyAssignments(model, data, {ParseAssignment(model, "qvel[hinge]=1")});
+  EXPECT_TRUE(StartHints(model, data).empty());
+}
+
+TEST_F(RunTest, RunsAreBitIdentical) {
+  Model model = Model::Load(testing::kHumanoid);
+  std::vector<std::vector<double>> first;
+  for (int repeat = 0; repeat < 2; ++repeat) {
+    Data data(model);
+    ApplyAssignments(model, data, {});
+    RecordingSink sink;
+    RunSpec spec = PendulumSpec(model, 0.5, 0.05);
+    plumb::Run(model, data, spec, sink);
+    if (repeat == 0) first = sink.rows;
+    else EXPECT_EQ(first, sink.rows);
+  }
+}
+
+}  // namespace
+}  // namespace plumb
