@@ -1,5 +1,6 @@
 // plumb run: step a model and print or record chosen paths at exact sample times.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -60,10 +61,18 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   spec.stop = &StopRequested();
   RunResult result = Run(model, data, spec, *writer);
 
+  // every warning reaches the user: the per-kind summary, then any other message
+  std::vector<std::string> summarised;
   for (const WarningSummary& w : result.warnings) {
     std::fprintf(stderr,
                  "plumb: warning: MuJoCo %s raised %d time(s), first at t = %g s (step %ld): %s\n",
                  w.kind.c_str(), w.count, w.first_time, w.first_step, w.message.c_str());
+    summarised.push_back(w.message);
+  }
+  for (const std::string& message : TakeMujocoWarnings()) {
+    if (std::find(summarised.begin(), summarised.end(), message) == summarised.end()) {
+      std::fprintf(stderr, "plumb: warning: MuJoCo: %s\n", message.c_str());
+    }
   }
   if (result.diverged) {
     std::string dir = o.repro.empty()
