@@ -51,6 +51,7 @@ void InstallSignalHandlers();
 // Registers the subcommands; each sets ctx.action when selected.
 void SetupRunCommand(CLI::App& app, Context& ctx);
 void SetupInspectCommand(CLI::App& app, Context& ctx);
+void SetupConvergeCommand(CLI::App& app, Context& ctx);
 
 }  // namespace plumb::cli
 

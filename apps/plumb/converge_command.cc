@@ -1,0 +1,135 @@
+// plumb converge: does the answer converge as the timestep shrinks, and at what order?
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "plumb/converge.h"
+#include "plumb/error.h"
+#include "plumb/output.h"
+
+namespace plumb::cli {
+namespace {
+
+struct ConvergeOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  std::string metric;
+  double dt = 0;  // 0: the model's timestep
+  int halvings = 4;
+  double tol = 1e-3;
+  double until = 0;  // 0: the metric's default
+  std::string format = "table";
+};
+
+// JSON numbers cannot be NaN: unresolved quantities become null.
+nlohmann::ordered_json Number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+int RunConverge(const ConvergeOptions& o) {
+  Model model = LoadModel(o.model);
+  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  Metric metric = ParseMetric(model, o.metric);
+  // the nominal model after --set decides the default dt and the integrator
+  Model nominal = model.Clone();
+  {
+    Data data(nominal);
+    ApplyAssignments(nominal, data, sets);
+  }
+  double dt0 = o.dt > 0 ? o.dt : nominal->opt.timestep;
+  double until = o.until > 0 ? o.until : DefaultDuration(metric);
+  if (!(o.tol > 0)) throw ValueError("--tol must be a positive relative tolerance");
+  ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until);
+  double expected = ExpectedOrder(nominal->opt.integrator);
+
+  if (o.format == "json") {
+    nlohmann::ordered_json j;
+    j["metric"] = r.metric;
+    j["model"] = o.model;
+    j["integrator_expected_order"] = expected;
+    nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+    for (const ConvergenceLevel& l : r.levels) {
+      levels.push_back({{"dt", l.dt},
+                        {"value", Number(l.value)},
+                        {"diff", Number(l.diff)},
+                        {"order", Number(l.order)},
+                        {"error", Number(l.error)}});
+    }
+    j["levels"] = levels;
+    j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
+    j["order_resolved"] = r.estimate.resolved;
+    j["extrapolated"] = Number(r.estimate.extrapolated);
+    j["scale"] = r.scale;
+    j["tol"] = r.tol;
+    j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+    j["note"] = r.ok ? r.estimate.note : r.problem;
+    std::string text = j.dump(2) + "\n";
+    std::fwrite(text.data(), 1, text.size(), stdout);
+  } else {
+    std::string out = fmt::format("metric {} on {}, over {:g} s\n\n", r.metric, o.model, until);
+    out += fmt::format("{:>12} {:>22} {:>12} {:>8} {:>12}\n", "dt [s]", "value", "diff", "order",
+                       "est. error");
+    auto num = [](double v, const char* spec) {
+      return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
+    };
+    for (const ConvergenceLevel& l : r.levels) {
+      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}\n", l.dt, num(l.value, "{:.15g}"),
+                         num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"));
+    }
+    out += "\n";
+    if (!r.ok) {
+      out += "not converged: " + r.problem + "\n";
+    } else {
+      out += r.estimate.resolved
+                 ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
+                               r.estimate.order, expected)
+                 : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
+      out += fmt::format("value           {:.15g} ({})\n", r.estimate.extrapolated,
+                         r.estimate.note);
+      out += r.recommended_dt > 0
+                 ? fmt::format("recommended dt  {:g} s: the largest dt/2^k with estimated error "
+                               "below tol {:g} x scale {:.3g}\n",
+                               r.recommended_dt, r.tol, r.scale)
+                 : std::string("recommended dt  none (the order is unresolved)\n");
+    }
+    std::fwrite(out.data(), 1, out.size(), stdout);
+  }
+  return r.ok ? kExitOk : kExitDiverged;
+}
+
+}  // namespace
+
+void SetupConvergeCommand(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<ConvergeOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "converge", "Run a metric at dt, dt/2, dt/4, ...: observed order, extrapolation, advice");
+  cmd->footer(
+      "Examples:\n"
+      "  plumb converge models/pendulum.xml --set 'qpos[hinge]=0.7' --metric 'qpos[hinge]@2'\n"
+      "  plumb converge models/pendulum.xml --set 'qpos[hinge]=0.7' --set opt.integrator=RK4 \\\n"
+      "      --metric 'qpos[hinge]@2'\n"
+      "Metrics: PATH@T, period(PATH), maxabs(PATH), energy_drift, state@T.\n"
+      "Exit codes: 0 ok, 2 bad input, 3 a level diverged.");
+  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  cmd->add_option("--set", o->sets, "PATH=VALUE before each run (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
+  cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");
+  cmd->add_option("--halvings", o->halvings, "number of halvings of dt")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 20));
+  cmd->add_option("--tol", o->tol, "relative tolerance for the recommended dt")
+      ->capture_default_str();
+  cmd->add_option("--until", o->until,
+                  "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
+  cmd->add_option("--format", o->format, "table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->callback([o, &ctx] { ctx.action = [o] { return RunConverge(*o); }; });
+}
+
+}  // namespace plumb::cli
