@@ -52,6 +52,7 @@ void InstallSignalHandlers();
 void SetupRunCommand(CLI::App& app, Context& ctx);
 void SetupInspectCommand(CLI::App& app, Context& ctx);
 void SetupConvergeCommand(CLI::App& app, Context& ctx);
+void SetupVerifyCommand(CLI::App& app, Context& ctx);
 
 }  // namespace plumb::cli
 

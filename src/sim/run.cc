@@ -143,8 +143,10 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
         const char* name;
         const mjtNum* values;
         int n;
-      } checks[] = {{"qpos", d->qpos, m->nq}, {"qvel", d->qvel, m->nv},
-                    {"act", d->act, m->na},   {"qacc", d->qacc, m->nv}};
+      } checks[] = {{"qpos", d->qpos, static_cast<int>(m->nq)},
+                    {"qvel", d->qvel, static_cast<int>(m->nv)},
+                    {"act", d->act, static_cast<int>(m->na)},
+                    {"qacc", d->qacc, static_cast<int>(m->nv)}};
       for (const Checked& c : checks) {
         int bad = FirstBad(c.values, c.n);
         if (bad >= 0) {

@@ -1,0 +1,129 @@
+// plumb verify: the main job. One row per check, exit 1 when any check FAILs.
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "plumb/verify.h"
+
+namespace plumb::cli {
+namespace {
+
+struct VerifyCommandOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  std::string format = "table";
+  double tol = 1e-2;
+  double until = 0;
+};
+
+// Wraps `text` at `width` columns, each line prefixed with `indent`.
+std::string Wrap(const std::string& text, std::size_t width, const std::string& indent) {
+  std::string out, line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(start, end - start);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += indent + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    start = end + 1;
+  }
+  if (!line.empty()) out += indent + line + "\n";
+  return out;
+}
+
+std::string Table(const VerifyReport& report, double tol) {
+  std::string out = fmt::format("plumb verify {} (MuJoCo {}, tol {:g})\n\n", report.model,
+                                MujocoVersion(), tol);
+  for (const CheckResult& c : report.checks) {
+    out += fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
+    if (c.status != CheckStatus::kSkip) {
+      std::string numbers = "measured " + (c.measured.empty() ? "-" : c.measured);
+      if (!c.reference.empty()) numbers += "   reference " + c.reference;
+      if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
+      out += Wrap(numbers, 94, "      ");
+    }
+    out += Wrap(c.detail, 94, "      ");
+  }
+  out += fmt::format("\n{} passed, {} warned, {} failed, {} skipped\n",
+                     report.Count(CheckStatus::kPass), report.Count(CheckStatus::kWarn),
+                     report.Count(CheckStatus::kFail), report.Count(CheckStatus::kSkip));
+  return out;
+}
+
+nlohmann::ordered_json Value(double number, const std::string& text) {
+  if (std::isfinite(number)) return number;
+  if (text.empty()) return nullptr;
+  return text;
+}
+
+std::string Json(const VerifyReport& report, double tol) {
+  nlohmann::ordered_json j;
+  j["model"] = report.model;
+  j["mujoco_version"] = MujocoVersion();
+  j["tol"] = tol;
+  nlohmann::ordered_json checks = nlohmann::ordered_json::array();
+  for (const CheckResult& c : report.checks) {
+    checks.push_back({{"id", c.id},
+                      {"title", c.title},
+                      {"status", CheckStatusName(c.status)},
+                      {"measured", Value(c.measured_value, c.measured)},
+                      {"reference", Value(c.reference_value, c.reference)},
+                      {"rel_error", Value(c.rel_error, "")},
+                      {"detail", c.detail}});
+  }
+  j["checks"] = checks;
+  j["summary"] = {{"pass", report.Count(CheckStatus::kPass)},
+                  {"warn", report.Count(CheckStatus::kWarn)},
+                  {"fail", report.Count(CheckStatus::kFail)},
+                  {"skip", report.Count(CheckStatus::kSkip)}};
+  return j.dump(2) + "\n";
+}
+
+int RunVerify(const VerifyCommandOptions& o) {
+  Model model = LoadModel(o.model);
+  VerifyOptions options;
+  options.sets = ParseAssignments(model, o.sets);
+  options.tol = o.tol;
+  options.until = o.until;
+  VerifyReport report = Verify(model, options);
+  std::string text = o.format == "json" ? Json(report, o.tol) : Table(report, o.tol);
+  std::fwrite(text.data(), 1, text.size(), stdout);
+  return report.failed() ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace
+
+void SetupVerifyCommand(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<VerifyCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "verify", "Check that a model's numbers are credible: convergence, energy, analytic physics");
+  cmd->footer(
+      "Examples:\n"
+      "  plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7'\n"
+      "  plumb verify /usr/share/mujoco/model/humanoid/humanoid.xml --format json\n"
+      "Checks: load, determinism, warnings, convergence, energy; for a single hinge pendulum\n"
+      "also analytic.*, the chapter's experiments A/B/C and exercises.\n"
+      "Exit codes: 0 nothing failed, 1 a check failed, 2 bad input.");
+  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  cmd->add_option("--set", o->sets, "PATH=VALUE for the nominal scenario (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--format", o->format, "table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--tol", o->tol,
+                  "relative tolerance: convergence error and energy drift, of the metric's scale")
+      ->capture_default_str();
+  cmd->add_option("--until", o->until,
+                  "nominal run length in s (default 2 s; at most 250 steps for large models)");
+  cmd->callback([o, &ctx] { ctx.action = [o] { return RunVerify(*o); }; });
+}
+
+}  // namespace plumb::cli

@@ -1,0 +1,62 @@
+// plumb verify: the chapter's credibility protocol as a battery of checks on any model.
+//
+// Every check yields one row: PASS, WARN, FAIL or SKIP (with the reason), the measured
+// value, the reference it is held against, their relative error, and a one-line
+// explanation a student understands. Generic models get every check that applies;
+// a single hinge under gravity (recognised from the compiled model) also gets the
+// analytic references, the chapter's three experiments and its exercises.
+//
+// Example:
+//   plumb::VerifyOptions options;
+//   options.sets = {plumb::ParseAssignment(model, "qpos[hinge]=0.7")};
+//   plumb::VerifyReport report = plumb::Verify(model, options);
+//   report.failed()  // true when any check FAILed
+
+#ifndef PLUMB_INCLUDE_PLUMB_VERIFY_H_
+#define PLUMB_INCLUDE_PLUMB_VERIFY_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+
+namespace plumb {
+
+enum class CheckStatus { kPass, kWarn, kFail, kSkip };
+const char* CheckStatusName(CheckStatus status);  // "PASS", "WARN", "FAIL", "SKIP"
+
+struct CheckResult {
+  std::string id;     // e.g. "convergence", "analytic.period"
+  std::string title;  // what it checks, one line
+  CheckStatus status = CheckStatus::kSkip;
+  std::string measured;   // as displayed, with units
+  std::string reference;  // as displayed, with units
+  double measured_value = 0;   // numeric forms where they exist (NaN otherwise)
+  double reference_value = 0;
+  double rel_error = 0;        // |measured - reference| / |reference|, NaN when not numeric
+  std::string detail;     // the explanation, or the reason for SKIP
+};
+
+struct VerifyOptions {
+  std::vector<Assignment> sets;  // the nominal scenario's --set assignments
+  double tol = 1e-2;  // relative tolerance for convergence and energy, of the metric's scale
+  double until = 0;   // nominal run length, s; 0 picks 2 s (the chapter's), and for models
+                      // that are not a single pendulum at most min(250, 1e5 / nv) steps
+};
+
+struct VerifyReport {
+  std::string model;
+  std::vector<CheckResult> checks;
+  int Count(CheckStatus status) const;
+  bool failed() const { return Count(CheckStatus::kFail) > 0; }
+};
+
+// Runs every check on `model` (not modified). Never throws for what a model does
+// (divergence, warnings, non-convergence are results); @throws ValueError for options
+// that make no sense (tol <= 0) and LoadError/MujocoError from MuJoCo itself.
+VerifyReport Verify(const Model& model, const VerifyOptions& options);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_VERIFY_H_
