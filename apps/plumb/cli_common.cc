@@ -47,8 +47,7 @@ Model LoadModel(const std::string& path) {
   return model;
 }
 
-std::vector<Assignment> ParseAssignments(const Model& model,
-                                         const std::vector<std::string>& sets) {
+std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets) {
   std::vector<Assignment> out;
   for (const std::string& s : sets) out.push_back(ParseAssignment(model, s));
   return out;

@@ -5,7 +5,6 @@
 #define PLUMB_APPS_PLUMB_CLI_COMMON_H_
 
 #include <CLI/CLI.hpp>
-
 #include <atomic>
 #include <functional>
 #include <string>

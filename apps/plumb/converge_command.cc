@@ -88,12 +88,13 @@ int RunConverge(const ConvergeOptions& o) {
                  ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
                                r.estimate.order, expected)
                  : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
-      out += fmt::format("value           {:.15g} ({})\n", r.estimate.extrapolated,
-                         r.estimate.note);
+      out +=
+          fmt::format("value           {:.15g} ({})\n", r.estimate.extrapolated, r.estimate.note);
       out += r.recommended_dt > 0
-                 ? fmt::format("recommended dt  {:g} s: the largest dt/2^k with estimated error "
-                               "below tol {:g} x scale {:.3g}\n",
-                               r.recommended_dt, r.tol, r.scale)
+                 ? fmt::format(
+                       "recommended dt  {:g} s: the largest dt/2^k with estimated error "
+                       "below tol {:g} x scale {:.3g}\n",
+                       r.recommended_dt, r.tol, r.scale)
                  : std::string("recommended dt  none (the order is unresolved)\n");
     }
     std::fwrite(out.data(), 1, out.size(), stdout);

@@ -52,9 +52,10 @@ std::string Table(const ModelDescription& d) {
     if (name == "nv") nv = value;
   }
   if (nq != nv) {
-    line(fmt::format("  nq != nv ({} vs {}): a free joint has 7 qpos (position + quaternion) but 6 "
-                     "dofs, a ball joint 4 and 3; never index qvel with qpos addresses.",
-                     nq, nv));
+    line(
+        fmt::format("  nq != nv ({} vs {}): a free joint has 7 qpos (position + quaternion) but 6 "
+                    "dofs, a ball joint 4 and 3; never index qvel with qpos addresses.",
+                    nq, nv));
   }
   line("");
   line("options");
@@ -71,14 +72,15 @@ std::string Table(const ModelDescription& d) {
   }
   line("");
   line("joints (angles in rad at run time, whatever the MJCF <compiler angle> says)");
-  if (d.joints.empty()) line("  (none)");
+  if (d.joints.empty())
+    line("  (none)");
   else
     line(fmt::format("  {:>3} {:<16} {:<6} {:>4} {:>7} {:>6} {:<26} {:>10} {:>10}", "id", "name",
                      "type", "body", "qposadr", "dofadr", "range", "damping", "armature"));
   for (const JointDescription& j : d.joints) {
-    std::string range = j.limited ? fmt::format("[{:.6g}, {:.6g}] {}", j.range[0], j.range[1],
-                                                j.position_unit)
-                                  : "unlimited";
+    std::string range =
+        j.limited ? fmt::format("[{:.6g}, {:.6g}] {}", j.range[0], j.range[1], j.position_unit)
+                  : "unlimited";
     line(fmt::format("  {:>3} {:<16} {:<6} {:>4} {:>7} {:>6} {:<26} {:>10.6g} {:>10.6g}", j.id,
                      j.name, j.type, j.body, j.qposadr, j.dofadr, range, j.damping, j.armature));
   }
@@ -87,12 +89,12 @@ std::string Table(const ModelDescription& d) {
   line("actuators");
   if (d.actuators.empty()) line("  (none: a passive system, ctrl is empty)");
   for (const ActuatorDescription& a : d.actuators) {
-    std::string ctrl = a.ctrllimited ? fmt::format("[{:.6g}, {:.6g}]", a.ctrlrange[0],
-                                                   a.ctrlrange[1])
-                                     : "unlimited";
-    std::string force = a.forcelimited ? fmt::format("[{:.6g}, {:.6g}]", a.forcerange[0],
-                                                     a.forcerange[1])
-                                       : "unlimited";
+    std::string ctrl = a.ctrllimited
+                           ? fmt::format("[{:.6g}, {:.6g}]", a.ctrlrange[0], a.ctrlrange[1])
+                           : "unlimited";
+    std::string force = a.forcelimited
+                            ? fmt::format("[{:.6g}, {:.6g}]", a.forcerange[0], a.forcerange[1])
+                            : "unlimited";
     line(fmt::format("  {:>3} {:<16} {}:{:<16} gear {:<8.6g} ctrlrange {:<20} forcerange {}", a.id,
                      a.name, a.transmission, a.target, a.gear, ctrl, force));
   }
@@ -121,8 +123,8 @@ int RunInspect(const InspectOptions& o) {
     ApplyAssignments(model, data, ParseAssignments(model, o.sets));
   }
   ModelDescription description = Describe(model);
-  std::string text = o.format == "json" ? DescriptionToJson(description, MujocoVersion())
-                                        : Table(description);
+  std::string text =
+      o.format == "json" ? DescriptionToJson(description, MujocoVersion()) : Table(description);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return kExitOk;
 }

@@ -75,9 +75,8 @@ int RunRun(const RunOptions& o, const Context& ctx) {
     }
   }
   if (result.diverged) {
-    std::string dir = o.repro.empty()
-                          ? "plumb-repro-" + std::filesystem::path(o.model).stem().string()
-                          : o.repro;
+    std::string dir =
+        o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
     std::string written = WriteRepro(model, result, ctx.argv, dir);
     std::fprintf(stderr,
                  "plumb: error: %s\n"

@@ -40,8 +40,8 @@ std::string Wrap(const std::string& text, std::size_t width, const std::string& 
 }
 
 std::string Table(const VerifyReport& report, double tol) {
-  std::string out = fmt::format("plumb verify {} (MuJoCo {}, tol {:g})\n\n", report.model,
-                                MujocoVersion(), tol);
+  std::string out =
+      fmt::format("plumb verify {} (MuJoCo {}, tol {:g})\n\n", report.model, MujocoVersion(), tol);
   for (const CheckResult& c : report.checks) {
     out += fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
     if (c.status != CheckStatus::kSkip) {

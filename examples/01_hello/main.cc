@@ -24,8 +24,7 @@ int main(int argc, char** argv) {
     char* end = nullptr;
     initial_angle = std::strtod(argv[2], &end);
     if (*end != '\0' || !std::isfinite(initial_angle)) {
-      std::fprintf(stderr, "%s: initial angle '%s' is not a number of radians\n", argv[0],
-                   argv[2]);
+      std::fprintf(stderr, "%s: initial angle '%s' is not a number of radians\n", argv[0], argv[2]);
       return EXIT_FAILURE;
     }
   }

@@ -54,10 +54,10 @@ enum class DampingClass { kUndamped, kUnderdamped, kCritical, kOverdamped };
 const char* DampingClassName(DampingClass c);
 
 struct DampingAnalysis {
-  double zeta = 0;            // damping ratio c / (2*sqrt(I*m*g*d))
-  double omega0 = 0;          // natural angular frequency sqrt(m*g*d / I), rad/s
-  double omega_d = 0;         // damped angular frequency omega0*sqrt(1 - zeta^2), 0 if none
-  double damped_period = 0;   // 2*pi/omega_d, s; 0 when not oscillating
+  double zeta = 0;           // damping ratio c / (2*sqrt(I*m*g*d))
+  double omega0 = 0;         // natural angular frequency sqrt(m*g*d / I), rad/s
+  double omega_d = 0;        // damped angular frequency omega0*sqrt(1 - zeta^2), 0 if none
+  double damped_period = 0;  // 2*pi/omega_d, s; 0 when not oscillating
   DampingClass kind = DampingClass::kUndamped;
 };
 

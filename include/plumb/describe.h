@@ -21,10 +21,10 @@ namespace plumb {
 struct BodyDescription {
   int id = 0;
   std::string name;
-  int parent = 0;                    // parent body id (world is 0 and its own parent)
-  double mass = 0;                   // kg
-  std::array<double, 3> com{};       // centre of mass in the body frame, m (body_ipos)
-  std::array<double, 3> inertia{};   // principal moments of inertia about the com, kg*m^2
+  int parent = 0;                   // parent body id (world is 0 and its own parent)
+  double mass = 0;                  // kg
+  std::array<double, 3> com{};      // centre of mass in the body frame, m (body_ipos)
+  std::array<double, 3> inertia{};  // principal moments of inertia about the com, kg*m^2
 };
 
 struct JointDescription {
@@ -36,11 +36,11 @@ struct JointDescription {
   int nq = 1, nv = 1;           // number of qpos / qvel entries
   bool limited = false;
   std::array<double, 2> range{};  // rad (hinge) or m (slide), meaningful when limited
-  double damping = 0;    // N*m*s/rad or N*s/m (first dof)
-  double armature = 0;   // kg*m^2 or kg (first dof)
-  double stiffness = 0;  // N*m/rad or N/m
-  double frictionloss = 0;  // N*m or N (first dof)
-  std::string position_unit;  // "rad", "m", or "m, quat" for free/ball blocks
+  double damping = 0;             // N*m*s/rad or N*s/m (first dof)
+  double armature = 0;            // kg*m^2 or kg (first dof)
+  double stiffness = 0;           // N*m/rad or N/m
+  double frictionloss = 0;        // N*m or N (first dof)
+  std::string position_unit;      // "rad", "m", or "m, quat" for free/ball blocks
 };
 
 struct ActuatorDescription {
@@ -65,19 +65,19 @@ struct SensorDescription {
 
 // One row of the chapter's classification table.
 struct RoleDescription {
-  std::string role;         // parameter, state, input, derived
-  std::string where;        // mjModel / mjData
-  std::string examples;     // fields with this model's sizes, e.g. "qpos (nq=1)"
-  std::string who_writes;   // who changes it, e.g. "you, before mj_forward"
+  std::string role;        // parameter, state, input, derived
+  std::string where;       // mjModel / mjData
+  std::string examples;    // fields with this model's sizes, e.g. "qpos (nq=1)"
+  std::string who_writes;  // who changes it, e.g. "you, before mj_forward"
 };
 
 struct ModelDescription {
   std::string file;
   std::string model_name;
   std::vector<std::pair<std::string, long>> sizes;  // nbody, njnt, nq, nv, nu, na, ...
-  double timestep = 0;                               // s
-  std::string integrator;                            // Euler, RK4, implicit, ...
-  std::array<double, 3> gravity{};                   // m/s^2
+  double timestep = 0;                              // s
+  std::string integrator;                           // Euler, RK4, implicit, ...
+  std::array<double, 3> gravity{};                  // m/s^2
   std::vector<BodyDescription> bodies;
   std::vector<JointDescription> joints;
   std::vector<ActuatorDescription> actuators;

@@ -28,8 +28,8 @@ enum class MetricKind { kValueAt, kPeriod, kMaxAbs, kEnergyDrift, kStateAt };
 struct Metric {
   std::string text;  // as typed, e.g. "qpos[hinge]@2"
   MetricKind kind = MetricKind::kValueAt;
-  Path path;         // for value@T, period and maxabs
-  double time = 0;   // T for value@T and state@T, s
+  Path path;        // for value@T, period and maxabs
+  double time = 0;  // T for value@T and state@T, s
 };
 
 // Parses a metric. @throws PathError / ValueError naming the metric text.

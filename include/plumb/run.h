@@ -45,8 +45,8 @@ class NullSink : public SampleSink {
 
 // What to run.
 struct RunSpec {
-  double until = 2.0;  // final time in s (>= 0); steps = ceil(until / timestep)
-  double every = 0.1;  // sampling interval in s; a whole multiple of the timestep
+  double until = 2.0;         // final time in s (>= 0); steps = ceil(until / timestep)
+  double every = 0.1;         // sampling interval in s; a whole multiple of the timestep
   std::vector<Path> columns;  // sampled paths, each a single element (see ScalarPaths)
   // When set and it becomes true (e.g. from a signal handler), Run throws Interrupted.
   const std::atomic<bool>* stop = nullptr;
@@ -76,18 +76,18 @@ StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step);
 
 // One kind of MuJoCo warning raised during a run.
 struct WarningSummary {
-  std::string kind;         // "INERTIA", "CONTACTFULL", "BADQACC", ...
-  int count = 0;            // how many times MuJoCo raised it
-  long first_step = 0;      // step after which it was first seen
-  double first_time = 0;    // simulation time of that step, s
-  std::string message;      // MuJoCo's text for the last occurrence
+  std::string kind;       // "INERTIA", "CONTACTFULL", "BADQACC", ...
+  int count = 0;          // how many times MuJoCo raised it
+  long first_step = 0;    // step after which it was first seen
+  double first_time = 0;  // simulation time of that step, s
+  std::string message;    // MuJoCo's text for the last occurrence
 };
 
 // Why and where a run stopped early.
 struct Divergence {
-  std::string reason;        // one sentence: what went bad, where, what MuJoCo did
-  StateSnapshot last_good;   // the state after the last step that passed every check
-  StateSnapshot bad;         // the state right after the step that failed
+  std::string reason;       // one sentence: what went bad, where, what MuJoCo did
+  StateSnapshot last_good;  // the state after the last step that passed every check
+  StateSnapshot bad;        // the state right after the step that failed
 };
 
 struct RunResult {

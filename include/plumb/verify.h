@@ -30,12 +30,12 @@ struct CheckResult {
   std::string id;     // e.g. "convergence", "analytic.period"
   std::string title;  // what it checks, one line
   CheckStatus status = CheckStatus::kSkip;
-  std::string measured;   // as displayed, with units
-  std::string reference;  // as displayed, with units
-  double measured_value = 0;   // numeric forms where they exist (NaN otherwise)
+  std::string measured;       // as displayed, with units
+  std::string reference;      // as displayed, with units
+  double measured_value = 0;  // numeric forms where they exist (NaN otherwise)
   double reference_value = 0;
-  double rel_error = 0;        // |measured - reference| / |reference|, NaN when not numeric
-  std::string detail;     // the explanation, or the reason for SKIP
+  double rel_error = 0;  // |measured - reference| / |reference|, NaN when not numeric
+  std::string detail;    // the explanation, or the reason for SKIP
 };
 
 struct VerifyOptions {

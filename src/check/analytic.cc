@@ -26,7 +26,8 @@ std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* wh
     if (why_not) *why_not = reason;
     return std::nullopt;
   };
-  if (m->njnt != 1) return no("the model has " + std::to_string(m->njnt) + " joints, not one hinge");
+  if (m->njnt != 1)
+    return no("the model has " + std::to_string(m->njnt) + " joints, not one hinge");
   if (m->jnt_type[0] != mjJNT_HINGE) return no("its only joint is not a hinge");
   if (m->nu > 0) return no("it has actuators");
   if (m->jnt_stiffness[0] != 0) return no("the hinge has a spring (stiffness)");
@@ -89,10 +90,14 @@ double LargeAnglePeriod(const PendulumParams& p, double theta0) {
 
 const char* DampingClassName(DampingClass c) {
   switch (c) {
-    case DampingClass::kUndamped: return "undamped";
-    case DampingClass::kUnderdamped: return "underdamped";
-    case DampingClass::kCritical: return "critically damped";
-    case DampingClass::kOverdamped: return "overdamped";
+    case DampingClass::kUndamped:
+      return "undamped";
+    case DampingClass::kUnderdamped:
+      return "underdamped";
+    case DampingClass::kCritical:
+      return "critically damped";
+    case DampingClass::kOverdamped:
+      return "overdamped";
   }
   return "?";
 }

@@ -57,9 +57,7 @@ OrderEstimate EstimateOrder(const std::vector<double>& values, const std::vector
   return out;
 }
 
-double ExpectedOrder(int integrator) {
-  return integrator == mjINT_RK4 ? 4.0 : 1.0;
-}
+double ExpectedOrder(int integrator) { return integrator == mjINT_RK4 ? 4.0 : 1.0; }
 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol,

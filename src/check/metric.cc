@@ -106,8 +106,8 @@ Metric ParseMetric(const Model& model, std::string_view raw) {
   if ((metric.kind != MetricKind::kEnergyDrift && metric.kind != MetricKind::kStateAt) &&
       metric.path.count != 1) {
     throw ValueError("metric '" + metric.text + "': '" + metric.path.text + "' has " +
-                     std::to_string(metric.path.count) +
-                     " elements; pick one, e.g. " + metric.path.text + "[0].");
+                     std::to_string(metric.path.count) + " elements; pick one, e.g. " +
+                     metric.path.text + "[0].");
   }
   return metric;
 }
@@ -115,9 +115,12 @@ Metric ParseMetric(const Model& model, std::string_view raw) {
 double DefaultDuration(const Metric& metric) {
   switch (metric.kind) {
     case MetricKind::kValueAt:
-    case MetricKind::kStateAt: return metric.time;
-    case MetricKind::kPeriod: return 20.0;
-    default: return 2.0;
+    case MetricKind::kStateAt:
+      return metric.time;
+    case MetricKind::kPeriod:
+      return 20.0;
+    default:
+      return 2.0;
   }
 }
 
@@ -208,7 +211,8 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
       std::optional<double> period = PeriodFromCrossings(sink.t, sink.x, level);
       if (!period) {
         out.ok = false;
-        out.problem = "'" + metric.path.text + "' crossed its mid-range upward fewer than twice in " +
+        out.problem = "'" + metric.path.text +
+                      "' crossed its mid-range upward fewer than twice in " +
                       std::to_string(until) + " s; run longer (--until) or it does not oscillate";
         return out;
       }

@@ -9,10 +9,13 @@ ModelDescription Describe(const Model& model) {
   ModelDescription out;
   out.file = model.file();
   out.model_name = m->names;  // the model name comes first in the names buffer
-  out.sizes = {{"nbody", m->nbody}, {"njnt", m->njnt}, {"nq", m->nq},       {"nv", m->nv},
-               {"nu", m->nu},       {"na", m->na},     {"nsensor", m->nsensor},
-               {"nsensordata", m->nsensordata},        {"ngeom", m->ngeom}, {"nsite", m->nsite},
-               {"ntendon", m->ntendon}, {"neq", m->neq}, {"nmocap", m->nmocap}, {"nkey", m->nkey}};
+  out.sizes = {{"nbody", m->nbody},     {"njnt", m->njnt},
+               {"nq", m->nq},           {"nv", m->nv},
+               {"nu", m->nu},           {"na", m->na},
+               {"nsensor", m->nsensor}, {"nsensordata", m->nsensordata},
+               {"ngeom", m->ngeom},     {"nsite", m->nsite},
+               {"ntendon", m->ntendon}, {"neq", m->neq},
+               {"nmocap", m->nmocap},   {"nkey", m->nkey}};
   out.timestep = m->opt.timestep;
   out.integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   for (int i = 0; i < 3; ++i) out.gravity[i] = m->opt.gravity[i];
@@ -96,8 +99,8 @@ ModelDescription Describe(const Model& model) {
            n("xfrc_applied", 6L * m->nbody) + ", " + n("mocap_pos", 3L * m->nmocap),
        "your controller, before each mj_step"},
       {"derived", "mjData",
-       n("qacc", m->nv) + ", " + n("xpos", 3L * m->nbody) + ", " +
-           n("sensordata", m->nsensordata) + ", contact, qfrc_bias, ...",
+       n("qacc", m->nv) + ", " + n("xpos", 3L * m->nbody) + ", " + n("sensordata", m->nsensordata) +
+           ", contact, qfrc_bias, ...",
        "MuJoCo, in mj_forward/mj_step; stale until one of them runs"},
   };
   return out;

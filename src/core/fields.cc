@@ -19,18 +19,18 @@ std::vector<FieldInfo> BuildFields() {
   std::vector<FieldInfo> f;
 
   // model arrays: rows are a size field of mjModel, columns an expression of them
-#define X(type, name, nr, nc)                                                          \
-  f.push_back({#name, FieldSource::kModelArray, ElemTypeOf<type>(), offsetof(mjModel, name), \
-               #nr, [](const mjModel* m) -> long { return m->nr; },                    \
-               [](const mjModel* m) -> long {                                          \
-                 MJMODEL_POINTERS_PREAMBLE(m)                                          \
-                 return nc;                                                            \
+#define X(type, name, nr, nc)                                                                     \
+  f.push_back({#name, FieldSource::kModelArray, ElemTypeOf<type>(), offsetof(mjModel, name), #nr, \
+               [](const mjModel* m) -> long { return m->nr; },                                    \
+               [](const mjModel* m) -> long {                                                     \
+                 MJMODEL_POINTERS_PREAMBLE(m)                                                     \
+                 return nc;                                                                       \
                }});
   MJMODEL_POINTERS
 #undef X
 
   // model sizes (nq, nv, nbody, ...)
-#define X(name)                                                                          \
+#define X(name)                                                                       \
   f.push_back({#name, FieldSource::kModelSize, ElemTypeOf<decltype(mjModel::name)>(), \
                offsetof(mjModel, name), "", One, One});
   PLUMB_MJMODEL_SIZES
@@ -40,11 +40,19 @@ std::vector<FieldInfo> BuildFields() {
   for (const compat::OptionField& o : compat::OptionFields()) {
     long (*cols)(const mjModel*) = One;
     switch (o.size) {
-      case 1: break;
-      case 2: cols = [](const mjModel*) -> long { return 2; }; break;
-      case 3: cols = [](const mjModel*) -> long { return 3; }; break;
-      case 5: cols = [](const mjModel*) -> long { return 5; }; break;
-      default: cols = nullptr;
+      case 1:
+        break;
+      case 2:
+        cols = [](const mjModel*) -> long { return 2; };
+        break;
+      case 3:
+        cols = [](const mjModel*) -> long { return 3; };
+        break;
+      case 5:
+        cols = [](const mjModel*) -> long { return 5; };
+        break;
+      default:
+        cols = nullptr;
     }
     if (!cols) continue;  // no vector option of another length exists today
     f.push_back({std::string("opt.") + o.name, FieldSource::kOption, o.type,
@@ -52,20 +60,20 @@ std::vector<FieldInfo> BuildFields() {
   }
 
   // data arrays
-#define X(type, name, nr, nc)                                                         \
-  f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), \
-               #nr, [](const mjModel* m) -> long { return m->nr; },                   \
-               [](const mjModel* m) -> long {                                         \
-                 MJDATA_POINTERS_PREAMBLE(m)                                          \
-                 return nc;                                                           \
+#define X(type, name, nr, nc)                                                                   \
+  f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), #nr, \
+               [](const mjModel* m) -> long { return m->nr; },                                  \
+               [](const mjModel* m) -> long {                                                   \
+                 MJDATA_POINTERS_PREAMBLE(m)                                                    \
+                 return nc;                                                                     \
                }});
   MJDATA_POINTERS
 #undef X
 
   // data scalars (time, ncon, ...) and the energy vector
-#define X(type, name)                                                                      \
-  f.push_back({#name, FieldSource::kDataScalar, ElemTypeOf<type>(), offsetof(mjData, name), \
-               "", One, One});
+#define X(type, name)                                                                           \
+  f.push_back({#name, FieldSource::kDataScalar, ElemTypeOf<type>(), offsetof(mjData, name), "", \
+               One, One});
   MJDATA_SCALAR
 #undef X
   f.push_back({"energy", FieldSource::kDataScalar, ElemType::kNum, offsetof(mjData, energy), "",
@@ -106,14 +114,22 @@ const void* FieldBase(const FieldInfo& field, const mjModel* m, const mjData* d)
 
 std::size_t ElemSize(compat::ElemType type) {
   switch (type) {
-    case ElemType::kNum: return sizeof(mjtNum);
-    case ElemType::kInt: return sizeof(int);
-    case ElemType::kInt64: return sizeof(long long);
-    case ElemType::kByte: return sizeof(mjtByte);
-    case ElemType::kBool: return sizeof(bool);
-    case ElemType::kFloat: return sizeof(float);
-    case ElemType::kChar: return sizeof(char);
-    case ElemType::kOther: return 0;
+    case ElemType::kNum:
+      return sizeof(mjtNum);
+    case ElemType::kInt:
+      return sizeof(int);
+    case ElemType::kInt64:
+      return sizeof(long long);
+    case ElemType::kByte:
+      return sizeof(mjtByte);
+    case ElemType::kBool:
+      return sizeof(bool);
+    case ElemType::kFloat:
+      return sizeof(float);
+    case ElemType::kChar:
+      return sizeof(char);
+    case ElemType::kOther:
+      return 0;
   }
   return 0;
 }

@@ -23,11 +23,11 @@ enum class FieldSource {
 };
 
 struct FieldInfo {
-  std::string name;       // as users type it: "qpos", "body_mass", "opt.gravity", "time"
+  std::string name;  // as users type it: "qpos", "body_mass", "opt.gravity", "time"
   FieldSource source;
   compat::ElemType type;
-  std::size_t offset;     // byte offset within mjModel, mjOption or mjData
-  std::string row_kind;   // mjModel size naming the rows ("nbody", "nq", ...); "" if none
+  std::size_t offset;    // byte offset within mjModel, mjOption or mjData
+  std::string row_kind;  // mjModel size naming the rows ("nbody", "nq", ...); "" if none
   long (*rows)(const mjModel*);
   long (*cols)(const mjModel*);
 };

@@ -55,7 +55,8 @@ void OnMujocoWarning(const char* msg) {
 }
 
 bool EndsWith(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // Reads a whole file. Returns false and sets `reason` when it cannot.
@@ -134,9 +135,7 @@ std::string AutolimitsHint(const std::string& xml, const fs::path& dir) {
 
 void InstallMujocoHandlers() {
   static std::once_flag once;
-  std::call_once(once, [] {
-    compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning);
-  });
+  std::call_once(once, [] { compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning); });
   if (mj_version() != mjVERSION_HEADER) {
     throw Error("MuJoCo library version " + std::to_string(mj_version()) +
                 " does not match the headers plumb was built with (" +
@@ -180,11 +179,11 @@ Model Model::Load(const std::string& path) {
     }
     if (!m) {
       std::string detail = Join(TakeMujocoWarnings(), "; ");
-      throw LoadError("cannot load binary model '" + path + "': " +
-                          (detail.empty() ? "not a valid .mjb file for MuJoCo " + MujocoVersion()
-                                          : detail) +
-                          ". A .mjb file only loads in the MuJoCo version that wrote it.",
-                      "");
+      throw LoadError(
+          "cannot load binary model '" + path + "': " +
+              (detail.empty() ? "not a valid .mjb file for MuJoCo " + MujocoVersion() : detail) +
+              ". A .mjb file only loads in the MuJoCo version that wrote it.",
+          "");
     }
     return Model(m, path);
   }
@@ -251,10 +250,9 @@ void Model::SaveXml(const std::string& path) const {
   // make MuJoCo's global "last XML" this model's again by parsing its source once more
   if (g_last_xml_load_id != xml_load_id_) {
     char error[1024] = {0};
-    mjModel* reparsed =
-        xml_source_ ? CompileFromTempFile(*xml_source_, fs::temp_directory_path(), error,
-                                          sizeof(error))
-                    : mj_loadXML(file_.c_str(), nullptr, error, sizeof(error));
+    mjModel* reparsed = xml_source_ ? CompileFromTempFile(*xml_source_, fs::temp_directory_path(),
+                                                          error, sizeof(error))
+                                    : mj_loadXML(file_.c_str(), nullptr, error, sizeof(error));
     if (!reparsed) {
       throw IoError("cannot write '" + path + "': re-reading '" + file_ + "' failed: " + error);
     }

@@ -106,29 +106,32 @@ inline constexpr EnumName kIntegrators[] = {
 // Friction cone, solver and Jacobian types by their MJCF names.
 inline constexpr EnumName kCones[] = {{mjCONE_PYRAMIDAL, "pyramidal"},
                                       {mjCONE_ELLIPTIC, "elliptic"}};
-inline constexpr EnumName kSolvers[] = {{mjSOL_PGS, "PGS"}, {mjSOL_CG, "CG"}, {mjSOL_NEWTON, "Newton"}};
+inline constexpr EnumName kSolvers[] = {
+    {mjSOL_PGS, "PGS"}, {mjSOL_CG, "CG"}, {mjSOL_NEWTON, "Newton"}};
 inline constexpr EnumName kJacobians[] = {
     {mjJAC_DENSE, "dense"}, {mjJAC_SPARSE, "sparse"}, {mjJAC_AUTO, "auto"}};
 
 // Warning kinds by enum name. Values shift between releases (VGEOMFULL was removed in
 // 3.7.0), so the table is built from the names that exist in this header.
 inline constexpr EnumName kWarnings[] = {
-    {mjWARN_INERTIA, "INERTIA"},       {mjWARN_CONTACTFULL, "CONTACTFULL"},
+    {mjWARN_INERTIA, "INERTIA"},     {mjWARN_CONTACTFULL, "CONTACTFULL"},
     {mjWARN_CNSTRFULL, "CNSTRFULL"},
 #if mjVERSION_HEADER < 3007000
     {mjWARN_VGEOMFULL, "VGEOMFULL"},
 #endif
-    {mjWARN_BADQPOS, "BADQPOS"},       {mjWARN_BADQVEL, "BADQVEL"},
-    {mjWARN_BADQACC, "BADQACC"},       {mjWARN_BADCTRL, "BADCTRL"},
+    {mjWARN_BADQPOS, "BADQPOS"},     {mjWARN_BADQVEL, "BADQVEL"},
+    {mjWARN_BADQACC, "BADQACC"},     {mjWARN_BADCTRL, "BADCTRL"},
 };
 
 // Joint, transmission and sensor types by their MJCF names.
 inline constexpr EnumName kJointTypes[] = {
     {mjJNT_FREE, "free"}, {mjJNT_BALL, "ball"}, {mjJNT_SLIDE, "slide"}, {mjJNT_HINGE, "hinge"}};
-inline constexpr EnumName kTransmissions[] = {
-    {mjTRN_JOINT, "joint"},   {mjTRN_JOINTINPARENT, "jointinparent"},
-    {mjTRN_SLIDERCRANK, "slidercrank"}, {mjTRN_TENDON, "tendon"},
-    {mjTRN_SITE, "site"},     {mjTRN_BODY, "body"}};
+inline constexpr EnumName kTransmissions[] = {{mjTRN_JOINT, "joint"},
+                                              {mjTRN_JOINTINPARENT, "jointinparent"},
+                                              {mjTRN_SLIDERCRANK, "slidercrank"},
+                                              {mjTRN_TENDON, "tendon"},
+                                              {mjTRN_SITE, "site"},
+                                              {mjTRN_BODY, "body"}};
 inline constexpr EnumName kSensorTypes[] = {
     {mjSENS_TOUCH, "touch"},
     {mjSENS_ACCELEROMETER, "accelerometer"},

@@ -70,27 +70,37 @@ struct DataRole {
   Role role;
 };
 constexpr DataRole kWritableData[] = {
-    {"qpos", Role::kState},          {"qvel", Role::kState},
-    {"act", Role::kState},           {"qacc_warmstart", Role::kState},
-    {"ctrl", Role::kInput},          {"qfrc_applied", Role::kInput},
-    {"xfrc_applied", Role::kInput},  {"mocap_pos", Role::kInput},
-    {"mocap_quat", Role::kInput},    {"userdata", Role::kInput},
+    {"qpos", Role::kState},           {"qvel", Role::kState},      {"act", Role::kState},
+    {"qacc_warmstart", Role::kState}, {"ctrl", Role::kInput},      {"qfrc_applied", Role::kInput},
+    {"xfrc_applied", Role::kInput},   {"mocap_pos", Role::kInput}, {"mocap_quat", Role::kInput},
+    {"userdata", Role::kInput},
 };
 
 // Model constants recomputed by the compiler and mj_setConst: writing them is undone.
 constexpr const char* kConstants[] = {
-    "body_subtreemass", "body_invweight0",   "dof_invweight0",   "dof_M0",
-    "tendon_length0",   "tendon_invweight0", "actuator_acc0",    "actuator_length0",
-    "cam_poscom0",      "cam_pos0",          "cam_mat0",         "light_poscom0",
-    "light_pos0",       "light_dir0",        "geom_rbound",
+    "body_subtreemass",  "body_invweight0", "dof_invweight0",   "dof_M0",      "tendon_length0",
+    "tendon_invweight0", "actuator_acc0",   "actuator_length0", "cam_poscom0", "cam_pos0",
+    "cam_mat0",          "light_poscom0",   "light_pos0",       "light_dir0",  "geom_rbound",
 };
 
 // Integer model fields that are switches users set, not structure.
 constexpr const char* kWritableIntFields[] = {
-    "geom_contype", "geom_conaffinity", "geom_condim",     "geom_priority",
-    "geom_group",   "jnt_limited",      "jnt_group",       "tendon_limited",
-    "eq_active",    "actuator_ctrllimited", "actuator_forcelimited", "actuator_actlimited",
-    "actuator_group", "light_active",   "site_group",      "tendon_group",
+    "geom_contype",
+    "geom_conaffinity",
+    "geom_condim",
+    "geom_priority",
+    "geom_group",
+    "jnt_limited",
+    "jnt_group",
+    "tendon_limited",
+    "eq_active",
+    "actuator_ctrllimited",
+    "actuator_forcelimited",
+    "actuator_actlimited",
+    "actuator_group",
+    "light_active",
+    "site_group",
+    "tendon_group",
 };
 
 template <std::size_t N>
@@ -110,12 +120,14 @@ Access AccessOf(const FieldInfo& field) {
   switch (field.source) {
     case FieldSource::kModelArray: {
       bool numeric = field.type == ElemType::kNum || field.type == ElemType::kFloat;
-      bool writable = numeric ? !Contains(kConstants, field.name)
-                              : Contains(kWritableIntFields, field.name);
+      bool writable =
+          numeric ? !Contains(kConstants, field.name) : Contains(kWritableIntFields, field.name);
       return {Role::kParameter, writable};
     }
-    case FieldSource::kModelSize: return {Role::kParameter, false};
-    case FieldSource::kOption: return {Role::kParameter, true};
+    case FieldSource::kModelSize:
+      return {Role::kParameter, false};
+    case FieldSource::kOption:
+      return {Role::kParameter, true};
     case FieldSource::kDataArray:
       for (const DataRole& w : kWritableData) {
         if (field.name == w.name) return {w.role, true};
@@ -140,44 +152,65 @@ std::vector<std::string> NamesOf(const Model& model, int obj, long count) {
 
 long ObjectCount(const mjModel* m, int obj) {
   switch (obj) {
-    case mjOBJ_BODY: return m->nbody;
-    case mjOBJ_JOINT: return m->njnt;
-    case mjOBJ_GEOM: return m->ngeom;
-    case mjOBJ_SITE: return m->nsite;
-    case mjOBJ_CAMERA: return m->ncam;
-    case mjOBJ_LIGHT: return m->nlight;
-    case mjOBJ_MESH: return m->nmesh;
-    case mjOBJ_SKIN: return m->nskin;
-    case mjOBJ_HFIELD: return m->nhfield;
-    case mjOBJ_TEXTURE: return m->ntex;
-    case mjOBJ_MATERIAL: return m->nmat;
-    case mjOBJ_PAIR: return m->npair;
-    case mjOBJ_EXCLUDE: return m->nexclude;
-    case mjOBJ_EQUALITY: return m->neq;
-    case mjOBJ_TENDON: return m->ntendon;
-    case mjOBJ_ACTUATOR: return m->nu;
-    case mjOBJ_SENSOR: return m->nsensor;
-    case mjOBJ_NUMERIC: return m->nnumeric;
-    case mjOBJ_TEXT: return m->ntext;
-    case mjOBJ_TUPLE: return m->ntuple;
-    case mjOBJ_KEY: return m->nkey;
-    default: return 0;
+    case mjOBJ_BODY:
+      return m->nbody;
+    case mjOBJ_JOINT:
+      return m->njnt;
+    case mjOBJ_GEOM:
+      return m->ngeom;
+    case mjOBJ_SITE:
+      return m->nsite;
+    case mjOBJ_CAMERA:
+      return m->ncam;
+    case mjOBJ_LIGHT:
+      return m->nlight;
+    case mjOBJ_MESH:
+      return m->nmesh;
+    case mjOBJ_SKIN:
+      return m->nskin;
+    case mjOBJ_HFIELD:
+      return m->nhfield;
+    case mjOBJ_TEXTURE:
+      return m->ntex;
+    case mjOBJ_MATERIAL:
+      return m->nmat;
+    case mjOBJ_PAIR:
+      return m->npair;
+    case mjOBJ_EXCLUDE:
+      return m->nexclude;
+    case mjOBJ_EQUALITY:
+      return m->neq;
+    case mjOBJ_TENDON:
+      return m->ntendon;
+    case mjOBJ_ACTUATOR:
+      return m->nu;
+    case mjOBJ_SENSOR:
+      return m->nsensor;
+    case mjOBJ_NUMERIC:
+      return m->nnumeric;
+    case mjOBJ_TEXT:
+      return m->ntext;
+    case mjOBJ_TUPLE:
+      return m->ntuple;
+    case mjOBJ_KEY:
+      return m->nkey;
+    default:
+      return 0;
   }
 }
 
-int JointQposSize(int type) {
-  return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1;
-}
-int JointDofSize(int type) {
-  return type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
-}
+int JointQposSize(int type) { return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1; }
+int JointDofSize(int type) { return type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1; }
 
 // Rows [first, first + count) that object `id` of `kind` occupies; count 0 if none.
 std::pair<long, long> RowsOf(const mjModel* m, const RowKind& kind, int id) {
   switch (kind.map) {
-    case RowMap::kDirect: return {id, 1};
-    case RowMap::kQpos: return {m->jnt_qposadr[id], JointQposSize(m->jnt_type[id])};
-    case RowMap::kDof: return {m->jnt_dofadr[id], JointDofSize(m->jnt_type[id])};
+    case RowMap::kDirect:
+      return {id, 1};
+    case RowMap::kQpos:
+      return {m->jnt_qposadr[id], JointQposSize(m->jnt_type[id])};
+    case RowMap::kDof:
+      return {m->jnt_dofadr[id], JointDofSize(m->jnt_type[id])};
     case RowMap::kAct: {
       int adr = compat::ActuatorActAddress(m, id);
       return {adr, adr < 0 ? 0 : 1};
@@ -188,10 +221,14 @@ std::pair<long, long> RowsOf(const mjModel* m, const RowKind& kind, int id) {
     }
     case RowMap::kAdrNum:
       switch (kind.obj) {
-        case mjOBJ_SENSOR: return {m->sensor_adr[id], m->sensor_dim[id]};
-        case mjOBJ_NUMERIC: return {m->numeric_adr[id], m->numeric_size[id]};
-        case mjOBJ_TUPLE: return {m->tuple_adr[id], m->tuple_size[id]};
-        case mjOBJ_TEXT: return {m->text_adr[id], m->text_size[id]};
+        case mjOBJ_SENSOR:
+          return {m->sensor_adr[id], m->sensor_dim[id]};
+        case mjOBJ_NUMERIC:
+          return {m->numeric_adr[id], m->numeric_size[id]};
+        case mjOBJ_TUPLE:
+          return {m->tuple_adr[id], m->tuple_size[id]};
+        case mjOBJ_TEXT:
+          return {m->text_adr[id], m->text_size[id]};
       }
   }
   return {0, 0};
@@ -246,8 +283,8 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
   const mjModel* m = model.get();
   const FieldInfo* field = FindField(parsed.field);
   if (!field) {
-    throw PathError("unknown field '" + parsed.field + "' in path '" + std::string(text) + "': " +
-                    DidYouMean(parsed.field, FieldNames()) +
+    throw PathError("unknown field '" + parsed.field + "' in path '" + std::string(text) +
+                    "': " + DidYouMean(parsed.field, FieldNames()) +
                     " Fields are the mjModel/mjData array names (qpos, qvel, ctrl, xpos, "
                     "sensordata, body_mass, dof_damping, ...), opt.<option> or time.");
   }
@@ -316,16 +353,17 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
     int id = mj_name2id(m, kind->obj, row.c_str());
     if (id < 0) {
       std::vector<std::string> names = NamesOf(model, kind->obj, ObjectCount(m, kind->obj));
-      std::string listing = names.empty() ? std::string(" This model has no named ") +
-                                                kind->noun + "."
-                                          : " " + DidYouMean(row, names);
+      std::string listing = names.empty()
+                                ? std::string(" This model has no named ") + kind->noun + "."
+                                : " " + DidYouMean(row, names);
       throw PathError("path '" + std::string(text) + "': no " + kind->noun + " named '" + row +
                       "' (the rows of '" + field->name + "' are " + kind->noun + "s)." + listing);
     }
     auto [first, count] = RowsOf(m, *kind, id);
     if (count == 0) {
       throw PathError("path '" + std::string(text) + "': " + kind->noun + " '" + row +
-                      "' has no row in '" + field->name + "' (for example, an actuator without "
+                      "' has no row in '" + field->name +
+                      "' (for example, an actuator without "
                       "activation has no act, a body that is not mocap has no mocap_pos).");
     }
     row_first = first;
@@ -344,8 +382,8 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
     }
     if (*k >= path.count) {
       throw PathError("path '" + std::string(text) + "': element " + parsed.indices[1] +
-                      " is out of bounds; '" + canonical + "' has " +
-                      std::to_string(path.count) + " element(s).");
+                      " is out of bounds; '" + canonical + "' has " + std::to_string(path.count) +
+                      " element(s).");
     }
     path.first += *k;
     path.count = 1;
@@ -378,10 +416,17 @@ void CheckValue(ElemType type, const std::string& where, double v) {
     case ElemType::kInt:
       require_integral(std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
       break;
-    case ElemType::kInt64: require_integral(-9.0e15, 9.0e15); break;
-    case ElemType::kByte: require_integral(0, 255); break;
-    case ElemType::kBool: require_integral(0, 1); break;
-    default: break;
+    case ElemType::kInt64:
+      require_integral(-9.0e15, 9.0e15);
+      break;
+    case ElemType::kByte:
+      require_integral(0, 255);
+      break;
+    case ElemType::kBool:
+      require_integral(0, 1);
+      break;
+    default:
+      break;
   }
 }
 
@@ -391,14 +436,17 @@ void RequireWritable(const Path& path) {
   const FieldInfo& field = Fields()[path.field_index];
   std::string why;
   if (path.role == Role::kDerived) {
-    why = "it is derived: MuJoCo computes it from the state (qpos, qvel, act) and inputs "
-          "(ctrl) in mj_forward/mj_step; set those instead.";
+    why =
+        "it is derived: MuJoCo computes it from the state (qpos, qvel, act) and inputs "
+        "(ctrl) in mj_forward/mj_step; set those instead.";
   } else if (Contains(kConstants, field.name)) {
-    why = "it is a constant the compiler derives (mj_setConst recomputes it); change the "
-          "quantities it comes from instead (e.g. body_mass, body_inertia).";
+    why =
+        "it is a constant the compiler derives (mj_setConst recomputes it); change the "
+        "quantities it comes from instead (e.g. body_mass, body_inertia).";
   } else {
-    why = "it describes the model's structure (sizes, addresses, ids, types), which "
-          "cannot change after compilation; edit the MJCF instead.";
+    why =
+        "it describes the model's structure (sizes, addresses, ids, types), which "
+        "cannot change after compilation; edit the MJCF instead.";
   }
   throw PathError("cannot set '" + path.text + "': " + why);
 }
@@ -414,10 +462,14 @@ void* MutableElement(Model& model, Data& data, const Path& path, long k) {
 
 const char* RoleName(Role role) {
   switch (role) {
-    case Role::kParameter: return "parameter";
-    case Role::kState: return "state";
-    case Role::kInput: return "input";
-    case Role::kDerived: return "derived";
+    case Role::kParameter:
+      return "parameter";
+    case Role::kState:
+      return "state";
+    case Role::kInput:
+      return "input";
+    case Role::kDerived:
+      return "derived";
   }
   return "?";
 }
@@ -425,7 +477,8 @@ const char* RoleName(Role role) {
 Path ResolvePath(const Model& model, std::string_view text) {
   Parsed parsed = Parse(text);
   if (!parsed.indices.empty() && parsed.indices[0] == "*") {
-    throw PathError("path '" + std::string(text) + "': '*' names several rows; it is only "
+    throw PathError("path '" + std::string(text) +
+                    "': '*' names several rows; it is only "
                     "accepted where a list of paths is expected.");
   }
   return ResolveParsed(model, text, parsed);
@@ -511,14 +564,22 @@ double ReadValue(const Model& model, const Data& data, const Path& path, long k)
   const char* at = static_cast<const char*>(FieldBase(field, model.get(), data.get())) +
                    (path.first + k) * ElemSize(field.type);
   switch (field.type) {
-    case ElemType::kNum: return *reinterpret_cast<const mjtNum*>(at);
-    case ElemType::kInt: return *reinterpret_cast<const int*>(at);
-    case ElemType::kInt64: return static_cast<double>(*reinterpret_cast<const long long*>(at));
-    case ElemType::kByte: return *reinterpret_cast<const mjtByte*>(at);
-    case ElemType::kBool: return *reinterpret_cast<const bool*>(at) ? 1 : 0;
-    case ElemType::kFloat: return *reinterpret_cast<const float*>(at);
-    case ElemType::kChar: return *reinterpret_cast<const char*>(at);
-    case ElemType::kOther: break;
+    case ElemType::kNum:
+      return *reinterpret_cast<const mjtNum*>(at);
+    case ElemType::kInt:
+      return *reinterpret_cast<const int*>(at);
+    case ElemType::kInt64:
+      return static_cast<double>(*reinterpret_cast<const long long*>(at));
+    case ElemType::kByte:
+      return *reinterpret_cast<const mjtByte*>(at);
+    case ElemType::kBool:
+      return *reinterpret_cast<const bool*>(at) ? 1 : 0;
+    case ElemType::kFloat:
+      return *reinterpret_cast<const float*>(at);
+    case ElemType::kChar:
+      return *reinterpret_cast<const char*>(at);
+    case ElemType::kOther:
+      break;
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -527,20 +588,32 @@ void WriteValues(Model& model, Data& data, const Path& path, const std::vector<d
   const FieldInfo& field = Fields()[path.field_index];
   RequireWritable(path);
   if (static_cast<long>(values.size()) != path.count) {
-    throw ValueError("'" + path.text + "' takes " + std::to_string(path.count) +
-                     " value(s), got " + std::to_string(values.size()) + ".");
+    throw ValueError("'" + path.text + "' takes " + std::to_string(path.count) + " value(s), got " +
+                     std::to_string(values.size()) + ".");
   }
   for (long k = 0; k < path.count; ++k) {
     double v = values[k];
     CheckValue(field.type, path.text, v);
     void* at = MutableElement(model, data, path, k);
     switch (field.type) {
-      case ElemType::kNum: *static_cast<mjtNum*>(at) = v; break;
-      case ElemType::kFloat: *static_cast<float*>(at) = static_cast<float>(v); break;
-      case ElemType::kInt: *static_cast<int*>(at) = static_cast<int>(v); break;
-      case ElemType::kInt64: *static_cast<long long*>(at) = static_cast<long long>(v); break;
-      case ElemType::kByte: *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v); break;
-      case ElemType::kBool: *static_cast<bool*>(at) = v != 0; break;
+      case ElemType::kNum:
+        *static_cast<mjtNum*>(at) = v;
+        break;
+      case ElemType::kFloat:
+        *static_cast<float*>(at) = static_cast<float>(v);
+        break;
+      case ElemType::kInt:
+        *static_cast<int*>(at) = static_cast<int>(v);
+        break;
+      case ElemType::kInt64:
+        *static_cast<long long*>(at) = static_cast<long long>(v);
+        break;
+      case ElemType::kByte:
+        *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v);
+        break;
+      case ElemType::kBool:
+        *static_cast<bool*>(at) = v != 0;
+        break;
       case ElemType::kChar:
       case ElemType::kOther:
         throw PathError("cannot set '" + path.text + "': it is not numeric.");

@@ -27,14 +27,17 @@ std::string DescriptionToJson(const ModelDescription& d, const std::string& mujo
   ordered_json sizes = ordered_json::object();
   for (const auto& [name, value] : d.sizes) sizes[name] = value;
   j["sizes"] = sizes;
-  j["options"] = {{"opt.timestep", d.timestep},
-                  {"opt.integrator", d.integrator},
-                  {"opt.gravity", d.gravity}};
+  j["options"] = {
+      {"opt.timestep", d.timestep}, {"opt.integrator", d.integrator}, {"opt.gravity", d.gravity}};
   j["total_mass"] = d.total_mass;
   ordered_json bodies = ordered_json::array();
   for (const BodyDescription& b : d.bodies) {
-    bodies.push_back({{"id", b.id},   {"name", b.name}, {"parent", b.parent},
-                      {"mass", b.mass}, {"com", b.com}, {"inertia", b.inertia}});
+    bodies.push_back({{"id", b.id},
+                      {"name", b.name},
+                      {"parent", b.parent},
+                      {"mass", b.mass},
+                      {"com", b.com},
+                      {"inertia", b.inertia}});
   }
   j["bodies"] = bodies;
   ordered_json joints = ordered_json::array();

@@ -56,8 +56,8 @@ std::string WriteRepro(const Model& model, const RunResult& result,
   try {
     std::string command;
     for (const std::string& a : argv) command += (command.empty() ? "" : " ") + ShellQuote(a);
-    WriteText(temp / "command.txt", "# run from: " + fs::current_path().string() + "\n" +
-                                        command + "\n");
+    WriteText(temp / "command.txt",
+              "# run from: " + fs::current_path().string() + "\n" + command + "\n");
     model.SaveBinary((temp / "model.mjb").string());
     std::string xml_note;
     try {

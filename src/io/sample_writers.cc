@@ -100,9 +100,15 @@ std::string JsonString(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           out += fmt::format("\\u{:04x}", c);
@@ -145,9 +151,12 @@ class JsonlWriter : public Writer {
 
 std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out) {
   switch (format) {
-    case SampleFormat::kTable: return std::make_unique<TableWriter>(out);
-    case SampleFormat::kCsv: return std::make_unique<CsvWriter>(out);
-    case SampleFormat::kJsonl: return std::make_unique<JsonlWriter>(out);
+    case SampleFormat::kTable:
+      return std::make_unique<TableWriter>(out);
+    case SampleFormat::kCsv:
+      return std::make_unique<CsvWriter>(out);
+    case SampleFormat::kJsonl:
+      return std::make_unique<JsonlWriter>(out);
   }
   return nullptr;
 }

@@ -54,9 +54,8 @@ Schedule MakeSchedule(double timestep, double until, double every) {
   // the chapter's loop `while (d->time < until) mj_step(...)` takes ceil(until/dt) steps
   double ratio = until / timestep;
   double nearest = std::round(ratio);
-  schedule.steps = static_cast<long>(std::fabs(ratio - nearest) <= 1e-9 * std::max(1.0, nearest)
-                                         ? nearest
-                                         : std::ceil(ratio));
+  schedule.steps = static_cast<long>(
+      std::fabs(ratio - nearest) <= 1e-9 * std::max(1.0, nearest) ? nearest : std::ceil(ratio));
   if (!std::isfinite(every) || every <= 0) {
     throw ValueError("--every " + Format("%g", every) +
                      ": the sampling interval must be a positive number of seconds.");
@@ -65,11 +64,10 @@ Schedule MakeSchedule(double timestep, double until, double every) {
   if (schedule.stride < 0) {
     double below = std::max(1.0, std::floor(every / timestep)) * timestep;
     double above = std::ceil(every / timestep) * timestep;
-    throw ValueError(Format("--every %g is not a whole multiple of the timestep %g", every,
-                            timestep) +
-                     Format(" (it is %.4g steps): samples must fall on exact steps. Use ",
-                            every / timestep) +
-                     Format("%.10g or %.10g, or change opt.timestep.", below, above));
+    throw ValueError(
+        Format("--every %g is not a whole multiple of the timestep %g", every, timestep) +
+        Format(" (it is %.4g steps): samples must fall on exact steps. Use ", every / timestep) +
+        Format("%.10g or %.10g, or change opt.timestep.", below, above));
   }
   return schedule;
 }
@@ -92,7 +90,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
 
   // the time column reports the exact sample time, not the accumulated d->time
   std::vector<char> is_time(spec.columns.size());
-  for (std::size_t c = 0; c < spec.columns.size(); ++c) is_time[c] = spec.columns[c].field == "time";
+  for (std::size_t c = 0; c < spec.columns.size(); ++c)
+    is_time[c] = spec.columns[c].field == "time";
   std::vector<double> row(spec.columns.size());
   double start_time = d->time;
   auto sample = [&](long step) {
@@ -132,8 +131,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       }
       seen[w.value] = d->warning[w.value].number;
       if (IsStateCheck(w.value) && reason.empty()) {
-        reason = std::string("MuJoCo's state check fired (") + w.name + "): " +
-                 mju_warningText(w.value, d->warning[w.value].lastinfo) +
+        reason = std::string("MuJoCo's state check fired (") + w.name +
+                 "): " + mju_warningText(w.value, d->warning[w.value].lastinfo) +
                  " MuJoCo reset the state to qpos0 and carried on; plumb stops here.";
       }
     }
@@ -150,18 +149,17 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       for (const Checked& c : checks) {
         int bad = FirstBad(c.values, c.n);
         if (bad >= 0) {
-          reason = std::string(c.name) + "[" + std::to_string(bad) + "] = " +
-                   Format("%g", c.values[bad]) + " is NaN, Inf or beyond 1e10";
+          reason = std::string(c.name) + "[" + std::to_string(bad) +
+                   "] = " + Format("%g", c.values[bad]) + " is NaN, Inf or beyond 1e10";
           break;
         }
       }
     }
     if (!reason.empty()) {
       result.diverged = true;
-      result.divergence = Divergence{
-          "the simulation diverged at t = " + Format("%g s", d->time) + " (step " +
-              std::to_string(step) + "): " + reason,
-          std::move(last_good), Snapshot(m, d, step)};
+      result.divergence = Divergence{"the simulation diverged at t = " + Format("%g s", d->time) +
+                                         " (step " + std::to_string(step) + "): " + reason,
+                                     std::move(last_good), Snapshot(m, d, step)};
       break;
     }
     last_good.step = step;

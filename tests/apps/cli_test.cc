@@ -35,8 +35,8 @@ TEST(CliRunTest, TableReproducesTheChapter) {
 
 TEST(CliRunTest, CsvToFileHasExactHeader) {
   TempDir dir;
-  CommandResult r = RunPlumb("run " + kPendulum + kSet +
-                             "--until 2 --every 0.1 --format csv -o traj.csv", dir.path());
+  CommandResult r = RunPlumb(
+      "run " + kPendulum + kSet + "--until 2 --every 0.1 --format csv -o traj.csv", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "");
   std::string csv = ReadFile(dir.File("traj.csv"));
@@ -74,8 +74,8 @@ TEST(CliRunTest, AtRestPendulumGetsAHintOnStderr) {
 TEST(CliInspectTest, TableShowsTheChaptersFields) {
   CommandResult r = RunPlumb("inspect " + kPendulum);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* text : {"nbody", "njnt", "opt.timestep", "0.002", "hinge", "link",
-                           "parameter", "derived", "rad"}) {
+  for (const char* text :
+       {"nbody", "njnt", "opt.timestep", "0.002", "hinge", "link", "parameter", "derived", "rad"}) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text;
   }
 }
@@ -127,9 +127,10 @@ TEST_F(CliBadInputTest, MalformedXml) {
 
 TEST_F(CliBadInputTest, NegativeGeomSizeGivesObjectAndLine) {
   TempDir models;
-  WriteFile(models.File("neg.xml"),
-            "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
-            "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
+  WriteFile(
+      models.File("neg.xml"),
+      "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
+      "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
   CommandResult r = Expect2("run " + models.File("neg.xml"), "neg.xml");
   EXPECT_NE(r.err.find("Object name = rod"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("line = 5"), std::string::npos) << r.err;
@@ -153,7 +154,9 @@ TEST_F(CliBadInputTest, NonNumericValue) {
   Expect2("run " + kPendulum + " --set 'qpos[hinge]=abc'", "not a number");
 }
 
-TEST_F(CliBadInputTest, NanValue) { Expect2("run " + kPendulum + " --set 'qpos[hinge]=nan'", "nan"); }
+TEST_F(CliBadInputTest, NanValue) {
+  Expect2("run " + kPendulum + " --set 'qpos[hinge]=nan'", "nan");
+}
 
 TEST_F(CliBadInputTest, EveryNotAMultipleOfTheTimestep) {
   Expect2("run " + kPendulum + " --every 0.003", "--every 0.003");
@@ -179,9 +182,10 @@ TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
       <joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
       <geom type="sphere" size="0.05" mass="1"/>
     </body></worldbody></mujoco>)");
-  CommandResult r = RunPlumb("run stiff.xml --set 'qpos[slider]=0.01' --until 10 --every 0.01 "
-                             "-o traj.csv",
-                             dir.path());
+  CommandResult r = RunPlumb(
+      "run stiff.xml --set 'qpos[slider]=0.01' --until 10 --every 0.01 "
+      "-o traj.csv",
+      dir.path());
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("diverged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("plumb-repro-stiff"), std::string::npos) << r.err;
@@ -194,8 +198,9 @@ TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
   nlohmann::json good = nlohmann::json::parse(ReadFile(repro + "/last_good.json"));
   EXPECT_TRUE(good["qpos"][0].is_number());
   // the saved model reproduces the divergence on its own
-  CommandResult again = RunPlumb("run " + repro + "/model.mjb --set 'qpos[slider]=0.01' "
-                                 "--until 10 --every 0.01 --repro again",
+  CommandResult again = RunPlumb("run " + repro +
+                                     "/model.mjb --set 'qpos[slider]=0.01' "
+                                     "--until 10 --every 0.01 --repro again",
                                  dir.path());
   EXPECT_EQ(again.exit_code, 3);
 }
@@ -205,7 +210,8 @@ TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {
   // a long run in the background, interrupted once it has started writing
   std::string command = std::string("'") + PLUMB_CLI + "' run " + kPendulum + kSet +
                         "--until 100000 --every 0.002 --format csv -o traj.csv";
-  std::string script = command + " 2>err.txt & pid=$!; "
+  std::string script = command +
+                       " 2>err.txt & pid=$!; "
                        "for i in $(seq 100); do ls -a | grep -q 'traj.csv.tmp' && break; "
                        "sleep 0.05; done; sleep 0.2; kill -INT $pid; wait $pid; echo $? >rc.txt";
   WriteFile(dir.File("interrupt.sh"), script + "\n");
@@ -214,8 +220,7 @@ TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {
   EXPECT_NE(ReadFile(dir.File("err.txt")).find("interrupted"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir.File("traj.csv")));
   for (const auto& entry : fs::directory_iterator(dir.path())) {
-    EXPECT_EQ(entry.path().filename().string().find("traj.csv"), std::string::npos)
-        << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find("traj.csv"), std::string::npos) << entry.path();
   }
 }
 

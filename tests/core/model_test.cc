@@ -58,9 +58,10 @@ TEST_F(ModelTest, MalformedXmlKeepsTheParserLine) {
 TEST_F(ModelTest, NegativeGeomSizeKeepsObjectAndLine) {
   // the chapter's exercise 5: the whole compiler message reaches the user
   TempDir dir;
-  WriteFile(dir.File("neg.xml"),
-            "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
-            "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
+  WriteFile(
+      dir.File("neg.xml"),
+      "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
+      "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
   try {
     Model::Load(dir.File("neg.xml"));
     FAIL() << "expected LoadError";

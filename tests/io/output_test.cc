@@ -109,16 +109,15 @@ TEST(ReproTest, FolderHoldsEverythingToReproduce) {
   Data data(model);
   RunResult result;
   result.diverged = true;
-  result.divergence = Divergence{"the simulation diverged at t = 1 s", Snapshot(model.get(),
-                                                                               data.get(), 4),
-                                 Snapshot(model.get(), data.get(), 5)};
+  result.divergence =
+      Divergence{"the simulation diverged at t = 1 s", Snapshot(model.get(), data.get(), 4),
+                 Snapshot(model.get(), data.get(), 5)};
   result.divergence->bad.qpos[0] = NAN;
-  std::string written =
-      WriteRepro(model, result, {"plumb", "run", "m.xml", "--set", "qpos[hinge]=1"},
-                 dir.File("repro"));
+  std::string written = WriteRepro(
+      model, result, {"plumb", "run", "m.xml", "--set", "qpos[hinge]=1"}, dir.File("repro"));
   EXPECT_EQ(written, dir.File("repro"));
-  for (const char* name : {"model.xml", "model.mjb", "last_good.json", "bad.json",
-                           "warnings.json", "command.txt", "README.txt"}) {
+  for (const char* name : {"model.xml", "model.mjb", "last_good.json", "bad.json", "warnings.json",
+                           "command.txt", "README.txt"}) {
     EXPECT_TRUE(fs::exists(written + "/" + name)) << name;
   }
   EXPECT_NE(ReadFile(written + "/command.txt").find("plumb run m.xml --set 'qpos[hinge]=1'"),

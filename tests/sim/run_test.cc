@@ -116,9 +116,9 @@ TEST_F(RunTest, DivergenceStopsTheRunWithBothStates) {
 TEST_F(RunTest, TheSameSpringIsStableWithASmallTimestep) {
   Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
   Data data(model);
-  ApplyAssignments(model, data,
-                   {ParseAssignment(model, "opt.timestep=0.0001"),
-                    ParseAssignment(model, "qpos[slider]=0.01")});
+  ApplyAssignments(
+      model, data,
+      {ParseAssignment(model, "opt.timestep=0.0001"), ParseAssignment(model, "qpos[slider]=0.01")});
   NullSink sink;
   RunSpec spec = PendulumSpec(model, 0.1, 0.01);
   EXPECT_FALSE(plumb::Run(model, data, spec, sink).diverged);
@@ -182,8 +182,10 @@ TEST_F(RunTest, RunsAreBitIdentical) {
     RecordingSink sink;
     RunSpec spec = PendulumSpec(model, 0.5, 0.05);
     plumb::Run(model, data, spec, sink);
-    if (repeat == 0) first = sink.rows;
-    else EXPECT_EQ(first, sink.rows);
+    if (repeat == 0)
+      first = sink.rows;
+    else
+      EXPECT_EQ(first, sink.rows);
   }
 }
 
