@@ -1,0 +1,78 @@
+// verify over every model nobody here wrote: MuJoCo's samples and the DeepMind Control
+// Suite. It must not crash, and a FAIL must be a real, explained defect.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "fixture.h"
+#include "plumb/verify.h"
+
+namespace plumb {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
+
+std::vector<std::string> Models() {
+  std::vector<std::string> files;
+  for (const std::string& root : {std::string("/usr/share/mujoco/model"), kSuite}) {
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::end(it);
+         it.increment(ec)) {
+      if (it->path().extension() == ".xml") files.push_back(it->path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Failures that are real findings, with the explanation (see the closing note).
+const std::map<std::string, std::string> kKnownFailures = {
+    // A cloth of 288 soft equality constraints flapping in wind: convergence is a clean
+    // first order, and at its own 2 ms step the state at 0.5 s is ~16% (norm, mostly
+    // the cloth's fast velocities) from the extrapolated answer.
+    {"flag.xml:convergence", "clean first-order convergence shows dt = 2 ms is too coarse"},
+};
+
+class VerifyModelsTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(VerifyModelsTest, NoCrashAndNoUnexplainedFailure) {
+  Model model = Model::Load(GetParam());
+  VerifyReport report = Verify(model, {});
+  TakeMujocoWarnings();
+  ASSERT_GE(report.checks.size(), 5u);
+  for (const CheckResult& c : report.checks) {
+    if (c.status != CheckStatus::kFail) continue;
+    std::string key = fs::path(GetParam()).filename().string() + ":" + c.id;
+    EXPECT_TRUE(kKnownFailures.count(key)) << key << " failed: " << c.detail;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllModels, VerifyModelsTest, ::testing::ValuesIn(Models()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name =
+                               fs::path(info.param).parent_path().filename().string() + "_" +
+                               fs::path(info.param).stem().string();
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+TEST(VerifyModelsListTest, FindsTheModels) {
+  std::vector<std::string> models = Models();
+  auto in_suite = [](const std::string& f) { return f.rfind(kSuite, 0) == 0; };
+  long suite = std::count_if(models.begin(), models.end(), in_suite);
+  EXPECT_GE(static_cast<long>(models.size()) - suite, 17);  // libmujoco-samples
+  if (std::string(PLUMB_SHARED_DIR).empty()) {
+    GTEST_SKIP() << "shared/models/dm_control not found beside the repository";
+  }
+  EXPECT_GE(suite, 18);
+}
+
+}  // namespace
+}  // namespace plumb
