@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 
@@ -17,6 +19,35 @@ const std::atomic<bool>& StopRequested() { return g_stop; }
 void InstallSignalHandlers() {
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
+}
+
+ProgressBar::ProgressBar(long total, std::string unit)
+    : total_(total),
+      unit_(std::move(unit)),
+      enabled_(isatty(fileno(stderr)) != 0),
+      start_(std::chrono::steady_clock::now()) {}
+
+void ProgressBar::Update(long done) {
+  if (!enabled_) return;
+  auto now = std::chrono::steady_clock::now();
+  long long ns = std::chrono::duration_cast<std::chrono::nanoseconds>(now - start_).count();
+  if (done < total_ && ns - last_draw_ns_.load() < 100'000'000) return;
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  last_draw_ns_ = ns;
+  double seconds = ns * 1e-9;
+  double rate = seconds > 0 ? done / seconds : 0;
+  double eta = rate > 0 ? (total_ - done) / rate : 0;
+  constexpr int kWidth = 30;
+  int filled = total_ > 0 ? static_cast<int>(kWidth * done / total_) : kWidth;
+  std::fprintf(stderr, "\r[%s%s] %ld/%ld %s  %.1f/s  ETA %.0f s ",
+               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), done,
+               total_, unit_.c_str(), rate, eta);
+  std::fflush(stderr);
+}
+
+void ProgressBar::Finish() {
+  if (enabled_) std::fprintf(stderr, "\r%80s\r", "");
 }
 
 int ReportError(const std::exception& error) {

@@ -6,6 +6,8 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <chrono>
+#include <mutex>
 #include <functional>
 #include <string>
 #include <vector>
@@ -43,6 +45,23 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
 // Splits a comma-separated list of paths, keeping commas inside [...] together.
 std::vector<std::string> SplitPathList(const std::string& text);
 
+// A progress bar with rate and ETA on stderr, drawn only when stderr is a terminal.
+// Update may be called from any thread; redraws are limited to ten per second.
+class ProgressBar {
+ public:
+  ProgressBar(long total, std::string unit);
+  void Update(long done);
+  void Finish();  // clears the line
+
+ private:
+  long total_;
+  std::string unit_;
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_;
+  std::atomic<long long> last_draw_ns_{0};
+  std::mutex mutex_;
+};
+
 // Set by SIGINT/SIGTERM once InstallSignalHandlers ran.
 const std::atomic<bool>& StopRequested();
 void InstallSignalHandlers();
@@ -52,6 +71,7 @@ void SetupRunCommand(CLI::App& app, Context& ctx);
 void SetupInspectCommand(CLI::App& app, Context& ctx);
 void SetupConvergeCommand(CLI::App& app, Context& ctx);
 void SetupVerifyCommand(CLI::App& app, Context& ctx);
+void SetupSweepCommand(CLI::App& app, Context& ctx);
 
 }  // namespace plumb::cli
 

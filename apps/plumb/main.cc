@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   SetupRunCommand(app, ctx);
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);
+  SetupSweepCommand(app, ctx);
 
   try {
     app.parse(argc, argv);

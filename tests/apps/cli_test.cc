@@ -224,6 +224,76 @@ TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {
   }
 }
 
+TEST(CliVerifyTest, PendulumPassesAndPrintsEveryCheck) {
+  CommandResult r = RunPlumb("verify " + kPendulum + kSet);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* id : {"load", "determinism", "warnings", "convergence", "energy",
+                         "analytic.period", "experiment.A", "experiment.B", "experiment.C",
+                         "exercise.moon_gravity", "exercise.density", "exercise.radians"}) {
+    EXPECT_NE(r.out.find(std::string("PASS  ") + id), std::string::npos) << id << "\n" << r.out;
+  }
+  EXPECT_NE(r.out.find("0 failed"), std::string::npos);
+}
+
+TEST(CliVerifyTest, JsonHasTheDocumentedShape) {
+  CommandResult r = RunPlumb("verify " + kPendulum + kSet + "--format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["model"], kPendulum);
+  ASSERT_TRUE(j["checks"].is_array());
+  for (const nlohmann::json& c : j["checks"]) {
+    for (const char* key : {"id", "title", "status", "measured", "reference", "rel_error", "detail"}) {
+      EXPECT_TRUE(c.contains(key)) << key;
+    }
+  }
+  EXPECT_EQ(j["summary"]["fail"], 0);
+  EXPECT_GE(j["summary"]["pass"], 12);
+}
+
+TEST(CliVerifyTest, CoarseTimestepExits1) {
+  CommandResult r = RunPlumb("verify " + kPendulum + kSet + "--set opt.timestep=0.02");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("FAIL  convergence"), std::string::npos) << r.out;
+}
+
+TEST(CliConvergeTest, EulerAndRk4Orders) {
+  CommandResult euler = RunPlumb("converge " + kPendulum + kSet + "--metric 'qpos[hinge]@2' "
+                                 "--format json");
+  ASSERT_EQ(euler.exit_code, 0) << euler.err;
+  nlohmann::json e = nlohmann::json::parse(euler.out);
+  EXPECT_NEAR(e["observed_order"].get<double>(), 1.0, 0.05);
+  EXPECT_EQ(e["levels"].size(), 5u);
+  EXPECT_TRUE(e.contains("extrapolated"));
+  EXPECT_TRUE(e.contains("recommended_dt"));
+  CommandResult rk4 = RunPlumb("converge " + kPendulum + kSet + "--set opt.integrator=RK4 "
+                               "--metric 'qpos[hinge]@2' --dt 0.02 --format json");
+  nlohmann::json k = nlohmann::json::parse(rk4.out);
+  EXPECT_NEAR(k["observed_order"].get<double>(), 4.0, 0.3);
+  CommandResult table = RunPlumb("converge " + kPendulum + kSet + "--set opt.integrator=RK4 "
+                                 "--metric 'qpos[hinge]@2'");
+  EXPECT_NE(table.out.find("round-off"), std::string::npos) << table.out;
+}
+
+TEST(CliConvergeTest, BadMetricIsBadInput) {
+  CommandResult r = RunPlumb("converge " + kPendulum + " --metric 'qpos[hinge]@later'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("later"), std::string::npos) << r.err;
+}
+
+TEST(CliSweepTest, RowsInCaseOrderWhateverTheThreads) {
+  std::string args = "sweep " + kPendulum + kSet +
+                     "--vary 'dof_damping[hinge]=0,0.05,1' --vary opt.integrator=Euler,RK4 "
+                     "--metric 'qpos[hinge]@2' --format csv --threads ";
+  CommandResult one = RunPlumb(args + "1");
+  CommandResult two = RunPlumb(args + "2");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(one.out, two.out);
+  EXPECT_EQ(one.out.substr(0, one.out.find('\n')),
+            "case,dof_damping[hinge],opt.integrator,qpos[hinge]@2");
+  EXPECT_NE(one.out.find("\n2,0.050000000000000003,0,0.31094769260023"), std::string::npos)
+      << one.out;
+}
+
 TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
   CommandResult r = RunPlumb("run --help");
   EXPECT_EQ(r.exit_code, 0);

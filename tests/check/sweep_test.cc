@@ -1,0 +1,98 @@
+#include "plumb/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using SweepTest = testing::MujocoTest;
+
+TEST_F(SweepTest, AxesParseListsRangesAndNames) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepAxis list = ParseSweepAxis(model, "dof_damping[hinge]=0,0.05,1");
+  EXPECT_EQ(list.values.size(), 3u);
+  EXPECT_EQ(list.values[1].values[0], 0.05);
+  SweepAxis range = ParseSweepAxis(model, "qpos[hinge]=0.1:2.8:4");
+  ASSERT_EQ(range.values.size(), 4u);
+  EXPECT_DOUBLE_EQ(range.values[0].values[0], 0.1);
+  EXPECT_DOUBLE_EQ(range.values[3].values[0], 2.8);
+  SweepAxis names = ParseSweepAxis(model, "opt.integrator=Euler,RK4");
+  EXPECT_EQ(names.values[1].values[0], mjINT_RK4);
+  EXPECT_EQ(CaseCount({list, range, names}), 24);
+  EXPECT_THROW(ParseSweepAxis(model, "opt.gravity=1,2"), ValueError);  // 3 elements
+  EXPECT_THROW(ParseSweepAxis(model, "qpos[hinge]=1:2"), ValueError);
+  EXPECT_THROW(ParseSweepAxis(model, "qpos[hinge]=a,b"), ValueError);
+  EXPECT_THROW(ParseSweepAxis(model, "qpos[hinge]"), ValueError);
+}
+
+TEST_F(SweepTest, CasesComeInOrderAndMatchSingleRuns) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec;
+  spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  spec.axes = {ParseSweepAxis(model, "dof_damping[hinge]=0,0.05"),
+               ParseSweepAxis(model, "opt.timestep=0.002,0.001")};
+  spec.metrics = {ParseMetric(model, "qpos[hinge]@2")};
+  std::vector<SweepCase> cases = Sweep(model, spec);
+  ASSERT_EQ(cases.size(), 4u);
+  EXPECT_EQ(cases[2].choice, (std::vector<std::size_t>{1, 0}));  // first axis slowest
+  // case 2 is damping 0.05 at dt 0.002: the chapter's pendulum
+  EXPECT_NEAR(cases[2].metrics[0].value, 0.310947692600239, 1e-13);
+  Measurement single = Measure(model, {spec.sets[0], spec.axes[0].values[1]},
+                               spec.metrics[0], 0.002, 2);
+  EXPECT_EQ(cases[2].metrics[0].value, single.value);
+}
+
+TEST_F(SweepTest, OneAndTwoThreadsAreBitIdentical) {
+  Model model = Model::Load(testing::kHumanoid);
+  SweepSpec spec;
+  spec.axes = {ParseSweepAxis(model, "body_mass[torso]=4:8:6"),
+               ParseSweepAxis(model, "opt.gravity[2]=-9.81,-1.62")};
+  spec.metrics = {ParseMetric(model, "state@0.2"), ParseMetric(model, "xpos[head][2]@0.2")};
+  spec.threads = 1;
+  std::vector<SweepCase> one = Sweep(model, spec);
+  spec.threads = 2;
+  std::atomic<long> progress_calls{0};
+  spec.progress = [&](long, long total) {
+    EXPECT_EQ(total, 12);
+    ++progress_calls;
+  };
+  std::vector<SweepCase> two = Sweep(model, spec);
+  EXPECT_EQ(progress_calls.load(), 12);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    for (std::size_t m = 0; m < one[i].metrics.size(); ++m) {
+      const Measurement& a = one[i].metrics[m];
+      const Measurement& b = two[i].metrics[m];
+      EXPECT_EQ(std::memcmp(&a.value, &b.value, sizeof(double)), 0) << "case " << i;
+      EXPECT_EQ(a.state, b.state) << "case " << i;
+    }
+  }
+  // a heavier torso changes the dynamics: the sweep really varies the model
+  EXPECT_NE(one[0].metrics[0].value, one[10].metrics[0].value);
+}
+
+TEST_F(SweepTest, DivergedCaseIsRecordedAndTheSweepGoesOn) {
+  Model model = Model::FromXmlString(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+      <body><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
+      <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  SweepSpec spec;
+  spec.sets = {ParseAssignment(model, "qpos[slider]=0.01")};
+  spec.axes = {ParseSweepAxis(model, "opt.timestep=0.0001,0.01")};
+  spec.metrics = {ParseMetric(model, "maxabs(qpos[slider])")};
+  spec.until = 1;
+  std::vector<SweepCase> cases = Sweep(model, spec);
+  TakeMujocoWarnings();
+  EXPECT_TRUE(cases[0].metrics[0].ok);
+  EXPECT_NEAR(cases[0].metrics[0].value, 0.01, 1e-4);
+  EXPECT_FALSE(cases[1].metrics[0].ok);
+  EXPECT_NE(cases[1].metrics[0].problem.find("diverged"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace plumb
