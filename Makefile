@@ -21,11 +21,8 @@ build: deps
 
 # the main job on the chapter's pendulum
 demo: build
-	@echo "== plumb inspect models/pendulum.xml"
-	@$(PLUMB) inspect models/pendulum.xml
-	@echo
-	@echo "== plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1"
-	@$(PLUMB) run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1
+	@echo "== plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7'"
+	@$(PLUMB) verify models/pendulum.xml --set 'qpos[hinge]=0.7'
 
 test: test-release test-asan
 
