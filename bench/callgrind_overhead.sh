@@ -21,7 +21,7 @@ count() {  # variant function -> instructions collected inside that function
 bare=$(count bare '*RunBareLoop*')
 plumb=$(count plumb '*RunPlumb*')
 awk -v b="$bare" -v p="$plumb" 'BEGIN {
-  printf "bare mj_step loop   %15d instructions\n", b
-  printf "plumb run           %15d instructions\n", p
+  printf "bare mj_step loop   %15.0f instructions\n", b
+  printf "plumb run           %15.0f instructions\n", p
   printf "overhead            %15.3f %%\n", 100 * (p - b) / b
 }'

@@ -429,6 +429,14 @@ double SwingCentre(double q0, const PendulumParams& p) {
   return q0 - std::remainder(q0 - p.equilibrium, 2 * M_PI);
 }
 
+// Where the experiments start: the user's swing (wrapped to one turn), or the chapter's
+// 0.7 rad when the pendulum starts at rest.
+double ExperimentStart(double theta0, const PendulumParams& p) {
+  return Amplitude(theta0, p) > 1e-6
+             ? p.equilibrium + std::remainder(theta0 - p.equilibrium, 2 * M_PI)
+             : p.equilibrium + 0.7;
+}
+
 struct PendulumRun {
   double period = kNaN;  // from upward crossings of the equilibrium angle
 };
@@ -589,9 +597,7 @@ CheckResult ExperimentAmplitude(const Scenario& s, const PendulumParams& p, int 
 CheckResult ExperimentDamping(const Scenario& s, const PendulumParams& p, int dof, double theta0,
                               double tol) {
   CheckResult r = Row("experiment.B", "damping 0, 0.05, 1.0: energy conserved vs. decaying");
-  double theta = Amplitude(theta0, p) > 1e-6
-                     ? p.equilibrium + std::remainder(theta0 - p.equilibrium, 2 * M_PI)
-                     : p.equilibrium + 0.7;
+  double theta = ExperimentStart(theta0, p);
   std::vector<std::string> parts;
   std::vector<double> losses;
   double drift0 = 0;
@@ -639,9 +645,7 @@ CheckResult ExperimentDamping(const Scenario& s, const PendulumParams& p, int do
 CheckResult ExperimentTimestep(const Scenario& s, const PendulumParams& p, int dof, double theta0,
                                double tol) {
   CheckResult r = Row("experiment.C", "timestep 0.0005, 0.002, 0.02 s: q at 2 s converges");
-  double theta = Amplitude(theta0, p) > 1e-6
-                     ? p.equilibrium + std::remainder(theta0 - p.equilibrium, 2 * M_PI)
-                     : p.equilibrium + 0.7;
+  double theta = ExperimentStart(theta0, p);
   std::vector<Assignment> start = {s.Set(fmt::format("qpos[{}]={:.17g}", dof, theta)),
                                    s.Set(fmt::format("qvel[{}]=0", dof))};
   // reference: RK4 at a tiny step with the model's damping

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 
@@ -64,11 +65,13 @@ std::string CsvField(const std::string& s) {
   return out + "\"";
 }
 
-// %.17g round-trips every double exactly.
+// %.17g round-trips every double exactly; std::to_chars writes the same characters as
+// printf("%.17g") about three times faster, which matters when every step is a row.
 void AppendNumber(std::string* out, double v) {
   char buffer[32];
-  int n = std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  out->append(buffer, n);
+  std::to_chars_result r =
+      std::to_chars(buffer, buffer + sizeof(buffer), v, std::chars_format::general, 17);
+  out->append(buffer, r.ptr);
 }
 
 class CsvWriter : public Writer {
