@@ -13,7 +13,7 @@ packages=(
   libmujoco-dev libmujoco-samples
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libtbb-dev
+  libsqlite3-dev libtbb-dev libcpptoml-dev
   valgrind
 )
 

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged.\n"
       "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
   SetupVerifyCommand(app, ctx);
+  SetupAuditCommand(app, ctx);
   SetupRunCommand(app, ctx);
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);

@@ -14,6 +14,7 @@
 #define PLUMB_INCLUDE_PLUMB_RUN_H_
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +51,11 @@ struct RunSpec {
   std::vector<Path> columns;  // sampled paths, each a single element (see ScalarPaths)
   // When set and it becomes true (e.g. from a signal handler), Run throws Interrupted.
   const std::atomic<bool>* stop = nullptr;
+  // Called before every mj_step with the step about to be taken (1-based), e.g. to
+  // write ctrl; and after every step that passed the divergence checks, e.g. to
+  // inspect contacts. Either may be empty.
+  std::function<void(mjData*, long step)> before_step;
+  std::function<void(const mjData*, long step)> after_step;
 };
 
 // The step counts a RunSpec implies for a model's timestep.

@@ -118,6 +118,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       throw Interrupted("interrupted at t = " + Format("%g s", d->time) + " (step " +
                         std::to_string(step - 1) + " of " + std::to_string(schedule.steps) + ")");
     }
+    if (spec.before_step) spec.before_step(d, step);
     data.Step();
     result.steps = step;
 
@@ -169,6 +170,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     std::copy(d->act, d->act + m->na, last_good.act.begin());
     std::copy(d->ctrl, d->ctrl + m->nu, last_good.ctrl.begin());
 
+    if (spec.after_step) spec.after_step(d, step);
     if (step % schedule.stride == 0) {
       sample(step);
       ++result.samples;

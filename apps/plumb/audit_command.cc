@@ -1,0 +1,110 @@
+// plumb audit: the five layers of model acceptance, one section per layer.
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "plumb/audit.h"
+
+namespace plumb::cli {
+namespace {
+
+struct AuditCommandOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  std::string scenario;
+  bool strict = false;
+  std::string format = "table";
+  std::string repro;
+};
+
+std::string Table(const AuditReport& report) {
+  std::string out = fmt::format("plumb audit {} (MuJoCo {})\n", report.model, MujocoVersion());
+  std::string layer;
+  for (const Finding& f : report.findings) {
+    if (f.layer != layer) {
+      layer = f.layer;
+      out += fmt::format("\n== {}\n", layer);
+    }
+    out += fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.check,
+                       f.element.empty() ? "(model)" : f.element);
+    std::string numbers = "      " + f.measured;
+    if (!f.threshold.empty()) numbers += "   threshold " + f.threshold;
+    out += numbers + "\n";
+    if (f.status != CheckStatus::kPass) out += "      fix: " + f.fix + "\n";
+  }
+  out += fmt::format("\n{} passed, {} warned, {} failed, {} skipped\n",
+                     report.Count(CheckStatus::kPass), report.Count(CheckStatus::kWarn),
+                     report.Count(CheckStatus::kFail), report.Count(CheckStatus::kSkip));
+  return out;
+}
+
+std::string Json(const AuditReport& report) {
+  nlohmann::ordered_json j;
+  j["model"] = report.model;
+  j["mujoco_version"] = MujocoVersion();
+  nlohmann::ordered_json layers = nlohmann::ordered_json::object();
+  for (const Finding& f : report.findings) {
+    layers[f.layer].push_back({{"check", f.check},
+                               {"element", f.element},
+                               {"measured", f.measured},
+                               {"threshold", f.threshold},
+                               {"status", CheckStatusName(f.status)},
+                               {"fix", f.fix}});
+  }
+  j["layers"] = layers;
+  j["repro_folders"] = report.repro_folders;
+  j["summary"] = {{"pass", report.Count(CheckStatus::kPass)},
+                  {"warn", report.Count(CheckStatus::kWarn)},
+                  {"fail", report.Count(CheckStatus::kFail)},
+                  {"skip", report.Count(CheckStatus::kSkip)}};
+  return j.dump(2) + "\n";
+}
+
+int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
+  Model model = LoadModel(o.model);
+  AuditOptions options;
+  options.sets = ParseAssignments(model, o.sets);
+  if (!o.scenario.empty()) options.scenario = LoadScenario(model, o.scenario);
+  options.repro_dir =
+      o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
+  options.argv = ctx.argv;
+  AuditReport report = Audit(model, options);
+  std::string text = o.format == "json" ? Json(report) : Table(report);
+  std::fwrite(text.data(), 1, text.size(), stdout);
+  bool failed =
+      report.Count(CheckStatus::kFail) > 0 || (o.strict && report.Count(CheckStatus::kWarn) > 0);
+  return failed ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace
+
+void SetupAuditCommand(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<AuditCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "audit", "Accept a model in five layers: structure, inertia, actuator, contact, behaviour");
+  cmd->footer(
+      "Examples:\n"
+      "  plumb audit /usr/share/mujoco/model/humanoid/humanoid.xml\n"
+      "  plumb audit robot.xml --scenario stand.toml --strict --format json\n"
+      "Scenario files (JSON or TOML): name, duration, keyframe, initial {path = value},\n"
+      "controls [{actuator, type = constant|step|ramp|sine, ...}], assertions\n"
+      "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
+      "Exit codes: 0 nothing failed, 1 a check failed (or warned, with --strict), 2 bad input.");
+  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  cmd->add_option("--set", o->sets, "PATH=VALUE before the audit (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
+  cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
+  cmd->add_option("--format", o->format, "table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--repro", o->repro,
+                  "folder for the repro of a diverged run (default plumb-repro-<model name>)");
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunAudit(*o, ctx); }; });
+}
+
+}  // namespace plumb::cli
