@@ -242,7 +242,8 @@ TEST(CliVerifyTest, JsonHasTheDocumentedShape) {
   EXPECT_EQ(j["model"], kPendulum);
   ASSERT_TRUE(j["checks"].is_array());
   for (const nlohmann::json& c : j["checks"]) {
-    for (const char* key : {"id", "title", "status", "measured", "reference", "rel_error", "detail"}) {
+    for (const char* key :
+         {"id", "title", "status", "measured", "reference", "rel_error", "detail"}) {
       EXPECT_TRUE(c.contains(key)) << key;
     }
   }
@@ -257,7 +258,8 @@ TEST(CliVerifyTest, CoarseTimestepExits1) {
 }
 
 TEST(CliConvergeTest, EulerAndRk4Orders) {
-  CommandResult euler = RunPlumb("converge " + kPendulum + kSet + "--metric 'qpos[hinge]@2' "
+  CommandResult euler = RunPlumb("converge " + kPendulum + kSet +
+                                 "--metric 'qpos[hinge]@2' "
                                  "--format json");
   ASSERT_EQ(euler.exit_code, 0) << euler.err;
   nlohmann::json e = nlohmann::json::parse(euler.out);
@@ -265,11 +267,13 @@ TEST(CliConvergeTest, EulerAndRk4Orders) {
   EXPECT_EQ(e["levels"].size(), 5u);
   EXPECT_TRUE(e.contains("extrapolated"));
   EXPECT_TRUE(e.contains("recommended_dt"));
-  CommandResult rk4 = RunPlumb("converge " + kPendulum + kSet + "--set opt.integrator=RK4 "
+  CommandResult rk4 = RunPlumb("converge " + kPendulum + kSet +
+                               "--set opt.integrator=RK4 "
                                "--metric 'qpos[hinge]@2' --dt 0.02 --format json");
   nlohmann::json k = nlohmann::json::parse(rk4.out);
   EXPECT_NEAR(k["observed_order"].get<double>(), 4.0, 0.3);
-  CommandResult table = RunPlumb("converge " + kPendulum + kSet + "--set opt.integrator=RK4 "
+  CommandResult table = RunPlumb("converge " + kPendulum + kSet +
+                                 "--set opt.integrator=RK4 "
                                  "--metric 'qpos[hinge]@2'");
   EXPECT_NE(table.out.find("round-off"), std::string::npos) << table.out;
 }
@@ -292,6 +296,42 @@ TEST(CliSweepTest, RowsInCaseOrderWhateverTheThreads) {
             "case,dof_damping[hinge],opt.integrator,qpos[hinge]@2");
   EXPECT_NE(one.out.find("\n2,0.050000000000000003,0,0.31094769260023"), std::string::npos)
       << one.out;
+}
+
+TEST(CliAuditTest, HumanoidPassesWithSectionsPerLayer) {
+  CommandResult r = RunPlumb("audit " + testing::kHumanoid);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* section :
+       {"== structure", "== inertia", "== actuator", "== contact", "== behaviour", "== warnings"}) {
+    EXPECT_NE(r.out.find(section), std::string::npos) << section;
+  }
+  // the head hits the floor hard when the humanoid falls: a warning, so --strict fails
+  EXPECT_EQ(RunPlumb("audit " + testing::kHumanoid + " --strict").exit_code, 1);
+}
+
+TEST(CliAuditTest, PlantedDefectExits1AndJsonMirrorsTheTable) {
+  TempDir dir;
+  WriteFile(dir.File("ghost.xml"), R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="ghost" pos="0 0 1"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="0" conaffinity="0"/></body>
+    </worldbody></mujoco>)");
+  CommandResult r = RunPlumb("audit ghost.xml --format json", dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  bool found = false;
+  for (const nlohmann::json& f : j["layers"]["contact"]) {
+    found = found || (f["check"] == "contact.free_fall" && f["status"] == "FAIL" &&
+                      f["element"].get<std::string>().find("ghost") != std::string::npos);
+  }
+  EXPECT_TRUE(found) << r.out;
+  EXPECT_GE(j["summary"]["fail"], 1);
+}
+
+TEST(CliAuditTest, MissingScenarioIsBadInput) {
+  CommandResult r = RunPlumb("audit " + kPendulum + " --scenario nowhere.toml");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nowhere.toml"), std::string::npos) << r.err;
 }
 
 TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
