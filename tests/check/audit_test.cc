@@ -96,6 +96,23 @@ TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
   EXPECT_EQ(Find(r, "actuator.limits", "'weak'"), nullptr);  // its ctrl is limited
 }
 
+TEST_F(AuditTest, RadiansWrittenWhereMjcfExpectsDegreesAreFlagged) {
+  // MJCF angles default to degrees: range="-1.5 1.5" is +-1.5 degrees, not radians
+  AuditReport r = AuditXml(R"(<mujoco><compiler autolimits="true"/><worldbody>
+      <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0" range="-1.5 1.5"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+    </worldbody><actuator>
+      <position name="servo" joint="shoulder" kp="50" ctrlrange="-1.5 1.5"/>
+    </actuator></mujoco>)");
+  const Finding* range = Find(r, "structure.joint_range", "'shoulder'");
+  ASSERT_NE(range, nullptr);
+  EXPECT_EQ(range->status, CheckStatus::kWarn);
+  EXPECT_NE(range->fix.find("angle=\"radian\""), std::string::npos) << range->fix;
+  const Finding* target = Find(r, "actuator.target_range", "'servo'");
+  ASSERT_NE(target, nullptr);
+  EXPECT_EQ(target->layer, "actuator");
+}
+
 TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
   TempDir dir;
   AuditOptions options;
