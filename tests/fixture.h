@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -68,6 +70,33 @@ inline std::string ReadFile(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// Every MJCF file of MuJoCo's samples (libmujoco-samples) and of the DeepMind Control
+// Suite in shared/ (when present), sorted: models nobody here wrote.
+inline const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
+
+inline std::vector<std::string> ThirdPartyModels() {
+  std::vector<std::string> files;
+  for (const std::string& root : {std::string("/usr/share/mujoco/model"), kSuite}) {
+    std::error_code ec;
+    for (auto it = std::filesystem::recursive_directory_iterator(root, ec);
+         !ec && it != std::filesystem::end(it); it.increment(ec)) {
+      if (it->path().extension() == ".xml") files.push_back(it->path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// "folder_stem" for a model path, usable as a parameterised test's name.
+inline std::string ModelTestName(const ::testing::TestParamInfo<std::string>& info) {
+  std::filesystem::path p(info.param);
+  std::string name = p.parent_path().filename().string() + "_" + p.stem().string();
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name;
 }
 
 // Output of one command run.

@@ -14,21 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
-
-std::vector<std::string> Models() {
-  std::vector<std::string> files;
-  for (const std::string& root : {std::string("/usr/share/mujoco/model"), kSuite}) {
-    std::error_code ec;
-    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::end(it);
-         it.increment(ec)) {
-      if (it->path().extension() == ".xml") files.push_back(it->path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 // Real findings on MuJoCo's samples (no dm_control model fails). Key: folder/file:check.
 const std::map<std::string, std::string> kKnownFailures = {
     // include fragments: a humanoid body without a floor, loaded on its own, falls forever
@@ -55,16 +40,8 @@ TEST_P(AuditModelsTest, NoCrashAndNoUnexplainedFailure) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllModels, AuditModelsTest, ::testing::ValuesIn(Models()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           fs::path p(info.param);
-                           std::string name =
-                               p.parent_path().filename().string() + "_" + p.stem().string();
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           }
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(AllModels, AuditModelsTest,
+                         ::testing::ValuesIn(testing::ThirdPartyModels()), testing::ModelTestName);
 
 }  // namespace
 }  // namespace plumb

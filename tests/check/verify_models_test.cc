@@ -15,21 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
-
-std::vector<std::string> Models() {
-  std::vector<std::string> files;
-  for (const std::string& root : {std::string("/usr/share/mujoco/model"), kSuite}) {
-    std::error_code ec;
-    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::end(it);
-         it.increment(ec)) {
-      if (it->path().extension() == ".xml") files.push_back(it->path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 // Failures that are real findings, with the explanation (see the closing note).
 const std::map<std::string, std::string> kKnownFailures = {
     // A cloth of 288 soft equality constraints flapping in wind: convergence is a clean
@@ -52,20 +37,12 @@ TEST_P(VerifyModelsTest, NoCrashAndNoUnexplainedFailure) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllModels, VerifyModelsTest, ::testing::ValuesIn(Models()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string name =
-                               fs::path(info.param).parent_path().filename().string() + "_" +
-                               fs::path(info.param).stem().string();
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           }
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(AllModels, VerifyModelsTest,
+                         ::testing::ValuesIn(testing::ThirdPartyModels()), testing::ModelTestName);
 
 TEST(VerifyModelsListTest, FindsTheModels) {
-  std::vector<std::string> models = Models();
-  auto in_suite = [](const std::string& f) { return f.rfind(kSuite, 0) == 0; };
+  std::vector<std::string> models = testing::ThirdPartyModels();
+  auto in_suite = [](const std::string& f) { return f.rfind(testing::kSuite, 0) == 0; };
   long suite = std::count_if(models.begin(), models.end(), in_suite);
   EXPECT_GE(static_cast<long>(models.size()) - suite, 17);  // libmujoco-samples
   if (std::string(PLUMB_SHARED_DIR).empty()) {
