@@ -73,6 +73,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx);
 void SetupVerifyCommand(CLI::App& app, Context& ctx);
 void SetupAuditCommand(CLI::App& app, Context& ctx);
 void SetupSweepCommand(CLI::App& app, Context& ctx);
+void SetupRolloutCommand(CLI::App& app, Context& ctx);
 
 }  // namespace plumb::cli
 

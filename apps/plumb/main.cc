@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);
   SetupSweepCommand(app, ctx);
+  SetupRolloutCommand(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,92 @@
+// Rollouts with domain randomization: many runs of one model, each with physical
+// parameters drawn from distributions, measured with metrics, deterministically.
+//
+// Example:
+//   plumb::RolloutSpec spec;
+//   spec.count = 1000;
+//   spec.until = 2;
+//   spec.randomize = {plumb::ParseRandomization(model, "body_mass[*]=*U(0.9,1.1)")};
+//   spec.metrics = {plumb::ParseMetric(model, "xpos[torso][2]@2")};
+//   plumb::Rollout(model, spec, [](const plumb::RolloutResult& r) { ... });  // index order
+
+#ifndef PLUMB_INCLUDE_PLUMB_ROLLOUT_H_
+#define PLUMB_INCLUDE_PLUMB_ROLLOUT_H_
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "plumb/metric.h"
+
+namespace plumb {
+
+// A distribution for a parameter: U(a,b), N(mu,sigma), LogU(a,b); prefixed `*` it scales
+// the nominal value (`*U(0.9,1.1)`), prefixed `+` it offsets it (`+N(0,0.01)`).
+struct Distribution {
+  enum class Kind { kUniform, kNormal, kLogUniform } kind = Kind::kUniform;
+  enum class Mode { kAbsolute, kScale, kOffset } mode = Mode::kAbsolute;
+  double a = 0, b = 1;  // U/LogU: bounds; N: mean, standard deviation
+  std::string text;
+  // The value for nominal value `nominal` given a uniform `u` in (0, 1) and a standard
+  // normal `z` (only one of them is used, by kind).
+  double Apply(double nominal, double u, double z) const;
+};
+
+// @throws ValueError naming the text, e.g. for LogU with a bound <= 0 or N with sigma < 0.
+Distribution ParseDistribution(std::string_view text);
+
+// `PATH=DIST`, the path's rows may be `*`: one random parameter per matched element.
+struct Randomization {
+  std::string text;
+  std::vector<Path> paths;  // single elements, model parameters only
+  Distribution dist;
+};
+
+// @throws PathError / ValueError; state paths (qpos, ...) are allowed too and are drawn
+// after the model parameters.
+Randomization ParseRandomization(const Model& model, std::string_view text);
+
+struct RolloutSpec {
+  long count = 1;    // rollouts; indices 0 .. count-1
+  double until = 2;  // s
+  std::uint64_t seed = 0;
+  int threads = 1;
+  std::vector<Assignment> sets;  // the nominal scenario
+  std::vector<Randomization> randomize;
+  double ctrl_noise = 0;        // as MuJoCo's testspeed: ctrl = centre + noise*radius*(2*Halton-1)
+  std::vector<Metric> metrics;  // all measured in the one run of each rollout
+  // Which indices to run: those i with i % shard_count == shard_index.
+  long shard_index = 0, shard_count = 1;
+  // Indices to skip (already stored, for --resume); sorted.
+  std::vector<long> skip;
+  // Called after each finished rollout with (done, total), from a worker thread.
+  std::function<void(long, long)> progress;
+};
+
+struct RolloutResult {
+  long index = 0;
+  std::vector<double> params;   // sampled values, in the order of the expanded paths
+  std::vector<double> metrics;  // NaN where a metric could not be measured
+  bool diverged = false;
+  double diverged_time = 0;  // s
+  std::string problem;       // divergence or measurement problem
+};
+
+// Names of the sampled parameters, in RolloutResult::params order.
+std::vector<std::string> ParameterNames(const RolloutSpec& spec);
+
+// Runs the rollouts of the spec's shard, skipping `skip`, and calls `emit` once per
+// rollout in increasing index order (from the calling thread). Memory does not grow
+// with count: work is done in chunks. Results are bit-identical whatever the thread
+// count, shard split or skipped set: every random number is keyed by (seed, rollout
+// index, parameter). @throws ValueError for a bad spec; Interrupted when `stop` is set.
+void Rollout(const Model& model, const RolloutSpec& spec,
+             const std::function<void(const RolloutResult&)>& emit,
+             const std::atomic<bool>* stop = nullptr);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_ROLLOUT_H_

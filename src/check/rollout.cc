@@ -1,0 +1,350 @@
+#include "plumb/rollout.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "core/strings.h"
+#include "plumb/analytic.h"
+#include "plumb/error.h"
+#include "plumb/random.h"
+#include "plumb/run.h"
+
+namespace plumb {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+  while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
+  return s;
+}
+}  // namespace
+
+double Distribution::Apply(double nominal, double u, double z) const {
+  double draw = 0;
+  switch (kind) {
+    case Kind::kUniform:
+      draw = a + (b - a) * u;
+      break;
+    case Kind::kNormal:
+      draw = a + b * z;
+      break;
+    case Kind::kLogUniform:
+      draw = std::exp(std::log(a) + (std::log(b) - std::log(a)) * u);
+      break;
+  }
+  switch (mode) {
+    case Mode::kAbsolute:
+      return draw;
+    case Mode::kScale:
+      return nominal * draw;
+    case Mode::kOffset:
+      return nominal + draw;
+  }
+  return draw;
+}
+
+Distribution ParseDistribution(std::string_view raw) {
+  Distribution d;
+  d.text = std::string(Trim(raw));
+  std::string_view s = Trim(raw);
+  auto bad = [&](const std::string& why) {
+    return ValueError("distribution '" + d.text + "': " + why +
+                      ". Use U(a,b), N(mu,sigma), LogU(a,b), optionally prefixed * (scale the "
+                      "nominal value) or + (offset it), e.g. *U(0.9,1.1) or +N(0,0.01).");
+  };
+  if (!s.empty() && (s.front() == '*' || s.front() == '+')) {
+    d.mode = s.front() == '*' ? Distribution::Mode::kScale : Distribution::Mode::kOffset;
+    s = Trim(s.substr(1));
+  }
+  std::size_t open = s.find('(');
+  if (open == std::string_view::npos || s.back() != ')') throw bad("expected NAME(a,b)");
+  std::string_view name = Trim(s.substr(0, open));
+  if (name == "U") {
+    d.kind = Distribution::Kind::kUniform;
+  } else if (name == "N") {
+    d.kind = Distribution::Kind::kNormal;
+  } else if (name == "LogU") {
+    d.kind = Distribution::Kind::kLogUniform;
+  } else {
+    throw bad("unknown distribution '" + std::string(name) + "'");
+  }
+  std::vector<std::string> args = Split(s.substr(open + 1, s.size() - open - 2), ',');
+  std::optional<double> a = args.size() == 2 ? ParseNumber(args[0]) : std::nullopt;
+  std::optional<double> b = args.size() == 2 ? ParseNumber(args[1]) : std::nullopt;
+  if (!a || !b || !std::isfinite(*a) || !std::isfinite(*b)) throw bad("two finite numbers needed");
+  d.a = *a;
+  d.b = *b;
+  if (d.kind == Distribution::Kind::kNormal && d.b < 0) throw bad("sigma must be >= 0");
+  if (d.kind != Distribution::Kind::kNormal && !(d.a <= d.b)) throw bad("needs a <= b");
+  if (d.kind == Distribution::Kind::kLogUniform && !(d.a > 0)) throw bad("LogU needs a > 0");
+  return d;
+}
+
+Randomization ParseRandomization(const Model& model, std::string_view text) {
+  std::size_t eq = text.find('=');
+  if (eq == std::string_view::npos) {
+    throw ValueError("--randomize '" + std::string(text) +
+                     "': expected PATH=DIST, e.g. 'body_mass[*]=*U(0.9,1.1)'.");
+  }
+  Randomization r;
+  r.text = std::string(text);
+  r.dist = ParseDistribution(text.substr(eq + 1));
+  for (const Path& p : ExpandPath(model, text.substr(0, eq))) {
+    if (!p.writable) {
+      ParseAssignment(model, p.text + "=0");  // throws the reason it cannot be set
+    }
+    for (Path& one : ScalarPaths(p)) r.paths.push_back(std::move(one));
+  }
+  return r;
+}
+
+std::vector<std::string> ParameterNames(const RolloutSpec& spec) {
+  std::vector<std::string> names;
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) names.push_back(p.text);
+  }
+  return names;
+}
+
+namespace {
+
+std::size_t ParameterCount(const RolloutSpec& spec) {
+  std::size_t n = 0;
+  for (const Randomization& r : spec.randomize) n += r.paths.size();
+  return n;
+}
+
+// One worker: a model copy and a data, reused for every rollout it runs.
+struct Worker {
+  Model work;
+  Data data;
+  explicit Worker(const Model& nominal) : work(nominal.Clone()), data(work) {}
+};
+
+// Everything measured during one run.
+struct Probe {
+  std::vector<double> values;             // per metric
+  std::vector<std::vector<double>> t, x;  // period metrics
+  double e0 = kNaN, max_kinetic = 0;
+};
+
+RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, long index,
+                     bool energy) {
+  RolloutResult out;
+  out.index = index;
+  mjModel* m = w.work.get_mutable();
+  mjData* d = w.data.get();
+
+  // parameters: the user's, then this rollout's draws from the nominal values
+  bool arrays_changed = false;
+  for (const Assignment& a : spec.sets) {
+    if (a.path.role != Role::kParameter) continue;
+    WriteValues(w.work, w.data, a.path, a.values);
+    arrays_changed = arrays_changed || a.path.field.rfind("opt.", 0) != 0;
+  }
+  // every element has its own random key, its position in the expanded list
+  auto draw = [&](const Distribution& dist, std::uint32_t key, double nominal_value) {
+    double u = Uniform01(spec.seed, static_cast<std::uint64_t>(index), key, 0);
+    double z = StandardNormal(spec.seed, static_cast<std::uint64_t>(index), key, 1);
+    return dist.Apply(nominal_value, u, z);
+  };
+  std::uint32_t key = 0;
+  out.params.assign(ParameterCount(spec), kNaN);
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      if (p.role == Role::kParameter) {
+        double v = draw(r.dist, key, ReadValue(nominal, w.data, p));
+        out.params[key] = v;
+        WriteValues(w.work, w.data, p, {v});
+        arrays_changed = arrays_changed || p.field.rfind("opt.", 0) != 0;
+      }
+      ++key;
+    }
+  }
+  if (arrays_changed) mj_setConst(m, d);
+  if (energy) m->opt.enableflags |= mjENBL_ENERGY;
+  w.data.Reset();
+  for (const Assignment& a : spec.sets) {
+    if (a.path.role != Role::kParameter) WriteValues(w.work, w.data, a.path, a.values);
+  }
+  // state draws start from the state the user set
+  key = 0;
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      if (p.role != Role::kParameter) {
+        double v = draw(r.dist, key, ReadValue(w.work, w.data, p));
+        out.params[key] = v;
+        WriteValues(w.work, w.data, p, {v});
+      }
+      ++key;
+    }
+  }
+  w.data.Forward();
+
+  // the run, probing every step
+  double dt = m->opt.timestep;
+  Probe probe;
+  probe.values.assign(spec.metrics.size(), kNaN);
+  probe.t.resize(spec.metrics.size());
+  probe.x.resize(spec.metrics.size());
+  auto observe = [&](const mjData* dd, long step) {
+    for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+      const Metric& metric = spec.metrics[k];
+      switch (metric.kind) {
+        case MetricKind::kValueAt:
+          if (step == std::lround(metric.time / dt)) {
+            probe.values[k] = ReadValue(w.work, w.data, metric.path);
+          }
+          break;
+        case MetricKind::kStateAt:
+          if (step == std::lround(metric.time / dt)) {
+            double norm = 0;
+            for (int i = 0; i < m->nq; ++i) norm += dd->qpos[i] * dd->qpos[i];
+            for (int i = 0; i < m->nv; ++i) norm += dd->qvel[i] * dd->qvel[i];
+            for (int i = 0; i < m->na; ++i) norm += dd->act[i] * dd->act[i];
+            probe.values[k] = std::sqrt(norm);
+          }
+          break;
+        case MetricKind::kMaxAbs: {
+          double v = std::fabs(ReadValue(w.work, w.data, metric.path));
+          probe.values[k] = std::isnan(probe.values[k]) ? v : std::max(probe.values[k], v);
+          break;
+        }
+        case MetricKind::kPeriod:
+          probe.t[k].push_back(dd->time);
+          probe.x[k].push_back(ReadValue(w.work, w.data, metric.path));
+          break;
+        case MetricKind::kEnergyDrift: {
+          double e = dd->energy[0] + dd->energy[1];
+          if (step == 0) probe.e0 = e;
+          probe.max_kinetic = std::max(probe.max_kinetic, dd->energy[1]);
+          double scale =
+              probe.max_kinetic > 0 ? probe.max_kinetic : std::max(1.0, std::fabs(probe.e0));
+          probe.values[k] = (e - probe.e0) / scale;
+          break;
+        }
+      }
+    }
+  };
+  RunSpec run;
+  run.until = spec.until;
+  run.every = std::ceil(spec.until / dt) * dt > 0 ? std::ceil(spec.until / dt) * dt : dt;
+  if (spec.ctrl_noise > 0) {
+    run.before_step = [&](mjData* dd, long step) {
+      for (int j = 0; j < m->nu; ++j) {
+        double centre = 0, radius = 1;
+        if (m->actuator_ctrllimited[j]) {
+          centre = 0.5 * (m->actuator_ctrlrange[2 * j + 1] + m->actuator_ctrlrange[2 * j]);
+          radius = 0.5 * (m->actuator_ctrlrange[2 * j + 1] - m->actuator_ctrlrange[2 * j]);
+        }
+        dd->ctrl[j] = centre + spec.ctrl_noise * radius * (2 * mju_Halton(step - 1, j + 2) - 1);
+      }
+    };
+  }
+  run.after_step = observe;
+  observe(d, 0);
+  NullSink sink;
+  RunResult result = Run(w.work, w.data, run, sink);
+  TakeMujocoWarnings();
+  if (result.diverged) {
+    out.diverged = true;
+    out.diverged_time = result.divergence->bad.time;
+    out.problem = result.divergence->reason;
+    out.metrics.assign(spec.metrics.size(), kNaN);
+  } else {
+    for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+      if (spec.metrics[k].kind == MetricKind::kPeriod && !probe.x[k].empty()) {
+        auto [lo, hi] = std::minmax_element(probe.x[k].begin(), probe.x[k].end());
+        std::optional<double> period =
+            PeriodFromCrossings(probe.t[k], probe.x[k], 0.5 * (*lo + *hi));
+        probe.values[k] = period ? *period : kNaN;
+      }
+    }
+    out.metrics = probe.values;
+  }
+  // restore what this rollout changed, so the next starts from the nominal model
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      if (p.role == Role::kParameter)
+        WriteValues(w.work, w.data, p, {ReadValue(nominal, w.data, p)});
+    }
+  }
+  if (energy) m->opt.enableflags = nominal->opt.enableflags;
+  return out;
+}
+
+}  // namespace
+
+void Rollout(const Model& model, const RolloutSpec& spec,
+             const std::function<void(const RolloutResult&)>& emit, const std::atomic<bool>* stop) {
+  if (spec.count < 0) throw ValueError("--count must be >= 0");
+  if (spec.threads < 1) throw ValueError("--threads must be at least 1");
+  if (spec.shard_count < 1 || spec.shard_index < 0 || spec.shard_index >= spec.shard_count) {
+    throw ValueError("--shard I/N needs 0 <= I < N, got " + std::to_string(spec.shard_index) + "/" +
+                     std::to_string(spec.shard_count));
+  }
+  if (!(spec.until > 0) || !std::isfinite(spec.until)) throw ValueError("--until must be > 0 s");
+  if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1)
+    throw ValueError("--ctrl-noise must be in [0, 1]");
+  double dt = model->opt.timestep;
+  for (const Assignment& a : spec.sets) {
+    if (a.path.field == "opt.timestep") dt = a.values[0];
+  }
+  bool energy = false;
+  for (const Metric& metric : spec.metrics) {
+    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+    if (at_time && (metric.time > spec.until + 1e-12 ||
+                    std::fabs(metric.time / dt - std::round(metric.time / dt)) >
+                        1e-9 * std::max(1.0, metric.time / dt))) {
+      throw ValueError("metric '" + metric.text + "': its time must be a whole number of steps (" +
+                       std::to_string(dt) + " s) within --until " + std::to_string(spec.until) +
+                       " s.");
+    }
+    energy = energy || metric.kind == MetricKind::kEnergyDrift;
+  }
+
+  // the indices this process runs, in order
+  std::vector<long> todo;
+  long total = 0;
+  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
+    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
+  }
+  tbb::enumerable_thread_specific<std::optional<Worker>> workers;
+  tbb::task_arena arena(spec.threads);
+  std::atomic<long> done{0};
+  const long chunk = 64L * spec.threads;
+  std::vector<RolloutResult> results;
+  long next = spec.shard_index;
+  while (next < spec.count) {
+    // gather one chunk of indices
+    todo.clear();
+    while (next < spec.count && static_cast<long>(todo.size()) < chunk) {
+      if (!std::binary_search(spec.skip.begin(), spec.skip.end(), next)) todo.push_back(next);
+      next += spec.shard_count;
+    }
+    if (stop && stop->load())
+      throw Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
+    results.assign(todo.size(), RolloutResult{});
+    arena.execute([&] {
+      tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
+        std::optional<Worker>& w = workers.local();
+        if (!w) w.emplace(model);
+        results[i] = RunOne(model, *w, spec, todo[i], energy);
+        long finished = ++done;
+        if (spec.progress) spec.progress(finished, total);
+      });
+    });
+    for (const RolloutResult& r : results) emit(r);
+  }
+}
+
+}  // namespace plumb

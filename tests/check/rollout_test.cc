@@ -1,0 +1,195 @@
+#include "plumb/rollout.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+std::vector<RolloutResult> Collect(const Model& model, const RolloutSpec& spec) {
+  std::vector<RolloutResult> out;
+  Rollout(model, spec, [&](const RolloutResult& r) { out.push_back(r); });
+  return out;
+}
+
+bool BitEqual(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+TEST(DistributionTest, ParsesAllForms) {
+  Distribution u = ParseDistribution("U(0.5,1.2)");
+  EXPECT_EQ(u.kind, Distribution::Kind::kUniform);
+  EXPECT_DOUBLE_EQ(u.Apply(7, 0.5, 0), 0.85);
+  Distribution scale = ParseDistribution("*U(0.9,1.1)");
+  EXPECT_EQ(scale.mode, Distribution::Mode::kScale);
+  EXPECT_DOUBLE_EQ(scale.Apply(2, 0.5, 0), 2.0);
+  Distribution offset = ParseDistribution("+N(0,0.01)");
+  EXPECT_EQ(offset.mode, Distribution::Mode::kOffset);
+  EXPECT_DOUBLE_EQ(offset.Apply(1, 0.3, 2), 1.02);
+  EXPECT_DOUBLE_EQ(ParseDistribution("LogU(1,100)").Apply(0, 0.5, 0), 10);
+  for (const char* bad : {"U(1)", "Q(0,1)", "LogU(0,1)", "N(0,-1)", "U(2,1)", "U(a,b)", "U0,1"}) {
+    EXPECT_THROW(ParseDistribution(bad), ValueError) << bad;
+  }
+}
+
+class RolloutTest : public testing::MujocoTest {
+ protected:
+  Model humanoid_ = Model::Load(testing::kHumanoid);
+};
+
+TEST_F(RolloutTest, SampleMomentsMatchEachDistribution) {
+  Model pendulum = Model::Load(testing::kPendulum);
+  RolloutSpec spec;
+  spec.count = 4000;
+  spec.until = 0.002;
+  spec.seed = 11;
+  spec.randomize = {ParseRandomization(pendulum, "dof_damping[hinge]=U(1,3)"),
+                    ParseRandomization(pendulum, "body_mass[link]=N(2,0.5)"),
+                    ParseRandomization(pendulum, "opt.timestep=LogU(0.001,0.004)")};
+  // the timestep varies, so no metric with a fixed time here
+  std::vector<double> s(3), s2(3);
+  std::vector<RolloutResult> results = Collect(pendulum, spec);
+  ASSERT_EQ(results.size(), 4000u);
+  for (const RolloutResult& r : results) {
+    for (int k = 0; k < 3; ++k) {
+      s[k] += r.params[k];
+      s2[k] += r.params[k] * r.params[k];
+    }
+  }
+  double n = 4000;
+  auto mean = [&](int k) { return s[k] / n; };
+  auto var = [&](int k) { return s2[k] / n - mean(k) * mean(k); };
+  // bounds at 5 standard errors
+  EXPECT_NEAR(mean(0), 2, 5 * std::sqrt(4.0 / 12 / n));
+  EXPECT_NEAR(var(0), 4.0 / 12, 5 * std::sqrt(16.0 / 180 / n));
+  EXPECT_NEAR(mean(1), 2, 5 * 0.5 / std::sqrt(n));
+  EXPECT_NEAR(var(1), 0.25, 5 * 0.25 * std::sqrt(2.0 / n));
+  // log-uniform: the log is uniform on [log 0.001, log 0.004]
+  double lsum = 0;
+  for (const RolloutResult& r : results) lsum += std::log(r.params[2]);
+  EXPECT_NEAR(lsum / n, 0.5 * (std::log(0.001) + std::log(0.004)),
+              5 * std::log(4.0) / std::sqrt(12 * n));
+}
+
+TEST_F(RolloutTest, OneTwoThreadsAndShardsAreBitIdentical) {
+  RolloutSpec spec;
+  spec.count = 12;
+  spec.until = 0.3;
+  spec.seed = 5;
+  spec.ctrl_noise = 0.01;
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[*]=*U(0.9,1.1)"),
+                    ParseRandomization(humanoid_, "geom_friction[floor][0]=U(0.5,1.2)")};
+  spec.metrics = {ParseMetric(humanoid_, "xpos[torso][2]@0.3"),
+                  ParseMetric(humanoid_, "state@0.3")};
+  std::vector<RolloutResult> one = Collect(humanoid_, spec);
+  spec.threads = 2;
+  std::vector<RolloutResult> two = Collect(humanoid_, spec);
+  std::vector<RolloutResult> shards;
+  spec.shard_count = 3;
+  for (long s = 0; s < 3; ++s) {
+    spec.shard_index = s;
+    for (RolloutResult& r : Collect(humanoid_, spec)) shards.push_back(r);
+  }
+  std::sort(shards.begin(), shards.end(),
+            [](const RolloutResult& a, const RolloutResult& b) { return a.index < b.index; });
+  ASSERT_EQ(one.size(), 12u);
+  ASSERT_EQ(two.size(), 12u);
+  ASSERT_EQ(shards.size(), 12u);
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].index, static_cast<long>(i));
+    EXPECT_EQ(one[i].params.size(), 18u);  // 17 bodies (with the world) + the floor friction
+    for (std::size_t k = 0; k < one[i].metrics.size(); ++k) {
+      EXPECT_TRUE(BitEqual(one[i].metrics[k], two[i].metrics[k])) << i;
+      EXPECT_TRUE(BitEqual(one[i].metrics[k], shards[i].metrics[k])) << i;
+    }
+    EXPECT_EQ(one[i].params, shards[i].params);
+  }
+}
+
+TEST_F(RolloutTest, SkippedIndicesAreNotRunAndOthersUnchanged) {
+  RolloutSpec spec;
+  spec.count = 6;
+  spec.until = 0.1;
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[torso]=*U(0.5,1.5)")};
+  spec.metrics = {ParseMetric(humanoid_, "state@0.1")};
+  std::vector<RolloutResult> all = Collect(humanoid_, spec);
+  spec.skip = {1, 4};
+  std::vector<RolloutResult> rest = Collect(humanoid_, spec);
+  ASSERT_EQ(rest.size(), 4u);
+  EXPECT_EQ(rest[1].index, 2);
+  EXPECT_TRUE(BitEqual(rest[1].metrics[0], all[2].metrics[0]));
+}
+
+TEST_F(RolloutTest, RandomizedMassChangesTheDynamicsThroughSetConst) {
+  // a heavier pendulum rod has the same period (it scales with I/(m*g*d)) but more
+  // damping-independent momentum: compare with a mass that also moves the com
+  Model model = Model::FromXmlString(R"(<mujoco><option gravity="0 0 -9.81"/><worldbody>
+      <body name="link" pos="0 0 1"><joint name="hinge" axis="0 1 0" damping="0.5"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body>
+    </worldbody></mujoco>)");
+  RolloutSpec spec;
+  spec.count = 2;
+  spec.until = 1;
+  spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  spec.randomize = {ParseRandomization(model, "body_mass[link]=U(0.2,5)")};
+  spec.metrics = {ParseMetric(model, "qpos[hinge]@1")};
+  std::vector<RolloutResult> r = Collect(model, spec);
+  // with damping fixed, a lighter rod is damped more: different angles at 1 s
+  EXPECT_NE(r[0].params[0], r[1].params[0]);
+  EXPECT_GT(std::fabs(r[0].metrics[0] - r[1].metrics[0]), 1e-3);
+  // and the result equals a plain run with that mass set (mj_setConst applied)
+  Measurement plain =
+      Measure(model,
+              {ParseAssignment(model, "qpos[hinge]=0.7"),
+               ParseAssignment(model, "body_mass[link]=" + std::to_string(r[0].params[0]))},
+              spec.metrics[0], 0.002, 1);
+  EXPECT_NEAR(plain.value, r[0].metrics[0], 1e-6);
+}
+
+TEST_F(RolloutTest, DivergedRolloutIsRecordedAndTheBatchGoesOn) {
+  Model model = Model::FromXmlString(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody>
+      <body><joint name="slider" type="slide" axis="1 0 0"/>
+      <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  RolloutSpec spec;
+  spec.count = 4;
+  spec.until = 1;
+  spec.sets = {ParseAssignment(model, "qpos[slider]=0.01")};
+  spec.randomize = {ParseRandomization(model, "jnt_stiffness[slider]=LogU(1,1e7)")};
+  spec.metrics = {ParseMetric(model, "maxabs(qpos[slider])")};
+  std::vector<RolloutResult> r = Collect(model, spec);
+  TakeMujocoWarnings();
+  ASSERT_EQ(r.size(), 4u);
+  int diverged = 0;
+  for (const RolloutResult& x : r) {
+    if (x.diverged) {
+      ++diverged;
+      EXPECT_TRUE(std::isnan(x.metrics[0]));
+      EXPECT_GT(x.diverged_time, 0);
+    } else {
+      EXPECT_NEAR(x.metrics[0], 0.01, 1e-3);
+    }
+  }
+  // omega*dt > 2 diverges: stiffness above 4e4 with dt = 0.01
+  int expected = 0;
+  for (const RolloutResult& x : r) expected += x.params[0] > 4e4;
+  EXPECT_EQ(diverged, expected);
+}
+
+TEST_F(RolloutTest, BadSpecsAreRejected) {
+  RolloutSpec spec;
+  spec.shard_count = 2;
+  spec.shard_index = 2;
+  EXPECT_THROW(Collect(humanoid_, spec), ValueError);
+  spec = {};
+  spec.metrics = {ParseMetric(humanoid_, "xpos[torso][2]@5")};
+  spec.until = 1;
+  EXPECT_THROW(Collect(humanoid_, spec), ValueError);  // metric time beyond the run
+  EXPECT_THROW(ParseRandomization(humanoid_, "xpos[torso][2]=U(0,1)"), PathError);
+  EXPECT_THROW(ParseRandomization(humanoid_, "body_mass[*]"), ValueError);
+}
+
+}  // namespace
+}  // namespace plumb
