@@ -74,6 +74,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx);
 void SetupAuditCommand(CLI::App& app, Context& ctx);
 void SetupSweepCommand(CLI::App& app, Context& ctx);
 void SetupRolloutCommand(CLI::App& app, Context& ctx);
+void SetupResultsCommands(CLI::App& app, Context& ctx);  // results and merge
 
 }  // namespace plumb::cli
 

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   SetupConvergeCommand(app, ctx);
   SetupSweepCommand(app, ctx);
   SetupRolloutCommand(app, ctx);
+  SetupResultsCommands(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -2,16 +2,21 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli_common.h"
 #include "core/strings.h"
+#include "core/version.h"
 #include "plumb/error.h"
+#include "plumb/output.h"
 #include "plumb/rollout.h"
+#include "plumb/store.h"
 #include "summary.h"
 
 namespace plumb::cli {
@@ -29,7 +34,22 @@ struct RolloutOptions {
   std::vector<std::string> metrics;
   std::string format = "table";
   std::string shard;
+  std::string db;
+  bool resume = false;
 };
+
+// Everything that decides a rollout batch's results, as one canonical line: the same
+// config means the same rows, so --resume may continue it and merge may join shards.
+std::string Config(const RolloutOptions& o, const std::string& model_hash) {
+  std::string config = fmt::format(
+      "rollout model={} count={} until={:.17g} seed={} "
+      "ctrl_noise={:.17g}",
+      model_hash, o.count, o.until, o.seed, o.ctrl_noise);
+  for (const std::string& s : o.sets) config += " set=" + s;
+  for (const std::string& r : o.randomize) config += " randomize=" + r;
+  for (const std::string& m : o.metrics) config += " metric=" + m;
+  return config;
+}
 
 std::string Number(double v) {
   if (std::isnan(v)) return "";
@@ -57,7 +77,7 @@ void ParseShard(const std::string& text, RolloutSpec* spec) {
   spec->shard_count = *n;
 }
 
-int RunRollout(const RolloutOptions& o) {
+int RunRollout(const RolloutOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   RolloutSpec spec;
   spec.sets = ParseAssignments(model, o.sets);
@@ -71,8 +91,45 @@ int RunRollout(const RolloutOptions& o) {
   ParseShard(o.shard, &spec);
   std::vector<std::string> params = ParameterNames(spec);
 
+  // the results store: a new run, or the same run continued with --resume
+  std::optional<ResultsStore> store;
+  long run_id = 0;
+  if (o.resume && o.db.empty()) throw ValueError("--resume needs --db FILE");
+  if (!o.db.empty()) {
+    store.emplace(o.db);
+    std::string config = Config(o, HashFile(o.model));
+    std::optional<RunInfo> existing = store->FindRun(config);
+    if (existing && !o.resume) {
+      throw ValueError(fmt::format(
+          "results store '{}' already holds this run (id {}, {} of {} rollouts done); add "
+          "--resume to complete it, or use another --db file.",
+          o.db, existing->id, store->DoneIndices(existing->id).size(), existing->count));
+    }
+    if (existing) {
+      run_id = existing->id;
+      spec.skip = store->DoneIndices(run_id);
+    } else {
+      RunInfo info;
+      info.kind = "rollout";
+      info.config = config;
+      std::vector<std::string> quoted;
+      for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
+      info.command = fmt::format("{}", fmt::join(quoted, " "));
+      info.model_file = o.model;
+      info.model_hash = HashFile(o.model);
+      info.plumb_version = PLUMB_VERSION;
+      info.mujoco_version = MujocoVersion();
+      info.parameters = params;
+      info.metrics = o.metrics;
+      info.count = o.count;
+      run_id = store->BeginRun(info);
+    }
+  }
+
   long total = 0;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) ++total;
+  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
+    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
+  }
   ProgressBar progress(total, "rollouts");
   spec.progress = [&](long done, long) { progress.Update(done); };
 
@@ -113,6 +170,7 @@ int RunRollout(const RolloutOptions& o) {
       [&](const RolloutResult& r) {
         ++emitted;
         diverged += r.diverged;
+        if (store) store->Add(run_id, r);
         for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
         if (o.format == "csv") {
           out += std::to_string(r.index);
@@ -149,6 +207,11 @@ int RunRollout(const RolloutOptions& o) {
   if (o.format == "json") out += "\n]\n";
   flush();
   progress.Finish();
+  if (store) {
+    store->Commit();
+    if (static_cast<long>(store->DoneIndices(run_id).size()) == spec.count)
+      store->FinishRun(run_id);
+  }
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // the human summary: after the table, or on stderr when stdout carries data
@@ -183,7 +246,9 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       "Distributions: U(a,b), N(mu,sigma), LogU(a,b); *DIST scales the nominal value, +DIST\n"
       "offsets it. Rows come out in rollout order with no timings: equal runs give equal output.\n"
       "With --format csv|json the summary goes to stderr. --shard I/N (or Slurm's\n"
-      "SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT) runs the rollouts i with i % N == I.");
+      "SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT) runs the rollouts i with i % N == I.\n"
+      "--db FILE records everything in SQLite; --resume skips what a killed run finished;\n"
+      "plumb results FILE exports, plumb merge A B -o OUT joins shard files.");
   cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
   cmd->add_option("--count", o->count, "number of rollouts")
       ->capture_default_str()
@@ -207,7 +272,10 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--format", o->format, "table, csv or json")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunRollout(*o); }; });
+  cmd->add_option("--db", o->db, "record runs, cases and results in this SQLite file");
+  cmd->add_flag("--resume", o->resume,
+                "continue the same run in --db: skip rollouts already stored");
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRollout(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

@@ -1,0 +1,122 @@
+// plumb results / plumb merge: export and join results stores.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "plumb/error.h"
+#include "plumb/store.h"
+
+namespace plumb::cli {
+namespace {
+
+struct ResultsOptions {
+  std::string file;
+  long run = 0;  // 0: every run
+  std::string format = "csv";
+};
+
+std::string Number(double v) {
+  if (std::isnan(v)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+  return buffer;
+}
+
+int RunResults(const ResultsOptions& o) {
+  if (!std::ifstream(o.file)) throw IoError("no results store '" + o.file + "'.");
+  ResultsStore store(o.file);
+  std::vector<RunInfo> runs = store.Runs();
+  if (o.run != 0) {
+    runs.erase(
+        std::remove_if(runs.begin(), runs.end(), [&](const RunInfo& r) { return r.id != o.run; }),
+        runs.end());
+    if (runs.empty()) throw ValueError(fmt::format("--run {}: no such run in '{}'", o.run, o.file));
+  }
+  std::string out;
+  if (o.format == "json") {
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (const RunInfo& run : runs) {
+      nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+      for (const RolloutResult& r : store.Results(run.id)) {
+        nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
+        for (std::size_t k = 0; k < r.params.size() && k < run.parameters.size(); ++k) {
+          p[run.parameters[k]] = r.params[k];
+        }
+        for (std::size_t k = 0; k < r.metrics.size() && k < run.metrics.size(); ++k) {
+          m[run.metrics[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
+                                                       : nlohmann::ordered_json(r.metrics[k]);
+        }
+        rows.push_back(
+            {{"rollout", r.index}, {"params", p}, {"metrics", m}, {"diverged", r.diverged}});
+      }
+      j.push_back({{"run", run.id},
+                   {"kind", run.kind},
+                   {"command", run.command},
+                   {"model_file", run.model_file},
+                   {"model_hash", run.model_hash},
+                   {"plumb_version", run.plumb_version},
+                   {"mujoco_version", run.mujoco_version},
+                   {"started", run.started},
+                   {"finished", run.finished},
+                   {"count", run.count},
+                   {"rollouts", rows}});
+    }
+    out = j.dump(2) + "\n";
+  } else {
+    for (const RunInfo& run : runs) {
+      std::vector<std::string> header = {"run", "rollout"};
+      header.insert(header.end(), run.parameters.begin(), run.parameters.end());
+      header.insert(header.end(), run.metrics.begin(), run.metrics.end());
+      header.push_back("diverged");
+      for (std::string& h : header) {
+        if (h.find_first_of(",\"") != std::string::npos) h = "\"" + h + "\"";
+      }
+      out += fmt::format("{}\n", fmt::join(header, ","));
+      for (const RolloutResult& r : store.Results(run.id)) {
+        out += std::to_string(run.id) + "," + std::to_string(r.index);
+        for (double v : r.params) out += "," + Number(v);
+        for (double v : r.metrics) out += "," + Number(v);
+        out += r.diverged ? ",1\n" : ",0\n";
+      }
+    }
+  }
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  return kExitOk;
+}
+
+}  // namespace
+
+void SetupResultsCommands(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<ResultsOptions>();
+  CLI::App* results = app.add_subcommand("results", "Export a results store as CSV or JSON");
+  results->footer("Example:\n  plumb results rollouts.sqlite --format csv > rollouts.csv");
+  results->add_option("file", o->file, "the SQLite results store")->required();
+  results->add_option("--run", o->run, "only this run id (default: every run)");
+  results->add_option("--format", o->format, "csv or json")
+      ->check(CLI::IsMember({"csv", "json"}))
+      ->capture_default_str();
+  results->callback([o, &ctx] { ctx.action = [o] { return RunResults(*o); }; });
+
+  auto inputs = std::make_shared<std::vector<std::string>>();
+  auto output = std::make_shared<std::string>();
+  CLI::App* merge = app.add_subcommand("merge", "Join results stores (e.g. shards) into one");
+  merge->footer(
+      "Example:\n  plumb merge shard0.sqlite shard1.sqlite -o all.sqlite\n"
+      "Runs with the same configuration become one; the output must not exist yet.");
+  merge->add_option("inputs", *inputs, "stores to join")->required();
+  merge->add_option("-o,--output", *output, "the new store")->required();
+  merge->callback([inputs, output, &ctx] {
+    ctx.action = [inputs, output] {
+      MergeStores(*inputs, *output);
+      return static_cast<int>(kExitOk);
+    };
+  });
+}
+
+}  // namespace plumb::cli

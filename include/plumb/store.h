@@ -1,0 +1,88 @@
+// The results store: an SQLite file (WAL mode) holding runs, their cases (sampled
+// parameter values) and results (metrics, divergence), so batches can be resumed after
+// a crash, exported, and merged across shards.
+//
+// Schema (stable; other tools may read it):
+//   runs(id, kind, config, command, model_file, model_hash, plumb_version,
+//        mujoco_version, started, finished, parameters, metrics, count)
+//   cases(run, idx, params)            params: JSON array of numbers
+//   results(run, idx, metrics, diverged, diverged_time, problem)
+//                                      metrics: JSON array, null where unmeasured
+//
+// Example:
+//   plumb::ResultsStore store("results.sqlite");
+//   long run = store.BeginRun(info);             // or FindRun(config) to resume
+//   store.Add(run, result); store.Commit();
+
+#ifndef PLUMB_INCLUDE_PLUMB_STORE_H_
+#define PLUMB_INCLUDE_PLUMB_STORE_H_
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "plumb/rollout.h"
+
+namespace plumb {
+
+struct RunInfo {
+  long id = 0;
+  std::string kind;     // "rollout"
+  std::string config;   // canonical text of everything that decides the results
+  std::string command;  // the command line
+  std::string model_file;
+  std::string model_hash;  // FNV-1a 64 of the model file's bytes, hex
+  std::string plumb_version, mujoco_version;
+  std::string started, finished;  // ISO 8601 UTC; finished empty while incomplete
+  std::vector<std::string> parameters, metrics;
+  long count = 0;
+};
+
+// Hex FNV-1a 64-bit hash of a file's bytes. @throws IoError.
+std::string HashFile(const std::string& path);
+
+class ResultsStore {
+ public:
+  // Opens (creating if needed) the store. @throws IoError naming the file when it cannot
+  // be opened or is not a plumb store.
+  explicit ResultsStore(const std::string& path);
+  ~ResultsStore();
+  ResultsStore(const ResultsStore&) = delete;
+  ResultsStore& operator=(const ResultsStore&) = delete;
+
+  // The run with this exact config, if any.
+  std::optional<RunInfo> FindRun(const std::string& config);
+  // Records a new run and returns its id.
+  long BeginRun(const RunInfo& info);
+  void FinishRun(long run);
+  std::vector<RunInfo> Runs();
+
+  // Indices of the rollouts of `run` that already have results, sorted.
+  std::vector<long> DoneIndices(long run);
+
+  // Queues one result (case and result rows); written at the next Commit, which also
+  // happens automatically every `batch` rows. A process killed between commits loses
+  // only the queued rows.
+  void Add(long run, const RolloutResult& result);
+  void Commit();
+
+  // All results of a run in index order.
+  std::vector<RolloutResult> Results(long run);
+
+  std::size_t batch = 64;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Copies every run of `inputs` into the store at `output` (which must not exist yet):
+// runs with the same config become one run whose results are the union. @throws
+// IoError, or ValueError when two inputs disagree on a result or the union has holes
+// that the inputs claim are complete.
+void MergeStores(const std::vector<std::string>& inputs, const std::string& output);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_STORE_H_

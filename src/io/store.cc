@@ -1,0 +1,317 @@
+#include "plumb/store.h"
+
+#include <sqlite3.h>
+
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "plumb/error.h"
+
+namespace plumb {
+
+using nlohmann::json;
+
+namespace {
+
+std::string Now() {
+  std::time_t t = std::time(nullptr);
+  char buffer[32];
+  std::strftime(buffer, sizeof(buffer), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buffer;
+}
+
+json Numbers(const std::vector<double>& v) {
+  json j = json::array();
+  for (double x : v) j.push_back(std::isfinite(x) ? json(x) : json(nullptr));
+  return j;
+}
+
+std::vector<double> FromNumbers(const std::string& text) {
+  std::vector<double> out;
+  for (const json& x : json::parse(text)) out.push_back(x.is_null() ? NAN : x.get<double>());
+  return out;
+}
+
+// A prepared statement, finalized on destruction.
+class Statement {
+ public:
+  Statement(sqlite3* db, const char* sql, const std::string& file) : file_(file) {
+    if (sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) != SQLITE_OK) {
+      throw IoError("results store '" + file + "': " + sqlite3_errmsg(db));
+    }
+  }
+  ~Statement() { sqlite3_finalize(s_); }
+  Statement& Bind(int i, long v) {
+    sqlite3_bind_int64(s_, i, v);
+    return *this;
+  }
+  Statement& Bind(int i, double v) {
+    sqlite3_bind_double(s_, i, v);
+    return *this;
+  }
+  Statement& Bind(int i, const std::string& v) {
+    sqlite3_bind_text(s_, i, v.c_str(), -1, SQLITE_TRANSIENT);
+    return *this;
+  }
+  bool Step() {
+    int rc = sqlite3_step(s_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw IoError("results store '" + file_ + "': " + sqlite3_errmsg(sqlite3_db_handle(s_)));
+  }
+  void Reset() {
+    sqlite3_reset(s_);
+    sqlite3_clear_bindings(s_);
+  }
+  long Int(int i) { return sqlite3_column_int64(s_, i); }
+  double Real(int i) { return sqlite3_column_double(s_, i); }
+  std::string Text(int i) {
+    const unsigned char* t = sqlite3_column_text(s_, i);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+
+ private:
+  sqlite3_stmt* s_ = nullptr;
+  std::string file_;
+};
+
+}  // namespace
+
+std::string HashFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("cannot read '" + path + "' to hash it");
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  char buffer[65536];
+  while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h ^= static_cast<unsigned char>(buffer[i]);
+      h *= 0x100000001b3ULL;
+    }
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+struct ResultsStore::Impl {
+  sqlite3* db = nullptr;
+  std::string file;
+  std::vector<std::pair<long, RolloutResult>> queue;
+
+  void Exec(const char* sql) {
+    char* error = nullptr;
+    if (sqlite3_exec(db, sql, nullptr, nullptr, &error) != SQLITE_OK) {
+      std::string message = error ? error : "unknown error";
+      sqlite3_free(error);
+      throw IoError("results store '" + file + "': " + message);
+    }
+  }
+};
+
+ResultsStore::ResultsStore(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  impl_->file = path;
+  if (sqlite3_open_v2(path.c_str(), &impl_->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
+                      nullptr) != SQLITE_OK) {
+    std::string message = impl_->db ? sqlite3_errmsg(impl_->db) : "out of memory";
+    sqlite3_close(impl_->db);
+    throw IoError("cannot open results store '" + path + "': " + message);
+  }
+  sqlite3_busy_timeout(impl_->db, 10000);
+  try {
+    impl_->Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
+    impl_->Exec(
+        "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, config TEXT, "
+        "command TEXT, model_file TEXT, model_hash TEXT, plumb_version TEXT, "
+        "mujoco_version TEXT, started TEXT, finished TEXT, parameters TEXT, metrics TEXT, "
+        "count INTEGER);"
+        "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
+        "PRIMARY KEY(run, idx));"
+        "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
+        "diverged INTEGER, diverged_time REAL, problem TEXT, PRIMARY KEY(run, idx));");
+  } catch (const IoError& e) {
+    sqlite3_close(impl_->db);
+    throw IoError(std::string(e.what()) + " (is it a plumb results store?)");
+  }
+}
+
+ResultsStore::~ResultsStore() {
+  try {
+    Commit();
+  } catch (...) {
+  }
+  sqlite3_close(impl_->db);
+}
+
+std::optional<RunInfo> ResultsStore::FindRun(const std::string& config) {
+  for (RunInfo& r : Runs()) {
+    if (r.config == config) return r;
+  }
+  return std::nullopt;
+}
+
+long ResultsStore::BeginRun(const RunInfo& info) {
+  Statement s(impl_->db,
+              "INSERT INTO runs(kind, config, command, model_file, model_hash, plumb_version, "
+              "mujoco_version, started, finished, parameters, metrics, count) "
+              "VALUES(?,?,?,?,?,?,?,?,?,?,?,?)",
+              impl_->file);
+  s.Bind(1, info.kind).Bind(2, info.config).Bind(3, info.command).Bind(4, info.model_file);
+  s.Bind(5, info.model_hash).Bind(6, info.plumb_version).Bind(7, info.mujoco_version);
+  s.Bind(8, info.started.empty() ? Now() : info.started).Bind(9, info.finished);
+  s.Bind(10, json(info.parameters).dump()).Bind(11, json(info.metrics).dump()).Bind(12, info.count);
+  s.Step();
+  return sqlite3_last_insert_rowid(impl_->db);
+}
+
+void ResultsStore::FinishRun(long run) {
+  Commit();
+  Statement s(impl_->db, "UPDATE runs SET finished = ? WHERE id = ?", impl_->file);
+  s.Bind(1, Now()).Bind(2, run).Step();
+}
+
+std::vector<RunInfo> ResultsStore::Runs() {
+  Statement s(impl_->db,
+              "SELECT id, kind, config, command, model_file, model_hash, plumb_version, "
+              "mujoco_version, started, finished, parameters, metrics, count FROM runs ORDER BY id",
+              impl_->file);
+  std::vector<RunInfo> runs;
+  while (s.Step()) {
+    RunInfo r;
+    r.id = s.Int(0);
+    r.kind = s.Text(1);
+    r.config = s.Text(2);
+    r.command = s.Text(3);
+    r.model_file = s.Text(4);
+    r.model_hash = s.Text(5);
+    r.plumb_version = s.Text(6);
+    r.mujoco_version = s.Text(7);
+    r.started = s.Text(8);
+    r.finished = s.Text(9);
+    r.parameters = json::parse(s.Text(10)).get<std::vector<std::string>>();
+    r.metrics = json::parse(s.Text(11)).get<std::vector<std::string>>();
+    r.count = s.Int(12);
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+std::vector<long> ResultsStore::DoneIndices(long run) {
+  Commit();
+  Statement s(impl_->db, "SELECT idx FROM results WHERE run = ? ORDER BY idx", impl_->file);
+  s.Bind(1, run);
+  std::vector<long> done;
+  while (s.Step()) done.push_back(s.Int(0));
+  return done;
+}
+
+void ResultsStore::Add(long run, const RolloutResult& result) {
+  impl_->queue.emplace_back(run, result);
+  if (impl_->queue.size() >= batch) Commit();
+}
+
+void ResultsStore::Commit() {
+  if (impl_->queue.empty()) return;
+  impl_->Exec("BEGIN IMMEDIATE");
+  try {
+    Statement c(impl_->db, "INSERT OR REPLACE INTO cases(run, idx, params) VALUES(?,?,?)",
+                impl_->file);
+    Statement r(impl_->db,
+                "INSERT OR REPLACE INTO results(run, idx, metrics, diverged, diverged_time, "
+                "problem) VALUES(?,?,?,?,?,?)",
+                impl_->file);
+    for (const auto& [run, x] : impl_->queue) {
+      c.Bind(1, run).Bind(2, x.index).Bind(3, Numbers(x.params).dump());
+      c.Step();
+      c.Reset();
+      r.Bind(1, run).Bind(2, x.index).Bind(3, Numbers(x.metrics).dump());
+      r.Bind(4, static_cast<long>(x.diverged)).Bind(5, x.diverged_time).Bind(6, x.problem);
+      r.Step();
+      r.Reset();
+    }
+    impl_->Exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+  impl_->queue.clear();
+}
+
+std::vector<RolloutResult> ResultsStore::Results(long run) {
+  Commit();
+  Statement s(impl_->db,
+              "SELECT r.idx, c.params, r.metrics, r.diverged, r.diverged_time, r.problem "
+              "FROM results r JOIN cases c ON c.run = r.run AND c.idx = r.idx "
+              "WHERE r.run = ? ORDER BY r.idx",
+              impl_->file);
+  s.Bind(1, run);
+  std::vector<RolloutResult> out;
+  while (s.Step()) {
+    RolloutResult x;
+    x.index = s.Int(0);
+    x.params = FromNumbers(s.Text(1));
+    x.metrics = FromNumbers(s.Text(2));
+    x.diverged = s.Int(3) != 0;
+    x.diverged_time = s.Real(4);
+    x.problem = s.Text(5);
+    out.push_back(x);
+  }
+  return out;
+}
+
+void MergeStores(const std::vector<std::string>& inputs, const std::string& output) {
+  if (std::filesystem::exists(output)) {
+    throw IoError("merge: '" + output + "' exists already; give a new file name.");
+  }
+  std::string temp = output + ".tmp-merge";
+  std::filesystem::remove(temp);
+  std::filesystem::remove(temp + "-wal");
+  std::filesystem::remove(temp + "-shm");
+  {
+    ResultsStore out(temp);
+    std::map<std::string, long> by_config;
+    std::map<std::pair<long, long>, RolloutResult> seen;
+    for (const std::string& input : inputs) {
+      if (!std::filesystem::exists(input)) throw IoError("merge: no such store '" + input + "'.");
+      ResultsStore in(input);
+      for (const RunInfo& run : in.Runs()) {
+        auto [it, fresh] = by_config.emplace(run.config, 0);
+        if (fresh) {
+          RunInfo copy = run;
+          copy.finished.clear();
+          it->second = out.BeginRun(copy);
+        }
+        long target = it->second;
+        for (const RolloutResult& r : in.Results(run.id)) {
+          auto [at, inserted] = seen.emplace(std::make_pair(target, r.index), r);
+          if (!inserted) {
+            bool same = at->second.params.size() == r.params.size() &&
+                        Numbers(at->second.params) == Numbers(r.params) &&
+                        Numbers(at->second.metrics) == Numbers(r.metrics);
+            if (!same) {
+              throw ValueError("merge: rollout " + std::to_string(r.index) +
+                               " differs between inputs ('" + input +
+                               "'); they are not shards "
+                               "of the same run.");
+            }
+            continue;
+          }
+          out.Add(target, r);
+        }
+      }
+    }
+    out.Commit();
+    // a merged run is finished when it holds every index
+    for (const RunInfo& run : out.Runs()) {
+      if (static_cast<long>(out.DoneIndices(run.id).size()) == run.count) out.FinishRun(run.id);
+    }
+  }
+  std::filesystem::rename(temp, output);
+  std::filesystem::remove(temp + "-wal");
+  std::filesystem::remove(temp + "-shm");
+}
+
+}  // namespace plumb

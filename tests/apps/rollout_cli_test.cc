@@ -1,0 +1,122 @@
+// plumb rollout, results and merge as a user runs them, including a SIGKILL mid-batch.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+using testing::CommandResult;
+using testing::ReadFile;
+using testing::RunPlumb;
+using testing::TempDir;
+using testing::WriteFile;
+
+const std::string kArgs =
+    " --until 0.5 --randomize 'body_mass[torso]=*U(0.9,1.1)' "
+    "--randomize 'geom_friction[floor][0]=U(0.5,1.2)' --ctrl-noise 0.01 "
+    "--metric 'xpos[torso][2]@0.5' --format csv --seed 3";
+
+std::string Rows(const std::string& csv) { return csv.substr(csv.find('\n') + 1); }
+
+// The results store's rows without the run column, as `plumb rollout --format csv` prints.
+std::string StoredRows(const std::string& store, const std::string& dir) {
+  std::istringstream in(RunPlumb("results " + store, dir).out);
+  std::string line, out;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) out += line.substr(line.find(',') + 1) + "\n";
+  return out;
+}
+
+TEST(CliRolloutTest, CsvCarriesOnlyDataAndTheSummaryGoesToStderr) {
+  CommandResult r = RunPlumb("rollout " + testing::kHumanoid + " --count 6" + kArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
+            "rollout,body_mass[torso],geom_friction[floor][0],xpos[torso][2]@0.5,diverged");
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 7);
+  EXPECT_NE(r.err.find("6 rollouts, 0 diverged"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("median"), std::string::npos) << r.err;
+  // equal runs give byte-identical output, whatever the thread count
+  EXPECT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --count 6 --threads 2" + kArgs).out,
+            r.out);
+}
+
+TEST(CliRolloutTest, KilledRunResumesToTheSameRowsWithoutDuplicates) {
+  TempDir dir;
+  std::string full = RunPlumb("rollout " + testing::kHumanoid + " --count 400" + kArgs).out;
+  // start, wait until some results are committed, then SIGKILL
+  std::string command = std::string("'") + PLUMB_CLI + "' rollout " + testing::kHumanoid +
+                        " --count 400 --db r.sqlite" + kArgs;
+  WriteFile(dir.File("kill.sh"), command +
+                                     " >/dev/null 2>&1 & pid=$!\n"
+                                     "for i in $(seq 600); do\n"
+                                     "  n=$('" +
+                                     std::string(PLUMB_CLI) +
+                                     "' results r.sqlite 2>/dev/null | wc -l)\n"
+                                     "  [ \"$n\" -gt 1 ] && break; sleep 0.05; done\n"
+                                     "kill -9 $pid; wait $pid; echo $? > rc.txt\n");
+  testing::RunShell("bash kill.sh", dir.path());
+  EXPECT_EQ(ReadFile(dir.File("rc.txt")), "137\n");
+  std::string partial = StoredRows("r.sqlite", dir.path());
+  long stored = std::count(partial.begin(), partial.end(), '\n');
+  EXPECT_GT(stored, 0);
+  EXPECT_LT(stored, 400);
+  // the same command without --resume refuses; with it, it completes the set
+  CommandResult again = RunPlumb(command.substr(command.find("rollout")), dir.path());
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("--resume"), std::string::npos) << again.err;
+  CommandResult resumed =
+      RunPlumb(command.substr(command.find("rollout")) + " --resume", dir.path());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(StoredRows("r.sqlite", dir.path()), Rows(full));
+}
+
+TEST(CliRolloutTest, MergedShardsEqualTheSingleRun) {
+  TempDir dir;
+  std::string full = RunPlumb("rollout " + testing::kHumanoid + " --count 9" + kArgs).out;
+  for (int s = 0; s < 3; ++s) {
+    CommandResult r =
+        RunPlumb("rollout " + testing::kHumanoid + " --count 9" + kArgs + " --shard " +
+                     std::to_string(s) + "/3 --db s" + std::to_string(s) + ".sqlite",
+                 dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  CommandResult merge = RunPlumb("merge s0.sqlite s1.sqlite s2.sqlite -o all.sqlite", dir.path());
+  ASSERT_EQ(merge.exit_code, 0) << merge.err;
+  EXPECT_EQ(StoredRows("all.sqlite", dir.path()), Rows(full));
+  nlohmann::json j =
+      nlohmann::json::parse(RunPlumb("results all.sqlite --format json", dir.path()).out);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["rollouts"].size(), 9u);
+  EXPECT_FALSE(j[0]["finished"].get<std::string>().empty());
+  EXPECT_EQ(j[0]["mujoco_version"], "2.2.2");
+  // merging into an existing file is refused
+  EXPECT_EQ(RunPlumb("merge s0.sqlite -o all.sqlite", dir.path()).exit_code, 2);
+}
+
+TEST(CliRolloutTest, SlurmArrayVariablesPickTheShard) {
+  std::string shard1 =
+      RunPlumb("rollout " + testing::kHumanoid + " --count 6" + kArgs + " --shard 1/3").out;
+  std::string slurm = testing::RunShell("SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 '" +
+                                        std::string(PLUMB_CLI) + "' rollout " + testing::kHumanoid +
+                                        " --count 6" + kArgs)
+                          .out;
+  EXPECT_EQ(shard1, slurm);
+  EXPECT_EQ(std::count(shard1.begin(), shard1.end(), '\n'), 3);  // header + rollouts 1, 4
+}
+
+TEST(CliRolloutTest, BadInputIsExit2) {
+  EXPECT_EQ(
+      RunPlumb("rollout " + testing::kHumanoid + " --randomize 'body_mass[*]=W(1,2)'").exit_code,
+      2);
+  EXPECT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --shard 3/3").exit_code, 2);
+  EXPECT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --resume").exit_code, 2);
+  EXPECT_EQ(RunPlumb("results /nonexistent/x.sqlite").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace plumb
