@@ -27,7 +27,7 @@ function(plumb_find_mujoco)
     set(PLUMB_MUJOCO_LIBDIR "${libdir}" CACHE INTERNAL "MuJoCo library folder")
     message(STATUS "plumb: MuJoCo from MUJOCO_ROOT: ${PLUMB_MUJOCO_LIBRARY}")
   else()
-    find_package(mujoco REQUIRED CONFIG)
+    find_package(mujoco REQUIRED CONFIG HINTS ${PLUMB_MUJOCO_HINT})
     # Debian's config lists /usr/include/libqhull_r/, which only libqhull-dev installs and
     # MuJoCo's public headers never include: drop include folders that do not exist
     get_target_property(dirs mujoco::mujoco INTERFACE_INCLUDE_DIRECTORIES)

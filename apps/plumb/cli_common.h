@@ -74,7 +74,8 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx);
 void SetupAuditCommand(CLI::App& app, Context& ctx);
 void SetupSweepCommand(CLI::App& app, Context& ctx);
 void SetupRolloutCommand(CLI::App& app, Context& ctx);
-void SetupResultsCommands(CLI::App& app, Context& ctx);  // results and merge
+void SetupResultsCommands(CLI::App& app, Context& ctx);     // results and merge
+void SetupRegressionCommands(CLI::App& app, Context& ctx);  // snapshot and diff
 
 }  // namespace plumb::cli
 

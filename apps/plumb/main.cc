@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
       "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
   SetupVerifyCommand(app, ctx);
   SetupAuditCommand(app, ctx);
+  SetupRegressionCommands(app, ctx);
   SetupRunCommand(app, ctx);
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);

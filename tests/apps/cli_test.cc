@@ -334,6 +334,39 @@ TEST(CliAuditTest, MissingScenarioIsBadInput) {
   EXPECT_NE(r.err.find("nowhere.toml"), std::string::npos) << r.err;
 }
 
+TEST(CliRegressionTest, SnapshotThenDiff) {
+  TempDir dir;
+  CommandResult snap = RunPlumb("snapshot " + kPendulum + " -o p.snap.json", dir.path());
+  ASSERT_EQ(snap.exit_code, 0) << snap.err;
+  CommandResult same = RunPlumb("diff p.snap.json " + kPendulum, dir.path());
+  EXPECT_EQ(same.exit_code, 0) << same.out;
+  EXPECT_NE(same.out.find("identical"), std::string::npos);
+  CommandResult changed =
+      RunPlumb("diff p.snap.json " + kPendulum + " --set 'dof_damping[hinge]=0.1'", dir.path());
+  EXPECT_EQ(changed.exit_code, 1);
+  EXPECT_NE(changed.out.find("dof_damping[hinge]: 0.05 → 0.1"), std::string::npos) << changed.out;
+  nlohmann::json j = nlohmann::json::parse(
+      RunPlumb("diff p.snap.json " + kPendulum + " --set 'dof_damping[hinge]=0.1' --format json",
+               dir.path())
+          .out);
+  EXPECT_FALSE(j["identical"].get<bool>());
+  EXPECT_EQ(j["changes"][0], "dof_damping[hinge]: 0.05 → 0.1");
+}
+
+TEST(CliRegressionTest, BadSnapshotsAndPathsAreBadInput) {
+  TempDir dir;
+  WriteFile(dir.File("junk.json"), "{ nope");
+  CommandResult junk = RunPlumb("diff junk.json " + kPendulum, dir.path());
+  EXPECT_EQ(junk.exit_code, 2);
+  EXPECT_NE(junk.err.find("junk.json"), std::string::npos) << junk.err;
+  CommandResult missing = RunPlumb("diff none.json " + kPendulum, dir.path());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("none.json"), std::string::npos) << missing.err;
+  CommandResult unwritable = RunPlumb("snapshot " + kPendulum + " -o /nonexistent-dir/s.json");
+  EXPECT_EQ(unwritable.exit_code, 2);
+  EXPECT_FALSE(fs::exists("/nonexistent-dir/s.json"));
+}
+
 TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
   CommandResult r = RunPlumb("run --help");
   EXPECT_EQ(r.exit_code, 0);

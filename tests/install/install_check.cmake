@@ -28,3 +28,28 @@ execute_process(COMMAND "${prefix}/bin/plumb" --version RESULT_VARIABLE rc OUTPU
 if(rc OR NOT out MATCHES "plumb")
   message(FATAL_ERROR "the installed plumb CLI failed: ${out}")
 endif()
+
+# the model-acceptance helper from an installed plumb: examples/model_ci passes as shipped
+set(ci_src "${WORK_DIR}/model_ci-src")
+file(COPY "${SOURCE_DIR}/examples/model_ci/" DESTINATION "${ci_src}")
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -S "${ci_src}" -B "${WORK_DIR}/model_ci" -DCMAKE_PREFIX_PATH=${prefix}
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc)
+  message(FATAL_ERROR "configuring examples/model_ci failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND ${CMAKE_CTEST_COMMAND} --output-on-failure
+  WORKING_DIRECTORY "${WORK_DIR}/model_ci" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(rc OR NOT out MATCHES "arm.audit" OR NOT out MATCHES "arm.diff")
+  message(FATAL_ERROR "examples/model_ci's tests failed:\n${out}")
+endif()
+
+# and it notices a change: more damping at the shoulder fails arm.diff, naming the field
+file(READ "${ci_src}/arm.xml" xml)
+string(REPLACE "damping=\"3\"" "damping=\"4\"" xml "${xml}")
+file(WRITE "${ci_src}/arm.xml" "${xml}")
+execute_process(COMMAND ${CMAKE_CTEST_COMMAND} --output-on-failure -R arm.diff
+  WORKING_DIRECTORY "${WORK_DIR}/model_ci" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc OR NOT out MATCHES "dof_damping\\[shoulder\\]")
+  message(FATAL_ERROR "arm.diff did not catch the changed damping:\n${out}")
+endif()

@@ -1,0 +1,117 @@
+// plumb snapshot / plumb diff: regression snapshots for CI.
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_common.h"
+#include "plumb/error.h"
+#include "plumb/output.h"
+#include "plumb/regression.h"
+
+namespace plumb::cli {
+namespace {
+
+struct SnapshotOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  std::string output;
+};
+
+struct DiffOptions {
+  std::string snapshot;
+  std::string model;
+  std::vector<std::string> sets;
+  double tol = 1e-6;
+  std::string format = "table";
+};
+
+int RunSnapshot(const SnapshotOptions& o) {
+  Model model = LoadModel(o.model);
+  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  AtomicFile file(o.output);
+  std::string text = MakeSnapshot(model, sets);
+  std::fwrite(text.data(), 1, text.size(), file.stream());
+  file.Commit();
+  std::fprintf(stderr, "plumb: wrote the snapshot of %s to %s\n", o.model.c_str(),
+               o.output.c_str());
+  return kExitOk;
+}
+
+int RunDiff(const DiffOptions& o) {
+  std::ifstream in(o.snapshot);
+  if (!in)
+    throw IoError("cannot read snapshot '" + o.snapshot + "': no such file or not readable.");
+  std::stringstream text;
+  text << in.rdbuf();
+  Model model = LoadModel(o.model);
+  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  if (!(o.tol >= 0)) throw ValueError("--tol must be >= 0");
+  SnapshotDiff diff;
+  try {
+    diff = DiffSnapshot(text.str(), model, sets, o.tol);
+  } catch (const ValueError& e) {
+    throw ValueError("snapshot '" + o.snapshot + "' is " + e.what() +
+                     "; write one with plumb snapshot MODEL -o FILE.");
+  }
+  std::string out;
+  if (o.format == "json") {
+    nlohmann::ordered_json j;
+    j["snapshot"] = o.snapshot;
+    j["model"] = o.model;
+    j["identical"] = !diff.changed();
+    nlohmann::ordered_json changes = nlohmann::ordered_json::array();
+    for (const SnapshotChange& c : diff.changes) changes.push_back(c.what);
+    j["changes"] = changes;
+    j["notes"] = diff.notes;
+    j["tol"] = o.tol;
+    out = j.dump(2) + "\n";
+  } else {
+    for (const std::string& n : diff.notes) out += "note: " + n + "\n";
+    for (const SnapshotChange& c : diff.changes) out += c.what + "\n";
+    out += diff.changed()
+               ? fmt::format("{} change(s) beyond tol {:g}\n", diff.changes.size(), o.tol)
+               : fmt::format("identical to {} within tol {:g}\n", o.snapshot, o.tol);
+  }
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  if (diff.diverged) return kExitDiverged;
+  return diff.changed() ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace
+
+void SetupRegressionCommands(CLI::App& app, Context& ctx) {
+  auto s = std::make_shared<SnapshotOptions>();
+  CLI::App* snapshot = app.add_subcommand(
+      "snapshot", "Record a model's structure, inertia, actuators and a golden trajectory");
+  snapshot->footer(
+      "Example:\n  plumb snapshot robot.xml -o robot.snap.json    # commit it with the model\n"
+      "Exit codes: 0 written, 2 bad input (nothing is written).");
+  snapshot->add_option("model", s->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  snapshot->add_option("--set", s->sets, "PATH=VALUE before snapshotting (repeatable)")
+      ->allow_extra_args(false);
+  snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON)")->required();
+  snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });
+
+  auto d = std::make_shared<DiffOptions>();
+  CLI::App* diff = app.add_subcommand("diff", "Compare a model with its snapshot, in words");
+  diff->footer(
+      "Example:\n  plumb diff robot.snap.json robot.xml --tol 1e-6\n"
+      "Prints each change (dof_damping[hinge]: 0.05 → 0.1, body added: gripper,\n"
+      "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
+      "1 changed, 2 bad input, 3 the golden trajectory diverges.");
+  diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
+  diff->add_option("model", d->model, "the model to compare")->required();
+  diff->add_option("--set", d->sets, "PATH=VALUE before comparing (repeatable)")
+      ->allow_extra_args(false);
+  diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
+  diff->add_option("--format", d->format, "table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  diff->callback([d, &ctx] { ctx.action = [d] { return RunDiff(*d); }; });
+}
+
+}  // namespace plumb::cli

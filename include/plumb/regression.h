@@ -1,0 +1,52 @@
+// Regression snapshots for CI: what a model is (structure, inertia, actuators, sensors,
+// options) and what it does (a short golden trajectory), as stable JSON, and a diff that
+// names every change in MuJoCo's own words.
+//
+// Example:
+//   std::string text = plumb::MakeSnapshot(model, {});        // pretty JSON
+//   plumb::SnapshotDiff diff = plumb::DiffSnapshot(text, edited_model, {}, 1e-6);
+//   diff.changes[0].what   // "dof_damping[hinge]: 0.05 → 0.1"
+
+#ifndef PLUMB_INCLUDE_PLUMB_REGRESSION_H_
+#define PLUMB_INCLUDE_PLUMB_REGRESSION_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+
+namespace plumb {
+
+// Number of steps of the golden trajectory.
+inline constexpr int kSnapshotSteps = 100;
+
+// The snapshot of `model` after `sets`, as pretty JSON (2-space indent, keys in a fixed
+// order, doubles printed to round-trip exactly). The golden trajectory starts at the
+// reference pose (keyframe "home" if present, else qpos0) and drives every ctrl-limited
+// actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
+// unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each.
+// @throws MujocoError; a diverging trajectory is recorded up to the step before.
+std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets);
+
+struct SnapshotChange {
+  std::string what;  // in words: "body_mass[link]: 1 → 2", "body added: gripper"
+  bool beyond_tol = true;
+};
+
+struct SnapshotDiff {
+  std::vector<SnapshotChange> changes;  // only changes beyond tolerance are listed
+  std::vector<std::string> notes;       // e.g. a different MuJoCo version wrote the snapshot
+  bool diverged = false;                // the current model's trajectory diverged
+  bool changed() const { return !changes.empty(); }
+};
+
+// Compares `snapshot_text` (as MakeSnapshot wrote it) with `model` after `sets`. Numbers
+// differ when |a - b| > tol * max(1, |a|, |b|). @throws ValueError when the text is not
+// a plumb snapshot.
+SnapshotDiff DiffSnapshot(const std::string& snapshot_text, const Model& model,
+                          const std::vector<Assignment>& sets, double tol);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_REGRESSION_H_

@@ -1,0 +1,366 @@
+#include "plumb/regression.h"
+
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "core/fields.h"
+#include "core/mujoco_compat.h"
+#include "core/version.h"
+#include "plumb/error.h"
+#include "plumb/run.h"
+
+namespace plumb {
+
+using nlohmann::ordered_json;
+
+namespace {
+
+// The element kinds a snapshot records, keyed by name, and the mjModel size counting them.
+struct Section {
+  const char* name;  // "body"
+  const char* size;  // "nbody"
+  int obj;           // names come from this object type
+};
+constexpr Section kSections[] = {
+    {"body", "nbody", mjOBJ_BODY},       {"joint", "njnt", mjOBJ_JOINT},
+    {"dof", "nv", mjOBJ_JOINT},          {"geom", "ngeom", mjOBJ_GEOM},
+    {"site", "nsite", mjOBJ_SITE},       {"actuator", "nu", mjOBJ_ACTUATOR},
+    {"sensor", "nsensor", mjOBJ_SENSOR}, {"tendon", "ntendon", mjOBJ_TENDON},
+    {"equality", "neq", mjOBJ_EQUALITY},
+};
+
+// Fields that are not part of what a regression should notice: derived constants (they
+// follow the fields they come from), appearance, and internal bookkeeping that shifts
+// whenever anything is added.
+bool Recorded(const std::string& f) {
+  static const char* kSkip[] = {
+      "body_subtreemass", "body_invweight0",   "dof_invweight0", "dof_M0",
+      "tendon_length0",   "tendon_invweight0", "actuator_acc0",  "actuator_length0",
+      "geom_rbound",      "body_rootid",       "body_weldid",    "body_sameframe",
+      "body_simple",      "geom_sameframe",    "site_sameframe", "dof_parentid",
+      "dof_Madr",         "dof_simplenum",     "body_mocapid",   "geom_dataid",
+      "geom_matid",       "site_matid",        "tendon_matid",   "dof_jntid",
+      "dof_bodyid"};
+  for (const char* s : kSkip) {
+    if (f == s) return false;
+  }
+  auto ends = [&](const char* suffix) {
+    std::string s(suffix);
+    return f.size() > s.size() && f.compare(f.size() - s.size(), s.size(), s) == 0;
+  };
+  if (ends("_rgba") || f.rfind("name_", 0) == 0) return false;
+  if ((ends("adr") || ends("num")) && f != "jnt_qposadr" && f != "jnt_dofadr" &&
+      f != "sensor_adr") {
+    return false;
+  }
+  return true;
+}
+
+std::string NameOr(const Model& model, int obj, int id) {
+  if (id < 0) return "(none)";
+  std::string name = model.Name(obj, id);
+  if (obj == mjOBJ_BODY && id == 0) return "world";
+  return name.empty() ? "#" + std::to_string(id) : name;
+}
+
+// Object type an id field refers to, so ids are stored as names (stable when elements
+// are added before them); -1 when the field is not an id.
+int IdTarget(const std::string& f, const mjModel* m, int row) {
+  if (f == "body_parentid" || f == "jnt_bodyid" || f == "geom_bodyid" || f == "site_bodyid") {
+    return mjOBJ_BODY;
+  }
+  if (f == "actuator_trnid") {
+    int t = m->actuator_trntype[row];
+    return t == mjTRN_TENDON ? mjOBJ_TENDON
+           : t == mjTRN_SITE ? mjOBJ_SITE
+           : t == mjTRN_BODY ? mjOBJ_BODY
+                             : mjOBJ_JOINT;
+  }
+  if (f == "sensor_objid") return m->sensor_objtype[row];
+  if (f == "sensor_refid") return m->sensor_reftype[row];
+  return -1;
+}
+
+// Key of row `row` of a section: the element's name, "#id" when unnamed; dofs are
+// named after their joint ("root[3]" for the 4th dof of a free joint).
+std::string RowKey(const Model& model, const Section& section, int row) {
+  const mjModel* m = model.get();
+  if (std::string(section.name) == "dof") {
+    int j = m->dof_jntid[row];
+    std::string joint = NameOr(model, mjOBJ_JOINT, j);
+    int n = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    return n == 1 ? joint : joint + "[" + std::to_string(row - m->jnt_dofadr[j]) + "]";
+  }
+  return NameOr(model, section.obj, row);
+}
+
+ordered_json Value(const Model& model, const Data& data, const Path& p) {
+  const FieldInfo& f = Fields()[p.field_index];
+  if (f.type == compat::ElemType::kNum || f.type == compat::ElemType::kFloat) {
+    if (p.count == 1) return ReadValue(model, data, p);
+    ordered_json a = ordered_json::array();
+    for (long k = 0; k < p.count; ++k) a.push_back(ReadValue(model, data, p, k));
+    return a;
+  }
+  if (p.count == 1) return static_cast<long long>(ReadValue(model, data, p));
+  ordered_json a = ordered_json::array();
+  for (long k = 0; k < p.count; ++k)
+    a.push_back(static_cast<long long>(ReadValue(model, data, p, k)));
+  return a;
+}
+
+ordered_json Structure(const Model& model, const Data& data) {
+  const mjModel* m = model.get();
+  ordered_json out;
+  for (const Section& section : kSections) {
+    long rows = 0;
+    for (const FieldInfo& f : Fields()) {
+      if (f.source == FieldSource::kModelSize && f.name == section.size) {
+        rows = static_cast<long>(ReadValue(model, data, ResolvePath(model, f.name)));
+      }
+    }
+    ordered_json elements = ordered_json::object();
+    for (int row = 0; row < rows; ++row) {
+      ordered_json e = ordered_json::object();
+      for (const FieldInfo& f : Fields()) {
+        if (f.source != FieldSource::kModelArray || f.row_kind != section.size) continue;
+        if (f.type == compat::ElemType::kOther || f.type == compat::ElemType::kChar) continue;
+        if (!Recorded(f.name) || f.cols(m) == 0) continue;
+        Path p = ResolvePath(model, f.name + "[" + std::to_string(row) + "]");
+        int target = IdTarget(f.name, m, row);
+        if (target >= 0) {
+          ordered_json ids = ordered_json::array();
+          for (long k = 0; k < p.count; ++k) {
+            ids.push_back(NameOr(model, target, static_cast<int>(ReadValue(model, data, p, k))));
+          }
+          e[f.name] = p.count == 1 ? ids[0] : ids;
+        } else {
+          e[f.name] = Value(model, data, p);
+        }
+      }
+      elements[RowKey(model, section, row)] = e;
+    }
+    out[section.name] = elements;
+  }
+  return out;
+}
+
+ordered_json Options(const Model& model, const Data& data) {
+  ordered_json out = ordered_json::object();
+  for (const FieldInfo& f : Fields()) {
+    if (f.source != FieldSource::kOption) continue;
+    out[f.name] = Value(model, data, ResolvePath(model, f.name));
+  }
+  out["opt.integrator"] = compat::NameOf(compat::kIntegrators, model->opt.integrator);
+  return out;
+}
+
+// The golden trajectory: qpos, qvel, act after each of kSnapshotSteps steps.
+ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets, bool* diverged) {
+  Model work = model.Clone();
+  Data data(work);
+  ApplyAssignments(work, data, sets);
+  const mjModel* m = work.get();
+  int key = mj_name2id(m, mjOBJ_KEY, "home");
+  if (key >= 0) {
+    mj_resetDataKeyframe(m, data.get(), key);
+    for (const Assignment& a : sets) {
+      if (a.path.role != Role::kParameter) WriteValues(work, data, a.path, a.values);
+    }
+    data.Forward();
+  }
+  ordered_json qpos = ordered_json::array(), qvel = qpos, act = qpos;
+  RunSpec spec;
+  spec.until = kSnapshotSteps * m->opt.timestep;
+  spec.every = m->opt.timestep;
+  spec.before_step = [m](mjData* d, long) {
+    for (int i = 0; i < m->nu; ++i) {
+      if (!m->actuator_ctrllimited[i]) {
+        d->ctrl[i] = 0;
+        continue;
+      }
+      double lo = m->actuator_ctrlrange[2 * i], hi = m->actuator_ctrlrange[2 * i + 1];
+      d->ctrl[i] =
+          0.5 * (lo + hi) + 0.25 * (hi - lo) * std::sin(2 * M_PI * d->time * (1 + 0.37 * i));
+    }
+  };
+  spec.after_step = [&](const mjData* d, long) {
+    qpos.push_back(std::vector<double>(d->qpos, d->qpos + m->nq));
+    qvel.push_back(std::vector<double>(d->qvel, d->qvel + m->nv));
+    act.push_back(std::vector<double>(d->act, d->act + m->na));
+  };
+  NullSink sink;
+  RunResult r = Run(work, data, spec, sink);
+  TakeMujocoWarnings();
+  *diverged = r.diverged;
+  return {{"steps", kSnapshotSteps},
+          {"start", key >= 0 ? "keyframe home" : "qpos0"},
+          {"controls",
+           "ctrl = centre + 0.5*radius*sin(2*pi*t*(1 + 0.37*i)) for ctrl-limited "
+           "actuators, 0 otherwise"},
+          {"qpos", qpos},
+          {"qvel", qvel},
+          {"act", act}};
+}
+
+ordered_json Snapshot(const Model& model, const std::vector<Assignment>& sets, bool* diverged) {
+  Model nominal = model.Clone();
+  Data data(nominal);
+  ApplyAssignments(nominal, data, sets);
+  const mjModel* m = nominal.get();
+  ordered_json j;
+  j["plumb_snapshot"] = 1;
+  j["plumb_version"] = PLUMB_VERSION;
+  j["mujoco_version"] = MujocoVersion();
+  j["model"] = std::string(m->names);
+  ordered_json sizes;
+  for (const char* size : {"nq", "nv", "nu", "na", "nbody", "njnt", "ngeom", "nsite", "nsensor",
+                           "nsensordata", "ntendon", "neq", "nmocap", "nkey"}) {
+    sizes[size] = static_cast<long long>(ReadValue(nominal, data, ResolvePath(nominal, size)));
+  }
+  j["sizes"] = sizes;
+  j["options"] = Options(nominal, data);
+  j["structure"] = Structure(nominal, data);
+  j["trajectory"] = Trajectory(model, sets, diverged);
+  return j;
+}
+
+bool Close(double a, double b, double tol) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  return std::fabs(a - b) <= tol * std::max({1.0, std::fabs(a), std::fabs(b)});
+}
+
+std::string Show(const ordered_json& v) {
+  if (v.is_number_float()) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.10g", v.get<double>());
+    return buffer;
+  }
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) out += (i ? " " : "") + Show(v[i]);
+    return out + "]";
+  }
+  return v.dump();
+}
+
+bool Same(const ordered_json& a, const ordered_json& b, double tol) {
+  if (a.is_number() && b.is_number()) return Close(a.get<double>(), b.get<double>(), tol);
+  if (a.is_array() && b.is_array()) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!Same(a[i], b[i], tol)) return false;
+    }
+    return true;
+  }
+  return a == b;
+}
+
+}  // namespace
+
+std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets) {
+  bool diverged = false;
+  return Snapshot(model, sets, &diverged).dump(2) + "\n";
+}
+
+SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
+                          const std::vector<Assignment>& sets, double tol) {
+  ordered_json before;
+  try {
+    before = ordered_json::parse(text);
+  } catch (const std::exception& e) {
+    throw ValueError(std::string("not a plumb snapshot (invalid JSON: ") + e.what() + ")");
+  }
+  if (!before.is_object() || !before.contains("plumb_snapshot") || !before.contains("structure") ||
+      !before.contains("trajectory")) {
+    throw ValueError("not a plumb snapshot (no plumb_snapshot, structure or trajectory entry)");
+  }
+  SnapshotDiff diff;
+  bool diverged = false;
+  ordered_json after = Snapshot(model, sets, &diverged);
+  diff.diverged = diverged;
+  auto change = [&](std::string what) { diff.changes.push_back({std::move(what), true}); };
+  if (before["mujoco_version"] != after["mujoco_version"]) {
+    diff.notes.push_back("the snapshot was written with MuJoCo " +
+                         before["mujoco_version"].get<std::string>() + ", this is " +
+                         after["mujoco_version"].get<std::string>() +
+                         ": trajectories differ in the last bits across versions");
+  }
+  for (const auto& [key, value] : after["sizes"].items()) {
+    if (before["sizes"].value(key, ordered_json()) != value) {
+      change(key + ": " + Show(before["sizes"].value(key, ordered_json())) + " → " + Show(value));
+    }
+  }
+  for (const auto& [key, value] : after["options"].items()) {
+    if (!before["options"].contains(key)) continue;
+    if (!Same(before["options"][key], value, tol)) {
+      change(key + ": " + Show(before["options"][key]) + " → " + Show(value));
+    }
+  }
+  for (const auto& [section, elements] : after["structure"].items()) {
+    const ordered_json& old = before["structure"].value(section, ordered_json::object());
+    for (const auto& [name, fields] : old.items()) {
+      if (!elements.contains(name)) change(section + " removed: " + name);
+    }
+    for (const auto& [name, fields] : elements.items()) {
+      if (!old.contains(name)) {
+        change(section + " added: " + name);
+        continue;
+      }
+      for (const auto& [field, value] : fields.items()) {
+        if (!old[name].contains(field)) continue;
+        if (!Same(old[name][field], value, tol)) {
+          change(field + "[" + name + "]: " + Show(old[name][field]) + " → " + Show(value));
+        }
+      }
+    }
+  }
+  // the golden trajectory, step by step
+  const ordered_json& t0 = before["trajectory"];
+  const ordered_json& t1 = after["trajectory"];
+  if (t0["qpos"].size() != t1["qpos"].size() && !diverged) {
+    change("trajectory length: " + std::to_string(t0["qpos"].size()) + " → " +
+           std::to_string(t1["qpos"].size()) + " steps");
+  }
+  bool shapes = !t0["qpos"].empty() && !t1["qpos"].empty() &&
+                t0["qpos"][0].size() == t1["qpos"][0].size() &&
+                t0["qvel"][0].size() == t1["qvel"][0].size();
+  if (!shapes) {
+    if (!t0["qpos"].empty() && !t1["qpos"].empty()) {
+      change("trajectory not compared: the state's size changed");
+    }
+  } else {
+    std::size_t steps = std::min(t0["qpos"].size(), t1["qpos"].size());
+    for (std::size_t s = 0; s < steps; ++s) {
+      std::string worst_field;
+      double worst = 0;
+      bool departs = false;
+      for (const char* field : {"qpos", "qvel", "act"}) {
+        const ordered_json& a = t0[field][s];
+        const ordered_json& b = t1[field][s];
+        for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+          double x = a[i].get<double>(), y = b[i].get<double>();
+          if (!Close(x, y, tol)) departs = true;
+          if (std::fabs(x - y) > worst) {
+            worst = std::fabs(x - y);
+            worst_field = field;
+          }
+        }
+      }
+      if (departs) {
+        char buffer[160];
+        std::snprintf(buffer, sizeof(buffer),
+                      "trajectory departs at step %zu: max |Δ%s| = %.2g (tol %g)", s + 1,
+                      worst_field.c_str(), worst, tol);
+        change(buffer);
+        break;
+      }
+    }
+  }
+  if (diverged) change("the golden trajectory diverges on the current model");
+  return diff;
+}
+
+}  // namespace plumb

@@ -1,0 +1,97 @@
+#include "plumb/regression.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+std::string Changes(const SnapshotDiff& d) {
+  std::string out;
+  for (const SnapshotChange& c : d.changes) out += c.what + "\n";
+  return out;
+}
+
+class RegressionTest : public testing::MujocoTest {
+ protected:
+  Model pendulum_ = Model::Load(testing::kPendulum);
+  std::string snapshot_ = MakeSnapshot(pendulum_, {});
+};
+
+TEST_F(RegressionTest, UnchangedModelIsIdentical) {
+  SnapshotDiff d = DiffSnapshot(snapshot_, pendulum_, {}, 1e-6);
+  EXPECT_FALSE(d.changed()) << Changes(d);
+  EXPECT_TRUE(d.notes.empty());
+  EXPECT_EQ(MakeSnapshot(pendulum_, {}), snapshot_);  // stable, byte for byte
+}
+
+TEST_F(RegressionTest, SnapshotRecordsWhatARegressionShouldNotice) {
+  nlohmann::json j = nlohmann::json::parse(snapshot_);
+  EXPECT_EQ(j["mujoco_version"], MujocoVersion());
+  EXPECT_EQ(j["options"]["opt.timestep"], 0.002);
+  EXPECT_EQ(j["structure"]["body"]["link"]["body_mass"], 1.0);
+  EXPECT_EQ(j["structure"]["body"]["link"]["body_parentid"], "world");
+  EXPECT_EQ(j["structure"]["joint"]["hinge"]["jnt_qposadr"], 0);
+  EXPECT_EQ(j["structure"]["dof"]["hinge"]["dof_damping"], 0.05);
+  EXPECT_EQ(j["structure"]["geom"]["rod"]["geom_size"][0], 0.05);
+  EXPECT_EQ(j["trajectory"]["qpos"].size(), static_cast<std::size_t>(kSnapshotSteps));
+}
+
+TEST_F(RegressionTest, ChangedDampingIsNamedInMujocosWords) {
+  SnapshotDiff d = DiffSnapshot(snapshot_, pendulum_,
+                                {ParseAssignment(pendulum_, "dof_damping[hinge]=0.1")}, 1e-6);
+  ASSERT_TRUE(d.changed());
+  EXPECT_EQ(d.changes[0].what, "dof_damping[hinge]: 0.05 → 0.1");
+}
+
+TEST_F(RegressionTest, TrajectoryDepartureNamesTheStep) {
+  // start away from rest so the trajectory moves, then nudge gravity slightly
+  std::vector<Assignment> start = {ParseAssignment(pendulum_, "qpos[hinge]=0.7")};
+  std::string moving = MakeSnapshot(pendulum_, start);
+  start.push_back(ParseAssignment(pendulum_, "opt.gravity[2]=-9.8100001"));
+  SnapshotDiff d = DiffSnapshot(moving, pendulum_, start, 1e-9);
+  std::string all = Changes(d);
+  EXPECT_NE(all.find("opt.gravity"), std::string::npos) << all;
+  EXPECT_NE(all.find("trajectory departs at step "), std::string::npos) << all;
+  EXPECT_NE(all.find("(tol 1e-09)"), std::string::npos) << all;
+  // below the tolerance it is the same model
+  EXPECT_FALSE(DiffSnapshot(moving, pendulum_, start, 1e-6).changed());
+}
+
+TEST_F(RegressionTest, AddedAndRemovedElementsAreNamed) {
+  Model two = Model::FromXmlString(R"(<mujoco model="pendulum"><option timestep="0.002"/>
+    <worldbody><body name="link" pos="0 0 1.5">
+      <joint name="hinge" type="hinge" axis="0 1 0" damping="0.05"/>
+      <geom name="rod" type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/>
+      <body name="gripper_left" pos="0 0 -1"><geom name="finger" type="sphere" size="0.02"/></body>
+    </body></worldbody></mujoco>)");
+  SnapshotDiff d = DiffSnapshot(snapshot_, two, {}, 1e-6);
+  std::string all = Changes(d);
+  EXPECT_NE(all.find("body added: gripper_left"), std::string::npos) << all;
+  EXPECT_NE(all.find("geom added: finger"), std::string::npos) << all;
+  EXPECT_NE(all.find("nbody: 2 → 3"), std::string::npos) << all;
+  SnapshotDiff back = DiffSnapshot(MakeSnapshot(two, {}), pendulum_, {}, 1e-6);
+  EXPECT_NE(Changes(back).find("body removed: gripper_left"), std::string::npos);
+}
+
+TEST_F(RegressionTest, NotASnapshotIsAValueError) {
+  EXPECT_THROW(DiffSnapshot("{not json", pendulum_, {}, 1e-6), ValueError);
+  EXPECT_THROW(DiffSnapshot("{\"a\": 1}", pendulum_, {}, 1e-6), ValueError);
+}
+
+TEST_F(RegressionTest, HumanoidMassChangeShowsInStructureAndTrajectory) {
+  Model humanoid = Model::Load(testing::kHumanoid);
+  std::string snap = MakeSnapshot(humanoid, {});
+  SnapshotDiff d =
+      DiffSnapshot(snap, humanoid, {ParseAssignment(humanoid, "body_mass[torso]=6")}, 1e-6);
+  std::string all = Changes(d);
+  EXPECT_NE(all.find("body_mass[torso]: 5.853834311 → 6"), std::string::npos) << all;
+  EXPECT_NE(all.find("trajectory departs at step 2"), std::string::npos) << all;
+}
+
+}  // namespace
+}  // namespace plumb
