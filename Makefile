@@ -32,7 +32,7 @@ test-release: build
 # the whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLUMB_WARNINGS_AS_ERRORS=ON \
-	  -DPLUMB_SANITIZE=address,undefined -DPLUMB_BUILD_BENCHMARKS=OFF $(CMAKE_FLAGS) >/dev/null
+	  -DPLUMB_SANITIZE=address,undefined -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)

@@ -14,6 +14,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libtbb-dev libcpptoml-dev
+  libopenmpi-dev openmpi-bin
   valgrind
 )
 

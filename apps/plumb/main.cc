@@ -5,6 +5,7 @@
 
 #include "cli_common.h"
 #include "core/version.h"
+#include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
 
@@ -32,6 +33,10 @@ int main(int argc, char** argv) {
   SetupRolloutCommand(app, ctx);
   SetupResultsCommands(app, ctx);
 
+  MpiInit(&argc, &argv);
+  struct Finalize {
+    ~Finalize() { MpiFinalize(); }
+  } finalize;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

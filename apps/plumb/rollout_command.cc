@@ -13,6 +13,7 @@
 #include "cli_common.h"
 #include "core/strings.h"
 #include "core/version.h"
+#include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/rollout.h"
@@ -95,6 +96,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   std::optional<ResultsStore> store;
   long run_id = 0;
   if (o.resume && o.db.empty()) throw ValueError("--resume needs --db FILE");
+  ValidateRolloutSpec(model, spec);
+  // under MPI, ranks other than 0 only compute what rank 0 hands them
+  if (MpiActive() && MpiRank() != 0) {
+    MpiRollout(model, spec, {}, nullptr);
+    return kExitOk;
+  }
   if (!o.db.empty()) {
     store.emplace(o.db);
     std::string config = Config(o, HashFile(o.model));
@@ -165,45 +172,53 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   long diverged = 0, emitted = 0;
   auto start = std::chrono::steady_clock::now();
   InstallSignalHandlers();
-  Rollout(
-      model, spec,
-      [&](const RolloutResult& r) {
-        ++emitted;
-        diverged += r.diverged;
-        if (store) store->Add(run_id, r);
-        for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
-        if (o.format == "csv") {
-          out += std::to_string(r.index);
-          for (double v : r.params) out += "," + Number(v);
-          for (double v : r.metrics) out += "," + Number(v);
-          out += r.diverged ? ",1\n" : ",0\n";
-        } else if (o.format == "json") {
-          nlohmann::ordered_json row;
-          row["rollout"] = r.index;
-          nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
-          for (std::size_t k = 0; k < r.params.size(); ++k) p[params[k]] = r.params[k];
-          for (std::size_t k = 0; k < r.metrics.size(); ++k) {
-            m[o.metrics[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
-                                                       : nlohmann::ordered_json(r.metrics[k]);
-          }
-          row["params"] = p;
-          row["metrics"] = m;
-          row["diverged"] = r.diverged;
-          if (r.diverged) row["diverged_time"] = r.diverged_time;
-          out += (emitted > 1 ? ",\n  " : "  ") + row.dump();
-        } else {
-          std::size_t w = 0;
-          out += fmt::format("{:>{}}", r.index, widths[w++]);
-          for (double v : r.params) out += fmt::format("{:>{}.6g}", v, widths[w++]);
-          for (double v : r.metrics) {
-            out += std::isnan(v) ? fmt::format("{:>{}}", "-", widths[w++])
-                                 : fmt::format("{:>{}.6g}", v, widths[w++]);
-          }
-          out += fmt::format("{:>{}}\n", r.diverged ? "yes" : "no", widths[w++]);
-        }
-        if (out.size() > (1 << 16)) flush();
-      },
-      &StopRequested());
+  std::vector<long> indices;
+  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
+    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) indices.push_back(i);
+  }
+  auto run = [&](const std::function<void(const RolloutResult&)>& emit) {
+    if (MpiActive()) {
+      MpiRollout(model, spec, indices, emit);
+    } else {
+      RolloutCases(model, spec, indices, emit, &StopRequested());
+    }
+  };
+  run([&](const RolloutResult& r) {
+    ++emitted;
+    diverged += r.diverged;
+    if (store) store->Add(run_id, r);
+    for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
+    if (o.format == "csv") {
+      out += std::to_string(r.index);
+      for (double v : r.params) out += "," + Number(v);
+      for (double v : r.metrics) out += "," + Number(v);
+      out += r.diverged ? ",1\n" : ",0\n";
+    } else if (o.format == "json") {
+      nlohmann::ordered_json row;
+      row["rollout"] = r.index;
+      nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
+      for (std::size_t k = 0; k < r.params.size(); ++k) p[params[k]] = r.params[k];
+      for (std::size_t k = 0; k < r.metrics.size(); ++k) {
+        m[o.metrics[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
+                                                   : nlohmann::ordered_json(r.metrics[k]);
+      }
+      row["params"] = p;
+      row["metrics"] = m;
+      row["diverged"] = r.diverged;
+      if (r.diverged) row["diverged_time"] = r.diverged_time;
+      out += (emitted > 1 ? ",\n  " : "  ") + row.dump();
+    } else {
+      std::size_t w = 0;
+      out += fmt::format("{:>{}}", r.index, widths[w++]);
+      for (double v : r.params) out += fmt::format("{:>{}.6g}", v, widths[w++]);
+      for (double v : r.metrics) {
+        out += std::isnan(v) ? fmt::format("{:>{}}", "-", widths[w++])
+                             : fmt::format("{:>{}.6g}", v, widths[w++]);
+      }
+      out += fmt::format("{:>{}}\n", r.diverged ? "yes" : "no", widths[w++]);
+    }
+    if (out.size() > (1 << 16)) flush();
+  });
   if (o.format == "json") out += "\n]\n";
   flush();
   progress.Finish();

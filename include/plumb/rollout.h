@@ -87,6 +87,20 @@ void Rollout(const Model& model, const RolloutSpec& spec,
              const std::function<void(const RolloutResult&)>& emit,
              const std::atomic<bool>* stop = nullptr);
 
+// Runs exactly the rollouts `indices` (any order, no duplicates) and calls `emit` once per
+// rollout in the order given, from the calling thread; the building block of Rollout and
+// of distributing rollouts over processes. Ignores spec.shard_* and spec.skip.
+void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
+                  const std::function<void(const RolloutResult&)>& emit,
+                  const std::atomic<bool>* stop = nullptr);
+
+// Checks a spec (counts, shard, until, metric times). @throws ValueError.
+void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec);
+
+// Serialises a result to bytes and back, for sending it between processes.
+std::string EncodeResult(const RolloutResult& result);
+RolloutResult DecodeResult(const std::string& bytes);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_ROLLOUT_H_

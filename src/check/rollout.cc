@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 
@@ -284,8 +285,16 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
 
 }  // namespace
 
-void Rollout(const Model& model, const RolloutSpec& spec,
-             const std::function<void(const RolloutResult&)>& emit, const std::atomic<bool>* stop) {
+namespace {
+bool NeedsEnergy(const RolloutSpec& spec) {
+  for (const Metric& metric : spec.metrics) {
+    if (metric.kind == MetricKind::kEnergyDrift) return true;
+  }
+  return false;
+}
+}  // namespace
+
+void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   if (spec.count < 0) throw ValueError("--count must be >= 0");
   if (spec.threads < 1) throw ValueError("--threads must be at least 1");
   if (spec.shard_count < 1 || spec.shard_index < 0 || spec.shard_index >= spec.shard_count) {
@@ -293,58 +302,106 @@ void Rollout(const Model& model, const RolloutSpec& spec,
                      std::to_string(spec.shard_count));
   }
   if (!(spec.until > 0) || !std::isfinite(spec.until)) throw ValueError("--until must be > 0 s");
-  if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1)
+  if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1) {
     throw ValueError("--ctrl-noise must be in [0, 1]");
+  }
   double dt = model->opt.timestep;
   for (const Assignment& a : spec.sets) {
     if (a.path.field == "opt.timestep") dt = a.values[0];
   }
-  bool energy = false;
   for (const Metric& metric : spec.metrics) {
     bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+    double steps = metric.time / dt;
     if (at_time && (metric.time > spec.until + 1e-12 ||
-                    std::fabs(metric.time / dt - std::round(metric.time / dt)) >
-                        1e-9 * std::max(1.0, metric.time / dt))) {
+                    std::fabs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))) {
       throw ValueError("metric '" + metric.text + "': its time must be a whole number of steps (" +
                        std::to_string(dt) + " s) within --until " + std::to_string(spec.until) +
                        " s.");
     }
-    energy = energy || metric.kind == MetricKind::kEnergyDrift;
   }
+}
 
-  // the indices this process runs, in order
-  std::vector<long> todo;
-  long total = 0;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
-    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
-  }
+void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
+                  const std::function<void(const RolloutResult&)>& emit,
+                  const std::atomic<bool>* stop) {
+  bool energy = NeedsEnergy(spec);
   tbb::enumerable_thread_specific<std::optional<Worker>> workers;
   tbb::task_arena arena(spec.threads);
   std::atomic<long> done{0};
-  const long chunk = 64L * spec.threads;
+  const std::size_t chunk = 64 * static_cast<std::size_t>(spec.threads);
   std::vector<RolloutResult> results;
-  long next = spec.shard_index;
-  while (next < spec.count) {
-    // gather one chunk of indices
-    todo.clear();
-    while (next < spec.count && static_cast<long>(todo.size()) < chunk) {
-      if (!std::binary_search(spec.skip.begin(), spec.skip.end(), next)) todo.push_back(next);
-      next += spec.shard_count;
-    }
-    if (stop && stop->load())
+  for (std::size_t first = 0; first < indices.size(); first += chunk) {
+    if (stop && stop->load()) {
       throw Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
-    results.assign(todo.size(), RolloutResult{});
+    }
+    std::size_t n = std::min(chunk, indices.size() - first);
+    results.assign(n, RolloutResult{});
     arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
+      tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
         std::optional<Worker>& w = workers.local();
         if (!w) w.emplace(model);
-        results[i] = RunOne(model, *w, spec, todo[i], energy);
+        results[i] = RunOne(model, *w, spec, indices[first + i], energy);
         long finished = ++done;
-        if (spec.progress) spec.progress(finished, total);
+        if (spec.progress) spec.progress(finished, static_cast<long>(indices.size()));
       });
     });
     for (const RolloutResult& r : results) emit(r);
   }
+}
+
+void Rollout(const Model& model, const RolloutSpec& spec,
+             const std::function<void(const RolloutResult&)>& emit, const std::atomic<bool>* stop) {
+  ValidateRolloutSpec(model, spec);
+  std::vector<long> indices;
+  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
+    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) indices.push_back(i);
+  }
+  RolloutCases(model, spec, indices, emit, stop);
+}
+
+namespace {
+template <typename T>
+void Put(std::string* out, const T& v) {
+  out->append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+template <typename T>
+T Get(const std::string& in, std::size_t* at) {
+  if (*at + sizeof(T) > in.size()) throw ValueError("a rollout result message is truncated");
+  T v;
+  std::memcpy(&v, in.data() + *at, sizeof(T));
+  *at += sizeof(T);
+  return v;
+}
+}  // namespace
+
+std::string EncodeResult(const RolloutResult& r) {
+  std::string out;
+  Put<std::int64_t>(&out, r.index);
+  Put<std::int64_t>(&out, r.diverged ? 1 : 0);
+  Put<double>(&out, r.diverged_time);
+  Put<std::int64_t>(&out, static_cast<std::int64_t>(r.params.size()));
+  for (double v : r.params) Put(&out, v);
+  Put<std::int64_t>(&out, static_cast<std::int64_t>(r.metrics.size()));
+  for (double v : r.metrics) Put(&out, v);
+  Put<std::int64_t>(&out, static_cast<std::int64_t>(r.problem.size()));
+  out += r.problem;
+  return out;
+}
+
+RolloutResult DecodeResult(const std::string& in) {
+  std::size_t at = 0;
+  RolloutResult r;
+  r.index = Get<std::int64_t>(in, &at);
+  r.diverged = Get<std::int64_t>(in, &at) != 0;
+  r.diverged_time = Get<double>(in, &at);
+  r.params.resize(Get<std::int64_t>(in, &at));
+  for (double& v : r.params) v = Get<double>(in, &at);
+  r.metrics.resize(Get<std::int64_t>(in, &at));
+  for (double& v : r.metrics) v = Get<double>(in, &at);
+  std::size_t n = Get<std::int64_t>(in, &at);
+  if (at + n > in.size()) throw ValueError("a rollout result message is truncated");
+  r.problem = in.substr(at, n);
+  return r;
 }
 
 }  // namespace plumb

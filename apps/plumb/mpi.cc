@@ -1,0 +1,156 @@
+#include "mpi.h"
+
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+
+#include "plumb/error.h"
+
+#ifdef PLUMB_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace plumb::cli {
+
+#ifdef PLUMB_WITH_MPI
+
+namespace {
+bool g_initialised = false;
+constexpr int kTagResults = 1;  // worker -> root: results of the last chunk (maybe none)
+constexpr int kTagWork = 2;     // root -> worker: the next chunk of indices
+constexpr int kTagStop = 3;     // root -> worker: nothing left
+constexpr std::size_t kChunk = 32;
+
+bool LaunchedByMpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(v)) return true;
+  }
+  return false;
+}
+
+int Size() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+// A message of results: each encoded result prefixed with its length.
+std::string Pack(const std::vector<RolloutResult>& results) {
+  std::string out;
+  for (const RolloutResult& r : results) {
+    std::string bytes = EncodeResult(r);
+    std::uint64_t n = bytes.size();
+    out.append(reinterpret_cast<const char*>(&n), sizeof(n));
+    out += bytes;
+  }
+  return out;
+}
+
+std::vector<RolloutResult> Unpack(const std::string& in) {
+  std::vector<RolloutResult> out;
+  std::size_t at = 0;
+  while (at + sizeof(std::uint64_t) <= in.size()) {
+    std::uint64_t n;
+    std::memcpy(&n, in.data() + at, sizeof(n));
+    at += sizeof(n);
+    out.push_back(DecodeResult(in.substr(at, n)));
+    at += n;
+  }
+  return out;
+}
+
+std::string Receive(int source, int tag, MPI_Status* status) {
+  MPI_Probe(source, tag, MPI_COMM_WORLD, status);
+  int count = 0;
+  MPI_Get_count(status, MPI_BYTE, &count);
+  std::string buffer(count, '\0');
+  MPI_Recv(buffer.data(), count, MPI_BYTE, status->MPI_SOURCE, status->MPI_TAG, MPI_COMM_WORLD,
+           MPI_STATUS_IGNORE);
+  return buffer;
+}
+}  // namespace
+
+void MpiInit(int* argc, char*** argv) {
+  if (!LaunchedByMpi()) return;
+  MPI_Init(argc, argv);
+  g_initialised = true;
+}
+
+void MpiFinalize() {
+  if (g_initialised) MPI_Finalize();
+}
+
+bool MpiActive() { return g_initialised && Size() > 1; }
+
+int MpiRank() {
+  if (!g_initialised) return 0;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
+                const std::function<void(const RolloutResult&)>& emit) {
+  if (MpiRank() != 0) {
+    // a worker: ask for work with the results of the last chunk, until told to stop
+    std::vector<RolloutResult> results;
+    while (true) {
+      std::string message = Pack(results);
+      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, kTagResults,
+               MPI_COMM_WORLD);
+      MPI_Status status;
+      std::string work = Receive(0, MPI_ANY_TAG, &status);
+      if (status.MPI_TAG == kTagStop) return;
+      std::vector<long> chunk(work.size() / sizeof(long));
+      std::memcpy(chunk.data(), work.data(), chunk.size() * sizeof(long));
+      results.clear();
+      RolloutSpec local = spec;
+      local.progress = nullptr;
+      RolloutCases(model, local, chunk, [&](const RolloutResult& r) { results.push_back(r); });
+    }
+  }
+  // the root: hand out chunks in index order as workers ask, emit results in order
+  std::map<long, RolloutResult> pending;
+  std::size_t next = 0, emitted = 0;
+  int active = Size() - 1;
+  while (active > 0) {
+    MPI_Status status;
+    std::string message = Receive(MPI_ANY_SOURCE, kTagResults, &status);
+    for (RolloutResult& r : Unpack(message)) pending.emplace(r.index, std::move(r));
+    if (next < indices.size()) {
+      std::size_t n = std::min(kChunk, indices.size() - next);
+      MPI_Send(indices.data() + next, static_cast<int>(n * sizeof(long)), MPI_BYTE,
+               status.MPI_SOURCE, kTagWork, MPI_COMM_WORLD);
+      next += n;
+    } else {
+      MPI_Send(nullptr, 0, MPI_BYTE, status.MPI_SOURCE, kTagStop, MPI_COMM_WORLD);
+      --active;
+    }
+    while (emitted < indices.size()) {
+      auto it = pending.find(indices[emitted]);
+      if (it == pending.end()) break;
+      emit(it->second);
+      pending.erase(it);
+      ++emitted;
+      if (spec.progress)
+        spec.progress(static_cast<long>(emitted), static_cast<long>(indices.size()));
+    }
+  }
+  if (emitted != indices.size()) throw Error("MPI: some rollouts were never returned");
+}
+
+#else  // without MPI
+
+void MpiInit(int*, char***) {}
+void MpiFinalize() {}
+bool MpiActive() { return false; }
+int MpiRank() { return 0; }
+void MpiRollout(const Model&, const RolloutSpec&, const std::vector<long>&,
+                const std::function<void(const RolloutResult&)>&) {
+  throw Error("plumb was built without MPI (PLUMB_WITH_MPI=OFF)");
+}
+
+#endif
+
+}  // namespace plumb::cli
