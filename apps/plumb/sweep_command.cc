@@ -7,7 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "core/version.h"
 #include "plumb/error.h"
+#include "plumb/output.h"
+#include "plumb/store.h"
 #include "plumb/sweep.h"
 
 namespace plumb::cli {
@@ -21,6 +24,7 @@ struct SweepOptions {
   int threads = 1;
   double until = 0;
   std::string format = "table";
+  std::string db;
 };
 
 std::string Number(double v) {
@@ -30,7 +34,46 @@ std::string Number(double v) {
   return buffer;
 }
 
-int RunSweep(const SweepOptions& o) {
+// Records a finished sweep in the results store: one run, one case per combination.
+void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
+           const std::vector<SweepCase>& cases) {
+  ResultsStore store(o.db);
+  RunInfo info;
+  info.kind = "sweep";
+  info.model_file = o.model;
+  info.model_hash = HashFile(o.model);
+  info.config = "sweep model=" + info.model_hash;
+  for (const std::string& s : o.sets) info.config += " set=" + s;
+  for (const std::string& v : o.vary) info.config += " vary=" + v;
+  for (const std::string& m : o.metrics) info.config += " metric=" + m;
+  std::vector<std::string> quoted;
+  for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
+  info.command = fmt::format("{}", fmt::join(quoted, " "));
+  info.plumb_version = PLUMB_VERSION;
+  info.mujoco_version = MujocoVersion();
+  for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
+  info.metrics = o.metrics;
+  info.count = static_cast<long>(cases.size());
+  long run = store.BeginRun(info);
+  for (const SweepCase& c : cases) {
+    RolloutResult r;
+    r.index = c.index;
+    for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+      r.params.push_back(spec.axes[a].values[c.choice[a]].values[0]);
+    }
+    for (const Measurement& m : c.metrics) {
+      r.metrics.push_back(m.ok ? m.value : NAN);
+      if (!m.ok) {
+        r.diverged = r.diverged || m.problem.find("diverged") != std::string::npos;
+        r.problem += (r.problem.empty() ? "" : "; ") + m.problem;
+      }
+    }
+    store.Add(run, r);
+  }
+  store.FinishRun(run);
+}
+
+int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec;
   spec.sets = ParseAssignments(model, o.sets);
@@ -43,6 +86,7 @@ int RunSweep(const SweepOptions& o) {
   spec.progress = [&](long done, long) { progress.Update(done); };
   std::vector<SweepCase> cases = Sweep(model, spec);
   progress.Finish();
+  if (!o.db.empty()) Store(o, ctx, spec, cases);
 
   long failed = 0;
   std::string out;
@@ -151,14 +195,16 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
                   "PATH@T, period(PATH), maxabs(PATH), energy_drift or state@T (repeatable)")
       ->allow_extra_args(false)
       ->required();
-  cmd->add_option("--threads", o->threads, "worker threads")->capture_default_str()->check(
-      CLI::Range(1, 1024));
+  cmd->add_option("--threads", o->threads, "worker threads")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--until", o->until,
                   "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
   cmd->add_option("--format", o->format, "table, csv or json")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunSweep(*o); }; });
+  cmd->add_option("--db", o->db, "also record the sweep in this SQLite results store");
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunSweep(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

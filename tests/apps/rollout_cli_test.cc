@@ -109,6 +109,23 @@ TEST(CliRolloutTest, SlurmArrayVariablesPickTheShard) {
   EXPECT_EQ(std::count(shard1.begin(), shard1.end(), '\n'), 3);  // header + rollouts 1, 4
 }
 
+TEST(CliRolloutTest, SweepsWriteTheStoreToo) {
+  TempDir dir;
+  testing::CommandResult r = RunPlumb("sweep " + testing::kPendulum +
+                                          " --set 'qpos[hinge]=0.7' --vary "
+                                          "'dof_damping[hinge]=0,0.05' --metric 'qpos[hinge]@2' "
+                                          "--db sweep.sqlite",
+                                      dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  nlohmann::json j =
+      nlohmann::json::parse(RunPlumb("results sweep.sqlite --format json", dir.path()).out);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["kind"], "sweep");
+  ASSERT_EQ(j[0]["rollouts"].size(), 2u);
+  EXPECT_NEAR(j[0]["rollouts"][1]["metrics"]["qpos[hinge]@2"].get<double>(), 0.310947692600239,
+              1e-12);
+}
+
 TEST(CliRolloutTest, BadInputIsExit2) {
   EXPECT_EQ(
       RunPlumb("rollout " + testing::kHumanoid + " --randomize 'body_mass[*]=W(1,2)'").exit_code,
