@@ -9,7 +9,7 @@
 
 namespace {
 
-constexpr long kRollouts = 16;
+constexpr long kRollouts = 64;
 constexpr double kUntil = 1.0;  // 200 steps of 5 ms each
 
 plumb::RolloutSpec Spec(const plumb::Model& model, bool randomized, int threads) {
