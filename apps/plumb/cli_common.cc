@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 
@@ -40,9 +41,8 @@ void ProgressBar::Update(long done) {
   double eta = rate > 0 ? (total_ - done) / rate : 0;
   constexpr int kWidth = 30;
   int filled = total_ > 0 ? static_cast<int>(kWidth * done / total_) : kWidth;
-  std::fprintf(stderr, "\r[%s%s] %ld/%ld %s  %.1f/s  ETA %.0f s ",
-               std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), done,
-               total_, unit_.c_str(), rate, eta);
+  std::fprintf(stderr, "\r[%s%s] %ld/%ld %s  %.1f/s  ETA %.0f s ", std::string(filled, '#').c_str(),
+               std::string(kWidth - filled, ' ').c_str(), done, total_, unit_.c_str(), rate, eta);
   std::fflush(stderr);
 }
 
@@ -82,6 +82,29 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
   std::vector<Assignment> out;
   for (const std::string& s : sets) out.push_back(ParseAssignment(model, s));
   return out;
+}
+
+std::string CsvNumber(double v) {
+  if (std::isnan(v)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+  return buffer;
+}
+
+std::string CsvHeader(const std::vector<std::string>& fields) {
+  std::string line;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const std::string& f = fields[i];
+    if (i) line += ',';
+    if (f.find_first_of(",\"") == std::string::npos) {
+      line += f;
+      continue;
+    }
+    line += '"';
+    for (char c : f) line += c == '"' ? std::string("\"\"") : std::string(1, c);
+    line += '"';
+  }
+  return line + "\n";
 }
 
 std::vector<std::string> SplitPathList(const std::string& text) {

@@ -7,8 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
-#include <mutex>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -41,6 +41,12 @@ Model LoadModel(const std::string& path);
 
 // Parses every --set assignment against the model.
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
+
+// A number for CSV output: %.17g (round-trips exactly), empty for NaN (not measured).
+std::string CsvNumber(double v);
+
+// A CSV header line (with newline), fields quoted where they hold commas or quotes.
+std::string CsvHeader(const std::vector<std::string>& fields);
 
 // Splits a comma-separated list of paths, keeping commas inside [...] together.
 std::vector<std::string> SplitPathList(const std::string& text);

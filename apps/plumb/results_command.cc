@@ -21,13 +21,6 @@ struct ResultsOptions {
   std::string format = "csv";
 };
 
-std::string Number(double v) {
-  if (std::isnan(v)) return "";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
-}
-
 int RunResults(const ResultsOptions& o) {
   if (!std::ifstream(o.file)) throw IoError("no results store '" + o.file + "'.");
   ResultsStore store(o.file);
@@ -74,14 +67,11 @@ int RunResults(const ResultsOptions& o) {
       header.insert(header.end(), run.parameters.begin(), run.parameters.end());
       header.insert(header.end(), run.metrics.begin(), run.metrics.end());
       header.push_back("diverged");
-      for (std::string& h : header) {
-        if (h.find_first_of(",\"") != std::string::npos) h = "\"" + h + "\"";
-      }
-      out += fmt::format("{}\n", fmt::join(header, ","));
+      out += CsvHeader(header);
       for (const RolloutResult& r : store.Results(run.id)) {
         out += std::to_string(run.id) + "," + std::to_string(r.index);
-        for (double v : r.params) out += "," + Number(v);
-        for (double v : r.metrics) out += "," + Number(v);
+        for (double v : r.params) out += "," + CsvNumber(v);
+        for (double v : r.metrics) out += "," + CsvNumber(v);
         out += r.diverged ? ",1\n" : ",0\n";
       }
     }

@@ -52,13 +52,6 @@ std::string Config(const RolloutOptions& o, const std::string& model_hash) {
   return config;
 }
 
-std::string Number(double v) {
-  if (std::isnan(v)) return "";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
-}
-
 // "I/N", or the Slurm job array's task id and count when --shard is absent.
 void ParseShard(const std::string& text, RolloutSpec* spec) {
   std::string shard = text;
@@ -152,11 +145,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   };
   std::vector<int> widths;
   if (o.format == "csv") {
-    std::vector<std::string> quoted;
-    for (const std::string& c : columns) {
-      quoted.push_back(c.find_first_of(",\"") == std::string::npos ? c : "\"" + c + "\"");
-    }
-    out += fmt::format("{}\n", fmt::join(quoted, ","));
+    out += CsvHeader(columns);
   } else if (o.format == "json") {
     out += "[\n";
   } else {
@@ -190,8 +179,8 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
     if (o.format == "csv") {
       out += std::to_string(r.index);
-      for (double v : r.params) out += "," + Number(v);
-      for (double v : r.metrics) out += "," + Number(v);
+      for (double v : r.params) out += "," + CsvNumber(v);
+      for (double v : r.metrics) out += "," + CsvNumber(v);
       out += r.diverged ? ",1\n" : ",0\n";
     } else if (o.format == "json") {
       nlohmann::ordered_json row;

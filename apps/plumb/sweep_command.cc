@@ -27,13 +27,6 @@ struct SweepOptions {
   std::string db;
 };
 
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "nan";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
-}
-
 // Records a finished sweep in the results store: one run, one case per combination.
 void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
            const std::vector<SweepCase>& cases) {
@@ -118,16 +111,13 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     std::vector<std::string> header = {"case"};
     for (const SweepAxis& a : spec.axes) header.push_back(a.path.text);
     header.insert(header.end(), o.metrics.begin(), o.metrics.end());
-    for (std::string& h : header) {
-      if (h.find_first_of(",\"") != std::string::npos) h = "\"" + h + "\"";
-    }
-    out = fmt::format("{}\n", fmt::join(header, ","));
+    out = CsvHeader(header);
     for (const SweepCase& c : cases) {
       out += std::to_string(c.index);
       for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-        out += "," + Number(spec.axes[a].values[c.choice[a]].values[0]);
+        out += "," + CsvNumber(spec.axes[a].values[c.choice[a]].values[0]);
       }
-      for (const Measurement& r : c.metrics) out += "," + (r.ok ? Number(r.value) : "");
+      for (const Measurement& r : c.metrics) out += "," + (r.ok ? CsvNumber(r.value) : "");
       out += "\n";
     }
   } else {
