@@ -45,8 +45,12 @@ int RunResults(const ResultsOptions& o) {
           m[run.metrics[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
                                                        : nlohmann::ordered_json(r.metrics[k]);
         }
-        rows.push_back(
-            {{"rollout", r.index}, {"params", p}, {"metrics", m}, {"diverged", r.diverged}});
+        nlohmann::ordered_json row = {
+            {"rollout", r.index}, {"params", p}, {"metrics", m}, {"diverged", r.diverged}};
+        if (r.diverged) row["diverged_time"] = r.diverged_time;
+        if (!r.problem.empty()) row["problem"] = r.problem;
+        if (!r.warnings.empty()) row["warnings"] = r.warnings;
+        rows.push_back(row);
       }
       j.push_back({{"run", run.id},
                    {"kind", run.kind},

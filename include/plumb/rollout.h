@@ -73,6 +73,7 @@ struct RolloutResult {
   bool diverged = false;
   double diverged_time = 0;  // s
   std::string problem;       // divergence or measurement problem
+  std::string warnings;      // MuJoCo warnings of the run: "CONTACTFULL x3 (t = 0.1 s); ..."
 };
 
 // Names of the sampled parameters, in RolloutResult::params order.

@@ -6,7 +6,7 @@
 //   runs(id, kind, config, command, model_file, model_hash, plumb_version,
 //        mujoco_version, started, finished, parameters, metrics, count)
 //   cases(run, idx, params)            params: JSON array of numbers
-//   results(run, idx, metrics, diverged, diverged_time, problem)
+//   results(run, idx, metrics, diverged, diverged_time, problem, warnings)
 //                                      metrics: JSON array, null where unmeasured
 //
 // Example:

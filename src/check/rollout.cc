@@ -291,6 +291,11 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   NullSink sink;
   RunResult result = Run(w.work, w.data, run, sink);
   TakeMujocoWarnings();
+  for (const WarningSummary& warning : result.warnings) {
+    out.warnings += (out.warnings.empty() ? "" : "; ") + warning.kind + " x" +
+                    std::to_string(warning.count) + " (t = " + std::to_string(warning.first_time) +
+                    " s)";
+  }
   if (result.diverged) {
     out.diverged = true;
     out.diverged_time = result.divergence->bad.time;
@@ -418,8 +423,10 @@ std::string EncodeResult(const RolloutResult& r) {
   for (double v : r.params) Put(&out, v);
   Put<std::int64_t>(&out, static_cast<std::int64_t>(r.metrics.size()));
   for (double v : r.metrics) Put(&out, v);
-  Put<std::int64_t>(&out, static_cast<std::int64_t>(r.problem.size()));
-  out += r.problem;
+  for (const std::string* text : {&r.problem, &r.warnings}) {
+    Put<std::int64_t>(&out, static_cast<std::int64_t>(text->size()));
+    out += *text;
+  }
   return out;
 }
 
@@ -433,9 +440,12 @@ RolloutResult DecodeResult(const std::string& in) {
   for (double& v : r.params) v = Get<double>(in, &at);
   r.metrics.resize(Get<std::int64_t>(in, &at));
   for (double& v : r.metrics) v = Get<double>(in, &at);
-  std::size_t n = Get<std::int64_t>(in, &at);
-  if (at + n > in.size()) throw ValueError("a rollout result message is truncated");
-  r.problem = in.substr(at, n);
+  for (std::string* text : {&r.problem, &r.warnings}) {
+    std::size_t n = Get<std::int64_t>(in, &at);
+    if (at + n > in.size()) throw ValueError("a rollout result message is truncated");
+    *text = in.substr(at, n);
+    at += n;
+  }
   return r;
 }
 

@@ -131,7 +131,8 @@ ResultsStore::ResultsStore(const std::string& path) : impl_(std::make_unique<Imp
         "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
         "PRIMARY KEY(run, idx));"
         "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
-        "diverged INTEGER, diverged_time REAL, problem TEXT, PRIMARY KEY(run, idx));");
+        "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
+        "PRIMARY KEY(run, idx));");
   } catch (const IoError& e) {
     sqlite3_close(impl_->db);
     throw IoError(std::string(e.what()) + " (is it a plumb results store?)");
@@ -221,7 +222,7 @@ void ResultsStore::Commit() {
                 impl_->file);
     Statement r(impl_->db,
                 "INSERT OR REPLACE INTO results(run, idx, metrics, diverged, diverged_time, "
-                "problem) VALUES(?,?,?,?,?,?)",
+                "problem, warnings) VALUES(?,?,?,?,?,?,?)",
                 impl_->file);
     for (const auto& [run, x] : impl_->queue) {
       c.Bind(1, run).Bind(2, x.index).Bind(3, Numbers(x.params).dump());
@@ -229,6 +230,7 @@ void ResultsStore::Commit() {
       c.Reset();
       r.Bind(1, run).Bind(2, x.index).Bind(3, Numbers(x.metrics).dump());
       r.Bind(4, static_cast<long>(x.diverged)).Bind(5, x.diverged_time).Bind(6, x.problem);
+      r.Bind(7, x.warnings);
       r.Step();
       r.Reset();
     }
@@ -243,7 +245,8 @@ void ResultsStore::Commit() {
 std::vector<RolloutResult> ResultsStore::Results(long run) {
   Commit();
   Statement s(impl_->db,
-              "SELECT r.idx, c.params, r.metrics, r.diverged, r.diverged_time, r.problem "
+              "SELECT r.idx, c.params, r.metrics, r.diverged, r.diverged_time, r.problem, "
+              "r.warnings "
               "FROM results r JOIN cases c ON c.run = r.run AND c.idx = r.idx "
               "WHERE r.run = ? ORDER BY r.idx",
               impl_->file);
@@ -257,6 +260,7 @@ std::vector<RolloutResult> ResultsStore::Results(long run) {
     x.diverged = s.Int(3) != 0;
     x.diverged_time = s.Real(4);
     x.problem = s.Text(5);
+    x.warnings = s.Text(6);
     out.push_back(x);
   }
   return out;

@@ -178,6 +178,21 @@ TEST_F(RolloutTest, DivergedRolloutIsRecordedAndTheBatchGoesOn) {
   EXPECT_EQ(diverged, expected);
 }
 
+TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {
+  Model model = Model::FromXmlString(R"(<mujoco><size nconmax="1"/><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="box" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
+    </worldbody></mujoco>)");
+  RolloutSpec spec;
+  spec.count = 2;
+  spec.until = 0.1;
+  std::vector<RolloutResult> r = Collect(model, spec);
+  TakeMujocoWarnings();
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_NE(r[0].warnings.find("CONTACTFULL"), std::string::npos) << r[0].warnings;
+  EXPECT_EQ(DecodeResult(EncodeResult(r[0])).warnings, r[0].warnings);
+}
+
 TEST_F(RolloutTest, BadSpecsAreRejected) {
   RolloutSpec spec;
   spec.shard_count = 2;
