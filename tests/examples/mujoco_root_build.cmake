@@ -1,0 +1,38 @@
+# Builds examples/01_hello against a MuJoCo "release folder" (include/mujoco/*.h,
+# lib/libmujoco.so) given with -DMUJOCO_ROOT, the way a MuJoCo 3.x user builds: here the
+# folder is assembled from Debian's 2.2.2 files. Checks the RPATH points into the folder,
+# so the program runs without LD_LIBRARY_PATH.
+file(REMOVE_RECURSE "${WORK_DIR}")
+set(root "${WORK_DIR}/mujoco-release")
+file(MAKE_DIRECTORY "${root}/include" "${root}/lib")
+file(CREATE_LINK "${MUJOCO_INCLUDE}/mujoco" "${root}/include/mujoco" SYMBOLIC)
+file(CREATE_LINK "${MUJOCO_LIBRARY}" "${root}/lib/libmujoco.so" SYMBOLIC)
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/01_hello" -B "${WORK_DIR}/build"
+    -DCMAKE_BUILD_TYPE=Release -DMUJOCO_ROOT=${root}
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc OR NOT out MATCHES "MuJoCo from MUJOCO_ROOT")
+  message(FATAL_ERROR "configuring with MUJOCO_ROOT failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build "${WORK_DIR}/build" RESULT_VARIABLE rc
+  OUTPUT_QUIET)
+if(rc)
+  message(FATAL_ERROR "building with MUJOCO_ROOT failed")
+endif()
+execute_process(COMMAND readelf -d "${WORK_DIR}/build/hello" OUTPUT_VARIABLE dynamic)
+if(NOT dynamic MATCHES "${root}/lib")
+  message(FATAL_ERROR "hello has no RPATH into ${root}/lib:\n${dynamic}")
+endif()
+execute_process(COMMAND "${WORK_DIR}/build/hello" "${SOURCE_DIR}/models/pendulum.xml"
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(rc OR NOT out MATCHES "^t= 0.10 q=0.65403 dq=-0.89118\n")
+  message(FATAL_ERROR "hello built with MUJOCO_ROOT printed:\n${out}")
+endif()
+# a folder that is not a release is refused with a clear message
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/01_hello" -B "${WORK_DIR}/bad"
+    -DMUJOCO_ROOT=${WORK_DIR}/nowhere
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc OR NOT err MATCHES "does not look like a")
+  message(FATAL_ERROR "a bad MUJOCO_ROOT was not refused clearly:\n${err}")
+endif()
