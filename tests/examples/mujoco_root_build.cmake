@@ -36,3 +36,15 @@ execute_process(
 if(NOT rc OR NOT err MATCHES "does not look like a")
   message(FATAL_ERROR "a bad MUJOCO_ROOT was not refused clearly:\n${err}")
 endif()
+# plumb's own build finds the same folder and puts it in the RPATH
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/plumb" -DMUJOCO_ROOT=${root}
+    -DPLUMB_BUILD_TESTS=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc OR NOT out MATCHES "MuJoCo from MUJOCO_ROOT")
+  message(FATAL_ERROR "configuring plumb with MUJOCO_ROOT failed:\n${out}\n${err}")
+endif()
+file(READ "${WORK_DIR}/plumb/CMakeCache.txt" cache)
+if(NOT cache MATCHES "PLUMB_MUJOCO_LIBDIR:INTERNAL=${root}/lib")
+  message(FATAL_ERROR "plumb's RPATH folder is not the MUJOCO_ROOT library folder")
+endif()
