@@ -94,9 +94,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "controls [{actuator, type = constant|step|ramp|sine, ...}], assertions\n"
       "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
       "Exit codes: 0 nothing failed, 1 a check failed (or warned, with --strict), 2 bad input.");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets, "PATH=VALUE before the audit (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "before the audit");
   cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
   cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
   cmd->add_option("--format", o->format, "table or json")

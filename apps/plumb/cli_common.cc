@@ -50,6 +50,16 @@ void ProgressBar::Finish() {
   if (enabled_) std::fprintf(stderr, "\r%80s\r", "");
 }
 
+void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
+                     const std::string& when) {
+  cmd->add_option("model", *model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  cmd->add_option("--set", *sets,
+                  "PATH=VALUE " + when +
+                      ", e.g. 'qpos[hinge]=0.7', 'opt.gravity=0,0,-1.62', "
+                      "'opt.integrator=RK4' (repeatable)")
+      ->allow_extra_args(false);
+}
+
 int ReportError(const std::exception& error) {
   std::fprintf(stderr, "plumb: error: %s\n", error.what());
   if (const auto* load = dynamic_cast<const LoadError*>(&error)) {

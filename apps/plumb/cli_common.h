@@ -33,6 +33,11 @@ struct Context {
   std::function<int()> action;
 };
 
+// The options every model command shares: the MODEL positional and repeatable --set
+// PATH=VALUE (one value per occurrence), with `when` saying when the assignments apply.
+void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
+                     const std::string& when);
+
 // Maps an exception to its exit code after printing it on stderr as one paragraph.
 int ReportError(const std::exception& error);
 

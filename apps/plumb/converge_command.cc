@@ -115,9 +115,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       "      --metric 'qpos[hinge]@2'\n"
       "Metrics: PATH@T, period(PATH), maxabs(PATH), energy_drift, state@T.\n"
       "Exit codes: 0 ok, 2 bad input, 3 a level diverged.");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets, "PATH=VALUE before each run (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "before each run");
   cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
   cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");
   cmd->add_option("--halvings", o->halvings, "number of halvings of dt")

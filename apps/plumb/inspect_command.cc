@@ -140,9 +140,7 @@ void SetupInspectCommand(CLI::App& app, Context& ctx) {
       "  plumb inspect models/pendulum.xml\n"
       "  plumb inspect models/pendulum.xml --format json\n"
       "  plumb inspect models/pendulum.xml --set 'body_mass[link]=2'");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets, "PATH=VALUE applied before inspecting (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "applied before inspecting");
   cmd->add_option("--format", o->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

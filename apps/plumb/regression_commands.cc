@@ -90,9 +90,7 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
   snapshot->footer(
       "Example:\n  plumb snapshot robot.xml -o robot.snap.json    # commit it with the model\n"
       "Exit codes: 0 written, 2 bad input (nothing is written).");
-  snapshot->add_option("model", s->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  snapshot->add_option("--set", s->sets, "PATH=VALUE before snapshotting (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(snapshot, &s->model, &s->sets, "before snapshotting");
   snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON)")->required();
   snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });
 
@@ -104,9 +102,7 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
       "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
       "1 changed, 2 bad input, 3 the golden trajectory diverges.");
   diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
-  diff->add_option("model", d->model, "the model to compare")->required();
-  diff->add_option("--set", d->sets, "PATH=VALUE before comparing (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(diff, &d->model, &d->sets, "before comparing");
   diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
   diff->add_option("--format", d->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))

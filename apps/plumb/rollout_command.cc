@@ -253,7 +253,7 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       "SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT) runs the rollouts i with i % N == I.\n"
       "--db FILE records everything in SQLite; --resume skips what a killed run finished;\n"
       "plumb results FILE exports, plumb merge A B -o OUT joins shard files.");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
+  AddModelOptions(cmd, &o->model, &o->sets, "for every rollout");
   cmd->add_option("--count", o->count, "number of rollouts")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -269,8 +269,6 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       ->capture_default_str();
   cmd->add_option("--metric", o->metrics,
                   "PATH@T, maxabs(PATH), period(PATH), energy_drift or state@T (repeatable)")
-      ->allow_extra_args(false);
-  cmd->add_option("--set", o->sets, "PATH=VALUE for every rollout (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--shard", o->shard, "I/N: run the I-th of N disjoint slices");
   cmd->add_option("--format", o->format, "table, csv or json")

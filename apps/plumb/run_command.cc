@@ -107,11 +107,7 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       "  opt.timestep, opt.gravity, dof_damping[joint], body_mass[body], ... (any mjModel\n"
       "  or mjData array by name). Angles are radians.\n"
       "Exit codes: 0 ok, 2 bad input, 3 diverged (a repro folder is written).");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets,
-                  "PATH=VALUE before the run, e.g. 'qpos[hinge]=0.7', 'opt.gravity=0,0,-1.62', "
-                  "'opt.integrator=RK4' (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   cmd->add_option("--until", o->until, "final time in seconds")->capture_default_str();
   cmd->add_option("--every", o->every, "sampling interval in seconds (a multiple of the timestep)")
       ->capture_default_str();

@@ -175,9 +175,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       "      --vary opt.integrator=Euler,RK4 --metric 'period(qpos[hinge])' --threads 2\n"
       "Rows come out in case order (first --vary slowest) and are identical for any --threads.\n"
       "A diverged case is reported on stderr and left empty; the sweep goes on.");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets, "PATH=VALUE applied to every case (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "applied to every case");
   cmd->add_option("--vary", o->vary, "PATH=V1,V2,... or PATH=START:STOP:COUNT (repeatable)")
       ->allow_extra_args(false)
       ->required();

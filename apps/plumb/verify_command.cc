@@ -112,9 +112,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
       "Checks: load, determinism, warnings, convergence, energy; for a single hinge pendulum\n"
       "also analytic.*, the chapter's experiments A/B/C and exercises.\n"
       "Exit codes: 0 nothing failed, 1 a check failed, 2 bad input.");
-  cmd->add_option("model", o->model, "MJCF (.xml) or binary (.mjb) model file")->required();
-  cmd->add_option("--set", o->sets, "PATH=VALUE for the nominal scenario (repeatable)")
-      ->allow_extra_args(false);
+  AddModelOptions(cmd, &o->model, &o->sets, "for the nominal scenario");
   cmd->add_option("--format", o->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
