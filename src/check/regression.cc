@@ -152,12 +152,17 @@ ordered_json Options(const Model& model, const Data& data) {
     if (f.source != FieldSource::kOption) continue;
     out[f.name] = Value(model, data, ResolvePath(model, f.name));
   }
+  // enumerations by their MJCF names, so a diff reads "opt.cone: pyramidal → elliptic"
   out["opt.integrator"] = compat::NameOf(compat::kIntegrators, model->opt.integrator);
+  out["opt.cone"] = compat::NameOf(compat::kCones, model->opt.cone);
+  out["opt.solver"] = compat::NameOf(compat::kSolvers, model->opt.solver);
+  out["opt.jacobian"] = compat::NameOf(compat::kJacobians, model->opt.jacobian);
   return out;
 }
 
 // The golden trajectory: qpos, qvel, act after each of kSnapshotSteps steps.
-ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets, bool* diverged) {
+ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
+                        std::string* diverged) {
   Model work = model.Clone();
   Data data(work);
   ApplyAssignments(work, data, sets);
@@ -193,7 +198,7 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
   NullSink sink;
   RunResult r = Run(work, data, spec, sink);
   TakeMujocoWarnings();
-  *diverged = r.diverged;
+  if (r.diverged) *diverged = r.divergence->reason;
   return {{"steps", kSnapshotSteps},
           {"start", key >= 0 ? "keyframe home" : "qpos0"},
           {"controls",
@@ -204,7 +209,8 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
           {"act", act}};
 }
 
-ordered_json Snapshot(const Model& model, const std::vector<Assignment>& sets, bool* diverged) {
+ordered_json Snapshot(const Model& model, const std::vector<Assignment>& sets,
+                      std::string* diverged) {
   Model nominal = model.Clone();
   Data data(nominal);
   ApplyAssignments(nominal, data, sets);
@@ -261,7 +267,7 @@ bool Same(const ordered_json& a, const ordered_json& b, double tol) {
 }  // namespace
 
 std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets) {
-  bool diverged = false;
+  std::string diverged;
   return Snapshot(model, sets, &diverged).dump(2) + "\n";
 }
 
@@ -278,9 +284,9 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
     throw ValueError("not a plumb snapshot (no plumb_snapshot, structure or trajectory entry)");
   }
   SnapshotDiff diff;
-  bool diverged = false;
+  std::string diverged;
   ordered_json after = Snapshot(model, sets, &diverged);
-  diff.diverged = diverged;
+  diff.diverged = !diverged.empty();
   auto change = [&](std::string what) { diff.changes.push_back({std::move(what), true}); };
   if (before["mujoco_version"] != after["mujoco_version"]) {
     diff.notes.push_back("the snapshot was written with MuJoCo " +
@@ -320,7 +326,7 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
   // the golden trajectory, step by step
   const ordered_json& t0 = before["trajectory"];
   const ordered_json& t1 = after["trajectory"];
-  if (t0["qpos"].size() != t1["qpos"].size() && !diverged) {
+  if (t0["qpos"].size() != t1["qpos"].size() && !diff.diverged) {
     change("trajectory length: " + std::to_string(t0["qpos"].size()) + " → " +
            std::to_string(t1["qpos"].size()) + " steps");
   }
@@ -359,7 +365,7 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
       }
     }
   }
-  if (diverged) change("the golden trajectory diverges on the current model");
+  if (diff.diverged) change("the golden trajectory diverges on the current model: " + diverged);
   return diff;
 }
 

@@ -78,6 +78,25 @@ TEST_F(RegressionTest, AddedAndRemovedElementsAreNamed) {
   EXPECT_NE(Changes(back).find("body removed: gripper_left"), std::string::npos);
 }
 
+TEST_F(RegressionTest, EnumeratedOptionsAreNamed) {
+  SnapshotDiff d =
+      DiffSnapshot(snapshot_, pendulum_, {ParseAssignment(pendulum_, "opt.cone=elliptic")}, 1e-6);
+  EXPECT_NE(Changes(d).find("opt.cone: pyramidal → elliptic"), std::string::npos) << Changes(d);
+}
+
+TEST_F(RegressionTest, DivergingTrajectorySaysWhere) {
+  Model stiff = Model::FromXmlString(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/>
+    <worldbody><body><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
+    <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  std::string snap = MakeSnapshot(stiff, {});
+  SnapshotDiff d = DiffSnapshot(snap, stiff, {ParseAssignment(stiff, "qpos[slider]=0.01")}, 1e-6);
+  TakeMujocoWarnings();
+  EXPECT_TRUE(d.diverged);
+  EXPECT_NE(Changes(d).find("diverges on the current model: the simulation diverged at t = "),
+            std::string::npos)
+      << Changes(d);
+}
+
 TEST_F(RegressionTest, NotASnapshotIsAValueError) {
   EXPECT_THROW(DiffSnapshot("{not json", pendulum_, {}, 1e-6), ValueError);
   EXPECT_THROW(DiffSnapshot("{\"a\": 1}", pendulum_, {}, 1e-6), ValueError);
