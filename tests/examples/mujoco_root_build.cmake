@@ -33,7 +33,10 @@ execute_process(
   COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/01_hello" -B "${WORK_DIR}/bad"
     -DMUJOCO_ROOT=${WORK_DIR}/nowhere
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc OR NOT err MATCHES "does not look like a")
+# CMake wraps a FATAL_ERROR message at a width that depends on the path in it: compare the
+# text with every run of white space folded to one space
+string(REGEX REPLACE "[ \t\r\n]+" " " err_flat "${err}")
+if(NOT rc OR NOT err_flat MATCHES "does not look like a MuJoCo release folder")
   message(FATAL_ERROR "a bad MUJOCO_ROOT was not refused clearly:\n${err}")
 endif()
 # plumb's own build finds the same folder and puts it in the RPATH
