@@ -65,27 +65,41 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   std::vector<std::string> summarised;
   for (const WarningSummary& w : result.warnings) {
     std::fprintf(stderr,
-                 "plumb: warning: MuJoCo %s raised %d time(s), first at t = %g s (step %ld): %s\n",
-                 w.kind.c_str(), w.count, w.first_time, w.first_step, w.message.c_str());
+                 "plumb: warning: MuJoCo %s raised %d time(s), first in step %ld (t = %g s): %s\n",
+                 w.kind.c_str(), w.count, w.first_step, w.first_time, w.message.c_str());
     summarised.push_back(w.message);
   }
+  // MuJoCo's own text of a summarised warning differs only by its " Time = ..." suffix
+  auto summarised_already = [&](const std::string& message) {
+    return std::any_of(summarised.begin(), summarised.end(), [&](const std::string& text) {
+      return message.compare(0, text.size(), text) == 0;
+    });
+  };
   for (const std::string& message : TakeMujocoWarnings()) {
-    if (std::find(summarised.begin(), summarised.end(), message) == summarised.end()) {
+    if (!summarised_already(message)) {
       std::fprintf(stderr, "plumb: warning: MuJoCo: %s\n", message.c_str());
     }
   }
   if (result.diverged) {
-    std::string dir =
-        o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
-    std::string written = WriteRepro(model, result, ctx.argv, dir);
+    // the divergence is the news: say it first, then where the repro went
     std::fprintf(stderr,
                  "plumb: error: %s\n"
                  "plumb: hint: a timestep that is too large or a mass/inertia that is far off "
                  "makes a simulation blow up: halve opt.timestep (--set opt.timestep=...) and "
-                 "check the compiler's warnings.\n"
-                 "plumb: repro folder: %s/ (model, last good and bad state, command line)%s\n",
-                 result.divergence->reason.c_str(), written.c_str(),
-                 file ? "; no output file was written" : "");
+                 "check the compiler's warnings.\n",
+                 result.divergence->reason.c_str());
+    std::string dir =
+        o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
+    try {
+      std::string written = WriteRepro(model, result, ctx.argv, dir);
+      std::fprintf(stderr,
+                   "plumb: repro folder: %s/ (model, last good and bad state, command line)\n",
+                   written.c_str());
+    } catch (const IoError& e) {
+      std::fprintf(stderr, "plumb: warning: no repro folder: %s (choose one with --repro DIR)\n",
+                   e.what());
+    }
+    if (file) std::fprintf(stderr, "plumb: no output file was written\n");
     return kExitDiverged;
   }
   if (file) file->Commit();

@@ -73,8 +73,13 @@ Schedule MakeSchedule(double timestep, double until, double every);
 // State of the simulation at one step, as a repro needs it.
 struct StateSnapshot {
   long step = 0;
-  double time = 0;  // d->time, s
+  double time = 0;  // simulation time of this state, s
   std::vector<double> qpos, qvel, act, ctrl;
+  // Accelerations (length nv) MuJoCo computes at this state; filled only for the bad
+  // state of a divergence that MuJoCo's own checks caught (they reset the data, so plumb
+  // recomputes them from the saved state).
+  std::vector<double> qacc;
+  std::string note;  // what this state is, when it needs saying (empty otherwise)
 };
 
 // Copies the state of `data` at `step`.
@@ -84,16 +89,23 @@ StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step);
 struct WarningSummary {
   std::string kind;       // "INERTIA", "CONTACTFULL", "BADQACC", ...
   int count = 0;          // how many times MuJoCo raised it
-  long first_step = 0;    // step after which it was first seen
-  double first_time = 0;  // simulation time of that step, s
+  long first_step = 0;    // the step (1-based) during which it was first raised
+  double first_time = 0;  // simulation time at the start of that step, s (MuJoCo's "Time =")
   std::string message;    // MuJoCo's text for the last occurrence
 };
 
 // Why and where a run stopped early.
 struct Divergence {
-  std::string reason;       // one sentence: what went bad, where, what MuJoCo did
-  StateSnapshot last_good;  // the state after the last step that passed every check
-  StateSnapshot bad;        // the state right after the step that failed
+  std::string reason;  // one sentence: what went bad, where, what MuJoCo did
+  // The state the failing step started from (it passed every check), with the ctrl
+  // that step applied: set it, call mj_forward, then mj_step once to reproduce.
+  StateSnapshot last_good;
+  // The bad state: right after the failing step when plumb's checks caught it; when
+  // MuJoCo's mj_checkPos/Vel/Acc caught it (they reset the data to qpos0 in the middle
+  // of the step), the state they found bad, with its recomputed qacc.
+  StateSnapshot bad;
+  bool reset_by_mujoco = false;  // MuJoCo's own check fired and reset the data
+  std::string element;           // the bad element, e.g. "qacc[0] (joint 'slider')"
 };
 
 struct RunResult {
@@ -105,12 +117,35 @@ struct RunResult {
 };
 
 // Steps `data` from its current state for the schedule of `spec`, giving the sink a row
-// at every sample (the first at the current state). After every step, checks qpos,
-// qvel, act and qacc for NaN/Inf or magnitudes above MuJoCo's limit (1e10) and whether
-// MuJoCo's own checks reset the state; on the first failure it stops and returns with
-// `diverged` set. @throws ValueError (see MakeSchedule), Interrupted, MujocoError, and
+// at every sample (the first at the current state). When a column is a derived quantity
+// (xpos, sensordata, energy, ...), mj_forward runs before each sample so the row holds
+// values of the sampled state (after mj_step they still describe the state before the
+// step); this re-evaluation changes neither the trajectory nor the warning counts.
+// Sample times are start + k*timestep, not the accumulated d->time. After every step,
+// checks qpos, qvel, act and qacc for NaN/Inf or magnitudes above MuJoCo's limit (1e10)
+// and whether MuJoCo's own checks reset the state; on the first failure it stops and
+// returns with `diverged` set. @throws ValueError (see MakeSchedule), Interrupted, MujocoError, and
 // whatever the sink throws.
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink);
+
+// Recomputes the derived quantities (xpos, sensordata, energy, contacts, qacc) of the
+// state `data` holds, as mj_forward does, without changing the trajectory that follows
+// or counting MuJoCo warnings again. After mj_step they still describe the state before
+// the step (with RK4, an intermediate stage): call this before reading them in an
+// after_step callback. Costs about one mj_forward. Holds scratch buffers sized for one
+// model, so calling it every step does not allocate.
+class DerivedRefresher {
+ public:
+  explicit DerivedRefresher(const mjModel* m);
+  void operator()(mjData* d);
+
+ private:
+  const mjModel* m_;
+  std::vector<mjtNum> qpos_, warmstart_;
+};
+
+// One-off form of DerivedRefresher.
+void RefreshDerived(const Model& model, Data& data);
 
 // The chapter's common-error table, for the state a run is about to start from: one
 // line of advice per problem found (empty when nothing looks wrong). Today: a system

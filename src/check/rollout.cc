@@ -232,7 +232,26 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   probe.values.assign(spec.metrics.size(), kNaN);
   probe.t.resize(spec.metrics.size());
   probe.x.resize(spec.metrics.size());
+  // after mj_step, xpos, sensordata and energy still describe the state before the step:
+  // they are recomputed (without touching the trajectory) at the steps a metric reads them
+  std::vector<char> reads_derived(spec.metrics.size());
+  std::vector<long> read_step(spec.metrics.size(), -1);  // -1: every step
+  for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+    const Metric& metric = spec.metrics[k];
+    reads_derived[k] = metric.kind == MetricKind::kEnergyDrift ||
+                       (metric.kind != MetricKind::kStateAt && metric.path.role == Role::kDerived);
+    if (metric.kind == MetricKind::kValueAt) read_step[k] = std::lround(metric.time / dt);
+  }
+  DerivedRefresher refresh(m);
   auto observe = [&](const mjData* dd, long step) {
+    if (step > 0) {
+      for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+        if (reads_derived[k] && (read_step[k] < 0 || read_step[k] == step)) {
+          refresh(d);
+          break;
+        }
+      }
+    }
     for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
       const Metric& metric = spec.metrics[k];
       switch (metric.kind) {

@@ -68,19 +68,26 @@ struct Trace {
 
 class TraceSink : public SampleSink {
  public:
-  explicit TraceSink(Trace* trace) : trace_(trace) {}
+  TraceSink(Trace* trace, bool energy) : trace_(trace), energy_(energy) {}
   void Begin(const std::vector<Path>&) override {}
   void Sample(const std::vector<double>& row) override {
     trace_->t.push_back(row[0]);
-    trace_->energy.push_back(row[1] + row[2]);
-    trace_->kinetic.push_back(row[2]);
-    trace_->max_ncon = std::max(trace_->max_ncon, static_cast<int>(row[3]));
-    trace_->max_nefc = std::max(trace_->max_nefc, static_cast<int>(row[4]));
-    for (std::size_t c = 0; c < trace_->coords.size(); ++c) trace_->coords[c].push_back(row[5 + c]);
+    std::size_t first = 1;
+    if (energy_) {
+      trace_->energy.push_back(row[1] + row[2]);
+      trace_->kinetic.push_back(row[2]);
+      trace_->max_ncon = std::max(trace_->max_ncon, static_cast<int>(row[3]));
+      trace_->max_nefc = std::max(trace_->max_nefc, static_cast<int>(row[4]));
+      first = 5;
+    }
+    for (std::size_t c = 0; c < trace_->coords.size(); ++c) {
+      trace_->coords[c].push_back(row[first + c]);
+    }
   }
 
  private:
   Trace* trace_;
+  bool energy_;
 };
 
 // The scenario under test: the nominal model with the user's assignments.
@@ -98,19 +105,26 @@ class Scenario {
   Assignment Set(const std::string& text) const { return ParseAssignment(model_, text); }
 
   // Runs the scenario plus `extra` assignments (applied after the user's) for `until` s.
-  // Runs are deterministic, so a repeated request is answered from memory.
-  const Trace& Simulate(const std::vector<Assignment>& extra, double until) const {
+  // With `energy`, the trace also holds energy and contact counts, which cost one more
+  // mj_forward per step; without, those stay empty. Runs are deterministic, so a repeated
+  // request is answered from memory.
+  const Trace& Simulate(const std::vector<Assignment>& extra, double until,
+                        bool energy = false) const {
     std::string key = fmt::format("{:.17g}", until);
     for (const Assignment& a : extra) key += "|" + a.text;
-    auto found = memo_.find(key);
+    auto found = memo_.find(key + "|energy");
     if (found != memo_.end()) return found->second;
-    return memo_[key] = SimulateAnew(extra, until);
+    if (!energy) {
+      found = memo_.find(key);
+      if (found != memo_.end()) return found->second;
+    }
+    return memo_[energy ? key + "|energy" : key] = SimulateAnew(extra, until, energy);
   }
 
   // Runs without looking in memory (determinism needs a second real run).
-  Trace SimulateAnew(const std::vector<Assignment>& extra, double until) const {
+  Trace SimulateAnew(const std::vector<Assignment>& extra, double until, bool energy) const {
     Model work = model_.Clone();
-    work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
+    if (energy) work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
     Data data(work);
     std::vector<Assignment> all = sets_;
     all.insert(all.end(), extra.begin(), extra.end());
@@ -120,9 +134,12 @@ class Scenario {
     RunSpec spec;
     spec.until = until;
     spec.every = m->opt.timestep;
-    spec.columns = {ResolvePath(work, "time"), ResolvePath(work, "energy[0]"),
-                    ResolvePath(work, "energy[1]"), ResolvePath(work, "ncon"),
-                    ResolvePath(work, "nefc")};
+    spec.columns = {ResolvePath(work, "time")};
+    if (energy) {
+      for (const char* path : {"energy[0]", "energy[1]", "ncon", "nefc"}) {
+        spec.columns.push_back(ResolvePath(work, path));
+      }
+    }
     for (int j = 0; j < m->njnt; ++j) {
       if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) continue;
       std::string name = work.Name(mjOBJ_JOINT, j);
@@ -132,7 +149,7 @@ class Scenario {
       trace.coord_names.push_back(p.text);
     }
     trace.coords.resize(trace.coord_names.size());
-    TraceSink sink(&trace);
+    TraceSink sink(&trace, energy);
     trace.result = Run(work, data, spec, sink);
     const mjData* d = data.get();
     trace.final_state.assign(d->qpos, d->qpos + m->nq);
@@ -191,7 +208,7 @@ CheckResult CheckLoad(const Model& model) {
 
 CheckResult CheckDeterminism(const Scenario& s, const Trace& first, double until) {
   CheckResult r = Row("determinism", "the same run twice is bit-identical");
-  Trace second = s.SimulateAnew({}, until);
+  Trace second = s.SimulateAnew({}, until, /*energy=*/true);
   bool same = first.final_state.size() == second.final_state.size() &&
               std::memcmp(first.final_state.data(), second.final_state.data(),
                           first.final_state.size() * sizeof(double)) == 0 &&
@@ -384,7 +401,7 @@ CheckResult CheckEnergy(const Scenario& s, const Trace& nominal, double until, d
     undamped.push_back(
         s.Set(fmt::format("dof_frictionloss[{}]=0", m->jnt_dofadr[m->dof_jntid[i]])));
   }
-  const Trace& twin = s.Simulate(undamped, until);
+  const Trace& twin = s.Simulate(undamped, until, /*energy=*/true);
   auto [tlo, thi] = std::minmax_element(twin.energy.begin(), twin.energy.end());
   double wobble = *thi - *tlo;
   double rise = LargestRise(nominal.energy);
@@ -605,7 +622,7 @@ CheckResult ExperimentDamping(const Scenario& s, const PendulumParams& p, int do
     const Trace& trace = s.Simulate(
         {s.Set(fmt::format("dof_damping[{}]={:g}", dof, c)),
          s.Set(fmt::format("qpos[{}]={:.17g}", dof, theta)), s.Set(fmt::format("qvel[{}]=0", dof))},
-        2.0);
+        2.0, /*energy=*/true);
     if (trace.result.diverged) return Skip(r.id, r.title, "a run diverged");
     double e0 = trace.energy.front();
     double emin = e0 - p.stiffness * (1 - std::cos(theta - p.equilibrium));  // E at rest
@@ -844,7 +861,7 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   until = std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
 
   report.checks.push_back(CheckLoad(model));
-  const Trace& trace = s.Simulate({}, until);
+  const Trace& trace = s.Simulate({}, until, /*energy=*/true);
   report.checks.push_back(CheckDeterminism(s, trace, until));
   report.checks.push_back(CheckWarnings(trace, until));
   if (trace.result.diverged) {
@@ -860,7 +877,7 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
     double want = std::ceil(3.5 * SmallAnglePeriod(*pendulum) / dt) * dt;
     if (want > until) {
       energy_until = want;
-      energy_trace = &s.Simulate({}, want);
+      energy_trace = &s.Simulate({}, want, /*energy=*/true);
     }
   }
   report.checks.push_back(CheckEnergy(s, *energy_trace, energy_until, options.tol));

@@ -13,8 +13,11 @@ namespace {
 std::string Dump(const ordered_json& j) { return j.dump(2) + "\n"; }
 
 ordered_json StateJson(const StateSnapshot& s) {
-  return {{"step", s.step}, {"time", s.time}, {"qpos", s.qpos},
-          {"qvel", s.qvel}, {"act", s.act},   {"ctrl", s.ctrl}};
+  ordered_json j = {{"step", s.step}, {"time", s.time}, {"qpos", s.qpos},
+                    {"qvel", s.qvel}, {"act", s.act},   {"ctrl", s.ctrl}};
+  if (!s.qacc.empty()) j["qacc"] = s.qacc;  // NaN and Inf are written as null
+  if (!s.note.empty()) j["note"] = s.note;
+  return j;
 }
 }  // namespace
 

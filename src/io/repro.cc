@@ -77,8 +77,11 @@ std::string WriteRepro(const Model& model, const RunResult& result,
                   "model.xml       the model as MuJoCo saves it (mj_saveLastXML); runtime edits\n"
                   "                of body_mass are not written there, see model.mjb\n"
                   "model.mjb       the exact compiled model with every edit (mj_loadModel)\n"
-                  "last_good.json  state after the last step that passed every check\n"
-                  "bad.json        state right after the step that failed\n"
+                  "last_good.json  the state the failing step started from, with the ctrl\n"
+                  "                it applied (every check passed on it)\n"
+                  "bad.json        the state right after the failing step; or, when MuJoCo's\n"
+                  "                own check fired and reset the data, the state it found bad\n"
+                  "                with its accelerations (qacc) and a note\n"
                   "warnings.json   MuJoCo warnings raised during the run\n\n"
                   "To reproduce: load model.mjb, set time/qpos/qvel/act/ctrl from\n"
                   "last_good.json, call mj_forward, then mj_step once.\n" +

@@ -53,6 +53,14 @@ Schedule MakeSchedule(double timestep, double until, double every) {
   Schedule schedule;
   // the chapter's loop `while (d->time < until) mj_step(...)` takes ceil(until/dt) steps
   double ratio = until / timestep;
+  // steps are counted in a long and timed as step * timestep: both exact below 2^53
+  constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
+  if (!(ratio < kMaxSteps)) {
+    throw ValueError(
+        "--until " + Format("%g", until) + " is " + Format("%g", ratio) +
+        Format(" steps of %g s; plumb counts steps exactly up to 2^53 (9.0e15). ", timestep) +
+        "Choose a shorter final time.");
+  }
   double nearest = std::round(ratio);
   schedule.steps = static_cast<long>(
       std::fabs(ratio - nearest) <= 1e-9 * std::max(1.0, nearest) ? nearest : std::ceil(ratio));
@@ -83,6 +91,130 @@ StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step) {
   return s;
 }
 
+namespace {
+
+// Everything a step starts from: the state, its inputs and the solver's warm start.
+// Kept before every step, so a step that MuJoCo's checks abort can be examined again.
+class PreStep {
+ public:
+  PreStep(const mjModel* m, const mjData* d)
+      : m_(m),
+        state_(Snapshot(m, d, 0)),
+        warmstart_(d->qacc_warmstart, d->qacc_warmstart + m->nv),
+        qfrc_(d->qfrc_applied, d->qfrc_applied + m->nv),
+        xfrc_(d->xfrc_applied, d->xfrc_applied + 6 * m->nbody),
+        mocap_pos_(d->mocap_pos, d->mocap_pos + 3 * m->nmocap),
+        mocap_quat_(d->mocap_quat, d->mocap_quat + 4 * m->nmocap) {}
+
+  // Copies the state `d` holds at `step`, whose time is `time`.
+  void Keep(const mjData* d, long step, double time) {
+    state_.step = step;
+    state_.time = time;
+    Copy(d->qpos, &state_.qpos);
+    Copy(d->qvel, &state_.qvel);
+    Copy(d->act, &state_.act);
+    Copy(d->ctrl, &state_.ctrl);
+    Copy(d->qacc_warmstart, &warmstart_);
+    Copy(d->qfrc_applied, &qfrc_);
+    Copy(d->xfrc_applied, &xfrc_);
+    Copy(d->mocap_pos, &mocap_pos_);
+    Copy(d->mocap_quat, &mocap_quat_);
+  }
+
+  const StateSnapshot& state() const { return state_; }
+
+  // The accelerations MuJoCo computes at the kept state (on a scratch mjData).
+  std::vector<double> Accelerations() const {
+    mjData* d = mj_makeData(m_);
+    if (!d) return {};
+    d->time = state_.time;
+    Paste(state_.qpos, d->qpos);
+    Paste(state_.qvel, d->qvel);
+    Paste(state_.act, d->act);
+    Paste(state_.ctrl, d->ctrl);
+    Paste(warmstart_, d->qacc_warmstart);
+    Paste(qfrc_, d->qfrc_applied);
+    Paste(xfrc_, d->xfrc_applied);
+    Paste(mocap_pos_, d->mocap_pos);
+    Paste(mocap_quat_, d->mocap_quat);
+    mj_forward(m_, d);
+    std::vector<double> qacc(d->qacc, d->qacc + m_->nv);
+    mj_deleteData(d);
+    return qacc;
+  }
+
+ private:
+  static void Copy(const mjtNum* from, std::vector<double>* to) {
+    std::copy(from, from + to->size(), to->begin());
+  }
+  static void Paste(const std::vector<double>& from, mjtNum* to) {
+    std::copy(from.begin(), from.end(), to);
+  }
+
+  const mjModel* m_;
+  StateSnapshot state_;
+  std::vector<double> warmstart_, qfrc_, xfrc_, mocap_pos_, mocap_quat_;
+};
+
+// "dof 3 (joint 'slider')", "qpos[7] (joint 'root')", "ctrl[2] (actuator 'elbow')".
+std::string ElementLabel(const Model& model, const char* array, int index) {
+  const mjModel* m = model.get();
+  std::string label = std::string(array) + "[" + std::to_string(index) + "]";
+  auto named = [&](mjtObj type, int id, const char* kind) {
+    std::string name = model.Name(type, id);
+    return label + " (" + kind + " " +
+           (name.empty() ? "#" + std::to_string(id) : "'" + name + "'") + ")";
+  };
+  std::string a = array;
+  if (a == "ctrl" && index >= 0 && index < m->nu) return named(mjOBJ_ACTUATOR, index, "actuator");
+  if (a == "qpos" && index >= 0 && index < m->nq) {
+    for (int j = m->njnt - 1; j >= 0; --j) {
+      if (m->jnt_qposadr[j] <= index) return named(mjOBJ_JOINT, j, "joint");
+    }
+  }
+  if (a != "qpos" && a != "ctrl" && a != "act" && index >= 0 && index < m->nv) {
+    return named(mjOBJ_JOINT, m->dof_jntid[index], "joint");
+  }
+  return label;
+}
+
+// The array MuJoCo's state check of kind `warning` reports an index into.
+const char* CheckedArray(int warning) {
+  switch (warning) {
+    case mjWARN_BADQPOS:
+      return "qpos";
+    case mjWARN_BADQVEL:
+      return "qvel";
+    case mjWARN_BADCTRL:
+      return "ctrl";
+    default:
+      return "qacc";
+  }
+}
+
+}  // namespace
+
+DerivedRefresher::DerivedRefresher(const mjModel* m) : m_(m), qpos_(m->nq), warmstart_(m->nv) {}
+
+// MuJoCo 2.x's mj_forward renormalises quaternions in qpos and rewrites the solver's warm
+// start, which would change the last bits of the trajectory: both are put back, and the
+// warnings it raises again are not counted twice.
+void DerivedRefresher::operator()(mjData* d) {
+  mjWarningStat warnings[mjNWARNING];
+  std::copy(d->warning, d->warning + mjNWARNING, warnings);
+  std::copy(d->qpos, d->qpos + m_->nq, qpos_.begin());
+  std::copy(d->qacc_warmstart, d->qacc_warmstart + m_->nv, warmstart_.begin());
+  mj_forward(m_, d);
+  std::copy(qpos_.begin(), qpos_.end(), d->qpos);
+  std::copy(warmstart_.begin(), warmstart_.end(), d->qacc_warmstart);
+  std::copy(warnings, warnings + mjNWARNING, d->warning);
+}
+
+void RefreshDerived(const Model& model, Data& data) {
+  DerivedRefresher refresh(model.get());
+  refresh(data.get());
+}
+
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink) {
   const mjModel* m = model.get();
   mjData* d = data.get();
@@ -90,12 +222,21 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
 
   // the time column reports the exact sample time, not the accumulated d->time
   std::vector<char> is_time(spec.columns.size());
-  for (std::size_t c = 0; c < spec.columns.size(); ++c)
+  bool derived = false;
+  for (std::size_t c = 0; c < spec.columns.size(); ++c) {
     is_time[c] = spec.columns[c].field == "time";
+    derived = derived || spec.columns[c].role == Role::kDerived;
+  }
   std::vector<double> row(spec.columns.size());
+  DerivedRefresher forward(m);
   double start_time = d->time;
+  auto time_at = [&](long step) {
+    return start_time + static_cast<double>(step) * m->opt.timestep;
+  };
   auto sample = [&](long step) {
-    double t = start_time + static_cast<double>(step) * m->opt.timestep;
+    // after mj_step, derived quantities still describe the state before the step
+    if (derived) forward(d);
+    double t = time_at(step);
     for (std::size_t c = 0; c < row.size(); ++c) {
       row[c] = is_time[c] ? t : ReadValue(model, data, spec.columns[c]);
     }
@@ -106,8 +247,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   int seen[mjNWARNING];
   for (int i = 0; i < mjNWARNING; ++i) seen[i] = d->warning[i].number;
   std::vector<long> first_step(mjNWARNING, 0);
-  std::vector<double> first_time(mjNWARNING, d->time);
-  StateSnapshot last_good = Snapshot(m, d, 0);
+  std::vector<double> first_time(mjNWARNING, start_time);
+  PreStep before(m, d);
 
   sink.Begin(spec.columns);
   sample(0);
@@ -115,30 +256,55 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   for (long step = 1; step <= schedule.steps; ++step) {
     if (spec.stop && spec.stop->load(std::memory_order_relaxed)) {
       sink.End();
-      throw Interrupted("interrupted at t = " + Format("%g s", d->time) + " (step " +
+      throw Interrupted("interrupted at t = " + Format("%g s", time_at(step - 1)) + " (step " +
                         std::to_string(step - 1) + " of " + std::to_string(schedule.steps) + ")");
     }
     if (spec.before_step) spec.before_step(d, step);
+    before.Keep(d, step - 1, time_at(step - 1));
     data.Step();
     result.steps = step;
 
     // warnings: note when each kind first appears; MuJoCo's state checks mean it reset
-    std::string reason;
+    int reset_kind = -1;
     for (const compat::EnumName& w : compat::kWarnings) {
       if (d->warning[w.value].number == seen[w.value]) continue;
       if (seen[w.value] == 0) {
         first_step[w.value] = step;
-        first_time[w.value] = d->time;
+        first_time[w.value] = time_at(step - 1);  // MuJoCo's "Time =": the step's start
       }
       seen[w.value] = d->warning[w.value].number;
-      if (IsStateCheck(w.value) && reason.empty()) {
-        reason = std::string("MuJoCo's state check fired (") + w.name +
-                 "): " + mju_warningText(w.value, d->warning[w.value].lastinfo) +
-                 " MuJoCo reset the state to qpos0 and carried on; plumb stops here.";
-      }
+      if (IsStateCheck(w.value) && reset_kind < 0) reset_kind = w.value;
     }
-    // our own checks catch what MuJoCo has not reset yet
-    if (reason.empty()) {
+    std::string reason;
+    Divergence divergence;
+    if (reset_kind >= 0) {
+      // MuJoCo found the state the step started from bad and reset the data to qpos0
+      const char* name = "";
+      for (const compat::EnumName& w : compat::kWarnings) {
+        if (w.value == reset_kind) name = w.name;
+      }
+      int index = d->warning[reset_kind].lastinfo;
+      divergence.reset_by_mujoco = true;
+      divergence.element = ElementLabel(model, CheckedArray(reset_kind), index);
+      divergence.bad = before.state();
+      divergence.bad.step = step;
+      divergence.bad.qacc = before.Accelerations();
+      std::string value;
+      if (reset_kind == mjWARN_BADQACC && index >= 0 && index < m->nv &&
+          static_cast<int>(divergence.bad.qacc.size()) == m->nv) {
+        value = Format(" = %g", divergence.bad.qacc[index]);
+      }
+      divergence.bad.note =
+          std::string("MuJoCo's state check (") + name + ") found " + divergence.element + value +
+          " bad at this state and reset the data to qpos0 in the middle of the step; qpos, "
+          "qvel, act and ctrl are the state it found bad, qacc the accelerations recomputed "
+          "from it.";
+      reason = std::string("MuJoCo's state check fired (") + name + "): " + divergence.element +
+               value +
+               " is NaN, Inf or beyond 1e10. MuJoCo reset the state to qpos0 and would carry on "
+               "as if nothing happened; plumb stops here.";
+    } else {
+      // our own checks catch a state that went bad in this step, before MuJoCo's next check
       struct Checked {
         const char* name;
         const mjtNum* values;
@@ -150,25 +316,24 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       for (const Checked& c : checks) {
         int bad = FirstBad(c.values, c.n);
         if (bad >= 0) {
-          reason = std::string(c.name) + "[" + std::to_string(bad) +
-                   "] = " + Format("%g", c.values[bad]) + " is NaN, Inf or beyond 1e10";
+          divergence.element = ElementLabel(model, c.name, bad);
+          reason = divergence.element + " = " + Format("%g", c.values[bad]) +
+                   " is NaN, Inf or beyond 1e10";
+          divergence.bad = Snapshot(m, d, step);
+          divergence.bad.time = time_at(step);
           break;
         }
       }
     }
     if (!reason.empty()) {
       result.diverged = true;
-      result.divergence = Divergence{"the simulation diverged at t = " + Format("%g s", d->time) +
-                                         " (step " + std::to_string(step) + "): " + reason,
-                                     std::move(last_good), Snapshot(m, d, step)};
+      divergence.reason = "the simulation diverged at t = " + Format("%g s", time_at(step - 1)) +
+                          " (in step " + std::to_string(step) +
+                          ", to t = " + Format("%g s", time_at(step)) + "): " + reason;
+      divergence.last_good = before.state();
+      result.divergence = std::move(divergence);
       break;
     }
-    last_good.step = step;
-    last_good.time = d->time;
-    std::copy(d->qpos, d->qpos + m->nq, last_good.qpos.begin());
-    std::copy(d->qvel, d->qvel + m->nv, last_good.qvel.begin());
-    std::copy(d->act, d->act + m->na, last_good.act.begin());
-    std::copy(d->ctrl, d->ctrl + m->nu, last_good.ctrl.begin());
 
     if (spec.after_step) spec.after_step(d, step);
     if (step % schedule.stride == 0) {

@@ -4,6 +4,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -27,9 +28,14 @@ TEST(CliRunTest, TableReproducesTheChapter) {
   CommandResult r = RunPlumb("run " + kPendulum + kSet + "--until 2 --every 0.1");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("time  qpos[hinge]  qvel[hinge]"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("     0.10000      0.65403     -0.89118"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("     0.50000     -0.16156     -2.40852"), std::string::npos) << r.out;
+  // every one of the chapter's printed lines, as printed (5 decimals)
+  const char* lines[] = {
+      "     0.10000      0.65403     -0.89118\n", "     0.20000      0.52386     -1.66939\n",
+      "     0.30000      0.32596     -2.23353\n", "     0.40000      0.08646     -2.49511\n",
+      "     0.50000     -0.16156     -2.40852\n"};
+  for (const char* line : lines) EXPECT_NE(r.out.find(line), std::string::npos) << line << r.out;
   EXPECT_NE(r.out.find("     2.00000"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 22);  // header + t = 0 ... 2
   EXPECT_EQ(r.err, "");
 }
 
@@ -174,14 +180,17 @@ TEST(CliOutputTest, UnwritableOutputPathIsBadInput) {
   EXPECT_FALSE(fs::exists("/nonexistent-dir/traj.csv"));
 }
 
-TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
-  TempDir dir;
-  WriteFile(dir.File("stiff.xml"), R"(<mujoco model="stiff">
+// A spring so stiff that the model's timestep makes explicit Euler blow up in a few steps.
+const char* const kStiff = R"(<mujoco model="stiff">
     <option timestep="0.01" gravity="0 0 0"/>
     <worldbody><body name="mass">
       <joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
       <geom type="sphere" size="0.05" mass="1"/>
-    </body></worldbody></mujoco>)");
+    </body></worldbody></mujoco>)";
+
+TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), kStiff);
   CommandResult r = RunPlumb(
       "run stiff.xml --set 'qpos[slider]=0.01' --until 10 --every 0.01 "
       "-o traj.csv",
@@ -203,6 +212,69 @@ TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
                                      "--until 10 --every 0.01 --repro again",
                                  dir.path());
   EXPECT_EQ(again.exit_code, 3);
+}
+
+TEST(CliDivergenceTest, AnUnwritableReproFolderDoesNotHideTheDivergence) {
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), kStiff);
+  CommandResult r = RunPlumb(
+      "run stiff.xml --set 'qpos[slider]=0.01' --until 10 --repro stiff.xml/repro", dir.path());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("diverged at t = 0.04 s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("joint 'slider'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no repro folder"), std::string::npos) << r.err;
+}
+
+TEST(CliDivergenceTest, TheBadStateIsTheOneMujocoRejected) {
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), kStiff);
+  CommandResult r =
+      RunPlumb("run stiff.xml --set 'qpos[slider]=0.01' --until 10 --repro r", dir.path());
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  nlohmann::json good = nlohmann::json::parse(ReadFile(dir.File("r/last_good.json")));
+  nlohmann::json bad = nlohmann::json::parse(ReadFile(dir.File("r/bad.json")));
+  // MuJoCo reset the data to qpos0 = 0 at t = 0; the repro keeps what it found bad
+  EXPECT_EQ(bad["time"], good["time"]);
+  EXPECT_GT(bad["time"].get<double>(), 0.0);
+  EXPECT_NE(bad["qpos"][0].get<double>(), 0.0);
+  EXPECT_GT(std::fabs(bad["qacc"][0].get<double>()), 1e10);
+  EXPECT_NE(bad["note"].get<std::string>().find("reset"), std::string::npos);
+  nlohmann::json warnings = nlohmann::json::parse(ReadFile(dir.File("r/warnings.json")));
+  EXPECT_EQ(warnings[0]["first_time"], good["time"]);
+  // each MuJoCo warning is printed once
+  EXPECT_EQ(r.err.find("QACC at DOF 0"), r.err.rfind("QACC at DOF 0")) << r.err;
+}
+
+TEST(CliRunTest, AFinalTimeTooLargeToCountIsRefused) {
+  TempDir dir;
+  CommandResult r = RunPlumb("run " + kPendulum + " --until 1e17 -o t.csv", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--until"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.File("t.csv")));
+}
+
+TEST(CliRunTest, DerivedColumnsAgreeWithTheStateInTheSameRow) {
+  TempDir dir;
+  WriteFile(dir.File("sensed.xml"), R"(<mujoco model="sensed">
+    <worldbody><body name="arm" pos="0 0 1">
+      <joint name="elbow" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/>
+    </body></worldbody>
+    <sensor><jointpos name="elbow_pos" joint="elbow"/></sensor></mujoco>)");
+  CommandResult r = RunPlumb("run sensed.xml --until 0.1 --every 0.01 --format csv", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "time,qpos[elbow],qvel[elbow],sensordata[elbow_pos]");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    std::string q = line.substr(line.find(',') + 1);
+    q = q.substr(0, q.find(','));
+    EXPECT_EQ(line.substr(line.rfind(',') + 1), q) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 11);
 }
 
 TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {

@@ -149,6 +149,31 @@ TEST_F(RolloutTest, RandomizedMassChangesTheDynamicsThroughSetConst) {
   EXPECT_NEAR(plain.value, r[0].metrics[0], 1e-6);
 }
 
+TEST_F(RolloutTest, DerivedMetricsDescribeTheStateOfTheirStep) {
+  // xpos of the rod's tip at 1 s must be the tip of the state at 1 s, not of the step
+  // before (mj_step leaves derived quantities one step behind)
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="link" pos="0 0 1"><joint name="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/>
+        <body name="tip" pos="0 0 -1"/></body>
+    </worldbody></mujoco>)");
+  for (const char* integrator : {"Euler", "RK4"}) {
+    RolloutSpec spec;
+    spec.until = 1;
+    spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7"),
+                 ParseAssignment(model, std::string("opt.integrator=") + integrator)};
+    spec.metrics = {ParseMetric(model, "xpos[tip][0]@1"), ParseMetric(model, "qpos[hinge]@1"),
+                    ParseMetric(model, "maxabs(xpos[tip][0])")};
+    std::vector<RolloutResult> r = Collect(model, spec);
+    ASSERT_EQ(r.size(), 1u);
+    // the tip of a unit rod at angle q about y sits at x = -sin(q)
+    EXPECT_NEAR(r[0].metrics[0], -std::sin(r[0].metrics[1]), 1e-12) << integrator;
+    // the largest |x| is the start's, sin(0.7), reached again only at the far turning point
+    EXPECT_NEAR(r[0].metrics[2], std::sin(0.7), 1e-3) << integrator;
+    EXPECT_GE(r[0].metrics[2], std::fabs(r[0].metrics[0])) << integrator;
+  }
+}
+
 TEST_F(RolloutTest, DivergedRolloutIsRecordedAndTheBatchGoesOn) {
   Model model = Model::FromXmlString(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody>
       <body><joint name="slider" type="slide" axis="1 0 0"/>

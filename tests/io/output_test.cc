@@ -109,9 +109,10 @@ TEST(ReproTest, FolderHoldsEverythingToReproduce) {
   Data data(model);
   RunResult result;
   result.diverged = true;
-  result.divergence =
-      Divergence{"the simulation diverged at t = 1 s", Snapshot(model.get(), data.get(), 4),
-                 Snapshot(model.get(), data.get(), 5)};
+  result.divergence = Divergence();
+  result.divergence->reason = "the simulation diverged at t = 1 s";
+  result.divergence->last_good = Snapshot(model.get(), data.get(), 4);
+  result.divergence->bad = Snapshot(model.get(), data.get(), 5);
   result.divergence->bad.qpos[0] = NAN;
   std::string written = WriteRepro(
       model, result, {"plumb", "run", "m.xml", "--set", "qpos[hinge]=1"}, dir.File("repro"));

@@ -106,11 +106,113 @@ TEST_F(RunTest, DivergenceStopsTheRunWithBothStates) {
   EXPECT_LT(result.steps, 1000);
   const Divergence& div = *result.divergence;
   EXPECT_EQ(div.bad.step, div.last_good.step + 1);
+  EXPECT_EQ(div.bad.step, result.steps);
   EXPECT_LE(std::fabs(div.last_good.qpos[0]), 1e10);
   EXPECT_TRUE(std::isfinite(div.last_good.qvel[0]));
+  // the last good state is the one the failing step started from, timed by its step
+  EXPECT_DOUBLE_EQ(div.last_good.time, div.last_good.step * 0.01);
   EXPECT_NE(div.reason.find("diverged"), std::string::npos) << div.reason;
+  EXPECT_NE(div.element.find("joint 'slider'"), std::string::npos) << div.element;
   EXPECT_TRUE(sink.ended);
   TakeMujocoWarnings();  // MuJoCo may have warned about the bad state: expected here
+}
+
+// Regression: MuJoCo's mj_checkAcc resets the data to qpos0 in the middle of the step,
+// and the bad state, its time and the warning's time used to be read from the reset data.
+TEST_F(RunTest, DivergenceCaughtByMujocoKeepsTheStateItFoundBad) {
+  Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[slider]=0.01")});
+  NullSink sink;
+  RunResult result = plumb::Run(model, data, PendulumSpec(model, 10, 0.01), sink);
+  TakeMujocoWarnings();
+  ASSERT_TRUE(result.diverged);
+  const Divergence& div = *result.divergence;
+  ASSERT_TRUE(div.reset_by_mujoco) << div.reason;
+  // MuJoCo found the accelerations at the state the step started from bad
+  EXPECT_DOUBLE_EQ(div.bad.time, div.last_good.time);
+  EXPECT_EQ(div.bad.qpos, div.last_good.qpos);
+  EXPECT_GT(std::fabs(div.bad.qpos[0]), 1e3);  // not qpos0 = 0
+  ASSERT_EQ(div.bad.qacc.size(), 1u);
+  EXPECT_FALSE(std::fabs(div.bad.qacc[0]) <= 1e10) << div.bad.qacc[0];
+  EXPECT_NE(div.bad.note.find("BADQACC"), std::string::npos) << div.bad.note;
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].kind, "BADQACC");
+  EXPECT_EQ(result.warnings[0].first_step, result.steps);
+  EXPECT_DOUBLE_EQ(result.warnings[0].first_time, div.last_good.time);
+}
+
+TEST_F(RunTest, AFinalTimeBeyondExactStepCountsIsRefused) {
+  EXPECT_THROW(MakeSchedule(0.002, 1e17, 0.1), ValueError);
+  EXPECT_THROW(MakeSchedule(0.002, 1e300, 0.1), ValueError);
+  EXPECT_EQ(MakeSchedule(0.002, 1e6, 0.1).steps, 500000000L);
+}
+
+// A jointpos sensor and a free body's position, sampled after mj_step: the derived
+// columns must describe the same state as qpos in the same row.
+constexpr char kSensed[] = R"(
+<mujoco model="sensed">
+  <worldbody>
+    <body name="arm" pos="0 0 1">
+      <joint name="elbow" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/>
+    </body>
+    <body name="ball" pos="1 0 2">
+      <freejoint name="root"/>
+      <geom type="sphere" size="0.1" mass="1" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <sensor><jointpos name="elbow_pos" joint="elbow"/></sensor>
+</mujoco>)";
+
+TEST_F(RunTest, DerivedColumnsDescribeTheSampledState) {
+  Model model = Model::FromXmlString(kSensed, "sensed.xml");
+  for (const char* integrator : {"Euler", "RK4"}) {
+    Data data(model);
+    ApplyAssignments(model, data,
+                     {ParseAssignment(model, std::string("opt.integrator=") + integrator)});
+    RunSpec spec;
+    spec.until = 0.2;
+    spec.every = 0.002;
+    for (const char* p :
+         {"time", "qpos[elbow]", "sensordata[elbow_pos]", "qpos[root][2]", "xpos[ball][2]"}) {
+      spec.columns.push_back(ResolvePath(model, p));
+    }
+    RecordingSink sink;
+    plumb::Run(model, data, spec, sink);
+    ASSERT_EQ(sink.rows.size(), 101u);
+    for (const std::vector<double>& row : sink.rows) {
+      EXPECT_EQ(row[2], row[1]) << integrator << " t = " << row[0];
+      EXPECT_EQ(row[4], row[3]) << integrator << " t = " << row[0];
+    }
+    EXPECT_LT(sink.rows.back()[3], 2.0 - 0.1);  // it did fall
+  }
+}
+
+// mj_forward before a sample re-evaluates the state; it must not change where it goes.
+TEST_F(RunTest, SamplingDerivedColumnsLeavesTheTrajectoryUnchanged) {
+  Model model = Model::Load(testing::kHumanoid);
+  for (const char* integrator : {"Euler", "RK4", "implicit"}) {
+    std::vector<std::vector<double>> final_qpos;
+    std::vector<int> contact_warnings;
+    for (bool derived : {false, true}) {
+      Data data(model);
+      ApplyAssignments(model, data,
+                       {ParseAssignment(model, std::string("opt.integrator=") + integrator)});
+      RunSpec spec;
+      spec.until = 0.5;
+      spec.every = model.get()->opt.timestep;
+      spec.columns = {ResolvePath(model, "time"), ResolvePath(model, "qpos[root][2]")};
+      if (derived) spec.columns.push_back(ResolvePath(model, "xpos[torso][2]"));
+      NullSink sink;
+      RunResult result = plumb::Run(model, data, spec, sink);
+      ASSERT_FALSE(result.diverged);
+      final_qpos.emplace_back(data.get()->qpos, data.get()->qpos + model.get()->nq);
+      contact_warnings.push_back(data.get()->warning[mjWARN_CONTACTFULL].number);
+    }
+    EXPECT_EQ(final_qpos[0], final_qpos[1]) << integrator;  // bit-identical
+    EXPECT_EQ(contact_warnings[0], contact_warnings[1]) << integrator;
+  }
 }
 
 TEST_F(RunTest, TheSameSpringIsStableWithASmallTimestep) {
