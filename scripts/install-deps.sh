@@ -25,7 +25,7 @@ for p in "${packages[@]}"; do
 done
 
 if [[ "${1:-}" == "--print" ]]; then
-  printf '%s\n' "${missing[@]}"
+  if [[ ${#missing[@]} -gt 0 ]]; then printf '%s\n' "${missing[@]}"; fi
   exit 0
 fi
 [[ ${#missing[@]} -eq 0 ]] && exit 0
@@ -41,6 +41,7 @@ else
 fi
 
 echo "install-deps.sh: installing ${missing[*]}" >&2
-export DEBIAN_FRONTEND=noninteractive
-"${sudo[@]}" apt-get update -qq
-"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# sudo resets the environment, so the front-end setting goes on the command itself
+apt=("${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get)
+"${apt[@]}" update -qq
+"${apt[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

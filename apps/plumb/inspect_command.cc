@@ -87,29 +87,41 @@ std::string Table(const ModelDescription& d) {
   line("  units: damping N*m*s/rad (hinge) or N*s/m (slide); armature kg*m^2 or kg");
   line("");
   line("actuators");
-  if (d.actuators.empty()) line("  (none: a passive system, ctrl is empty)");
+  if (d.actuators.empty())
+    line("  (none: a passive system, ctrl is empty)");
+  else
+    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8} {:<28} {}", "id", "name", "kind", "drives",
+                     "gear", "ctrlrange", "forcerange"));
   for (const ActuatorDescription& a : d.actuators) {
-    std::string ctrl = a.ctrllimited
-                           ? fmt::format("[{:.6g}, {:.6g}]", a.ctrlrange[0], a.ctrlrange[1])
-                           : "unlimited";
-    std::string force = a.forcelimited
-                            ? fmt::format("[{:.6g}, {:.6g}]", a.forcerange[0], a.forcerange[1])
-                            : "unlimited";
-    line(fmt::format("  {:>3} {:<16} {}:{:<16} gear {:<8.6g} ctrlrange {:<20} forcerange {}", a.id,
-                     a.name, a.transmission, a.target, a.gear, ctrl, force));
+    std::string ctrl = a.ctrllimited ? fmt::format("[{:.6g}, {:.6g}] {}", a.ctrlrange[0],
+                                                   a.ctrlrange[1], a.ctrl_unit)
+                                     : "unlimited (" + a.ctrl_unit + ")";
+    std::string force = a.forcelimited ? fmt::format("[{:.6g}, {:.6g}] {}", a.forcerange[0],
+                                                     a.forcerange[1], a.force_unit)
+                                       : "unlimited";
+    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8.6g} {:<28} {}", a.id, a.name, a.kind,
+                     a.transmission + ":" + a.target, a.gear, ctrl, force));
+  }
+  if (!d.actuators.empty()) {
+    line("  units: the force on the joint or tendon is gear x actuator force; ctrl is a force for");
+    line("  motors, a target position (velocity) for position (velocity) servos");
   }
   line("");
   line("sensors");
-  if (d.sensors.empty()) line("  (none: sensordata is empty)");
+  if (d.sensors.empty())
+    line("  (none: sensordata is empty)");
+  else
+    line(fmt::format("  {:>3} {:<16} {:<14} {:<22} {}", "id", "name", "type", "entries", "unit"));
   for (const SensorDescription& s : d.sensors) {
-    line(fmt::format("  {:>3} {:<16} {:<14} sensordata[{}..{}]", s.id, s.name, s.type, s.adr,
-                     s.adr + s.dim - 1));
+    line(fmt::format("  {:>3} {:<16} {:<14} {:<22} {}", s.id, s.name, s.type,
+                     fmt::format("sensordata[{}..{}]", s.adr, s.adr + s.dim - 1),
+                     s.unit.empty() ? "-" : s.unit));
   }
   line("");
   line("what is what");
   for (const RoleDescription& r : d.roles) {
     line(fmt::format("  {:<10} {:<8} {}", r.role, r.where, r.examples));
-    line(fmt::format("  {:<10} {:<8} changed by {}", "", "", r.who_writes));
+    line(fmt::format("  {:<10} {:<8} written by {}", "", "", r.who_writes));
   }
   line("");
   line("units: length m, mass kg, time s, angle rad, torque N*m, force N");

@@ -37,8 +37,12 @@ int RunRun(const RunOptions& o, const Context& ctx) {
     spec.columns = DefaultColumns(model);
   } else {
     for (const std::string& text : SplitPathList(o.columns)) {
-      for (const Path& p : ExpandPath(model, text)) {
-        for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
+      try {
+        for (const Path& p : ExpandPath(model, text)) {
+          for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
+        }
+      } catch (const PathError& e) {
+        throw PathError(std::string("--columns: ") + e.what());
       }
     }
   }

@@ -52,7 +52,10 @@ struct ActuatorDescription {
   bool ctrllimited = false;
   std::array<double, 2> ctrlrange{};
   bool forcelimited = false;
-  std::array<double, 2> forcerange{};  // N*m or N
+  std::array<double, 2> forcerange{};  // in force_unit
+  std::string kind;        // motor, position, velocity, muscle or general (from gain/bias)
+  std::string ctrl_unit;   // what ctrl means: "N*m" (motor on a hinge), "rad" (position), ...
+  std::string force_unit;  // unit of the actuator force and forcerange: "N*m", "N", "N, N*m"
 };
 
 struct SensorDescription {
@@ -61,6 +64,7 @@ struct SensorDescription {
   std::string type;  // accelerometer, jointpos, ...
   int adr = 0;       // first index in sensordata
   int dim = 1;       // number of sensordata entries
+  std::string unit;  // of each entry: "m/s^2", "rad", "N", ... ("" when dimensionless)
 };
 
 // One row of the chapter's classification table.

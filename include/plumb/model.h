@@ -97,6 +97,8 @@ class Data {
  public:
   // Allocates data for `model` and resets it to qpos0. @throws MujocoError.
   explicit Data(const Model& model);
+  // Data keeps a pointer to its model: a temporary model would dangle.
+  explicit Data(Model&&) = delete;
 
   Data(Data&&) noexcept;
   Data& operator=(Data&&) noexcept;

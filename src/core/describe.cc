@@ -4,6 +4,69 @@
 
 namespace plumb {
 
+namespace {
+
+// What kind of actuator the gain and bias make: a motor passes ctrl through as force, a
+// position (velocity) servo drives towards ctrl with a spring (damper) bias.
+std::string ActuatorKind(const mjModel* m, int u) {
+  if (m->actuator_gaintype[u] == mjGAIN_MUSCLE) return "muscle";
+  if (m->actuator_gaintype[u] != mjGAIN_FIXED) return "general";
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  if (m->actuator_biastype[u] == mjBIAS_NONE) return "motor";
+  if (m->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0) {
+    if (bias[1] < 0 && bias[2] == 0) return "position";
+    if (bias[1] == 0 && bias[2] < 0) return "velocity";
+  }
+  return "general";
+}
+
+// The unit of each entry of sensor `s`.
+std::string SensorUnit(const mjModel* m, int s) {
+  int joint = m->sensor_objid[s];
+  bool hinge = m->sensor_objtype[s] == mjOBJ_JOINT && m->jnt_type[joint] == mjJNT_HINGE;
+  switch (m->sensor_type[s]) {
+    case mjSENS_TOUCH:
+    case mjSENS_FORCE:
+      return "N";
+    case mjSENS_TORQUE:
+      return "N*m";
+    case mjSENS_ACCELEROMETER:
+    case mjSENS_FRAMELINACC:
+      return "m/s^2";
+    case mjSENS_FRAMEANGACC:
+      return "rad/s^2";
+    case mjSENS_VELOCIMETER:
+    case mjSENS_FRAMELINVEL:
+    case mjSENS_SUBTREELINVEL:
+      return "m/s";
+    case mjSENS_GYRO:
+    case mjSENS_BALLANGVEL:
+    case mjSENS_FRAMEANGVEL:
+      return "rad/s";
+    case mjSENS_MAGNETOMETER:
+      return "T";
+    case mjSENS_RANGEFINDER:
+    case mjSENS_FRAMEPOS:
+    case mjSENS_SUBTREECOM:
+    case mjSENS_TENDONPOS:
+      return "m";
+    case mjSENS_TENDONVEL:
+      return "m/s";
+    case mjSENS_JOINTPOS:
+      return hinge ? "rad" : "m";
+    case mjSENS_JOINTVEL:
+      return hinge ? "rad/s" : "m/s";
+    case mjSENS_SUBTREEANGMOM:
+      return "kg*m^2/s";
+    case mjSENS_CLOCK:
+      return "s";
+    default:  // quaternions, axes, actuator and limit quantities in their own units
+      return "";
+  }
+}
+
+}  // namespace
+
 ModelDescription Describe(const Model& model) {
   const mjModel* m = model.get();
   ModelDescription out;
@@ -74,13 +137,29 @@ ModelDescription Describe(const Model& model) {
     act.ctrlrange = {m->actuator_ctrlrange[2 * u], m->actuator_ctrlrange[2 * u + 1]};
     act.forcelimited = m->actuator_forcelimited[u];
     act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
+    // the actuator force is what the transmission sees before gear: with a unit gear it
+    // is a torque on a hinge and a force on a slide or tendon
+    int target = m->actuator_trnid[2 * u];
+    int joint_type = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT ? m->jnt_type[target] : -1;
+    act.force_unit = joint_type == mjJNT_HINGE                          ? "N*m"
+                     : joint_type == mjJNT_SLIDE || trn == mjTRN_TENDON ? "N"
+                                                                        : "N, N*m";
+    std::string position = joint_type == mjJNT_HINGE                          ? "rad"
+                           : joint_type == mjJNT_SLIDE || trn == mjTRN_TENDON ? "m"
+                                                                              : "m, rad";
+    act.kind = ActuatorKind(m, u);
+    act.ctrl_unit = act.kind == "motor"      ? act.force_unit
+                    : act.kind == "position" ? position
+                    : act.kind == "velocity" ? position + "/s"
+                    : act.kind == "muscle"   ? "activation 0..1"
+                                             : "set by gainprm";
     out.actuators.push_back(act);
   }
 
   for (int s = 0; s < m->nsensor; ++s) {
     out.sensors.push_back({s, model.Name(mjOBJ_SENSOR, s),
                            compat::NameOf(compat::kSensorTypes, m->sensor_type[s]),
-                           m->sensor_adr[s], m->sensor_dim[s]});
+                           m->sensor_adr[s], m->sensor_dim[s], SensorUnit(m, s)});
   }
 
   auto n = [](const char* field, long size) {
@@ -93,7 +172,7 @@ ModelDescription Describe(const Model& model) {
        "the MJCF compiler; fixed while the simulation runs (--set before a run)"},
       {"state", "mjData",
        "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na),
-       "mj_step advances it; you may set it, then call mj_forward"},
+       "mj_step, which advances it; you may also set it, then call mj_forward"},
       {"input", "mjData",
        n("ctrl", m->nu) + ", " + n("qfrc_applied", m->nv) + ", " +
            n("xfrc_applied", 6L * m->nbody) + ", " + n("mocap_pos", 3L * m->nmocap),

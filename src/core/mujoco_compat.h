@@ -12,6 +12,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cstddef>
+#include <cstring>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -210,6 +211,41 @@ inline int SolverIterations(const mjData* d) {
 inline void SetMujocoHandlers(void (*error)(const char*), void (*warning)(const char*)) {
   mju_user_error = error;
   mju_user_warning = warning;
+}
+
+// mj_resetData for what a rollout reads: state, inputs and statistics. On MuJoCo 2.x
+// mj_resetData also clears the whole stack arena (megabytes for a humanoid), which costs
+// as much as several steps; everything else in mjData is recomputed by mj_forward.
+inline void ResetState(const mjModel* m, mjData* d) {
+#if mjVERSION_HEADER >= 300
+  mj_resetData(m, d);
+#else
+  d->time = 0;
+  mju_copy(d->qpos, m->qpos0, m->nq);
+  mju_zero(d->qvel, m->nv);
+  mju_zero(d->act, m->na);
+  mju_zero(d->ctrl, m->nu);
+  mju_zero(d->qacc_warmstart, m->nv);
+  mju_zero(d->qfrc_applied, m->nv);
+  mju_zero(d->xfrc_applied, 6 * m->nbody);
+  mju_zero(d->qacc, m->nv);
+  mju_zero(d->act_dot, m->na);
+  mju_zero(d->userdata, m->nuserdata);
+  for (int b = 0; b < m->nbody; ++b) {
+    int id = m->body_mocapid[b];
+    if (id < 0) continue;
+    mju_copy3(d->mocap_pos + 3 * id, m->body_pos + 3 * b);
+    mju_copy4(d->mocap_quat + 4 * id, m->body_quat + 4 * b);
+  }
+  std::memset(d->warning, 0, sizeof(d->warning));
+  std::memset(d->timer, 0, sizeof(d->timer));
+  std::memset(d->solver, 0, sizeof(d->solver));
+  d->solver_iter = 0;
+  d->solver_nnz = 0;
+  mju_zero(d->solver_fwdinv, 2);
+  mju_zero(d->energy, 2);
+  d->pstack = 0;
+#endif
 }
 
 }  // namespace plumb::compat

@@ -248,9 +248,13 @@ struct Parsed {
 
 Parsed Parse(std::string_view text) {
   Parsed parsed;
+  // blanks are dropped outside brackets and trimmed inside them: MJCF names may contain
+  // spaces ("pinch site"), so body_mass[ pinch site ] names "pinch site"
   std::string s;
+  int depth = 0;
   for (char c : text) {
-    if (c != ' ' && c != '\t') s += c;
+    depth += c == '[' ? 1 : c == ']' ? -1 : 0;
+    if (depth > 0 || (c != ' ' && c != '\t')) s += c;
   }
   std::size_t bracket = s.find('[');
   parsed.field = s.substr(0, bracket);
@@ -270,6 +274,10 @@ Parsed Parse(std::string_view text) {
     std::size_t close = s.find(']', at);
     if (close == std::string::npos) throw bad("a '[' is not closed");
     std::string index = s.substr(at + 1, close - at - 1);
+    std::size_t first = index.find_first_not_of(" \t");
+    index = first == std::string::npos
+                ? ""
+                : index.substr(first, index.find_last_not_of(" \t") - first + 1);
     if (index.empty()) throw bad("empty []");
     parsed.indices.push_back(index);
     at = close + 1;
@@ -645,6 +653,73 @@ const compat::EnumName* EnumTable(const std::string& field, std::size_t* size) {
   return nullptr;
 }
 
+// The smallest value MuJoCo's compiler accepts for a field, where it checks one (a
+// negative mass or iteration count compiles from no XML and breaks the solver at run time).
+struct Bound {
+  const char* field;
+  double min;
+  bool strict;  // > min rather than >= min
+  const char* what;
+};
+constexpr Bound kBounds[] = {
+    {"opt.timestep", 0, true, "the timestep must be positive"},
+    {"opt.impratio", 0, true, "the friction-to-normal impedance ratio must be positive"},
+    {"opt.iterations", 1, false, "the solver needs at least one iteration"},
+    {"opt.ls_iterations", 1, false, "the line search needs at least one iteration"},
+    {"opt.noslip_iterations", 0, false, "an iteration count cannot be negative"},
+    {"opt.mpr_iterations", 0, false, "an iteration count cannot be negative"},
+    {"opt.tolerance", 0, false, "a tolerance cannot be negative"},
+    {"opt.ls_tolerance", 0, false, "a tolerance cannot be negative"},
+    {"opt.noslip_tolerance", 0, false, "a tolerance cannot be negative"},
+    {"opt.mpr_tolerance", 0, false, "a tolerance cannot be negative"},
+    {"opt.density", 0, false, "a medium density cannot be negative"},
+    {"opt.viscosity", 0, false, "a viscosity cannot be negative"},
+    {"body_mass", 0, false, "a mass cannot be negative"},
+    {"body_inertia", 0, false, "principal moments of inertia cannot be negative"},
+    {"dof_armature", 0, false, "armature (rotor inertia) cannot be negative"},
+    {"dof_frictionloss", 0, false, "friction loss cannot be negative"},
+    {"geom_margin", 0, false, "a contact margin cannot be negative"},
+};
+
+// Throws ValueError when the values parse but MuJoCo would reject or misread them: an
+// enumerated option outside its names, a geom's condim other than 1, 3, 4, 6, option
+// flags beyond the defined bits, or a value below a field's bound.
+void CheckDomain(const Assignment& a, const compat::EnumName* names, std::size_t enum_size) {
+  const std::string& field = a.path.field;
+  auto fail = [&](const std::string& why) {
+    throw ValueError("--set '" + a.text + "': " + why + ".");
+  };
+  for (double v : a.values) {
+    if (names) {
+      bool known = false;
+      std::vector<std::string> valid;
+      for (std::size_t i = 0; i < enum_size; ++i) {
+        known = known || names[i].value == v;
+        valid.push_back(std::string(names[i].name) + " (" + std::to_string(names[i].value) + ")");
+      }
+      if (!known)
+        fail(FormatNumber(v) + " is not a valid " + field + "; valid: " + Join(valid, ", "));
+    }
+    if (field == "geom_condim" && v != 1 && v != 3 && v != 4 && v != 6) {
+      fail("a geom's condim is 1, 3, 4 or 6 (frictionless, sliding, +torsional, +rolling)");
+    }
+    if (field == "opt.disableflags" && (v < 0 || v >= (1 << mjNDISABLE))) {
+      fail("disable flags are bits 0.." + std::to_string(mjNDISABLE - 1) + ": a value from 0 to " +
+           std::to_string((1 << mjNDISABLE) - 1));
+    }
+    if (field == "opt.enableflags" && (v < 0 || v >= (1 << mjNENABLE))) {
+      fail("enable flags are bits 0.." + std::to_string(mjNENABLE - 1) + ": a value from 0 to " +
+           std::to_string((1 << mjNENABLE) - 1));
+    }
+    for (const Bound& bound : kBounds) {
+      if (field != bound.field) continue;
+      if (bound.strict ? v <= bound.min : v < bound.min) {
+        fail(std::string(bound.what) + " (got " + FormatNumber(v) + ")");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Assignment ParseAssignment(const Model& model, std::string_view text) {
@@ -688,9 +763,7 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
   }
   RequireWritable(a.path);
   for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
-  if (a.path.field == "opt.timestep" && a.values[0] <= 0) {
-    throw ValueError("--set '" + a.text + "': the timestep must be positive.");
-  }
+  CheckDomain(a, names, enum_size);
   return a;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 
 namespace plumb {
@@ -61,6 +62,12 @@ std::optional<long> ParseIndex(std::string_view text) {
     value = value * 10 + (c - '0');
   }
   return value;
+}
+
+std::string FormatNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", value);
+  return buffer;
 }
 
 std::vector<std::string> Split(std::string_view text, char separator) {

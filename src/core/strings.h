@@ -21,6 +21,9 @@ std::optional<double> ParseNumber(std::string_view text);
 // Parses a non-negative integer index ("3"); nullopt for anything else.
 std::optional<long> ParseIndex(std::string_view text);
 
+// The shortest text that reads back as `value` to 6 significant digits ("%g").
+std::string FormatNumber(double value);
+
 // Splits on `separator`, keeping empty parts.
 std::vector<std::string> Split(std::string_view text, char separator);
 

@@ -72,13 +72,20 @@ std::string DescriptionToJson(const ModelDescription& d, const std::string& mujo
                          {"ctrllimited", a.ctrllimited},
                          {"ctrlrange", a.ctrlrange},
                          {"forcelimited", a.forcelimited},
-                         {"forcerange", a.forcerange}});
+                         {"forcerange", a.forcerange},
+                         {"kind", a.kind},
+                         {"ctrl_unit", a.ctrl_unit},
+                         {"force_unit", a.force_unit}});
   }
   j["actuators"] = actuators;
   ordered_json sensors = ordered_json::array();
   for (const SensorDescription& s : d.sensors) {
-    sensors.push_back(
-        {{"id", s.id}, {"name", s.name}, {"type", s.type}, {"adr", s.adr}, {"dim", s.dim}});
+    sensors.push_back({{"id", s.id},
+                       {"name", s.name},
+                       {"type", s.type},
+                       {"adr", s.adr},
+                       {"dim", s.dim},
+                       {"unit", s.unit}});
   }
   j["sensors"] = sensors;
   ordered_json roles = ordered_json::array();

@@ -172,6 +172,13 @@ TEST_F(CliBadInputTest, NegativeUntil) { Expect2("run " + kPendulum + " --until 
 
 TEST_F(CliBadInputTest, UnknownOption) { Expect2("run " + kPendulum + " --untill 2", "untill"); }
 
+TEST(CliRunTest, AnUnknownColumnNamesTheOption) {
+  CommandResult r = RunPlumb("run " + kPendulum + " --columns 'time,qpos[hing]'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--columns"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("hinge"), std::string::npos) << r.err;
+}
+
 TEST(CliOutputTest, UnwritableOutputPathIsBadInput) {
   TempDir dir;
   CommandResult r = RunPlumb("run " + kPendulum + " -o /nonexistent-dir/traj.csv");

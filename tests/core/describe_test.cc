@@ -63,5 +63,39 @@ TEST_F(DescribeTest, HumanoidShowsNqDiffersFromNv) {
   EXPECT_FALSE(d.actuators[0].target.empty());
 }
 
+TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="arm"><joint name="shoulder" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <site name="tip" pos="0.3 0 0"/>
+        <body name="slider"><joint name="rail" type="slide"/>
+          <geom type="sphere" size="0.05"/></body></body></worldbody>
+    <actuator>
+      <motor name="torque" joint="shoulder" gear="5"/>
+      <position name="servo" joint="shoulder" kp="10"/>
+      <velocity name="speed" joint="rail" kv="3"/>
+    </actuator>
+    <sensor>
+      <jointpos name="angle" joint="shoulder"/>
+      <jointpos name="travel" joint="rail"/>
+      <accelerometer name="imu" site="tip"/>
+      <framequat name="orientation" objtype="site" objname="tip"/>
+    </sensor></mujoco>)");
+  ModelDescription d = Describe(model);
+  ASSERT_EQ(d.actuators.size(), 3u);
+  EXPECT_EQ(d.actuators[0].kind, "motor");
+  EXPECT_EQ(d.actuators[0].ctrl_unit, "N*m");
+  EXPECT_EQ(d.actuators[1].kind, "position");
+  EXPECT_EQ(d.actuators[1].ctrl_unit, "rad");
+  EXPECT_EQ(d.actuators[2].kind, "velocity");
+  EXPECT_EQ(d.actuators[2].ctrl_unit, "m/s");
+  EXPECT_EQ(d.actuators[2].force_unit, "N");
+  ASSERT_EQ(d.sensors.size(), 4u);
+  EXPECT_EQ(d.sensors[0].unit, "rad");
+  EXPECT_EQ(d.sensors[1].unit, "m");
+  EXPECT_EQ(d.sensors[2].unit, "m/s^2");
+  EXPECT_EQ(d.sensors[3].unit, "");
+}
+
 }  // namespace
 }  // namespace plumb

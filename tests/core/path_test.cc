@@ -177,10 +177,39 @@ TEST_F(PathTest, BadValuesAreRejected) {
   EXPECT_THROW(ParseAssignment(robot_, "opt.gravity=1,2"), ValueError);
   EXPECT_THROW(ParseAssignment(robot_, "opt.timestep=0"), ValueError);
   EXPECT_THROW(ParseAssignment(robot_, "opt.iterations=2.5"), ValueError);
+  // values that parse but MuJoCo would misread: out-of-range enums, bad condim, bounds
+  EXPECT_THROW(ParseAssignment(robot_, "opt.integrator=9"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.cone=-1"), ValueError);
+  EXPECT_EQ(ParseAssignment(robot_, "opt.integrator=1").values[0], mjINT_RK4);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.iterations=-5"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.iterations=0"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "opt.disableflags=1e6"), ValueError);
+  EXPECT_THROW(ParseAssignment(robot_, "body_mass[torso]=-1"), ValueError);
+  EXPECT_NO_THROW(ParseAssignment(robot_, "body_mass[torso]=0"));
+  EXPECT_THROW(ParseAssignment(robot_, "geom_condim[foot]=7"), ValueError);
+  EXPECT_NO_THROW(ParseAssignment(robot_, "geom_condim[foot]=6"));
+  try {
+    ParseAssignment(robot_, "opt.integrator=9");
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("RK4 (1)"), std::string::npos) << e.what();
+  }
   // derived quantities and structure cannot be set
   EXPECT_THROW(ParseAssignment(robot_, "xpos[torso][2]=1"), PathError);
   EXPECT_THROW(ParseAssignment(robot_, "jnt_qposadr[elbow]=0"), PathError);
   EXPECT_THROW(ParseAssignment(robot_, "body_subtreemass[torso]=1"), PathError);
+}
+
+TEST_F(PathTest, NamesWithSpacesResolve) {
+  // MJCF names are free text; blanks around a name and outside brackets are ignored
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="pinch site" pos="0 0 1"><joint name="wrist hinge"/>
+        <geom type="sphere" size="0.1" mass="2"/></body></worldbody></mujoco>)");
+  EXPECT_EQ(ResolvePath(model, "body_mass[pinch site]").first, 1);
+  EXPECT_EQ(ResolvePath(model, "body_mass[ pinch site ]").first, 1);
+  EXPECT_EQ(ResolvePath(model, " xpos [pinch site] [2]").first,
+            ResolvePath(model, "xpos[1][2]").first);
+  EXPECT_EQ(ParseAssignment(model, "qpos[wrist hinge] = 0.3").values[0], 0.3);
+  EXPECT_THROW(ResolvePath(model, "body_mass[pinchsite]"), PathError);
 }
 
 TEST_F(PathTest, MassEditsRecomputeDerivedConstants) {
