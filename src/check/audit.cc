@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <set>
 
 #include "core/mujoco_compat.h"
@@ -27,8 +28,21 @@ std::string Elem(const Model& model, int obj, int id, const char* noun) {
 
 Finding Make(const char* layer, std::string check, std::string element, std::string measured,
              std::string threshold, CheckStatus status, std::string fix) {
-  return {layer,  std::move(check), std::move(element), std::move(measured), std::move(threshold),
-          status, std::move(fix)};
+  Finding f{layer, std::move(check),    std::move(element),   "",     "",
+            -1,    std::move(measured), std::move(threshold), status, std::move(fix)};
+  // one element, as Elem writes it: "body 'hand' (id 3)" or "body #3"
+  static const std::regex kNamed(R"(^([a-z ]+) '([^']*)' \(id (\d+)\)$)"),
+      kUnnamed(R"(^([a-z ]+) #(\d+)$)");
+  std::smatch match;
+  if (std::regex_match(f.element, match, kNamed)) {
+    f.element_type = match[1];
+    f.element_name = match[2];
+    f.element_id = std::stoi(match[3]);
+  } else if (std::regex_match(f.element, match, kUnnamed)) {
+    f.element_type = match[1];
+    f.element_id = std::stoi(match[2]);
+  }
+  return f;
 }
 
 // When a check has more rows than kMaxListed, one row saying how many were listed.

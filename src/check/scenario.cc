@@ -193,7 +193,7 @@ class Locator {
           for (int k = i; k < n; ++k) {
             std::size_t quote = lines_[k].find('"', k == i ? lines_[k].find('=') : 0);
             if (quote != std::string::npos && strings++ == index) return k + 1;
-            if (lines_[k].find(']') != std::string::npos && k > i) break;
+            if (k > i && Trim(lines_[k]).substr(0, 1) == "]") break;
           }
           return i + 1;
         }
