@@ -443,6 +443,24 @@ TEST(CliRegressionTest, BadSnapshotsAndPathsAreBadInput) {
   CommandResult unwritable = RunPlumb("snapshot " + kPendulum + " -o /nonexistent-dir/s.json");
   EXPECT_EQ(unwritable.exit_code, 2);
   EXPECT_FALSE(fs::exists("/nonexistent-dir/s.json"));
+  // a damaged snapshot: exit 2 naming the file and the entry, never a crash
+  ASSERT_EQ(RunPlumb("snapshot " + kPendulum + " -o s.json", dir.path()).exit_code, 0);
+  nlohmann::json j = nlohmann::json::parse(ReadFile(dir.File("s.json")));
+  j["trajectory"]["qpos"][3] = nlohmann::json::array();
+  WriteFile(dir.File("s.json"), j.dump());
+  CommandResult damaged = RunPlumb("diff s.json " + kPendulum, dir.path());
+  EXPECT_EQ(damaged.exit_code, 2) << damaged.err;
+  EXPECT_NE(damaged.err.find("s.json: trajectory.qpos[3]: expected an array of 1 numbers"),
+            std::string::npos)
+      << damaged.err;
+  // a model whose golden trajectory diverges gets no snapshot: exit 3
+  WriteFile(dir.File("stiff.xml"), R"(<mujoco><option timestep="0.01" gravity="0 0 0"/>
+    <worldbody><body><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
+    <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  CommandResult diverged = RunPlumb("snapshot stiff.xml -o stiff.snap.json", dir.path());
+  EXPECT_EQ(diverged.exit_code, 3) << diverged.err;
+  EXPECT_NE(diverged.err.find("diverges"), std::string::npos) << diverged.err;
+  EXPECT_FALSE(fs::exists(dir.File("stiff.snap.json")));
 }
 
 TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
