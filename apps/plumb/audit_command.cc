@@ -50,6 +50,9 @@ std::string Json(const AuditReport& report) {
   for (const Finding& f : report.findings) {
     layers[f.layer].push_back({{"check", f.check},
                                {"element", f.element},
+                               {"element_type", f.element_type},
+                               {"element_name", f.element_name},
+                               {"element_id", f.element_id},
                                {"measured", f.measured},
                                {"threshold", f.threshold},
                                {"status", CheckStatusName(f.status)},

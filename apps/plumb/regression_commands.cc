@@ -32,8 +32,18 @@ struct DiffOptions {
 int RunSnapshot(const SnapshotOptions& o) {
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  std::string divergence;
+  std::string text = MakeSnapshot(model, sets, &divergence);
+  if (!divergence.empty()) {
+    // a golden trajectory that diverges is no reference: nothing is written
+    std::fprintf(stderr,
+                 "plumb: no snapshot written: the golden trajectory of %s diverges: %s\n"
+                 "Fix the model first (plumb audit %s shows where), e.g. a smaller timestep "
+                 "or more damping.\n",
+                 o.model.c_str(), divergence.c_str(), o.model.c_str());
+    return kExitDiverged;
+  }
   AtomicFile file(o.output);
-  std::string text = MakeSnapshot(model, sets);
   std::fwrite(text.data(), 1, text.size(), file.stream());
   file.Commit();
   std::fprintf(stderr, "plumb: wrote the snapshot of %s to %s\n", o.model.c_str(),
@@ -54,8 +64,9 @@ int RunDiff(const DiffOptions& o) {
   try {
     diff = DiffSnapshot(text.str(), model, sets, o.tol);
   } catch (const ValueError& e) {
-    throw ValueError("snapshot '" + o.snapshot + "' is " + e.what() +
-                     "; write one with plumb snapshot MODEL -o FILE.");
+    throw ValueError(o.snapshot + ": " + e.what() +
+                     ". The file is not a snapshot or was damaged: write a fresh one with "
+                     "plumb snapshot MODEL -o FILE (or restore it from version control).");
   }
   std::string out;
   if (o.format == "json") {
@@ -89,7 +100,8 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
       "snapshot", "Record a model's structure, inertia, actuators and a golden trajectory");
   snapshot->footer(
       "Example:\n  plumb snapshot robot.xml -o robot.snap.json    # commit it with the model\n"
-      "Exit codes: 0 written, 2 bad input (nothing is written).");
+      "Exit codes: 0 written, 2 bad input, 3 the golden trajectory diverges (nothing is\n"
+      "written on 2 or 3).");
   AddModelOptions(snapshot, &s->model, &s->sets, "before snapshotting");
   snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON)")->required();
   snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });

@@ -25,9 +25,13 @@
 namespace plumb {
 
 struct Finding {
-  std::string layer;      // structure, inertia, actuator, contact, behaviour, warnings
-  std::string check;      // e.g. "inertia.tiny_mass"
-  std::string element;    // e.g. "body 'hand' (id 3)"; "" for the whole model
+  std::string layer;    // structure, inertia, actuator, contact, behaviour, warnings
+  std::string check;    // e.g. "inertia.tiny_mass"
+  std::string element;  // e.g. "body 'hand' (id 3)"; "" for the whole model
+  // the same, split, when the row is about one element (else "", "", -1)
+  std::string element_type;  // "body", "joint", "actuator", "geom", ...
+  std::string element_name;  // "" when unnamed
+  int element_id = -1;
   std::string measured;   // with units
   std::string threshold;  // with units; "" for informational rows
   CheckStatus status = CheckStatus::kPass;

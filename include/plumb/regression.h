@@ -26,8 +26,11 @@ inline constexpr int kSnapshotSteps = 100;
 // reference pose (keyframe "home" if present, else qpos0) and drives every ctrl-limited
 // actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
 // unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each.
-// @throws MujocoError; a diverging trajectory is recorded up to the step before.
-std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets);
+// Every element records its id (ids are not compared one by one: a shift is one change).
+// A diverging trajectory is recorded up to the step before and `divergence` (when given)
+// receives the reason; it is left empty otherwise. @throws MujocoError.
+std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets,
+                         std::string* divergence = nullptr);
 
 struct SnapshotChange {
   std::string what;  // in words: "body_mass[link]: 1 → 2", "body added: gripper"
@@ -41,9 +44,11 @@ struct SnapshotDiff {
   bool changed() const { return !changes.empty(); }
 };
 
-// Compares `snapshot_text` (as MakeSnapshot wrote it) with `model` after `sets`. Numbers
-// differ when |a - b| > tol * max(1, |a|, |b|). @throws ValueError when the text is not
-// a plumb snapshot.
+// Compares `snapshot_text` (as MakeSnapshot wrote it) with `model` after `sets`.
+// Parameters differ when |a - b| > tol * max(|a|, |b|) (relative: 1e-8 -> 2e-8 is a
+// change); trajectory values when |a - b| > tol * max(1, |a|, |b|). @throws ValueError
+// when the text is not a plumb snapshot or is damaged, naming the entry, e.g.
+// "structure.body.link.body_mass: expected a number, got \"x\"".
 SnapshotDiff DiffSnapshot(const std::string& snapshot_text, const Model& model,
                           const std::vector<Assignment>& sets, double tol);
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <set>
 
 #include "core/mujoco_compat.h"
@@ -27,14 +28,36 @@ std::string Elem(const Model& model, int obj, int id, const char* noun) {
 
 Finding Make(const char* layer, std::string check, std::string element, std::string measured,
              std::string threshold, CheckStatus status, std::string fix) {
-  return {layer,  std::move(check), std::move(element), std::move(measured), std::move(threshold),
-          status, std::move(fix)};
+  Finding f{layer, std::move(check),    std::move(element),   "",     "",
+            -1,    std::move(measured), std::move(threshold), status, std::move(fix)};
+  // one element, as Elem writes it: "body 'hand' (id 3)" or "body #3"
+  static const std::regex kNamed(R"(^([a-z ]+) '([^']*)' \(id (\d+)\)$)"),
+      kUnnamed(R"(^([a-z ]+) #(\d+)$)");
+  std::smatch match;
+  if (std::regex_match(f.element, match, kNamed)) {
+    f.element_type = match[1];
+    f.element_name = match[2];
+    f.element_id = std::stoi(match[3]);
+  } else if (std::regex_match(f.element, match, kUnnamed)) {
+    f.element_type = match[1];
+    f.element_id = std::stoi(match[2]);
+  }
+  return f;
 }
 
-// The subtree of every body: is `b` inside the subtree rooted at `root`?
-bool InSubtree(const mjModel* m, int b, int root) {
-  while (b > 0 && b != root) b = m->body_parentid[b];
-  return b == root;
+// When a check has more rows than kMaxListed, one row saying how many were listed.
+void ListedNote(const char* layer, const char* check, const char* noun, int total,
+                std::vector<Finding>* out, int shown = kMaxListed) {
+  if (total <= shown) return;
+  out->push_back(
+      Make(layer, check, "", fmt::format("{} of {} {} listed", shown, total, noun), "",
+           CheckStatus::kPass,
+           fmt::format("only {} rows are shown; plumb inspect lists every element", shown)));
+}
+
+// |gravity|, 0 when <flag gravity="disable"/> switches it off.
+double GravityNorm(const mjModel* m) {
+  return (m->opt.disableflags & mjDSBL_GRAVITY) ? 0 : mju_norm3(m->opt.gravity);
 }
 
 // Moving bodies: those not welded to the world.
@@ -104,12 +127,13 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
   // names matter where people and code refer to elements
   struct Kind {
     const char* noun;
+    const char* plural;
     int obj;
     int count;
-  } kinds[] = {{"joint", mjOBJ_JOINT, m->njnt},
-               {"actuator", mjOBJ_ACTUATOR, m->nu},
-               {"sensor", mjOBJ_SENSOR, m->nsensor},
-               {"body", mjOBJ_BODY, m->nbody}};
+  } kinds[] = {{"joint", "joints", mjOBJ_JOINT, m->njnt},
+               {"actuator", "actuators", mjOBJ_ACTUATOR, m->nu},
+               {"sensor", "sensors", mjOBJ_SENSOR, m->nsensor},
+               {"body", "bodies", mjOBJ_BODY, m->nbody}};
   for (const Kind& k : kinds) {
     std::vector<std::string> unnamed;
     for (int i = 0; i < k.count; ++i) {
@@ -121,50 +145,46 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
         "{}",
         fmt::join(unnamed.begin(), unnamed.begin() + std::min<size_t>(8, unnamed.size()), ", "));
     if (unnamed.size() > 8) list += fmt::format(", ... ({} in all)", unnamed.size());
-    out->push_back(Make(L, std::string("structure.unnamed_") + k.noun + "s",
-                        fmt::format("{}s {}", k.noun, list),
+    out->push_back(Make(L, std::string("structure.unnamed_") + k.plural,
+                        fmt::format("{} {}", k.plural, list),
                         fmt::format("{} unnamed", unnamed.size()), "0", CheckStatus::kWarn,
                         fmt::format("name every {}: controllers, logs and plumb paths "
-                                    "(qpos[name]) refer to {}s by name, ids shift when the "
+                                    "(qpos[name]) refer to {} by name, ids shift when the "
                                     "model changes",
-                                    k.noun, k.noun)));
+                                    k.noun, k.plural)));
   }
 
-  // joints: type, axis, addresses, range
+  // joints: type, axis, addresses, range; a range warning comes with the joint's row
   for (int j = 0; j < m->njnt; ++j) {
     int type = m->jnt_type[j];
     std::string element = Elem(model, mjOBJ_JOINT, j, "joint");
     double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
     bool limited = m->jnt_limited[j];
     std::string range = limited ? fmt::format("[{:.4g}, {:.4g}]", lo, hi) : "unlimited";
+    bool rotational = type == mjJNT_HINGE || type == mjJNT_BALL;
     if (limited && hi <= lo) {
       out->push_back(Make(L, "structure.joint_range", element, range, "lower < upper",
                           CheckStatus::kFail,
                           "a limited joint with an empty range is locked: give range=\"lo hi\" "
                           "or drop limited"));
-      continue;
-    }
-    bool rotational = type == mjJNT_HINGE || type == mjJNT_BALL;
-    if (limited && ((rotational && hi - lo > 4 * M_PI) || (type == mjJNT_SLIDE && hi - lo > 100))) {
+    } else if (limited &&
+               ((rotational && hi - lo > 4 * M_PI) || (type == mjJNT_SLIDE && hi - lo > 100))) {
       out->push_back(Make(L, "structure.joint_range", element, range,
                           rotational ? "<= 4*pi rad" : "<= 100 m", CheckStatus::kWarn,
                           rotational ? "a range wider than two turns never engages: was it "
                                        "written in degrees with <compiler angle=\"radian\">?"
                                      : "a slide range this long never engages: check units"));
-      continue;
-    }
-    // MJCF angles are degrees unless <compiler angle="radian">: radians written there
-    // become a range 57 times too narrow
-    if (limited && type == mjJNT_HINGE && hi - lo < 0.1) {
+    } else if (limited && type == mjJNT_HINGE && hi - lo < 0.1) {
+      // MJCF angles are degrees unless <compiler angle="radian">: radians written there
+      // become a range 57 times too narrow
       out->push_back(Make(L, "structure.joint_range", element, range + " rad", ">= 0.1 rad",
                           CheckStatus::kWarn,
                           fmt::format("a hinge range of {:.2g} degrees barely moves: MJCF reads "
                                       "angles in degrees unless <compiler angle=\"radian\">; "
                                       "were radians written?",
                                       (hi - lo) * 180 / M_PI)));
-      continue;
     }
-    if (m->njnt <= kMaxListed) {
+    if (j < kMaxListed) {
       const mjtNum* axis = m->jnt_axis + 3 * j;
       out->push_back(Make(L, "structure.joint", element,
                           fmt::format("{} axis ({:.3g} {:.3g} {:.3g}) qpos[{}] dof[{}] range {}",
@@ -174,11 +194,7 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
                           "type, axis (body frame), addresses and range as compiled"));
     }
   }
-  if (m->njnt > kMaxListed) {
-    out->push_back(Make(L, "structure.joint", "", fmt::format("{} joints", m->njnt), "",
-                        CheckStatus::kPass,
-                        fmt::format("too many to list; plumb inspect shows each")));
-  }
+  ListedNote(L, "structure.joint", "joints", m->njnt, out);
 
   // nq vs nv
   if (m->nq != m->nv) {
@@ -196,7 +212,7 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
   }
 
   // actuators -> transmission targets, sensors -> sensordata layout
-  for (int u = 0; u < m->nu && m->nu <= kMaxListed; ++u) {
+  for (int u = 0; u < m->nu && u < kMaxListed; ++u) {
     int trn = m->actuator_trntype[u];
     int target_type = trn == mjTRN_TENDON ? mjOBJ_TENDON
                       : trn == mjTRN_SITE ? mjOBJ_SITE
@@ -208,13 +224,15 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
                                          compat::NameOf(compat::kTransmissions, trn).c_str())),
                         "", CheckStatus::kPass, "transmission and the element it drives"));
   }
-  for (int s = 0; s < m->nsensor && m->nsensor <= kMaxListed; ++s) {
+  ListedNote(L, "structure.actuator", "actuators", m->nu, out);
+  for (int s = 0; s < m->nsensor && s < kMaxListed; ++s) {
     out->push_back(Make(L, "structure.sensor", Elem(model, mjOBJ_SENSOR, s, "sensor"),
                         fmt::format("{} sensordata[{}..{}]",
                                     compat::NameOf(compat::kSensorTypes, m->sensor_type[s]),
                                     m->sensor_adr[s], m->sensor_adr[s] + m->sensor_dim[s] - 1),
                         "", CheckStatus::kPass, "sensor type and its place in sensordata"));
   }
+  ListedNote(L, "structure.sensor", "sensors", m->nsensor, out);
 }
 
 // ---- inertia -------------------------------------------------------------------------
@@ -257,19 +275,30 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
                       total > 0 || m->nv == 0 ? CheckStatus::kPass : CheckStatus::kFail,
                       total > 0 ? "sum of body masses as compiled"
                                 : "nothing has mass: give geoms a mass or density"));
-  int listed = 0, bad = 0;
+  // bodies welded together (no joint between them) move as one: mass conditioning is a
+  // matter of these weld groups, not of the marker bodies inside them
+  std::vector<double> group_mass(m->nbody, 0.0);
+  std::vector<int> group_size(m->nbody, 0);
+  for (int b = 1; b < m->nbody; ++b) {
+    group_mass[m->body_weldid[b]] += m->body_mass[b];
+    ++group_size[m->body_weldid[b]];
+  }
+  int listed = 0, moving = 0;
   for (int b = 1; b < m->nbody; ++b) {
     if (!Moves(m, b)) continue;
+    ++moving;
     std::string element = Elem(model, mjOBJ_BODY, b, "body");
     const mjtNum* I = m->body_inertia + 3 * b;
     double mass = m->body_mass[b];
-    // principal moments: positive and each no larger than the sum of the other two
+    bool weld_root = m->body_weldid[b] == b;
+    // principal moments: positive and each no larger than the sum of the other two; a
+    // massless body welded to its parent (a marker) has none and needs none
     double slack = 1e-9 * (I[0] + I[1] + I[2]);
-    bool positive = I[0] > 0 && I[1] > 0 && I[2] > 0;
+    bool marker = !weld_root && mass == 0 && I[0] == 0 && I[1] == 0 && I[2] == 0;
+    bool positive = marker || (I[0] > 0 && I[1] > 0 && I[2] > 0);
     bool triangle =
         I[0] + I[1] + slack >= I[2] && I[1] + I[2] + slack >= I[0] && I[0] + I[2] + slack >= I[1];
     if (!positive || !triangle) {
-      ++bad;
       out->push_back(Make(L, "inertia.principal", element,
                           fmt::format("I = ({:.4g}, {:.4g}, {:.4g}) kg*m^2", I[0], I[1], I[2]),
                           "> 0, triangle inequality", CheckStatus::kFail,
@@ -277,29 +306,34 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
                           "the compiler derive them from geoms (inertiafromgeom), or use "
                           "<compiler balanceinertia=\"true\">"));
     }
-    // tiny bodies and extreme ratios make the mass matrix ill-conditioned
-    int parent = m->body_parentid[b];
-    double parent_mass = m->body_mass[parent];
-    if (total > 0 && mass < 1e-4 * total) {
-      ++bad;
-      out->push_back(Make(L, "inertia.tiny_mass", element,
-                          fmt::format("{:.3g} kg = {:.2g} of total", mass, mass / total),
-                          ">= 1e-4 of total", CheckStatus::kWarn,
-                          "a moving body this light makes the dynamics stiff and slow or "
-                          "unstable: give it a realistic mass, add armature to its joint, or "
-                          "weld it to its parent"));
-    }
-    if (parent > 0 && mass > 0 && parent_mass > 0) {
-      double ratio = std::max(mass / parent_mass, parent_mass / mass);
-      if (ratio > 1e3) {
-        ++bad;
-        out->push_back(
-            Make(L, "inertia.mass_ratio", element,
-                 fmt::format("{:.3g} kg vs parent {} {:.3g} kg: ratio {:.3g}", mass,
-                             Elem(model, mjOBJ_BODY, parent, "body"), parent_mass, ratio),
-                 "<= 1e3", ratio > 1e6 ? CheckStatus::kFail : CheckStatus::kWarn,
-                 "extreme mass ratios between a body and its parent ill-condition "
-                 "the mass matrix: rebalance masses or add joint armature"));
+    // tiny weld groups and extreme ratios between a group and the group it hangs from
+    // make the mass matrix ill-conditioned
+    if (weld_root) {
+      double group = group_mass[b];
+      std::string what = group_size[b] > 1 ? fmt::format("{:.3g} kg (with {} bodies welded to it)",
+                                                         group, group_size[b] - 1)
+                                           : fmt::format("{:.3g} kg", group);
+      if (total > 0 && group < 1e-4 * total) {
+        out->push_back(Make(L, "inertia.tiny_mass", element,
+                            fmt::format("{} = {:.2g} of total", what, group / total),
+                            ">= 1e-4 of total", CheckStatus::kWarn,
+                            "a moving body this light makes the dynamics stiff and slow or "
+                            "unstable: give it a realistic mass, add armature to its joint, or "
+                            "weld it to its parent"));
+      }
+      int parent = m->body_weldid[m->body_parentid[b]];
+      double parent_mass = group_mass[parent];
+      if (parent > 0 && group > 0 && parent_mass > 0) {
+        double ratio = std::max(group / parent_mass, parent_mass / group);
+        if (ratio > 1e3) {
+          out->push_back(
+              Make(L, "inertia.mass_ratio", element,
+                   fmt::format("{} vs parent {} {:.3g} kg: ratio {:.3g}", what,
+                               Elem(model, mjOBJ_BODY, parent, "body"), parent_mass, ratio),
+                   "<= 1e3", ratio > 1e6 ? CheckStatus::kFail : CheckStatus::kWarn,
+                   "extreme mass ratios between a body and its parent ill-condition "
+                   "the mass matrix: rebalance masses or add joint armature"));
+        }
       }
     }
     // implied density from the volume of the body's primitive geoms
@@ -313,7 +347,6 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
     if (all_primitive && volume > 0 && mass > 0) {
       double density = mass / volume;
       if (density < 1 || density > 25000) {
-        ++bad;
         out->push_back(
             Make(L, "inertia.density", element,
                  fmt::format("{:.4g} kg/m^3 ({:.4g} kg in {:.3g} m^3)", density, mass, volume),
@@ -336,7 +369,6 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
         reach = std::max(reach, m->geom_rbound[g]);
       }
       if (std::isfinite(nearest) && reach > 0 && nearest > reach) {
-        ++bad;
         out->push_back(Make(L, "inertia.com_outside", element,
                             fmt::format("com {:.3g} m outside its geoms", nearest),
                             fmt::format("<= {:.3g} m", reach), CheckStatus::kWarn,
@@ -344,7 +376,7 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
                             "<inertial pos> and the body frame"));
       }
     }
-    if (listed < kMaxListed && (positive && triangle)) {
+    if (listed < kMaxListed && !marker && positive && triangle) {
       ++listed;
       out->push_back(Make(
           L, "inertia.body", element,
@@ -352,6 +384,7 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
           CheckStatus::kPass, "mass and principal inertia as compiled"));
     }
   }
+  ListedNote(L, "inertia.body", "moving bodies", moving, out, listed);
   // condition number of the mass matrix at the reference pose
   if (m->nv > 0) {
     mj_forward(m, data.get());
@@ -366,98 +399,219 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
                         : "mass matrix at the reference pose (mj_fullM) is "
                           "well-conditioned"));
   }
-  (void)bad;
+}
+
+// ---- runs shared by the actuator, contact and behaviour layers ----------------------
+
+struct Observed {
+  std::string label;  // "passive settle", "step response of actuator 'elbow' (id 3)"
+  RunResult result;
+  double duration = 0;
+  double deepest = 0;  // deepest penetration relative to the smaller geom size
+  std::string deepest_pair;
+  double deepest_late = 0;  // the same over the last part of the run, once impacts are over
+  std::string deepest_late_pair;
+  int max_iterations = 0;
+  long steps_at_limit = 0;
+  double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
+  double max_speed_end = 0;    // max |qvel| at the end
+  double support_ratio = NAN;  // contact normal force / weight at the end
+  double max_slip = 0;         // tangential speed at contacts at the end
+  std::string slip_pair;
+  std::string repro;
+};
+
+// Cost budget of one audit run, in dof-steps (steps x max(nv, 30)): about a second of
+// compute on a laptop core, so each run of a big model is shortened, never skipped.
+constexpr double kDofStepBudget = 4e5;
+
+// `wanted` s of simulated time, shortened for big models to the dof-step budget (at
+// least 20 steps), as a whole number of timesteps.
+double Duration(const mjModel* m, double wanted, double budget = kDofStepBudget) {
+  double steps = std::max(20.0, std::min(wanted / m->opt.timestep,
+                                         budget / std::max(30.0, static_cast<double>(m->nv))));
+  return std::ceil(steps) * m->opt.timestep;
+}
+
+// The repro folder of a diverged run ("" when none is wanted or it did not diverge).
+std::string ReproOf(const Model& work, const RunResult& r, const AuditOptions& options,
+                    const std::string& label) {
+  if (!r.diverged || options.repro_dir.empty()) return "";
+  std::vector<std::string> argv = options.argv;
+  argv.push_back("# audit run: " + label);
+  return WriteRepro(work, r, argv, options.repro_dir);
+}
+
+// What to do about a diverged audit run, after MuJoCo's reason.
+std::string DivergedFix(const Observed& o) {
+  return o.result.divergence->reason +
+         " Fix: a smaller timestep (or the implicit integrator), joint damping or armature "
+         "on the named joint, softer contacts or gains; plumb converge shows whether the "
+         "timestep is the cause." +
+         (o.repro.empty() ? "" : " Repro folder: " + o.repro + ".");
 }
 
 // ---- actuators -----------------------------------------------------------------------
 
-// Largest |force| actuator u can produce, or infinity when nothing bounds it.
-double ForceBound(const mjModel* m, int u) {
-  double bound = INFINITY;
+// The force interval [lo, hi] actuator u can produce; infinite where nothing bounds it.
+std::pair<double, double> ForceRange(const mjModel* m, int u) {
+  double lo = -INFINITY, hi = INFINITY;
   if (m->actuator_forcelimited[u]) {
-    bound = std::max(std::fabs(m->actuator_forcerange[2 * u]),
-                     std::fabs(m->actuator_forcerange[2 * u + 1]));
+    lo = m->actuator_forcerange[2 * u];
+    hi = m->actuator_forcerange[2 * u + 1];
   }
-  // a fixed-gain, bias-free actuator with limited control: |force| <= gain * |ctrl|
-  if (m->actuator_ctrllimited[u] && m->actuator_gaintype[u] == mjGAIN_FIXED &&
-      m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
-    double c = std::max(std::fabs(m->actuator_ctrlrange[2 * u]),
-                        std::fabs(m->actuator_ctrlrange[2 * u + 1]));
-    bound = std::min(bound, std::fabs(m->actuator_gainprm[mjNGAIN * u]) * c);
+  const mjtNum* gain = m->actuator_gainprm + mjNGAIN * u;
+  if (m->actuator_gaintype[u] == mjGAIN_MUSCLE) {
+    // a muscle only pulls, at most its peak force F0 (gainprm[2], which mj_setConst
+    // derives from scale) times the larger of the force-velocity and passive factors;
+    // its control is implicitly 0..1
+    double f0 = std::fabs(gain[2]);
+    if (f0 > 0) {
+      lo = std::max(lo, -f0 * (gain[8] + gain[7]));
+      hi = std::min(hi, 0.0);
+    }
+  } else if (m->actuator_ctrllimited[u] && m->actuator_gaintype[u] == mjGAIN_FIXED &&
+             m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
+    // a fixed-gain, bias-free actuator: force = gain * ctrl
+    double a = gain[0] * m->actuator_ctrlrange[2 * u],
+           b = gain[0] * m->actuator_ctrlrange[2 * u + 1];
+    lo = std::max(lo, std::min(a, b));
+    hi = std::min(hi, std::max(a, b));
   }
-  return bound;
+  return {lo, hi};
+}
+
+// What kind of response a ctrl step gives.
+enum class ActuatorKind { kPositionServo, kVelocityServo, kMotor, kOther };
+
+ActuatorKind KindOf(const mjModel* m, int u) {
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  bool fixed = m->actuator_gaintype[u] == mjGAIN_FIXED;
+  if (fixed && m->actuator_biastype[u] == mjBIAS_AFFINE && bias[1] != 0) {
+    return ActuatorKind::kPositionServo;
+  }
+  if (fixed && m->actuator_biastype[u] == mjBIAS_AFFINE && bias[2] != 0) {
+    return ActuatorKind::kVelocityServo;
+  }
+  if (fixed && m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
+    return ActuatorKind::kMotor;
+  }
+  return ActuatorKind::kOther;
 }
 
 struct StepResponse {
-  bool measured = false;
-  std::string quantity;
-  double rise = NAN, overshoot = NAN, error = NAN;
+  Observed run;
+  std::string measured;  // in words
+  bool moved = false;
 };
 
-// A step of ctrl from its middle to 10% of its range above (0 -> 0.1 when unlimited),
-// gravity and contacts off so only the actuator acts, for 1 s.
-StepResponse MeasureStep(const Model& model, const std::vector<Assignment>& sets,
-                         const Reference& ref, int u) {
+// A step of ctrl by 10% of its range (0.1 when unlimited) from the reference pose,
+// gravity and contacts off so only the actuator acts, every other ctrl at its middle.
+// Servos: rise time to 63% of the step in their setpoint (length or velocity), overshoot
+// and steady-state error. Motors have no setpoint: how far and how fast the step moves
+// the actuator. Others (muscles, filtered actuators): how fast the force follows.
+// `work` is a copy of the model with gravity and contacts off, `data` its data (reused
+// from one actuator to the next: a big model's mjData costs more to make than to step).
+StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>& sets,
+                         const Reference& ref, int u, double duration, const AuditOptions& options,
+                         const std::string& element) {
   StepResponse out;
-  Model work = model.Clone();
-  mjModel* m = work.get_mutable();
-  m->opt.disableflags |= mjDSBL_GRAVITY | mjDSBL_CONTACT;
-  Data data(work);
+  const mjModel* m = work.get();
+  mj_resetData(m, data.get());
   StartAt(work, data, ref, sets);
+  ActuatorKind kind = KindOf(m, u);
+  bool limited = m->actuator_ctrllimited[u] || m->actuator_gaintype[u] == mjGAIN_MUSCLE;
   double lo = m->actuator_ctrllimited[u] ? m->actuator_ctrlrange[2 * u] : 0;
-  double hi = m->actuator_ctrllimited[u] ? m->actuator_ctrlrange[2 * u + 1] : 0;
-  double mid = m->actuator_ctrllimited[u] ? 0.5 * (lo + hi) : 0;
-  double step = m->actuator_ctrllimited[u] ? 0.1 * (hi - lo) : 0.1;
-  bool servo =
-      m->actuator_biastype[u] == mjBIAS_AFFINE && m->actuator_biasprm[mjNBIAS * u + 1] != 0;
-  std::vector<double> t, y;
-  // servos: the actuator length tracks the target; others: the force follows ctrl
-  out.quantity = servo ? "length" : "force";
+  double hi = m->actuator_ctrllimited[u]                 ? m->actuator_ctrlrange[2 * u + 1]
+              : m->actuator_gaintype[u] == mjGAIN_MUSCLE ? 1
+                                                         : 0;
   for (int i = 0; i < m->nu; ++i) {
     data->ctrl[i] = m->actuator_ctrllimited[i]
                         ? 0.5 * (m->actuator_ctrlrange[2 * i] + m->actuator_ctrlrange[2 * i + 1])
                         : 0;
   }
   data.Forward();
-  double y0 = servo ? data->actuator_length[u] : data->actuator_force[u];
-  double target = servo ? mid + step : NAN;
-  if (servo) {
-    // a position servo holds ctrl = its target length; start from where it is
-    data->ctrl[u] = y0;
-    target = y0 + step;
-  }
+  double step = limited ? 0.1 * (hi - lo) : 0.1;
+  double length0 = data->actuator_length[u];
+  double before = data->ctrl[u];
+  if (kind == ActuatorKind::kPositionServo) before = length0;  // hold where it is
+  if (kind == ActuatorKind::kVelocityServo) before = 0;
+  double after = before + step;
+  if (limited && after > hi) after = before - step;  // stay inside ctrlrange
+  data->ctrl[u] = before;
+  data.Forward();
+  auto quantity = [&](const mjData* d) {
+    switch (kind) {
+      case ActuatorKind::kPositionServo:
+        return d->actuator_length[u];
+      case ActuatorKind::kVelocityServo:
+        return d->actuator_velocity[u];
+      default:
+        return d->actuator_force[u];
+    }
+  };
+  double y0 = quantity(data.get());
+  std::vector<double> t, y;
+  double max_speed = 0;
   RunSpec spec;
-  spec.until = std::ceil(1.0 / m->opt.timestep) * m->opt.timestep;
+  spec.until = duration;
   spec.every = m->opt.timestep;
-  spec.before_step = [&](mjData* d, long) { d->ctrl[u] = servo ? target : mid + step; };
+  spec.before_step = [&](mjData* d, long) { d->ctrl[u] = after; };
   spec.after_step = [&](const mjData* d, long) {
     t.push_back(d->time);
-    y.push_back(servo ? d->actuator_length[u] : d->actuator_force[u]);
+    y.push_back(quantity(d));
+    max_speed = std::max(max_speed, std::fabs(d->actuator_velocity[u]));
   };
   NullSink sink;
-  RunResult r = Run(work, data, spec, sink);
-  TakeMujocoWarnings();
-  if (r.diverged || y.size() < 3) return out;
-  double final = y.back();
-  double goal = servo ? target : final;
+  out.run.label = "step response of " + element;
+  out.run.duration = duration;
+  out.run.result = Run(work, data, spec, sink);
+  TakeMujocoWarnings();  // counted in the run's result, reported in the warnings layer
+  out.run.repro = ReproOf(work, out.run.result, options, out.run.label);
+  if (out.run.result.diverged || y.size() < 2) return out;
+  double moved = data->actuator_length[u] - length0;
+  if (kind == ActuatorKind::kMotor) {
+    out.moved = std::fabs(moved) > 1e-9 || max_speed > 1e-9;
+    out.measured = fmt::format(
+        "no setpoint (motor): ctrl {:.3g} -> {:.3g} moves the actuator length by {:.3g} in {:g} s "
+        "(peak speed {:.3g})",
+        before, after, moved, duration, max_speed);
+    return out;
+  }
+  // servos reach for their setpoint; other actuators' force settles where it settles
+  bool servo = kind != ActuatorKind::kOther;
+  double goal = servo ? after : y.back();
   double change = goal - y0;
   if (std::fabs(change) < 1e-12) return out;
-  out.measured = true;
+  out.moved = true;
+  double rise = NAN, peak = 0;
   for (std::size_t i = 0; i < y.size(); ++i) {
-    if ((y[i] - y0) / change >= 0.63) {
-      out.rise = t[i] - t.front() + m->opt.timestep;
-      break;
-    }
+    double share = (y[i] - y0) / change;
+    if (std::isnan(rise) && share >= 0.63) rise = t[i] - t.front() + m->opt.timestep;
+    peak = std::max(peak, share);
   }
-  double peak = 0;
-  for (double v : y) peak = std::max(peak, (v - y0) / change);
-  out.overshoot = std::max(0.0, peak - 1);
-  out.error = std::fabs(goal - final) / std::fabs(change);
+  std::string rise_text =
+      std::isfinite(rise) ? fmt::format("{:.3g} s", rise) : fmt::format("> {:g} s", duration);
+  if (servo) {
+    out.measured =
+        fmt::format("{} servo: rise {}, overshoot {:.1f}%, steady-state error {:.1f}% after {:g} s",
+                    kind == ActuatorKind::kPositionServo ? "position" : "velocity", rise_text,
+                    100 * std::max(0.0, peak - 1),
+                    100 * std::fabs(goal - y.back()) / std::fabs(change), duration);
+  } else {
+    out.measured = fmt::format("no setpoint ({}): force {:.3g} -> {:.3g}, rise {}",
+                               m->actuator_gaintype[u] == mjGAIN_MUSCLE ? "muscle" : "actuator", y0,
+                               y.back(), rise_text);
+  }
   return out;
 }
 
+// At most this many actuators get a step response (evenly spaced when there are more).
+constexpr int kStepActuators = 12;
+
 void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const std::vector<Assignment>& sets, const Reference& ref,
+                   const AuditOptions& options, std::vector<Observed>* runs,
                    std::vector<Finding>* out) {
   const mjModel* m = model.get();
   const char* L = "actuator";
@@ -466,26 +620,27 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                         "a passive model: nothing to check in this layer"));
     return;
   }
-  // the gravity torque each joint must hold at the reference pose (qvel = 0)
+  // the generalized force each joint needs to hold the reference pose (qvel = 0)
   mju_zero(data->qvel, m->nv);
   data.Forward();
+  int holding_rows = 0;
   for (int u = 0; u < m->nu; ++u) {
     std::string element = Elem(model, mjOBJ_ACTUATOR, u, "actuator");
     double gear = m->actuator_gear[6 * u];
-    double bound = ForceBound(m, u);
-    if (!std::isfinite(bound)) {
+    auto [flo, fhi] = ForceRange(m, u);
+    if (!std::isfinite(flo) || !std::isfinite(fhi)) {
       out->push_back(Make(L, "actuator.limits", element,
-                          fmt::format("ctrl {}, force unlimited, gear {:g}",
-                                      m->actuator_ctrllimited[u] ? "limited" : "unlimited", gear),
+                          fmt::format("ctrl {}, force {}, gear {:g}",
+                                      m->actuator_ctrllimited[u] ? "limited" : "unlimited",
+                                      m->actuator_forcelimited[u] ? "limited" : "unlimited", gear),
                           "a force bound", CheckStatus::kWarn,
                           "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
                           "from the motor's datasheet, torque = gear x force"));
     }
     int trn = m->actuator_trntype[u];
     int joint = m->actuator_trnid[2 * u];
-    bool servo =
-        m->actuator_biastype[u] == mjBIAS_AFFINE && m->actuator_biasprm[mjNBIAS * u + 1] != 0;
-    if (servo && (trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT) && m->jnt_limited[joint] &&
+    bool joint_trn = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT;
+    if (KindOf(m, u) == ActuatorKind::kPositionServo && joint_trn && m->jnt_limited[joint] &&
         m->actuator_ctrllimited[u] && gear != 0) {
       // a position servo's targets (ctrl / gear, in joint units) should lie within reach
       double lo = m->actuator_ctrlrange[2 * u] / gear, hi = m->actuator_ctrlrange[2 * u + 1] / gear;
@@ -501,84 +656,104 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                             "units)"));
       }
     }
-    if ((trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT) &&
-        (m->jnt_type[joint] == mjJNT_HINGE || m->jnt_type[joint] == mjJNT_SLIDE)) {
-      int dof = m->jnt_dofadr[joint];
-      double hold = std::fabs(data->qfrc_bias[dof]);
-      double deliver = std::fabs(gear) * bound;
-      if (std::isfinite(deliver)) {
-        bool weak = deliver < hold;
+    if (joint_trn && (m->jnt_type[joint] == mjJNT_HINGE || m->jnt_type[joint] == mjJNT_SLIDE)) {
+      // the actuator adds gear * force to its dof: it holds the pose when the needed
+      // generalized force lies within gear * [flo, fhi], sign included
+      double need = data->qfrc_bias[m->jnt_dofadr[joint]];
+      double tlo = std::min(gear * flo, gear * fhi), thi = std::max(gear * flo, gear * fhi);
+      if (gear == 0) tlo = thi = 0;
+      double bound = need >= 0 ? thi : tlo;
+      if (std::isfinite(bound) && holding_rows++ < kMaxListed) {
+        bool weak = need > thi || need < tlo;
         out->push_back(
             Make(L, "actuator.holding", element,
-                 fmt::format("max {:.4g} vs gravity {:.4g} at {}", deliver, hold,
-                             Elem(model, mjOBJ_JOINT, joint, "joint")),
-                 fmt::format(">= {:.4g}", hold), weak ? CheckStatus::kWarn : CheckStatus::kPass,
-                 weak ? "it cannot hold its limb against gravity at the reference pose: raise the "
-                        "gear or the force/ctrl range, or lighten the limb"
-                      : "gear x force bound exceeds the gravity torque at the reference pose"));
+                 fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo, thi,
+                             need, Elem(model, mjOBJ_JOINT, joint, "joint")),
+                 fmt::format("{} {:.4g}", need >= 0 ? ">=" : "<=", need),
+                 weak ? CheckStatus::kWarn : CheckStatus::kPass,
+                 weak ? "it cannot hold its limb against gravity at the reference pose (in this "
+                        "direction): raise the gear or the force/ctrl range on that side, or "
+                        "lighten the limb"
+                      : "gear x force range covers the gravity torque at the reference pose"));
       }
     }
   }
-  // step responses (the first kMaxListed actuators)
-  for (int u = 0; u < m->nu && u < kMaxListed; ++u) {
-    StepResponse r = MeasureStep(original, sets, ref, u);
+  ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
+  // step responses, within one dof-step budget for all of them
+  int count = std::min(m->nu, kStepActuators);
+  double duration = Duration(m, 1.0, kDofStepBudget / count);
+  Model work = original.Clone();
+  work.get_mutable()->opt.disableflags |= mjDSBL_GRAVITY | mjDSBL_CONTACT;
+  Data step_data(work);
+  for (int i = 0; i < count; ++i) {
+    int u = static_cast<int>(static_cast<long>(i) * m->nu / count);
     std::string element = Elem(model, mjOBJ_ACTUATOR, u, "actuator");
-    if (!r.measured) {
-      out->push_back(Make(L, "actuator.step_response", element, "no response", "",
-                          CheckStatus::kWarn,
-                          "a step in ctrl moved nothing in 1 s (gravity and contacts off): "
-                          "check the transmission, gain and ctrl range"));
+    StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, element);
+    runs->push_back(r.run);
+    if (r.run.result.diverged) {
+      out->push_back(Make(L, "actuator.step_response", element, "diverged", "stays finite",
+                          CheckStatus::kFail, DivergedFix(r.run)));
       continue;
     }
-    out->push_back(Make(L, "actuator.step_response", element,
-                        fmt::format("{}: rise {} s, overshoot {:.1f}%, error {:.1f}%", r.quantity,
-                                    std::isfinite(r.rise) ? fmt::format("{:.3g}", r.rise) : "> 1",
-                                    100 * r.overshoot, 100 * r.error),
-                        "", CheckStatus::kPass,
-                        "step of 10% of ctrlrange, gravity and contacts off: rise time to 63%, "
-                        "overshoot, steady-state error after 1 s"));
+    if (!r.moved) {
+      out->push_back(Make(L, "actuator.step_response", element, "no response", "",
+                          CheckStatus::kWarn,
+                          fmt::format("a step in ctrl moved nothing in {:g} s (gravity and "
+                                      "contacts off): check the transmission, gain and ctrl "
+                                      "range",
+                                      duration)));
+      continue;
+    }
+    out->push_back(Make(L, "actuator.step_response", element, r.measured, "", CheckStatus::kPass,
+                        "a step of 10% of ctrlrange from the reference pose, gravity and "
+                        "contacts off"));
   }
+  ListedNote(L, "actuator.step_response", "actuators", m->nu, out, count);
 }
 
-// ---- runs shared by the contact and behaviour layers --------------------------------
-
-struct Observed {
-  RunResult result;
-  double duration = 0;
-  double deepest = 0;  // deepest penetration relative to the smaller geom size
-  std::string deepest_pair;
-  double deepest_late = 0;  // the same over the last quarter, once impacts are over
-  std::string deepest_late_pair;
-  int max_iterations = 0;
-  long steps_at_limit = 0;
-  double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
-  double max_speed_end = 0;    // max |qvel| at the end
-  double support_ratio = NAN;  // contact normal force / weight at the end
-  double max_slip = 0;         // tangential speed at contacts at the end
-  std::string slip_pair;
-  std::vector<std::string> warnings_text;
-  std::string repro;
-};
-
-double Duration(const mjModel* m, double wanted) {
-  double steps =
-      std::max(20.0, std::min(wanted / m->opt.timestep, 1e5 / std::max(1.0, (double)m->nv)));
-  return std::ceil(steps) * m->opt.timestep;
+// Adds the steps and warnings of `part` (a later piece of the same run) to `total`.
+void Append(RunResult* total, const RunResult& part) {
+  for (const WarningSummary& w : part.warnings) {
+    auto same = std::find_if(total->warnings.begin(), total->warnings.end(),
+                             [&](const WarningSummary& v) { return v.kind == w.kind; });
+    if (same == total->warnings.end()) {
+      total->warnings.push_back(w);
+      total->warnings.back().first_step += total->steps;
+    } else {
+      same->count += w.count;
+      same->message = w.message;
+    }
+  }
+  total->steps += part.steps;
+  total->samples += part.samples;
+  total->diverged = part.diverged;
+  if (part.divergence) total->divergence = part.divergence;
 }
 
+// Max |qvel| below which a model counts as at rest.
+constexpr double kRestSpeed = 0.05;
+
+// Runs `model` after `sets` from `ref` under `control` for `duration` s in four pieces;
+// when `longest` > duration it goes on, a quarter of `duration` at a time, until the
+// model is at rest or `longest` s have passed. Penetration "late" is over the last
+// piece, once impacts are over.
 Observed Observe(const Model& model, const std::vector<Assignment>& sets, const Reference& ref,
                  double duration, const std::function<void(mjData*, double)>& control,
-                 const AuditOptions& options, const std::string& label) {
+                 const AuditOptions& options, const std::string& label, double longest = 0) {
   Observed o;
+  o.label = label;
   Model work = model.Clone();
   work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
   const mjModel* m = work.get();
   Data data(work);
   StartAt(work, data, ref, sets);
-  o.duration = duration;
   o.energy0 = data->energy[0] + data->energy[1];
+  long piece_steps = std::max(1L, std::lround(duration / m->opt.timestep / 4));
+  long min_pieces = 4,
+       max_pieces =
+           std::max(4L, static_cast<long>(std::floor(longest / (piece_steps * m->opt.timestep))));
   RunSpec spec;
-  spec.until = duration;
+  spec.until = piece_steps * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {
     if (control) control(d, d->time);
@@ -605,7 +780,7 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
         o.deepest_pair = Elem(work, mjOBJ_GEOM, c.geom1, "geom") + " / " +
                          Elem(work, mjOBJ_GEOM, c.geom2, "geom");
       }
-      if (d->time >= 0.75 * duration && depth > o.deepest_late) {
+      if (depth > o.deepest_late) {
         o.deepest_late = depth;
         o.deepest_late_pair = Elem(work, mjOBJ_GEOM, c.geom1, "geom") + " / " +
                               Elem(work, mjOBJ_GEOM, c.geom2, "geom");
@@ -613,13 +788,20 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
     }
   };
   NullSink sink;
-  o.result = Run(work, data, spec, sink);
-  o.warnings_text = TakeMujocoWarnings();
-  if (o.result.diverged && !options.repro_dir.empty()) {
-    std::vector<std::string> argv = options.argv;
-    argv.push_back("# audit run: " + label);
-    o.repro = WriteRepro(work, o.result, argv, options.repro_dir);
+  for (long piece = 0; piece < max_pieces; ++piece) {
+    if (piece >= min_pieces) {
+      double speed = 0;
+      for (int i = 0; i < m->nv; ++i) speed = std::max(speed, std::fabs(data->qvel[i]));
+      if (speed < kRestSpeed) break;
+    }
+    o.deepest_late = 0;  // only the last piece counts
+    o.deepest_late_pair.clear();
+    Append(&o.result, Run(work, data, spec, sink));
+    if (o.result.diverged) break;
   }
+  o.duration = o.result.steps * m->opt.timestep;
+  TakeMujocoWarnings();  // counted in the run's result, reported in the warnings layer
+  o.repro = ReproOf(work, o.result, options, label);
   if (o.result.diverged) return o;
 
   // the state at the end: at rest? supported? slipping?
@@ -633,7 +815,8 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
     mjtNum force[6];
     mj_contactForce(m, d, i, force);
     int b1 = m->geom_bodyid[c.geom1], b2 = m->geom_bodyid[c.geom2];
-    if (b1 == 0 || b2 == 0) normal += force[0];
+    // the ground: the world and every static body welded to it
+    if (m->body_weldid[b1] == 0 || m->body_weldid[b2] == 0) normal += force[0];
     // relative velocity of the two bodies at the contact point, tangential part
     mj_jac(m, d, jac1.data(), nullptr, c.pos, b1);
     mj_jac(m, d, jac2.data(), nullptr, c.pos, b2);
@@ -657,74 +840,114 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
       floating += m->body_subtreemass[b];
     }
   }
-  double weight = floating * mju_norm3(m->opt.gravity);
+  double weight = floating * GravityNorm(m);
   if (weight > 0) o.support_ratio = normal / weight;
   return o;
 }
 
-// Can any geom of the subtree at `root` collide with anything outside it?
-bool CanTouchOutside(const mjModel* m, int root) {
+// Which top-level subtrees can come to rest on something held by the world: a geom of
+// one can collide with a geom of a subtree without a free joint (a mechanism attached to
+// the world, or the world itself), or with a geom of another free subtree that can, and
+// so on. Indexed by body.
+std::vector<bool> GroundedBodies(const mjModel* m) {
+  // a node per top-level subtree (its root body; the world is 0); two nodes touch when
+  // some contype of one meets some conaffinity of the other
+  auto node = [m](int body) { return m->body_rootid[body]; };
+  auto free = [m](int root) {
+    return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
+  };
+  std::vector<int> contype(m->nbody, 0), conaffinity(m->nbody, 0);
   for (int g = 0; g < m->ngeom; ++g) {
-    if (!InSubtree(m, m->geom_bodyid[g], root)) continue;
-    for (int h = 0; h < m->ngeom; ++h) {
-      if (InSubtree(m, m->geom_bodyid[h], root)) continue;
-      if ((m->geom_contype[g] & m->geom_conaffinity[h]) ||
-          (m->geom_contype[h] & m->geom_conaffinity[g])) {
-        return true;
+    int n = node(m->geom_bodyid[g]);
+    contype[n] |= m->geom_contype[g];
+    conaffinity[n] |= m->geom_conaffinity[g];
+  }
+  std::vector<std::vector<int>> touches(m->nbody);
+  for (int a = 0; a < m->nbody; ++a) {
+    for (int b = a + 1; b < m->nbody; ++b) {
+      if ((contype[a] & conaffinity[b]) || (contype[b] & conaffinity[a])) {
+        touches[a].push_back(b);
+        touches[b].push_back(a);
       }
     }
   }
   for (int p = 0; p < m->npair; ++p) {
-    bool in1 = InSubtree(m, m->geom_bodyid[m->pair_geom1[p]], root);
-    bool in2 = InSubtree(m, m->geom_bodyid[m->pair_geom2[p]], root);
-    if (in1 != in2) return true;
+    int a = node(m->geom_bodyid[m->pair_geom1[p]]), b = node(m->geom_bodyid[m->pair_geom2[p]]);
+    touches[a].push_back(b);
+    touches[b].push_back(a);
   }
-  return false;
+  std::vector<bool> grounded(m->nbody, false);
+  std::vector<int> queue;
+  for (int b = 0; b < m->nbody; ++b) {
+    if (node(b) == b && !free(b)) {
+      grounded[b] = true;
+      queue.push_back(b);
+    }
+  }
+  while (!queue.empty()) {
+    int a = queue.back();
+    queue.pop_back();
+    for (int b : touches[a]) {
+      if (!grounded[b]) {
+        grounded[b] = true;
+        queue.push_back(b);
+      }
+    }
+  }
+  std::vector<bool> out(m->nbody);
+  for (int b = 0; b < m->nbody; ++b) out[b] = grounded[node(b)];
+  return out;
 }
 
 void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out) {
   const mjModel* m = model.get();
   const char* L = "contact";
-  bool gravity = mju_norm3(m->opt.gravity) > 0;
-  // a free body that can touch nothing falls forever
-  for (int b = 1; b < m->nbody; ++b) {
+  // a free body that can touch nothing static, directly or through other bodies, falls
+  // forever (under gravity; <flag gravity="disable"/> means nothing falls)
+  std::vector<bool> grounded = GroundedBodies(m);
+  for (int b = 1; b < m->nbody && GravityNorm(m) > 0; ++b) {
     if (m->body_parentid[b] != 0 || m->body_jntnum[b] == 0 ||
-        m->jnt_type[m->body_jntadr[b]] != mjJNT_FREE) {
+        m->jnt_type[m->body_jntadr[b]] != mjJNT_FREE || grounded[b]) {
       continue;
     }
-    bool touches = CanTouchOutside(m, b);
-    if (!touches && gravity) {
-      out->push_back(Make(L, "contact.free_fall", Elem(model, mjOBJ_BODY, b, "body"),
-                          "no geom can collide with the world", "at least one colliding geom",
-                          CheckStatus::kFail,
-                          "a free body under gravity that collides with nothing falls forever: "
-                          "give one of its geoms contype/conaffinity that match the floor's, or "
-                          "add a <contact><pair>"));
-    }
+    out->push_back(Make(L, "contact.free_fall", Elem(model, mjOBJ_BODY, b, "body"),
+                        "none of its geoms can reach a static geom through collisions",
+                        "a collision chain to the world", CheckStatus::kFail,
+                        "a free body under gravity that collides with nothing static falls "
+                        "forever: give one of its geoms contype/conaffinity that match the "
+                        "floor's, or add a <contact><pair>"));
   }
   if (settle.result.diverged) {
     out->push_back(Make(L, "contact.settle", "", "the settle run diverged", "", CheckStatus::kFail,
-                        settle.result.divergence->reason));
+                        DivergedFix(settle)));
     return;
   }
   bool any_contact =
       settle.deepest > 0 || !settle.deepest_pair.empty() || settle.max_iterations > 0;
-  // judged once impacts are over (the last quarter of the settle); the peak during
-  // impacts alone is a warning
+  bool at_rest = settle.max_speed_end < kRestSpeed;
+  // judged at rest, once impacts are over (the last quarter-second piece of the settle);
+  // the peak during impacts alone is a warning, and so is a deep contact in a model
+  // still moving when the settle budget ran out
   double late = settle.deepest_late;
-  CheckStatus status = late > 0.5                           ? CheckStatus::kFail
+  CheckStatus status = late > 0.5 && at_rest                ? CheckStatus::kFail
                        : late > 0.1 || settle.deepest > 0.5 ? CheckStatus::kWarn
                                                             : CheckStatus::kPass;
+  std::string measured =
+      fmt::format("{:.3g} of the smaller geom's size at the end, {:.3g} at the worst impact", late,
+                  settle.deepest);
+  if (!at_rest) {
+    measured += fmt::format("; did not settle in {:g} s (max |qvel| {:.3g} at the end)",
+                            settle.duration, settle.max_speed_end);
+  }
   out->push_back(Make(
       L, "contact.penetration", late > 0.1 ? settle.deepest_late_pair : settle.deepest_pair,
-      fmt::format("{:.3g} of the smaller geom's size at the end, {:.3g} at the worst impact", late,
-                  settle.deepest),
-      "<= 0.1 at the end (FAIL > 0.5); <= 0.5 at impacts", status,
-      status != CheckStatus::kPass
-          ? "geoms sink deep into each other: stiffen solref (smaller time constant, at least 2 "
-            "timesteps), raise solimp, or shrink the timestep"
-          : fmt::format("deepest contact penetration during a {:g} s settle", settle.duration)));
-  bool at_rest = settle.max_speed_end < 0.05;
+      measured, "<= 0.1 at the end (FAIL > 0.5 at rest); <= 0.5 at impacts", status,
+      status == CheckStatus::kPass
+          ? fmt::format("deepest contact penetration during a {:g} s settle", settle.duration)
+      : at_rest ? "geoms sink deep into each other: stiffen solref (smaller time constant, at "
+                  "least 2 timesteps), raise solimp, or shrink the timestep"
+                : "geoms sink deep into each other while the model still moves: judge again at "
+                  "rest (plumb run for longer), or stiffen solref / raise solimp"));
   if (std::isfinite(settle.support_ratio) && at_rest) {
     double r = settle.support_ratio;
     out->push_back(Make(L, "contact.support", "",
@@ -742,9 +965,11 @@ void ContactLayer(const Model& model, const Observed& settle, std::vector<Findin
                                   "or an elliptic cone, or more solver iterations"));
   } else if (!std::isnan(settle.support_ratio)) {
     out->push_back(Make(L, "contact.support", "",
-                        fmt::format("max |qvel| {:.3g} at the end", settle.max_speed_end),
-                        "< 0.05 to judge", CheckStatus::kSkip,
-                        "the model does not come to rest in the settle run"));
+                        fmt::format("did not settle in {:g} s: max |qvel| {:.3g} at the end",
+                                    settle.duration, settle.max_speed_end),
+                        fmt::format("< {:g} to judge", kRestSpeed), CheckStatus::kSkip,
+                        "the model does not come to rest within the settle budget: support "
+                        "and slip are judged only at rest"));
   }
   if (m->nv > 0 && (any_contact || m->neq > 0)) {
     double share = settle.result.steps > 0
@@ -788,9 +1013,7 @@ Finding RunFinding(const char* check, const std::string& what, const Observed& o
                    double allowed_rise) {
   const char* L = "behaviour";
   if (o.result.diverged) {
-    return Make(
-        L, check, what, "diverged", "stays finite", CheckStatus::kFail,
-        o.result.divergence->reason + (o.repro.empty() ? "" : " Repro folder: " + o.repro + "."));
+    return Make(L, check, what, "diverged", "stays finite", CheckStatus::kFail, DivergedFix(o));
   }
   double scale = std::max(1.0, std::fabs(o.energy0));
   double rise = (o.energy_max - o.energy0) / scale;
@@ -829,7 +1052,6 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
     };
     runs->push_back(Observe(model, sets, ref, Duration(m, 2.0), control, options, "control noise"));
     // actuators feed energy in: only a runaway counts
-    // actuators feed energy in: only a runaway counts
     out->push_back(RunFinding("behaviour.control_noise",
                               "smoothed Halton noise at half of each ctrlrange", runs->back(), 50));
   }
@@ -840,20 +1062,26 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
     start.keyframe = sc.keyframe;
     start.description = "keyframe " + model.Name(mjOBJ_KEY, sc.keyframe);
   }
+  // the user's --set first, then the scenario's initial state on top
   std::vector<Assignment> all = sets;
   all.insert(all.end(), sc.initial.begin(), sc.initial.end());
-  // evaluate every assertion at every step
+  // every assertion on every one of its paths at every step (after mj_forward, so
+  // derived quantities describe the state just reached)
   struct Tally {
-    bool ok = true;
-    double worst = NAN, worst_time = 0, reduced = 0;
+    bool ok = true;  // every sample so far (no reduction)
+    double first_bad = NAN, first_bad_time = 0;
+    double reduced = 0;  // over time
     bool seen = false;
   };
-  std::vector<Tally> tallies(sc.assertions.size());
+  std::vector<std::vector<Tally>> tallies(sc.assertions.size());
+  for (std::size_t a = 0; a < sc.assertions.size(); ++a) {
+    tallies[a].resize(sc.assertions[a].paths.size());
+  }
   Model work = model.Clone();
   Data data(work);
   StartAt(work, data, start, all);
   RunSpec spec;
-  spec.until = std::ceil(sc.duration / m->opt.timestep) * m->opt.timestep;
+  spec.until = std::ceil(sc.duration / m->opt.timestep - 1e-9) * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {
     for (const ControlSchedule& c : sc.controls) d->ctrl[c.id] = c.At(d->time);
@@ -861,20 +1089,19 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
   auto holds = [](const std::string& op, double v, double bound) {
     return op == "<" ? v < bound : op == "<=" ? v <= bound : op == ">" ? v > bound : v >= bound;
   };
-  auto check = [&](const mjData* d) {
+  auto check = [&](double time) {
     for (std::size_t a = 0; a < sc.assertions.size(); ++a) {
       const Assertion& as = sc.assertions[a];
       double end = as.to < 0 ? INFINITY : as.to;
-      if (d->time < as.from - 1e-12 || d->time > end + 1e-12) continue;
-      Tally& t = tallies[a];
-      for (const Path& p : as.paths) {
-        double v = ReadValue(work, data, p);
+      if (time < as.from - 1e-12 || time > end + 1e-12) continue;
+      for (std::size_t k = 0; k < as.paths.size(); ++k) {
+        Tally& t = tallies[a][k];
+        double v = ReadValue(work, data, as.paths[k]);
         if (as.reduce.empty()) {
-          bool ok = holds(as.op, v, as.bound);
-          if (!ok && t.ok) {
+          if (!holds(as.op, v, as.bound) && t.ok) {
             t.ok = false;
-            t.worst = v;
-            t.worst_time = d->time;
+            t.first_bad = v;
+            t.first_bad_time = time;
           }
         } else if (as.reduce == "maxabs") {
           t.reduced = t.seen ? std::max(t.reduced, std::fabs(v)) : std::fabs(v);
@@ -883,45 +1110,69 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
         } else if (as.reduce == "min") {
           t.reduced = t.seen ? std::min(t.reduced, v) : v;
         } else {
-          t.reduced = v;  // final
+          t.reduced = v;  // final: the last sample in the window
         }
         t.seen = true;
       }
     }
   };
-  check(data.get());
-  spec.after_step = [&](const mjData* d, long) { check(d); };
+  data.Forward();
+  check(data->time);
+  DerivedRefresher refresh(work.get());
+  spec.after_step = [&](const mjData* d, long) {
+    refresh(data.get());
+    check(d->time);
+  };
   NullSink sink;
-  RunResult r = Run(work, data, spec, sink);
-  std::vector<std::string> warnings = TakeMujocoWarnings();
   Observed scenario_run;
-  scenario_run.result = r;
+  scenario_run.label = "scenario " + sc.name;
   scenario_run.duration = spec.until;
-  if (r.diverged && !options.repro_dir.empty()) {
-    std::vector<std::string> argv = options.argv;
-    argv.push_back("# audit scenario: " + sc.file);
-    scenario_run.repro = WriteRepro(work, r, argv, options.repro_dir);
-  }
+  scenario_run.result = Run(work, data, spec, sink);
+  TakeMujocoWarnings();  // counted in the run's result, reported in the warnings layer
+  scenario_run.repro = ReproOf(work, scenario_run.result, options, "scenario " + sc.file);
   runs->push_back(scenario_run);
-  if (r.diverged) {
+  if (scenario_run.result.diverged) {
     out->push_back(Make(L, "behaviour.scenario", sc.name, "diverged", "stays finite",
-                        CheckStatus::kFail, r.divergence->reason));
+                        CheckStatus::kFail, DivergedFix(scenario_run)));
     return;
   }
   for (std::size_t a = 0; a < sc.assertions.size(); ++a) {
     const Assertion& as = sc.assertions[a];
-    const Tally& t = tallies[a];
-    std::string measured;
-    bool ok = t.seen;
-    if (!t.seen) {
-      measured = "no sample in the window";
-    } else if (as.reduce.empty()) {
-      ok = t.ok;
-      measured =
-          t.ok ? "holds at every step" : fmt::format("{:.6g} at t = {:g} s", t.worst, t.worst_time);
-    } else {
-      ok = holds(as.op, t.reduced, as.bound);
-      measured = fmt::format("{} = {:.6g}", as.reduce, t.reduced);
+    // every path must satisfy it: report the first that does not, else the closest call
+    bool ok = true;
+    std::string measured = "no sample in the window";
+    double closest = INFINITY;
+    for (std::size_t k = 0; k < as.paths.size(); ++k) {
+      const Tally& t = tallies[a][k];
+      const std::string& name = as.paths[k].text;
+      if (!t.seen) {
+        ok = false;
+        break;
+      }
+      if (as.reduce.empty()) {
+        if (!t.ok) {
+          ok = false;
+          measured = fmt::format("{} = {:.6g} at t = {:g} s", name, t.first_bad, t.first_bad_time);
+          break;
+        }
+        measured = as.paths.size() == 1
+                       ? "holds at every step"
+                       : fmt::format("holds at every step for all {} paths", as.paths.size());
+        continue;
+      }
+      std::string value = fmt::format("{}({}) = {:.6g}", as.reduce, name, t.reduced);
+      if (!holds(as.op, t.reduced, as.bound)) {
+        ok = false;
+        measured = value;
+        break;
+      }
+      double margin = std::fabs(t.reduced - as.bound);
+      if (margin < closest) {
+        closest = margin;
+        measured =
+            value +
+            (as.paths.size() > 1 ? fmt::format(" (closest of {} paths)", as.paths.size()) : "");
+      }
     }
     out->push_back(Make(L, "behaviour.assertion", sc.name + ": " + as.text, measured,
                         fmt::format("{} {:g}", as.op, as.bound),
@@ -942,33 +1193,35 @@ int AuditReport::Count(CheckStatus status) const {
 AuditReport Audit(const Model& model, const AuditOptions& options) {
   AuditReport report;
   report.model = model.file();
+  // the reference pose: keyframe home/test (or qpos0), then the user's --set, state
+  // assignments included
   Model nominal = model.Clone();
   Data data(nominal);
-  ApplyAssignments(nominal, data, options.sets);
   Reference ref = FindReference(nominal);
-  StartAt(nominal, data, ref, {});
+  StartAt(nominal, data, ref, options.sets);
   TakeMujocoWarnings();
 
+  std::vector<Observed> runs;
   StructureLayer(nominal, &report.findings);
   InertiaLayer(nominal, data, &report.findings);
-  ActuatorLayer(model, nominal, data, options.sets, ref, &report.findings);
+  ActuatorLayer(model, nominal, data, options.sets, ref, options, &runs, &report.findings);
 
-  std::vector<Observed> runs;
   const mjModel* m = nominal.get();
-  runs.push_back(
-      Observe(model, options.sets, ref, Duration(m, 2.0), nullptr, options, "passive settle"));
-  const Observed& settle = runs.front();
+  // the settle goes on past 2 s (up to 10 s, within 2.5 run budgets) until at rest
+  Observed settle = Observe(model, options.sets, ref, Duration(m, 2.0), nullptr, options,
+                            "passive settle", Duration(m, 10.0, 2.5 * kDofStepBudget));
+  runs.push_back(settle);
   ContactLayer(nominal, settle, &report.findings);
   BehaviourLayer(nominal, options.sets, ref, settle, options, &runs, &report.findings);
 
-  // every MuJoCo warning raised on the way
+  // every MuJoCo warning raised on the way, with the run that raised it
   bool any = false;
   for (const Observed& o : runs) {
     for (const WarningSummary& w : o.result.warnings) {
       any = true;
       report.findings.push_back(Make(
           "warnings", "warnings.mujoco", w.kind,
-          fmt::format("x{}, first at t = {:g} s", w.count, w.first_time), "none",
+          fmt::format("x{} in the {}, first at t = {:g} s", w.count, o.label, w.first_time), "none",
           CheckStatus::kWarn, w.message + (o.repro.empty() ? "" : " Repro folder: " + o.repro)));
     }
     if (!o.repro.empty()) report.repro_folders.push_back(o.repro);

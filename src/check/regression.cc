@@ -123,6 +123,7 @@ ordered_json Structure(const Model& model, const Data& data) {
     ordered_json elements = ordered_json::object();
     for (int row = 0; row < rows; ++row) {
       ordered_json e = ordered_json::object();
+      e["id"] = row;
       for (const FieldInfo& f : Fields()) {
         if (f.source != FieldSource::kModelArray || f.row_kind != section.size) continue;
         if (f.type == compat::ElemType::kOther || f.type == compat::ElemType::kChar) continue;
@@ -232,8 +233,16 @@ ordered_json Snapshot(const Model& model, const std::vector<Assignment>& sets,
   return j;
 }
 
-bool Close(double a, double b, double tol) {
+// Parameters differ when |a - b| > tol * max(|a|, |b|): relative, so a damping of 1e-8
+// that becomes 2e-8 is a change.
+bool CloseRelative(double a, double b, double tol) {
   if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  return std::fabs(a - b) <= tol * std::max(std::fabs(a), std::fabs(b));
+}
+
+// Trajectory values differ when |a - b| > tol * max(1, |a|, |b|): an angle passing
+// through zero has no meaningful relative error.
+bool CloseTrajectory(double a, double b, double tol) {
   return std::fabs(a - b) <= tol * std::max({1.0, std::fabs(a), std::fabs(b)});
 }
 
@@ -253,7 +262,9 @@ std::string Show(const ordered_json& v) {
 }
 
 bool Same(const ordered_json& a, const ordered_json& b, double tol) {
-  if (a.is_number() && b.is_number()) return Close(a.get<double>(), b.get<double>(), tol);
+  if (a.is_number() && b.is_number()) {
+    return CloseRelative(a.get<double>(), b.get<double>(), tol);
+  }
   if (a.is_array() && b.is_array()) {
     if (a.size() != b.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -264,28 +275,171 @@ bool Same(const ordered_json& a, const ordered_json& b, double tol) {
   return a == b;
 }
 
+// ---- the shape of a snapshot read back ------------------------------------------------
+
+// What a value must look like, in words: "a number", "an array of 3 numbers".
+std::string Shape(const ordered_json& v) {
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_array()) {
+    std::string of = v.empty() ? "values" : v[0].is_string() ? "strings" : "numbers";
+    return "an array of " + std::to_string(v.size()) + " " + of;
+  }
+  if (v.is_object()) return "an object";
+  return "null";
+}
+
+[[noreturn]] void Damaged(const std::string& entry, const std::string& expected,
+                          const ordered_json& got) {
+  std::string shown = got.dump();
+  if (shown.size() > 40) shown = shown.substr(0, 37) + "...";
+  throw ValueError(entry + ": expected " + expected + ", got " + shown);
+}
+
+const ordered_json& Member(const ordered_json& parent, const std::string& where,
+                           const std::string& key, bool (ordered_json::*is)() const noexcept,
+                           const char* expected) {
+  auto at = parent.find(key);
+  if (at == parent.end()) throw ValueError(where + key + ": missing");
+  if (!((*at).*is)()) Damaged(where + key, expected, *at);
+  return *at;
+}
+
+// A scalar or an array of scalars, as the structure and options sections hold; of the
+// same shape as the current model's value when there is one (only the *_user arrays
+// change width with the model).
+void ExpectFieldValue(const ordered_json& v, const std::string& entry,
+                      const ordered_json* current) {
+  bool user = entry.size() > 5 && entry.compare(entry.size() - 5, 5, "_user") == 0;
+  if (current && Shape(*current) != Shape(v) && !(user && v.is_array())) {
+    Damaged(entry, Shape(*current), v);
+  }
+  auto scalar = [](const ordered_json& x) { return x.is_number() || x.is_string(); };
+  if (scalar(v)) return;
+  if (!v.is_array()) Damaged(entry, "a number, a string or an array of them", v);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!scalar(v[i])) {
+      Damaged(entry + "[" + std::to_string(i) + "]", "a number or a string", v[i]);
+    }
+  }
+}
+
+// Checks that `before` has every entry DiffSnapshot reads, with the right types and
+// lengths (`after` is the current model's snapshot, for the shapes of fields).
+// @throws ValueError naming the entry, e.g. "structure.body.link.body_mass: expected a
+// number, got "heavy"".
+void ValidateSnapshot(const ordered_json& before, const ordered_json& after) {
+  using J = ordered_json;
+  if (!before.is_object()) Damaged("the top level", "an object", before);
+  const J& version = Member(before, "", "plumb_snapshot", &J::is_number_integer, "an integer");
+  if (version != 1) {
+    throw ValueError("plumb_snapshot: version " + version.dump() +
+                     " is not one this plumb reads (1)");
+  }
+  Member(before, "", "mujoco_version", &J::is_string, "a string");
+  const J& sizes = Member(before, "", "sizes", &J::is_object, "an object");
+  for (const auto& [key, value] : sizes.items()) {
+    if (!value.is_number_integer() || value.get<long long>() < 0) {
+      Damaged("sizes." + key, "a count (an integer >= 0)", value);
+    }
+  }
+  const J& options = Member(before, "", "options", &J::is_object, "an object");
+  for (const auto& [key, value] : options.items()) {
+    auto now = after["options"].find(key);
+    ExpectFieldValue(value, "options." + key, now == after["options"].end() ? nullptr : &*now);
+  }
+  const J& structure = Member(before, "", "structure", &J::is_object, "an object");
+  for (const auto& [section, elements] : structure.items()) {
+    std::string where = "structure." + section;
+    if (!elements.is_object()) Damaged(where, "an object of elements", elements);
+    const J* current =
+        after["structure"].contains(section) ? &after["structure"][section] : nullptr;
+    for (const auto& [name, fields] : elements.items()) {
+      std::string element = where + "." + name;
+      if (!fields.is_object()) Damaged(element, "an object of fields", fields);
+      const J* now = current && current->contains(name) ? &(*current)[name] : nullptr;
+      for (const auto& [field, value] : fields.items()) {
+        const J* now_value = now && now->contains(field) ? &(*now)[field] : nullptr;
+        ExpectFieldValue(value, element + "." + field, now_value);
+      }
+    }
+  }
+  const J& trajectory = Member(before, "", "trajectory", &J::is_object, "an object");
+  for (const char* field : {"qpos", "qvel", "act"}) {
+    const char* size = field[1] == 'p' ? "nq" : field[1] == 'v' ? "nv" : "na";
+    const J& rows = Member(trajectory, "trajectory.", field, &J::is_array, "an array of steps");
+    const J& n = Member(sizes, "sizes.", size, &J::is_number_integer, "an integer");
+    for (std::size_t s = 0; s < rows.size(); ++s) {
+      std::string entry = std::string("trajectory.") + field + "[" + std::to_string(s) + "]";
+      std::string expected = n.dump() + " numbers (sizes." + size + ")";
+      if (!rows[s].is_array() || rows[s].size() != n.get<std::size_t>()) {
+        Damaged(entry, "an array of " + expected, rows[s]);
+      }
+      for (std::size_t i = 0; i < rows[s].size(); ++i) {
+        if (!rows[s][i].is_number()) {
+          Damaged(entry + "[" + std::to_string(i) + "]", "a number", rows[s][i]);
+        }
+      }
+    }
+  }
+  if (trajectory["qvel"].size() != trajectory["qpos"].size() ||
+      trajectory["act"].size() != trajectory["qpos"].size()) {
+    throw ValueError("trajectory: qpos, qvel and act hold different numbers of steps (" +
+                     std::to_string(trajectory["qpos"].size()) + ", " +
+                     std::to_string(trajectory["qvel"].size()) + ", " +
+                     std::to_string(trajectory["act"].size()) + ")");
+  }
+}
+
+// "qpos[7] (joint 'root')", "act[0] (actuator 'muscle')": which element index `i` of a
+// state array belongs to.
+std::string StateElement(const Model& model, const std::string& array, std::size_t i) {
+  const mjModel* m = model.get();
+  std::string label = array + "[" + std::to_string(i) + "]";
+  int n = static_cast<int>(i);
+  if (array == "qpos") {
+    for (int j = m->njnt - 1; j >= 0; --j) {
+      if (m->jnt_qposadr[j] <= n) return label + " (joint '" + NameOr(model, mjOBJ_JOINT, j) + "')";
+    }
+  } else if (array == "qvel" && n < m->nv) {
+    return label + " (joint '" + NameOr(model, mjOBJ_JOINT, m->dof_jntid[n]) + "')";
+  } else if (array == "act" && n < m->na) {
+    for (int u = m->nu - 1; u >= 0; --u) {
+      int adr = compat::ActuatorActAddress(m, u);
+      if (adr >= 0 && adr <= n) {
+        return label + " (actuator '" + NameOr(model, mjOBJ_ACTUATOR, u) + "')";
+      }
+    }
+  }
+  return label;
+}
+
 }  // namespace
 
-std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets) {
+std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets,
+                         std::string* divergence) {
   std::string diverged;
-  return Snapshot(model, sets, &diverged).dump(2) + "\n";
+  std::string text = Snapshot(model, sets, &diverged).dump(2) + "\n";
+  if (divergence) *divergence = diverged;
+  return text;
 }
 
 SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
                           const std::vector<Assignment>& sets, double tol) {
-  ordered_json before;
+  ordered_json parsed;
   try {
-    before = ordered_json::parse(text);
+    parsed = ordered_json::parse(text);
   } catch (const std::exception& e) {
     throw ValueError(std::string("not a plumb snapshot (invalid JSON: ") + e.what() + ")");
   }
-  if (!before.is_object() || !before.contains("plumb_snapshot") || !before.contains("structure") ||
-      !before.contains("trajectory")) {
-    throw ValueError("not a plumb snapshot (no plumb_snapshot, structure or trajectory entry)");
+  if (!parsed.is_object() || !parsed.contains("plumb_snapshot")) {
+    throw ValueError("not a plumb snapshot (no plumb_snapshot entry)");
   }
   SnapshotDiff diff;
   std::string diverged;
-  ordered_json after = Snapshot(model, sets, &diverged);
+  const ordered_json after = Snapshot(model, sets, &diverged);
+  const ordered_json& before = parsed;  // const: a missing key can never be inserted
+  ValidateSnapshot(before, after);
   diff.diverged = !diverged.empty();
   auto change = [&](std::string what) { diff.changes.push_back({std::move(what), true}); };
   if (before["mujoco_version"] != after["mujoco_version"]) {
@@ -294,33 +448,48 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
                          after["mujoco_version"].get<std::string>() +
                          ": trajectories differ in the last bits across versions");
   }
+  const ordered_json none;
   for (const auto& [key, value] : after["sizes"].items()) {
-    if (before["sizes"].value(key, ordered_json()) != value) {
-      change(key + ": " + Show(before["sizes"].value(key, ordered_json())) + " → " + Show(value));
-    }
+    auto old = before["sizes"].find(key);
+    const ordered_json& was = old == before["sizes"].end() ? none : *old;
+    if (was != value) change(key + ": " + Show(was) + " → " + Show(value));
   }
   for (const auto& [key, value] : after["options"].items()) {
-    if (!before["options"].contains(key)) continue;
-    if (!Same(before["options"][key], value, tol)) {
-      change(key + ": " + Show(before["options"][key]) + " → " + Show(value));
-    }
+    auto old = before["options"].find(key);
+    if (old == before["options"].end()) continue;
+    if (!Same(*old, value, tol)) change(key + ": " + Show(*old) + " → " + Show(value));
   }
   for (const auto& [section, elements] : after["structure"].items()) {
-    const ordered_json& old = before["structure"].value(section, ordered_json::object());
+    auto found = before["structure"].find(section);
+    const ordered_json empty = ordered_json::object();
+    const ordered_json& old = found == before["structure"].end() ? empty : *found;
     for (const auto& [name, fields] : old.items()) {
       if (!elements.contains(name)) change(section + " removed: " + name);
     }
+    int renumbered = 0;
+    std::string first_renumbered;
     for (const auto& [name, fields] : elements.items()) {
       if (!old.contains(name)) {
-        change(section + " added: " + name);
+        change(section + " added: " + name + " (id " + Show(fields["id"]) + ")");
         continue;
       }
+      const ordered_json& was = old[name];
       for (const auto& [field, value] : fields.items()) {
-        if (!old[name].contains(field)) continue;
-        if (!Same(old[name][field], value, tol)) {
-          change(field + "[" + name + "]: " + Show(old[name][field]) + " → " + Show(value));
+        if (!was.contains(field)) continue;
+        if (field == "id") {
+          if (was[field] != value && renumbered++ == 0) {
+            first_renumbered = name + ": " + Show(was[field]) + " → " + Show(value);
+          }
+          continue;
+        }
+        if (!Same(was[field], value, tol)) {
+          change(field + "[" + name + "]: " + Show(was[field]) + " → " + Show(value));
         }
       }
+    }
+    if (renumbered > 0) {
+      change(section + " ids shift: " + std::to_string(renumbered) + " renumbered (first " +
+             first_renumbered + "); code that indexes " + section + "s by id must follow");
     }
   }
   // the golden trajectory, step by step
@@ -330,9 +499,9 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
     change("trajectory length: " + std::to_string(t0["qpos"].size()) + " → " +
            std::to_string(t1["qpos"].size()) + " steps");
   }
-  bool shapes = !t0["qpos"].empty() && !t1["qpos"].empty() &&
-                t0["qpos"][0].size() == t1["qpos"][0].size() &&
-                t0["qvel"][0].size() == t1["qvel"][0].size();
+  bool shapes = before["sizes"]["nq"] == after["sizes"]["nq"] &&
+                before["sizes"]["nv"] == after["sizes"]["nv"] &&
+                before["sizes"]["na"] == after["sizes"]["na"];
   if (!shapes) {
     if (!t0["qpos"].empty() && !t1["qpos"].empty()) {
       change("trajectory not compared: the state's size changed");
@@ -340,7 +509,7 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
   } else {
     std::size_t steps = std::min(t0["qpos"].size(), t1["qpos"].size());
     for (std::size_t s = 0; s < steps; ++s) {
-      std::string worst_field;
+      std::string worst_field, worst_at;
       double worst = 0;
       bool departs = false;
       for (const char* field : {"qpos", "qvel", "act"}) {
@@ -348,24 +517,28 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
         const ordered_json& b = t1[field][s];
         for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
           double x = a[i].get<double>(), y = b[i].get<double>();
-          if (!Close(x, y, tol)) departs = true;
+          if (!CloseTrajectory(x, y, tol)) departs = true;
           if (std::fabs(x - y) > worst) {
             worst = std::fabs(x - y);
             worst_field = field;
+            worst_at = StateElement(model, field, i);
           }
         }
       }
       if (departs) {
-        char buffer[160];
-        std::snprintf(buffer, sizeof(buffer),
-                      "trajectory departs at step %zu: max |Δ%s| = %.2g (tol %g)", s + 1,
-                      worst_field.c_str(), worst, tol);
-        change(buffer);
+        char buffer[64];
+        std::snprintf(buffer, sizeof(buffer), "%.2g (tol %g)", worst, tol);
+        change("trajectory departs at step " + std::to_string(s + 1) + ": max |Δ" + worst_field +
+               "| = " + buffer + " at " + worst_at);
         break;
       }
     }
   }
-  if (diff.diverged) change("the golden trajectory diverges on the current model: " + diverged);
+  if (diff.diverged) {
+    change("the golden trajectory diverges on the current model: " + diverged +
+           " Fix: look at the changes above; a smaller timestep, joint damping or armature, "
+           "or softer contacts keep it finite.");
+  }
   return diff;
 }
 

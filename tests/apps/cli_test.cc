@@ -384,8 +384,14 @@ TEST(CliAuditTest, HumanoidPassesWithSectionsPerLayer) {
        {"== structure", "== inertia", "== actuator", "== contact", "== behaviour", "== warnings"}) {
     EXPECT_NE(r.out.find(section), std::string::npos) << section;
   }
-  // the head hits the floor hard when the humanoid falls: a warning, so --strict fails
-  EXPECT_EQ(RunPlumb("audit " + testing::kHumanoid + " --strict").exit_code, 1);
+  // a warning alone (a motor with no limits) exits 0, and 1 with --strict
+  TempDir dir;
+  WriteFile(dir.File("motor.xml"), R"(<mujoco><worldbody>
+      <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+    </worldbody><actuator><motor name="strong" joint="shoulder" gear="50"/></actuator></mujoco>)");
+  EXPECT_EQ(RunPlumb("audit motor.xml", dir.path()).exit_code, 0);
+  EXPECT_EQ(RunPlumb("audit motor.xml --strict", dir.path()).exit_code, 1);
 }
 
 TEST(CliAuditTest, PlantedDefectExits1AndJsonMirrorsTheTable) {
@@ -444,6 +450,24 @@ TEST(CliRegressionTest, BadSnapshotsAndPathsAreBadInput) {
   CommandResult unwritable = RunPlumb("snapshot " + kPendulum + " -o /nonexistent-dir/s.json");
   EXPECT_EQ(unwritable.exit_code, 2);
   EXPECT_FALSE(fs::exists("/nonexistent-dir/s.json"));
+  // a damaged snapshot: exit 2 naming the file and the entry, never a crash
+  ASSERT_EQ(RunPlumb("snapshot " + kPendulum + " -o s.json", dir.path()).exit_code, 0);
+  nlohmann::json j = nlohmann::json::parse(ReadFile(dir.File("s.json")));
+  j["trajectory"]["qpos"][3] = nlohmann::json::array();
+  WriteFile(dir.File("s.json"), j.dump());
+  CommandResult damaged = RunPlumb("diff s.json " + kPendulum, dir.path());
+  EXPECT_EQ(damaged.exit_code, 2) << damaged.err;
+  EXPECT_NE(damaged.err.find("s.json: trajectory.qpos[3]: expected an array of 1 numbers"),
+            std::string::npos)
+      << damaged.err;
+  // a model whose golden trajectory diverges gets no snapshot: exit 3
+  WriteFile(dir.File("stiff.xml"), R"(<mujoco><option timestep="0.01" gravity="0 0 0"/>
+    <worldbody><body><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
+    <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  CommandResult diverged = RunPlumb("snapshot stiff.xml -o stiff.snap.json", dir.path());
+  EXPECT_EQ(diverged.exit_code, 3) << diverged.err;
+  EXPECT_NE(diverged.err.find("diverges"), std::string::npos) << diverged.err;
+  EXPECT_FALSE(fs::exists(dir.File("stiff.snap.json")));
 }
 
 TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {

@@ -50,6 +50,41 @@ TEST_F(AuditTest, CollisionlessFreeBodyFallsForever) {
   ASSERT_NE(f, nullptr) << Failures(r);
   EXPECT_EQ(f->layer, "contact");
   EXPECT_EQ(f->status, CheckStatus::kFail);
+  EXPECT_EQ(f->element_type, "body");
+  EXPECT_EQ(f->element_name, "ghost");
+  EXPECT_EQ(f->element_id, 1);
+}
+
+TEST_F(AuditTest, FreeBodiesTouchingOnlyEachOtherStillFall) {
+  // two free boxes collide with each other (bit 2) but nothing reaches the floor (bit 1)
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1" contype="1" conaffinity="1"/>
+      <body name="a" pos="0 0 1"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="2" conaffinity="2"/></body>
+      <body name="b" pos="0 0 1.5"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="2" conaffinity="2"/></body>
+    </worldbody></mujoco>)");
+  ASSERT_NE(Find(r, "contact.free_fall", "'a'"), nullptr) << Failures(r);
+  ASSERT_NE(Find(r, "contact.free_fall", "'b'"), nullptr) << Failures(r);
+  // a chain does hold: b rests on a, a on the floor
+  AuditReport chain = AuditXml(R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1" contype="1" conaffinity="1"/>
+      <body name="a" pos="0 0 0.1"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="3" conaffinity="3"/></body>
+      <body name="b" pos="0 0 0.35"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="2" conaffinity="2"/></body>
+    </worldbody></mujoco>)");
+  EXPECT_EQ(Find(chain, "contact.free_fall"), nullptr) << Failures(chain);
+}
+
+TEST_F(AuditTest, WithoutGravityNothingFalls) {
+  // <flag gravity="disable"/> (dm_control's fish swims): no free-fall FAIL, no support row
+  AuditReport r = AuditXml(R"(<mujoco><option><flag gravity="disable"/></option><worldbody>
+      <body name="fish" pos="0 0 1"><freejoint/>
+        <geom type="ellipsoid" size="0.1 0.05 0.05" contype="0" conaffinity="0"/></body>
+    </worldbody></mujoco>)");
+  EXPECT_EQ(Find(r, "contact.free_fall"), nullptr) << Failures(r);
+  EXPECT_EQ(Find(r, "contact.support"), nullptr);
 }
 
 TEST_F(AuditTest, FeatherweightBodyOnAHeavyBaseIsFlagged) {
@@ -67,6 +102,20 @@ TEST_F(AuditTest, FeatherweightBodyOnAHeavyBaseIsFlagged) {
   ASSERT_NE(ratio, nullptr);
   EXPECT_EQ(ratio->status, CheckStatus::kFail);  // 1e7: beyond any conditioning
   EXPECT_NE(ratio->measured.find("'base'"), std::string::npos);
+  EXPECT_EQ(ratio->element_name, "feather");
+}
+
+TEST_F(AuditTest, MarkerBodiesWeldedToTheirParentAreNotTinyBodies) {
+  // a massless site holder welded to a 10 kg link: one weld group of 10 kg
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <body name="link" pos="0 0 1"><joint name="j" axis="0 1 0"/>
+        <geom type="box" size="0.2 0.2 0.2" mass="10"/>
+        <body name="marker" pos="0.3 0 0"><site name="tip"/></body>
+        <body name="label" pos="0.3 0 0"><geom type="sphere" size="0.01" mass="1e-6"/></body>
+      </body></worldbody></mujoco>)");
+  EXPECT_EQ(Find(r, "inertia.tiny_mass"), nullptr) << Find(r, "inertia.tiny_mass")->element;
+  EXPECT_EQ(Find(r, "inertia.mass_ratio"), nullptr);
+  EXPECT_EQ(Find(r, "inertia.principal"), nullptr) << Failures(r);
 }
 
 TEST_F(AuditTest, MotorWithoutLimitsIsFlagged) {
@@ -79,6 +128,7 @@ TEST_F(AuditTest, MotorWithoutLimitsIsFlagged) {
   EXPECT_EQ(f->layer, "actuator");
   EXPECT_EQ(f->status, CheckStatus::kWarn);
   EXPECT_NE(f->measured.find("gear 50"), std::string::npos) << f->measured;
+  EXPECT_EQ(f->element_name, "strong");
 }
 
 TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
@@ -93,7 +143,97 @@ TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kWarn);
   EXPECT_NE(f->measured.find("9.81"), std::string::npos) << f->measured;
+  EXPECT_EQ(f->element_type, "actuator");
+  EXPECT_EQ(f->element_name, "weak");
   EXPECT_EQ(Find(r, "actuator.limits", "'weak'"), nullptr);  // its ctrl is limited
+}
+
+TEST_F(AuditTest, HoldingRespectsTheSignOfTheTorque) {
+  // gravity pulls the arm down (needs -9.81 N*m about +y... or +9.81: whichever sign, a
+  // motor that pushes only the other way cannot hold it, one that pushes this way can)
+  auto audit = [&](const char* range) {
+    return AuditXml(std::string(R"(<mujoco><worldbody>
+      <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 1 0 0" size="0.03" mass="2"/></body>
+    </worldbody><actuator>
+      <motor name="m" joint="shoulder" gear="1" ctrllimited="true" ctrlrange=")") +
+                    range + R"("/></actuator></mujoco>)");
+  };
+  AuditReport up = audit("0 100"), down = audit("-100 0");
+  const Finding* a = Find(up, "actuator.holding", "'m'");
+  const Finding* b = Find(down, "actuator.holding", "'m'");
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  // exactly one of the two one-sided motors holds the arm
+  EXPECT_NE(a->status, b->status) << a->measured << " | " << b->measured;
+}
+
+TEST_F(AuditTest, MusclesAreBoundedByTheirPeakForce) {
+  // a muscle's control is implicitly 0..1 and its force at most its peak force
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <body name="arm" pos="0 0 1"><joint name="elbow" axis="0 1 0" limited="true" range="-60 60"/>
+        <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03" mass="1"/></body>
+    </worldbody><actuator><muscle name="biceps" joint="elbow"/></actuator></mujoco>)");
+  EXPECT_EQ(Find(r, "actuator.limits", "'biceps'"), nullptr)
+      << Find(r, "actuator.limits")->measured;
+  const Finding* step = Find(r, "actuator.step_response", "'biceps'");
+  ASSERT_NE(step, nullptr);
+  EXPECT_NE(step->measured.find("no setpoint (muscle)"), std::string::npos) << step->measured;
+}
+
+TEST_F(AuditTest, StepResponsesFitTheActuatorKind) {
+  AuditReport r = AuditXml(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+      <body name="a" pos="0 0 1"><joint name="ja" axis="0 1 0" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+      <body name="b" pos="1 0 1"><joint name="jb" axis="0 1 0" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+    </worldbody><actuator>
+      <position name="servo" joint="ja" kp="20" ctrllimited="true" ctrlrange="-1 1"/>
+      <motor name="motor" joint="jb" ctrllimited="true" ctrlrange="-1 1"/>
+    </actuator></mujoco>)");
+  const Finding* servo = Find(r, "actuator.step_response", "'servo'");
+  const Finding* motor = Find(r, "actuator.step_response", "'motor'");
+  ASSERT_NE(servo, nullptr);
+  ASSERT_NE(motor, nullptr);
+  EXPECT_NE(servo->measured.find("position servo: rise "), std::string::npos) << servo->measured;
+  EXPECT_NE(servo->measured.find("steady-state error"), std::string::npos) << servo->measured;
+  EXPECT_NE(motor->measured.find("no setpoint (motor)"), std::string::npos) << motor->measured;
+}
+
+TEST_F(AuditTest, DivergingStepResponseIsAFinding) {
+  // a servo this stiff on a light link explodes at this timestep, with gravity off too
+  AuditReport r = AuditXml(R"(<mujoco><option timestep="0.01"/><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="a" pos="0 0 1"><joint name="ja" type="slide" axis="1 0 0"/>
+        <geom type="sphere" size="0.05" mass="0.01"/></body>
+    </worldbody><actuator>
+      <position name="stiff" joint="ja" kp="1e6" ctrllimited="true" ctrlrange="-1 1"/>
+    </actuator></mujoco>)");
+  const Finding* f = Find(r, "actuator.step_response", "'stiff'");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured;
+  EXPECT_EQ(f->measured, "diverged");
+  EXPECT_NE(f->fix.find("smaller timestep"), std::string::npos) << f->fix;
+}
+
+TEST_F(AuditTest, SetStateDefinesTheReferencePose) {
+  // the arm hangs at qpos0 (no gravity torque); --set qpos=1.57 puts it horizontal,
+  // where the weak motor cannot hold it, even though the model has a home keyframe
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.03" mass="2"/></body>
+    </worldbody><actuator>
+      <motor name="weak" joint="shoulder" gear="1" ctrllimited="true" ctrlrange="-1 1"/>
+    </actuator><keyframe><key name="home" qpos="0"/></keyframe></mujoco>)",
+                                     "arm.xml");
+  AuditReport hanging = Audit(model, {});
+  AuditOptions options;
+  options.sets = {ParseAssignment(model, "qpos[shoulder]=1.57")};
+  AuditReport horizontal = Audit(model, options);
+  TakeMujocoWarnings();
+  ASSERT_NE(Find(hanging, "actuator.holding", "'weak'"), nullptr);
+  EXPECT_EQ(Find(hanging, "actuator.holding", "'weak'")->status, CheckStatus::kPass);
+  EXPECT_EQ(Find(horizontal, "actuator.holding", "'weak'")->status, CheckStatus::kWarn);
 }
 
 TEST_F(AuditTest, RadiansWrittenWhereMjcfExpectsDegreesAreFlagged) {
@@ -125,6 +265,8 @@ TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kFail);
   EXPECT_EQ(f->measured, "diverged");
+  EXPECT_NE(f->fix.find("joint 'spring'"), std::string::npos) << f->fix;
+  EXPECT_NE(f->fix.find("smaller timestep"), std::string::npos) << f->fix;
   ASSERT_FALSE(r.repro_folders.empty());
   EXPECT_TRUE(std::filesystem::exists(r.repro_folders[0] + "/model.mjb"));
 }
@@ -235,6 +377,122 @@ TEST_F(AuditTest, BadScenariosNameTheFileAndEntry) {
   WriteFile(dir.File("d.json"), R"({"durations": 1})");
   EXPECT_THROW(LoadScenario(model, dir.File("d.json")), ValueError);
   EXPECT_THROW(LoadScenario(model, dir.File("missing.json")), IoError);
+}
+
+TEST_F(AuditTest, RampAndConstantControlsDriveTheScenario) {
+  TempDir dir;
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  WriteFile(dir.File("r.toml"), R"(
+duration = 3.0
+assertions = ["final(qpos[shoulder]) > 0.5", "final(qpos[shoulder]) < 0.7"]
+[[controls]]
+actuator = "servo"
+type = "ramp"
+from = 0.0
+to = 0.6
+start = 0.5
+end = 1.5
+)");
+  Scenario ramp = LoadScenario(model, dir.File("r.toml"));
+  ASSERT_EQ(ramp.controls.size(), 1u);
+  EXPECT_EQ(ramp.controls[0].At(0.2), 0.0);
+  EXPECT_DOUBLE_EQ(ramp.controls[0].At(1.0), 0.3);
+  EXPECT_EQ(ramp.controls[0].At(2.0), 0.6);
+  AuditOptions options;
+  options.scenario = ramp;
+  AuditReport r = Audit(model, options);
+  TakeMujocoWarnings();
+  for (const Finding& f : r.findings) {
+    if (f.check == "behaviour.assertion") {
+      EXPECT_EQ(f.status, CheckStatus::kPass) << f.measured;
+    }
+  }
+  // a constant control holds the servo at -0.4 instead: the same assertions fail
+  WriteFile(dir.File("c.json"), R"({"duration": 3,
+    "controls": [{"actuator": "servo", "type": "constant", "value": -0.4}],
+    "assertions": ["final(qpos[shoulder]) > 0.5", "final(qpos[shoulder]) < -0.3"]})");
+  options.scenario = LoadScenario(model, dir.File("c.json"));
+  EXPECT_EQ(options.scenario->controls[0].At(2.5), -0.4);
+  AuditReport c = Audit(model, options);
+  TakeMujocoWarnings();
+  std::vector<CheckStatus> statuses;
+  for (const Finding& f : c.findings) {
+    if (f.check == "behaviour.assertion") statuses.push_back(f.status);
+  }
+  EXPECT_EQ(statuses, (std::vector<CheckStatus>{CheckStatus::kFail, CheckStatus::kPass}));
+}
+
+TEST_F(AuditTest, FinalChecksEveryPath) {
+  // two links: only the first is driven up; final(qpos[*]) > 0.5 must fail on the second
+  Model model = Model::FromXmlString(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+      <body name="a" pos="0 0 1"><joint name="ja" axis="0 1 0" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+      <body name="b" pos="1 0 1"><joint name="jb" axis="0 1 0" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
+    </worldbody><actuator>
+      <position name="sa" joint="ja" kp="20" ctrllimited="true" ctrlrange="-1 1"/>
+      <position name="sb" joint="jb" kp="20" ctrllimited="true" ctrlrange="-1 1"/>
+    </actuator></mujoco>)",
+                                     "two.xml");
+  TempDir dir;
+  // jb is listed last, so a check of only the last path would see it; ja first must fail
+  WriteFile(dir.File("f.json"), R"({"duration": 2,
+    "controls": [{"actuator": "sa", "value": 0.0}, {"actuator": "sb", "value": 0.8}],
+    "assertions": ["final(qpos[*]) > 0.5"]})");
+  AuditOptions options;
+  options.scenario = LoadScenario(model, dir.File("f.json"));
+  AuditReport r = Audit(model, options);
+  TakeMujocoWarnings();
+  const Finding* f = Find(r, "behaviour.assertion");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured;
+  EXPECT_NE(f->measured.find("qpos[ja]"), std::string::npos) << f->measured;
+}
+
+// The message of the ValueError LoadScenario throws for `text` in `name`.
+std::string ScenarioError(const Model& model, const TempDir& dir, const std::string& name,
+                          const std::string& text) {
+  WriteFile(dir.File(name), text);
+  try {
+    LoadScenario(model, dir.File(name));
+  } catch (const ValueError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST_F(AuditTest, ScenarioErrorsGiveTheLineOrPointer) {
+  TempDir dir;
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  std::string toml = ScenarioError(model, dir, "bad.toml", R"(name = "x"
+duration = 1.0
+
+[[controls]]
+actuator = "servo"
+type = "step"
+valu = 0.5
+)");
+  EXPECT_NE(toml.find("bad.toml:7 (controls[0].valu)"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("did you mean: value"), std::string::npos) << toml;
+  std::string window = ScenarioError(model, dir, "w.toml", R"(duration = 1.0
+assertions = [
+  "maxabs(qvel[*]) < 50",
+  "qpos[shoulder] > 0 during [0.5, 3]",
+]
+)");
+  EXPECT_NE(window.find("w.toml:4 (assertions[1])"), std::string::npos) << window;
+  EXPECT_NE(window.find("raise duration"), std::string::npos) << window;
+  std::string key = ScenarioError(model, dir, "k.json", R"({"keyframe": 0})");
+  EXPECT_NE(key.find("k.json at /keyframe"), std::string::npos) << key;
+  EXPECT_NE(key.find("by name"), std::string::npos) << key;
+  std::string type = ScenarioError(model, dir, "t.json",
+                                   R"({"controls": [{"actuator": "servo", "value": "high"}]})");
+  EXPECT_NE(type.find("t.json at /controls/0/value"), std::string::npos) << type;
+  EXPECT_NE(type.find("must be a number"), std::string::npos) << type;
+  std::string shape = ScenarioError(model, dir, "s.json", R"({"controls": {"actuator": 1}})");
+  EXPECT_NE(shape.find("s.json at /controls"), std::string::npos) << shape;
+  std::string name = ScenarioError(model, dir, "n.json", R"({"name": 3})");
+  EXPECT_NE(name.find("n.json at /name"), std::string::npos) << name;
 }
 
 TEST_F(AuditTest, AssertionsParse) {

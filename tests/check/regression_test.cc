@@ -57,6 +57,7 @@ TEST_F(RegressionTest, TrajectoryDepartureNamesTheStep) {
   std::string all = Changes(d);
   EXPECT_NE(all.find("opt.gravity"), std::string::npos) << all;
   EXPECT_NE(all.find("trajectory departs at step "), std::string::npos) << all;
+  EXPECT_NE(all.find("(joint 'hinge')"), std::string::npos) << all;
   EXPECT_NE(all.find("(tol 1e-09)"), std::string::npos) << all;
   // below the tolerance it is the same model
   EXPECT_FALSE(DiffSnapshot(moving, pendulum_, start, 1e-6).changed());
@@ -95,6 +96,74 @@ TEST_F(RegressionTest, DivergingTrajectorySaysWhere) {
   EXPECT_NE(Changes(d).find("diverges on the current model: the simulation diverged at t = "),
             std::string::npos)
       << Changes(d);
+}
+
+TEST_F(RegressionTest, SmallParametersChangeRelatively) {
+  // 1e-8 -> 2e-8 is a doubling: an absolute floor of 1 would hide it
+  std::vector<Assignment> tiny = {ParseAssignment(pendulum_, "dof_damping[hinge]=1e-8")};
+  std::string snap = MakeSnapshot(pendulum_, tiny);
+  SnapshotDiff d =
+      DiffSnapshot(snap, pendulum_, {ParseAssignment(pendulum_, "dof_damping[hinge]=2e-8")}, 1e-6);
+  EXPECT_NE(Changes(d).find("dof_damping[hinge]: 1e-08 → 2e-08"), std::string::npos) << Changes(d);
+}
+
+TEST_F(RegressionTest, SnapshotRecordsElementIds) {
+  nlohmann::json j = nlohmann::json::parse(snapshot_);
+  EXPECT_EQ(j["structure"]["body"]["world"]["id"], 0);
+  EXPECT_EQ(j["structure"]["body"]["link"]["id"], 1);
+  EXPECT_EQ(j["structure"]["joint"]["hinge"]["id"], 0);
+}
+
+TEST_F(RegressionTest, DivergingModelReportsItsDivergence) {
+  Model stiff = Model::FromXmlString(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/>
+    <worldbody><body><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
+    <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  std::string divergence;
+  MakeSnapshot(stiff, {}, &divergence);
+  TakeMujocoWarnings();
+  EXPECT_NE(divergence.find("joint 'slider'"), std::string::npos) << divergence;
+  MakeSnapshot(pendulum_, {}, &divergence);
+  EXPECT_EQ(divergence, "");
+}
+
+// The message DiffSnapshot throws for `text`.
+std::string DamageMessage(const Model& model, const std::string& text) {
+  try {
+    DiffSnapshot(text, model, {}, 1e-6);
+  } catch (const ValueError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST_F(RegressionTest, DamagedSnapshotsNameTheEntry) {
+  nlohmann::ordered_json good = nlohmann::ordered_json::parse(snapshot_);
+  auto damaged = [&](auto edit) {
+    nlohmann::ordered_json j = good;
+    edit(j);
+    return DamageMessage(pendulum_, j.dump());
+  };
+  std::string mass =
+      damaged([](auto& j) { j["structure"]["body"]["link"]["body_mass"] = "heavy"; });
+  EXPECT_NE(mass.find("structure.body.link.body_mass: expected a number, got \"heavy\""),
+            std::string::npos)
+      << mass;
+  std::string size = damaged([](auto& j) { j["structure"]["geom"]["rod"]["geom_size"] = {0.05}; });
+  EXPECT_NE(size.find("structure.geom.rod.geom_size: expected an array of 3 numbers"),
+            std::string::npos)
+      << size;
+  std::string row = damaged([](auto& j) { j["trajectory"]["qpos"][3] = {1, 2}; });
+  EXPECT_NE(row.find("trajectory.qpos[3]: expected an array of 1 numbers (sizes.nq)"),
+            std::string::npos)
+      << row;
+  std::string missing = damaged([](auto& j) { j.erase("trajectory"); });
+  EXPECT_NE(missing.find("trajectory: missing"), std::string::npos) << missing;
+  std::string sizes = damaged([](auto& j) { j["sizes"] = 3; });
+  EXPECT_NE(sizes.find("sizes: expected an object"), std::string::npos) << sizes;
+  std::string steps = damaged([](auto& j) { j["trajectory"]["qvel"].erase(0); });
+  EXPECT_NE(steps.find("different numbers of steps"), std::string::npos) << steps;
+  std::string cell = damaged([](auto& j) { j["trajectory"]["act"] = "none"; });
+  EXPECT_NE(cell.find("trajectory.act: expected an array of steps"), std::string::npos) << cell;
 }
 
 TEST_F(RegressionTest, NotASnapshotIsAValueError) {
