@@ -39,6 +39,7 @@ test-asan: deps
 
 bench: build
 	@$(BUILD)/bench/run_overhead_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+	@$(BUILD)/bench/sweep_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 	@bench/callgrind_overhead.sh $(BUILD)
 
 install: build

@@ -14,14 +14,16 @@
 namespace plumb::cli {
 namespace {
 
+constexpr double kUnset = -1e300;
+
 struct ConvergeOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string metric;
-  double dt = 0;  // 0: the model's timestep
+  double dt = kUnset;  // the model's timestep
   int halvings = 4;
   double tol = 1e-3;
-  double until = 0;  // 0: the metric's default
+  double until = kUnset;  // the metric's default
   std::string format = "table";
 };
 
@@ -40,11 +42,25 @@ int RunConverge(const ConvergeOptions& o) {
     Data data(nominal);
     ApplyAssignments(nominal, data, sets);
   }
-  double dt0 = o.dt > 0 ? o.dt : nominal->opt.timestep;
-  double until = o.until > 0 ? o.until : DefaultDuration(metric);
-  if (!(o.tol > 0)) throw ValueError("--tol must be a positive relative tolerance");
+  auto positive = [](double v, const char* option, const char* what) {
+    if (v != kUnset && !(v > 0 && std::isfinite(v))) {
+      throw ValueError(
+          fmt::format("{} {:g}: {} must be a positive, finite number.", option, v, what));
+    }
+  };
+  positive(o.dt, "--dt", "the coarsest timestep (s)");
+  positive(o.until, "--until", "the run length (s)");
+  positive(o.tol, "--tol", "the relative tolerance");
+  double dt0 = o.dt != kUnset ? o.dt : nominal->opt.timestep;
+  double until = o.until != kUnset ? o.until : DefaultDuration(metric);
   ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until);
   double expected = ExpectedOrder(nominal->opt.integrator);
+  if (!r.ok && !r.diverged) {
+    // the metric does not apply to this run: the user must choose another or run longer
+    throw ValueError(
+        fmt::format("--metric '{}': {}. Start the motion (--set) or choose another metric.",
+                    o.metric, r.problem));
+  }
 
   if (o.format == "json") {
     nlohmann::ordered_json j;
@@ -57,7 +73,8 @@ int RunConverge(const ConvergeOptions& o) {
                         {"value", Number(l.value)},
                         {"diff", Number(l.diff)},
                         {"order", Number(l.order)},
-                        {"error", Number(l.error)}});
+                        {"error", Number(l.error)},
+                        {"roundoff", l.roundoff}});
     }
     j["levels"] = levels;
     j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
@@ -77,12 +94,13 @@ int RunConverge(const ConvergeOptions& o) {
       return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
     };
     for (const ConvergenceLevel& l : r.levels) {
-      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}\n", l.dt, num(l.value, "{:.15g}"),
-                         num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"));
+      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}\n", l.dt, num(l.value, "{:.15g}"),
+                         num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"),
+                         l.roundoff ? "  (diff is round-off)" : "");
     }
     out += "\n";
     if (!r.ok) {
-      out += "not converged: " + r.problem + "\n";
+      out += (r.diverged ? "diverged " : "cannot measure ") + r.problem + "\n";
     } else {
       out += r.estimate.resolved
                  ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
@@ -95,7 +113,7 @@ int RunConverge(const ConvergeOptions& o) {
                        "recommended dt  {:g} s: the largest dt/2^k with estimated error "
                        "below tol {:g} x scale {:.3g}\n",
                        r.recommended_dt, r.tol, r.scale)
-                 : std::string("recommended dt  none (the order is unresolved)\n");
+                 : std::string("recommended dt  none (no level is shown to meet the tolerance)\n");
     }
     std::fwrite(out.data(), 1, out.size(), stdout);
   }
@@ -114,7 +132,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       "  plumb converge models/pendulum.xml --set 'qpos[hinge]=0.7' --set opt.integrator=RK4 \\\n"
       "      --metric 'qpos[hinge]@2'\n"
       "Metrics: PATH@T, period(PATH), maxabs(PATH), energy_drift, state@T.\n"
-      "Exit codes: 0 ok, 2 bad input, 3 a level diverged.");
+      "Exit codes: 0 ok, 2 bad input or a metric that cannot be measured, 3 a level diverged.");
   AddModelOptions(cmd, &o->model, &o->sets, "before each run");
   cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
   cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");

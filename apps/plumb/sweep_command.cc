@@ -57,7 +57,7 @@ void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
     for (const Measurement& m : c.metrics) {
       r.metrics.push_back(m.ok ? m.value : NAN);
       if (!m.ok) {
-        r.diverged = r.diverged || m.problem.find("diverged") != std::string::npos;
+        r.diverged = r.diverged || m.diverged;
         r.problem += (r.problem.empty() ? "" : "; ") + m.problem;
       }
     }
@@ -124,7 +124,9 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     std::vector<int> widths;
     std::string header = fmt::format("{:>6}", "case");
     for (const SweepAxis& a : spec.axes) {
-      widths.push_back(std::max<int>(12, a.path.text.size() + 2));
+      int widest = static_cast<int>(a.path.text.size());
+      for (const std::string& label : a.labels) widest = std::max<int>(widest, label.size());
+      widths.push_back(std::max(12, widest + 2));
       header += fmt::format("{:>{}}", a.path.text, widths.back());
     }
     for (const std::string& m : o.metrics) {
@@ -139,8 +141,10 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
         line += fmt::format("{:>{}}", spec.axes[a].labels[c.choice[a]], widths[w++]);
       }
       for (const Measurement& r : c.metrics) {
-        line += r.ok ? fmt::format("{:>{}.6g}", r.value, widths[w++])
-                     : fmt::format("{:>{}}", "diverged", widths[w++]);
+        // a run that blew up and a metric that does not apply are different findings
+        line += r.ok         ? fmt::format("{:>{}.6g}", r.value, widths[w++])
+                : r.diverged ? fmt::format("{:>{}}", "diverged", widths[w++])
+                             : fmt::format("{:>{}}", "n/a", widths[w++]);
       }
       out += line + "\n";
     }
@@ -174,7 +178,8 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       "  plumb sweep models/pendulum.xml --vary 'qpos[hinge]=0.1:2.8:10' \\\n"
       "      --vary opt.integrator=Euler,RK4 --metric 'period(qpos[hinge])' --threads 2\n"
       "Rows come out in case order (first --vary slowest) and are identical for any --threads.\n"
-      "A diverged case is reported on stderr and left empty; the sweep goes on.");
+      "A case that diverged shows 'diverged', one whose metric cannot be measured (e.g. no\n"
+      "crossings for period) 'n/a'; the reason goes to stderr and the sweep goes on.");
   AddModelOptions(cmd, &o->model, &o->sets, "applied to every case");
   cmd->add_option("--vary", o->vary, "PATH=V1,V2,... or PATH=START:STOP:COUNT (repeatable)")
       ->allow_extra_args(false)

@@ -36,11 +36,17 @@ struct PendulumParams {
 };
 
 // Recognises a single hinge under gravity from the compiled model (not from names):
-// exactly one joint, a hinge, no actuators, springs, contacts that can touch it,
-// equality constraints or tendons, gravity with a component perpendicular to the axis,
-// and the centre of mass off the axis. Returns the parameters, or nullopt with the
-// reason in `why_not`. Uses mj_fullM at the equilibrium angle for I.
+// exactly one joint, an unlimited hinge, no spring, dry friction, equality constraints,
+// tendons or fluid forces, no actuator that pushes at ctrl = 0 (a plain motor is fine),
+// gravity enabled with a component perpendicular to the axis, the centre of mass off the
+// axis, and no geom it can collide with within reach of a full turn. Returns the parameters, or
+// nullopt with the reason in `why_not`. Uses mj_fullM at the equilibrium angle for I.
 std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* why_not = nullptr);
+
+// Why some actuator applies force while every ctrl is 0 (a position or velocity servo's
+// bias, a muscle's passive force), or "" when none does: with ctrl = 0 a plain motor
+// leaves the system passive.
+std::string ActuatorPushingAtZeroControl(const Model& model);
 
 // Small-angle period T0 = 2*pi*sqrt(I / (m*g*d)), s (undamped).
 double SmallAnglePeriod(const PendulumParams& p);

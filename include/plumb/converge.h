@@ -32,11 +32,13 @@ OrderEstimate EstimateOrder(const std::vector<double>& values, const std::vector
                             double noise);
 
 struct ConvergenceLevel {
-  double dt = 0;     // s
-  double value = 0;  // the metric at this dt
-  double diff = 0;   // |value - value at dt/2| (a norm for state@T); NaN for the finest level
-  double order = 0;  // log2(diff / next diff); NaN where undefined
-  double error = 0;  // estimated error |value - extrapolated|; NaN when unresolved
+  double dt = 0;          // s
+  double value = 0;       // the metric at this dt
+  double diff = 0;        // |value - value at dt/2| (a norm for state@T); NaN for the finest level
+  double order = 0;       // log2(diff / next diff); NaN where undefined
+  double error = 0;       // estimated error |value - extrapolated|; NaN when unresolved
+  bool roundoff = false;  // diff is below the round-off level: it and the orders from it
+                          // are noise (order is then NaN)
 };
 
 struct ConvergenceResult {
@@ -45,8 +47,10 @@ struct ConvergenceResult {
   OrderEstimate estimate;
   double scale = 1;           // the metric's magnitude, errors are compared with tol * scale
   double tol = 1e-3;          // relative tolerance
-  double recommended_dt = 0;  // largest dt0 * 2^-k (k >= -1) predicted to meet tol; 0 if none
+  double recommended_dt = 0;  // largest dt0 * 2^-k (k >= -1) predicted to meet tol; 0 if none;
+                              // dt0 when every level agrees to round-off
   bool ok = true;             // false when a level diverged or could not be measured
+  bool diverged = false;      // ... because a level diverged
   std::string problem;
 };
 

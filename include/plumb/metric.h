@@ -43,8 +43,11 @@ double DefaultDuration(const Metric& metric);
 struct Measurement {
   double value = 0;           // the metric (for state@T: the state's Euclidean norm)
   std::vector<double> state;  // state@T only: qpos, qvel, act concatenated
-  double scale = 1;           // a magnitude to compare errors with (max |path|, |period|, ...)
+  double scale = 1;           // what errors are compared with: half the range of PATH over the run
+                              // (its swing, not its offset), the largest distance of the state from
+                              // its start for state@T, the period itself, 1 for energy_drift
   bool ok = true;             // false when the metric could not be measured
+  bool diverged = false;      // ... because the run diverged (else: the metric does not apply)
   std::string problem;        // why not (diverged at t = ..., fewer than two crossings, ...)
   long steps = 0;
 };

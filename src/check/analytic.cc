@@ -1,5 +1,8 @@
 #include "plumb/analytic.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "plumb/error.h"
@@ -20,6 +23,73 @@ double EllipticK(double k) {
   return M_PI / (a + b);
 }
 
+namespace {
+
+// The first geom the bodies from `body` down can collide with, as "geom 'wall' (id 0)",
+// or "" when none is within reach of a full turn about the hinge (positions from `d`).
+std::string ReachableContact(const Model& model, const mjData* d, int body) {
+  const mjModel* m = model.get();
+  if (m->opt.disableflags & mjDSBL_CONTACT) return "";
+  auto moving = [&](int geom) {
+    for (int b = m->geom_bodyid[geom]; b > 0; b = m->body_parentid[b]) {
+      if (b == body) return true;
+    }
+    return false;
+  };
+  // everything the hinge moves stays within `reach` of the anchor
+  const mjtNum* anchor = d->xanchor;
+  double reach = 0;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!moving(g)) continue;
+    mjtNum r[3];
+    mju_sub3(r, d->geom_xpos + 3 * g, anchor);
+    reach = std::max(reach, mju_norm3(r) + m->geom_rbound[g] + m->geom_margin[g]);
+  }
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (moving(g)) continue;
+    bool pairs = false;
+    for (int k = 0; k < m->npair; ++k) {
+      int a = m->pair_geom1[k], b = m->pair_geom2[k];
+      pairs = pairs || (a == g && moving(b)) || (b == g && moving(a));
+    }
+    bool filtered = true;
+    for (int h = 0; h < m->ngeom && filtered; ++h) {
+      if (!moving(h)) continue;
+      filtered = !((m->geom_contype[g] & m->geom_conaffinity[h]) ||
+                   (m->geom_contype[h] & m->geom_conaffinity[g]));
+    }
+    if (filtered && !pairs) continue;
+    mjtNum r[3];
+    mju_sub3(r, anchor, d->geom_xpos + 3 * g);
+    double distance = m->geom_type[g] == mjGEOM_PLANE ? std::fabs(r[0] * d->geom_xmat[9 * g + 2] +
+                                                                  r[1] * d->geom_xmat[9 * g + 5] +
+                                                                  r[2] * d->geom_xmat[9 * g + 8])
+                                                      : mju_norm3(r) - m->geom_rbound[g];
+    if (distance < reach + m->geom_margin[g]) {
+      std::string name = model.Name(mjOBJ_GEOM, g);
+      return fmt::format("geom '{}' (id {})", name.empty() ? "unnamed" : name, g);
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string ActuatorPushingAtZeroControl(const Model& model) {
+  const mjModel* m = model.get();
+  for (int u = 0; u < m->nu; ++u) {
+    const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+    bool biased = m->actuator_biastype[u] != mjBIAS_NONE &&
+                  std::any_of(bias, bias + mjNBIAS, [](mjtNum b) { return b != 0; });
+    if (m->actuator_gaintype[u] != mjGAIN_FIXED || biased) {
+      std::string name = model.Name(mjOBJ_ACTUATOR, u);
+      return "actuator '" + (name.empty() ? std::to_string(u) : name) +
+             "' pushes even at ctrl = 0 (a servo's bias or a muscle's passive force)";
+    }
+  }
+  return "";
+}
+
 std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* why_not) {
   const mjModel* m = model.get();
   auto no = [&](const std::string& reason) -> std::optional<PendulumParams> {
@@ -29,7 +99,18 @@ std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* wh
   if (m->njnt != 1)
     return no("the model has " + std::to_string(m->njnt) + " joints, not one hinge");
   if (m->jnt_type[0] != mjJNT_HINGE) return no("its only joint is not a hinge");
-  if (m->nu > 0) return no("it has actuators");
+  if (m->opt.disableflags & mjDSBL_GRAVITY) {
+    return no("gravity is disabled (<flag gravity=\"disable\"/>): nothing pulls the pendulum");
+  }
+  if (std::string pushing = ActuatorPushingAtZeroControl(model); !pushing.empty()) {
+    return no(pushing);
+  }
+  if (m->jnt_limited[0]) {
+    return no(fmt::format(
+        "the hinge is limited to [{:g}, {:g}] rad: a swing that reaches the limit is stopped by "
+        "a constraint force no pendulum formula describes",
+        m->jnt_range[0], m->jnt_range[1]));
+  }
   if (m->jnt_stiffness[0] != 0) return no("the hinge has a spring (stiffness)");
   if (m->dof_frictionloss[0] != 0) return no("the hinge has dry friction (frictionloss)");
   if (m->neq > 0 || m->ntendon > 0) return no("it has equality constraints or tendons");
@@ -50,6 +131,9 @@ std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* wh
   for (int i = 0; i < 3; ++i) {
     r_perp[i] = r[i] - ra * a[i];
     g_perp[i] = g[i] - ga * a[i];
+  }
+  if (std::string touch = ReachableContact(model, d, body); !touch.empty()) {
+    return no("its geoms can touch " + touch + ": contacts would stop or deflect the swing");
   }
   PendulumParams p;
   p.joint = 0;

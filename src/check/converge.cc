@@ -71,14 +71,16 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   for (int k = 0; k <= halvings; ++k) {
     double dt = dt0 / std::pow(2.0, k);
     Measurement m = Measure(model, sets, metric, dt, until);
-    if (!m.ok) {
+    if (!m.ok && out.ok) {
       out.ok = false;
+      out.diverged = m.diverged;
       out.problem = "at dt = " + Str(dt) + " s: " + m.problem;
     }
     measured.push_back(m);
     ConvergenceLevel level;
     level.dt = dt;
-    level.value = m.value;
+    level.value = m.ok ? m.value : kNaN;
+    level.diff = level.order = level.error = kNaN;
     out.levels.push_back(level);
   }
   out.scale = measured.back().scale;
@@ -101,14 +103,27 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     }
     diffs.push_back(diff);
   }
-  for (std::size_t i = 0; i < out.levels.size(); ++i) {
-    out.levels[i].diff = i < diffs.size() ? diffs[i] : kNaN;
-    out.levels[i].order = i + 1 < diffs.size() ? std::log2(diffs[i] / diffs[i + 1]) : kNaN;
-  }
   // round-off: a few ulps of the scale per step, accumulating like a random walk
   double steps = static_cast<double>(std::max(1L, measured.back().steps));
   double noise = 4 * std::numeric_limits<double>::epsilon() * out.scale * std::sqrt(steps);
+  for (std::size_t i = 0; i < out.levels.size(); ++i) {
+    out.levels[i].diff = i < diffs.size() ? diffs[i] : kNaN;
+    out.levels[i].roundoff = i < diffs.size() && diffs[i] <= noise;
+    // an order from a difference in the noise means nothing: left out
+    bool clean = i + 1 < diffs.size() && diffs[i] > noise && diffs[i + 1] > noise;
+    out.levels[i].order = clean ? std::log2(diffs[i] / diffs[i + 1]) : kNaN;
+  }
   out.estimate = EstimateOrder(values, diffs, noise);
+  if (!diffs.empty() && out.estimate.noise_from == 0) {
+    // even the coarsest pair agrees to round-off: dt0 is as good as any smaller step
+    out.recommended_dt = dt0;
+    out.estimate.note =
+        "every level agrees with the next to round-off (differences below " + Str(noise) +
+        "): the result does not depend on the timestep at this precision, so dt0 is enough; "
+        "the finest value is reported and no order can be measured";
+    for (ConvergenceLevel& level : out.levels) level.error = kNaN;
+    return out;
+  }
 
   // estimated errors; for state vectors the difference to the finest level stands in
   for (std::size_t i = 0; i < out.levels.size(); ++i) {
@@ -120,6 +135,18 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
       out.levels[i].error = i < diffs.size() ? diffs[i] / (1 - std::pow(2.0, -p)) : 0;
     } else {
       out.levels[i].error = std::fabs(out.levels[i].value - out.estimate.extrapolated);
+    }
+  }
+  if (!out.estimate.resolved) {
+    // without an order, a level whose difference to every finer one is within tolerance
+    // is still converged: its error is about its difference (less for higher orders)
+    for (std::size_t i = diffs.size(); i-- > 0 && diffs[i] <= tol * out.scale;) {
+      out.recommended_dt = out.levels[i].dt;
+    }
+    if (out.recommended_dt > 0) {
+      out.estimate.note +=
+          "; the recommended dt is the coarsest level whose differences to all "
+          "finer levels are within the tolerance";
     }
   }
   // the largest dt0 * 2^-k (k >= -1) whose predicted error meets tol * scale

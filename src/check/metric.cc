@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/strings.h"
 #include "plumb/analytic.h"
@@ -40,6 +41,8 @@ class MetricSink : public SampleSink {
       case MetricKind::kMaxAbs:
       case MetricKind::kValueAt:
         maxabs = std::max(maxabs, std::fabs(row[1]));
+        low = std::min(low, row[1]);
+        high = std::max(high, row[1]);
         last = row;
         break;
       case MetricKind::kEnergyDrift:
@@ -51,14 +54,30 @@ class MetricSink : public SampleSink {
         double norm = 0;
         for (std::size_t i = 1; i < row.size(); ++i) norm += row[i] * row[i];
         maxabs = std::max(maxabs, std::sqrt(norm));
+        if (first.empty()) first = row;
+        double moved = 0;
+        for (std::size_t i = 1; i < row.size(); ++i)
+          moved += (row[i] - first[i]) * (row[i] - first[i]);
+        excursion = std::max(excursion, std::sqrt(moved));
         last = row;
         break;
       }
     }
   }
+
+  // How far the signal moves: half its range (the amplitude of a swing), or for a state
+  // the largest distance from the start. Independent of the coordinate's offset, so a
+  // pendulum swinging about q = 100 is judged like one swinging about 0; a signal that
+  // does not move falls back to its magnitude.
+  double Scale() const {
+    double moved = kind_ == MetricKind::kStateAt ? excursion : 0.5 * (high - low);
+    return std::max(moved > 0 ? moved : maxabs, 1e-300);
+  }
+
   MetricKind kind_;
   std::vector<double> t, x, first, last;
-  double maxabs = 0, max_kinetic = 0;
+  double maxabs = 0, max_kinetic = 0, excursion = 0;
+  double low = std::numeric_limits<double>::infinity(), high = -low;
 };
 
 bool WholeSteps(double time, double dt) {
@@ -184,24 +203,25 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
   out.steps = result.steps;
   if (result.diverged) {
     out.ok = false;
+    out.diverged = true;
     out.problem = result.divergence->reason;
     return out;
   }
   switch (metric.kind) {
     case MetricKind::kValueAt:
       out.value = sink.last[1];
-      out.scale = std::max(sink.maxabs, 1e-300);
+      out.scale = sink.Scale();
       break;
     case MetricKind::kMaxAbs:
       out.value = sink.maxabs;
-      out.scale = std::max(sink.maxabs, 1e-300);
+      out.scale = sink.Scale();
       break;
     case MetricKind::kStateAt: {
       out.state.assign(sink.last.begin() + 1, sink.last.end());
       double norm = 0;
       for (double v : out.state) norm += v * v;
       out.value = std::sqrt(norm);
-      out.scale = std::max(sink.maxabs, 1e-300);
+      out.scale = sink.Scale();
       break;
     }
     case MetricKind::kPeriod: {

@@ -1,11 +1,14 @@
 #include "plumb/sweep.h"
 
+#include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 
 #include "core/strings.h"
@@ -23,7 +26,18 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
   SweepAxis axis;
   axis.text = std::string(text);
   std::string path_text(text.substr(0, eq));
-  axis.path = ResolvePath(model, path_text);
+  // errors from the path and value parsers speak of --set; here the user wrote --vary
+  auto as_vary = [&](const Error& e) {
+    std::string message = e.what();
+    std::size_t colon = message.rfind("--set '", 0) == 0 ? message.find("': ") : std::string::npos;
+    if (colon != std::string::npos) message = message.substr(colon + 3);
+    return ValueError("--vary '" + axis.text + "': " + message);
+  };
+  try {
+    axis.path = ResolvePath(model, path_text);
+  } catch (const PathError& e) {
+    throw as_vary(e);
+  }
   if (axis.path.count != 1) {
     throw ValueError("--vary '" + axis.text + "': '" + axis.path.text + "' has " +
                      std::to_string(axis.path.count) + " elements; vary one, e.g. " +
@@ -40,9 +54,19 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
                        "': START:STOP:COUNT needs two numbers and a whole count >= 1.");
     }
     for (long i = 0; i < *count; ++i) {
-      double v = *count == 1 ? *start : *start + (*stop - *start) * i / (*count - 1);
+      // the endpoints exactly as written: start + (stop - start) can round away from stop
+      double v = i == 0            ? *start
+                 : i == *count - 1 ? *stop
+                                   : *start + (*stop - *start) * static_cast<double>(i) /
+                                                  static_cast<double>(*count - 1);
+      // interior points to 15 digits (0.1:2.8:4 gives 1 and 1.9, not 0.99999999999999989);
+      // endpoints as the shortest text that reads back as the number written
       char buffer[32];
-      std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+      std::snprintf(buffer, sizeof(buffer), "%.15g", v);
+      bool endpoint = i == 0 || i == *count - 1;
+      if (endpoint && std::strtod(buffer, nullptr) != v) {
+        std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+      }
       axis.labels.push_back(buffer);
     }
   } else if (range.size() == 1) {
@@ -51,7 +75,11 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
     throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
   }
   for (const std::string& label : axis.labels) {
-    axis.values.push_back(ParseAssignment(model, path_text + "=" + label));
+    try {
+      axis.values.push_back(ParseAssignment(model, path_text + "=" + label));
+    } catch (const Error& e) {
+      throw as_vary(e);
+    }
   }
   return axis;
 }
@@ -73,6 +101,30 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
     ApplyAssignments(nominal, data, spec.sets);
     return nominal->opt.timestep;
   }();
+
+  // every case's runs must end on whole steps of its timestep: checked for all cases
+  // before any runs, not found in the middle of the sweep
+  std::vector<std::pair<double, std::string>> timesteps = {{dt, "the model's timestep"}};
+  for (const SweepAxis& axis : spec.axes) {
+    if (axis.path.field != "opt.timestep") continue;
+    timesteps.clear();
+    for (std::size_t v = 0; v < axis.values.size(); ++v) {
+      timesteps.push_back({axis.values[v].values[0], "--vary '" + axis.text + "'"});
+    }
+  }
+  for (const Metric& metric : spec.metrics) {
+    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+    double until = at_time ? metric.time : spec.until > 0 ? spec.until : DefaultDuration(metric);
+    for (const auto& [step, source] : timesteps) {
+      double n = std::round(until / step);
+      if (n < 1 || std::fabs(until / step - n) > 1e-9 * std::max(1.0, n)) {
+        throw ValueError(fmt::format(
+            "--metric '{}': {:g} s is not a whole number of timesteps of {:g} s ({}); choose "
+            "times and timesteps that divide evenly.",
+            metric.text, until, step, source));
+      }
+    }
+  }
 
   // one model copy and one data per worker, made on first use
   struct Worker {
@@ -116,9 +168,10 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
 
   tbb::task_arena arena(spec.threads);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long>(0, total, 1), [&](const tbb::blocked_range<long>& r) {
-      for (long i = r.begin(); i != r.end(); ++i) run_case(i);
-    });
+    tbb::parallel_for(tbb::blocked_range<long>(0, total, 1),
+                      [&](const tbb::blocked_range<long>& r) {
+                        for (long i = r.begin(); i != r.end(); ++i) run_case(i);
+                      });
   });
   return cases;
 }

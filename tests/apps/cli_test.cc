@@ -363,6 +363,74 @@ TEST(CliConvergeTest, BadMetricIsBadInput) {
   EXPECT_NE(r.err.find("later"), std::string::npos) << r.err;
 }
 
+TEST(CliConvergeTest, BadOptionsNameTheOption) {
+  const std::string base =
+      "converge " + kPendulum + " --set 'qpos[hinge]=0.7' --metric 'qpos[hinge]@2' ";
+  for (const char* option : {"--dt 0", "--dt -1", "--until -1", "--tol inf", "--tol nan",
+                             "--tol -0.1", "--halvings 1"}) {
+    CommandResult r = RunPlumb(base + option);
+    EXPECT_EQ(r.exit_code, 2) << option << ": " << r.err;
+    std::string name = std::string(option).substr(0, std::string(option).find(' '));
+    EXPECT_NE(r.err.find(name), std::string::npos) << option << ": " << r.err;
+  }
+}
+
+TEST(CliConvergeTest, AMetricThatCannotBeMeasuredIsBadInputNotDivergence) {
+  // at rest the pendulum never crosses its mid-range: no period at any dt
+  CommandResult r = RunPlumb("converge " + kPendulum + " --metric 'period(qpos[hinge])'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--metric"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("fewer than twice"), std::string::npos) << r.err;
+}
+
+TEST(CliConvergeTest, ADivergedLevelShowsNoValue) {
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), kStiff);
+  CommandResult r = RunPlumb(
+      "converge stiff.xml --set 'qpos[slider]=0.01' --metric 'qpos[slider]@1' --format json",
+      dir.path());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["levels"][0]["value"].is_null()) << r.out;
+}
+
+TEST(CliVerifyTest, BadOptionsAreRefused) {
+  for (const char* option : {"--until 1.003", "--until -1", "--tol -1", "--tol inf"}) {
+    CommandResult r = RunPlumb("verify " + kPendulum + " " + option);
+    EXPECT_EQ(r.exit_code, 2) << option << ": " << r.err;
+    std::string name = std::string(option).substr(0, std::string(option).find(' '));
+    EXPECT_NE(r.err.find(name), std::string::npos) << option << ": " << r.err;
+  }
+}
+
+TEST(CliSweepTest, RangesHitTheirEndpointsAndErrorsNameVary) {
+  CommandResult r =
+      RunPlumb("sweep " + kPendulum + " --vary 'qpos[hinge]=0.1:2.8:4' --metric 'qpos[hinge]@1'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* label : {" 0.1 ", " 1 ", " 1.9 ", " 2.8 "}) {
+    EXPECT_NE(r.out.find(label), std::string::npos) << label << "\n" << r.out;
+  }
+  CommandResult bad = RunPlumb("sweep " + kPendulum +
+                               " --vary 'opt.integrator=Euler,Verlet' --metric 'qpos[hinge]@1'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--vary"), std::string::npos) << bad.err;
+  EXPECT_EQ(bad.err.find("--set"), std::string::npos) << bad.err;
+  // a varied timestep that does not divide the metric's time is refused before any case runs
+  CommandResult mismatch = RunPlumb("sweep " + kPendulum +
+                                    " --vary 'opt.timestep=0.002,0.003' --metric 'qpos[hinge]@1'");
+  EXPECT_EQ(mismatch.exit_code, 2);
+  EXPECT_NE(mismatch.err.find("0.003"), std::string::npos) << mismatch.err;
+  EXPECT_TRUE(mismatch.out.empty()) << mismatch.out;
+}
+
+TEST(CliSweepTest, UnmeasurableIsNotDiverged) {
+  // from rest there is no period to measure: n/a, not diverged
+  CommandResult r = RunPlumb("sweep " + kPendulum +
+                             " --vary 'dof_damping[hinge]=0,0.1' --metric 'period(qpos[hinge])'");
+  EXPECT_NE(r.out.find("n/a"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("diverged"), std::string::npos) << r.out;
+}
+
 TEST(CliSweepTest, RowsInCaseOrderWhateverTheThreads) {
   std::string args = "sweep " + kPendulum + kSet +
                      "--vary 'dof_damping[hinge]=0,0.05,1' --vary opt.integrator=Euler,RK4 "

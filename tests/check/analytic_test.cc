@@ -95,5 +95,64 @@ TEST_F(PendulumTest, RejectsWhatIsNotAPendulumWithAReason) {
   EXPECT_NE(why.find("gravity"), std::string::npos) << why;
 }
 
+// The chapter's pendulum with `extra` inside <mujoco> and `joint` attributes on the hinge.
+Model Variant(const std::string& extra, const std::string& joint = "",
+              const std::string& world = "") {
+  return Model::FromXmlString("<mujoco>" + extra + "<worldbody>" + world +
+                              R"(<body name="link" pos="0 0 1.5">
+        <joint name="hinge" axis="0 1 0" damping="0.05" )" +
+                              joint + R"(/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body>
+      </worldbody></mujoco>)");
+}
+
+TEST_F(PendulumTest, RejectsWhatMakesTheFormulasWrong) {
+  std::string why;
+  EXPECT_TRUE(DetectPendulum(Variant(""), &why)) << why;
+  // gravity switched off by flag, though opt.gravity still holds -9.81
+  EXPECT_FALSE(DetectPendulum(Variant(R"(<option><flag gravity="disable"/></option>)"), &why));
+  EXPECT_NE(why.find("gravity is disabled"), std::string::npos) << why;
+  // a limit the swing can reach
+  EXPECT_FALSE(DetectPendulum(
+      Variant(R"(<compiler angle="radian"/>)", R"(limited="true" range="-0.3 0.3")"), &why));
+  EXPECT_NE(why.find("limited to [-0.3, 0.3]"), std::string::npos) << why;
+  // a wall within reach of the rod; a floor far below is not
+  EXPECT_FALSE(DetectPendulum(
+      Variant("", "", R"(<geom name="wall" type="box" pos="0.6 0 1" size="0.05 0.5 0.5"/>)"),
+      &why));
+  EXPECT_NE(why.find("geom 'wall'"), std::string::npos) << why;
+  EXPECT_TRUE(
+      DetectPendulum(Variant("", "", R"(<geom type="plane" pos="0 0 -1" size="5 5 1"/>)"), &why))
+      << why;
+  // the same wall with contacts disabled, or made unable to collide, is harmless
+  EXPECT_TRUE(
+      DetectPendulum(Variant(R"(<option><flag contact="disable"/></option>)", "",
+                             R"(<geom name="wall" type="box" pos="0.6 0 1" size="0.05 0.5 0.5"/>)"),
+                     &why))
+      << why;
+  EXPECT_TRUE(DetectPendulum(
+      Variant(
+          "", "",
+          R"(<geom name="wall" type="box" pos="0.6 0 1" size="0.05 0.5 0.5" contype="0" conaffinity="0"/>)"),
+      &why))
+      << why;
+}
+
+TEST_F(PendulumTest, AMotorIsHarmlessAtZeroControlAServoIsNot) {
+  std::string why;
+  Model motor = Model::FromXmlString(R"(<mujoco><worldbody><body pos="0 0 1.5">
+        <joint name="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body></worldbody>
+      <actuator><motor joint="hinge" gear="2"/></actuator></mujoco>)");
+  EXPECT_TRUE(DetectPendulum(motor, &why)) << why;
+  EXPECT_EQ(ActuatorPushingAtZeroControl(motor), "");
+  Model servo = Model::FromXmlString(R"(<mujoco><worldbody><body pos="0 0 1.5">
+        <joint name="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body></worldbody>
+      <actuator><position name="hold" joint="hinge" kp="20"/></actuator></mujoco>)");
+  EXPECT_FALSE(DetectPendulum(servo, &why));
+  EXPECT_NE(why.find("actuator 'hold'"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace plumb

@@ -153,5 +153,34 @@ TEST_F(ConvergeTest, ExpectedOrders) {
   EXPECT_EQ(ExpectedOrder(mjINT_IMPLICIT), 1);
 }
 
+TEST_F(ConvergeTest, AnUnmeasurableMetricIsNotADivergence) {
+  // a pendulum at rest never crosses: the period cannot be measured at any dt
+  Metric period = ParseMetric(pendulum_, "period(qpos[hinge])");
+  ConvergenceResult r = Converge(pendulum_, {}, period, 0.002, 2, 1e-3, 2);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.diverged);
+  EXPECT_NE(r.problem.find("fewer than twice"), std::string::npos) << r.problem;
+  for (const ConvergenceLevel& l : r.levels) EXPECT_TRUE(std::isnan(l.value)) << l.dt;
+}
+
+TEST_F(ConvergeTest, RoundOffLevelsCarryNoOrder) {
+  // RK4 at small steps: the finer differences are round-off, their orders are not shown
+  std::vector<Assignment> sets = {ParseAssignment(pendulum_, "qpos[hinge]=0.7"),
+                                  ParseAssignment(pendulum_, "opt.integrator=RK4")};
+  Metric q2 = ParseMetric(pendulum_, "qpos[hinge]@2");
+  ConvergenceResult r = Converge(pendulum_, sets, q2, 0.0005, 4, 1e-3, 2);
+  ASSERT_TRUE(r.ok) << r.problem;
+  int roundoff = 0;
+  for (const ConvergenceLevel& l : r.levels) {
+    if (l.roundoff) {
+      ++roundoff;
+      EXPECT_TRUE(std::isnan(l.order)) << l.dt;
+    }
+  }
+  EXPECT_GE(roundoff, 2);
+  // the coarsest level already agrees with every finer one far inside the tolerance
+  EXPECT_DOUBLE_EQ(r.recommended_dt, 0.0005);
+}
+
 }  // namespace
 }  // namespace plumb

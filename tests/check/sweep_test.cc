@@ -43,8 +43,8 @@ TEST_F(SweepTest, CasesComeInOrderAndMatchSingleRuns) {
   EXPECT_EQ(cases[2].choice, (std::vector<std::size_t>{1, 0}));  // first axis slowest
   // case 2 is damping 0.05 at dt 0.002: the chapter's pendulum
   EXPECT_NEAR(cases[2].metrics[0].value, 0.310947692600239, 1e-13);
-  Measurement single = Measure(model, {spec.sets[0], spec.axes[0].values[1]},
-                               spec.metrics[0], 0.002, 2);
+  Measurement single =
+      Measure(model, {spec.sets[0], spec.axes[0].values[1]}, spec.metrics[0], 0.002, 2);
   EXPECT_EQ(cases[2].metrics[0].value, single.value);
 }
 

@@ -122,5 +122,54 @@ TEST_F(VerifyTest, FreeBoxOnAPlaneGetsWhatApplies) {
   EXPECT_NE(Find(report, "energy").detail.find("contacts"), std::string::npos);
 }
 
+TEST_F(VerifyTest, AnEngagedLimitIsNotAConservativeSystem) {
+  // undamped RK4 would conserve energy, but the limit's soft spring stores some of it
+  Model model = Model::FromXmlString(R"(<mujoco><compiler angle="radian"/>
+      <option integrator="RK4"/><worldbody><body pos="0 0 1.5">
+        <joint name="hinge" axis="0 1 0" limited="true" range="-0.3 0.3"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body></worldbody></mujoco>)");
+  VerifyOptions options;
+  options.sets = {ParseAssignment(model, "qpos[hinge]=0.25"),
+                  ParseAssignment(model, "qvel[hinge]=2")};
+  VerifyReport report = Verify(model, options);
+  EXPECT_EQ(Find(report, "energy").status, CheckStatus::kSkip) << Find(report, "energy").detail;
+  EXPECT_NE(Find(report, "energy").detail.find("limit"), std::string::npos);
+  EXPECT_EQ(Find(report, "analytic.period").status, CheckStatus::kSkip);
+  EXPECT_FALSE(report.failed()) << Failures(report);
+}
+
+TEST_F(VerifyTest, CoupledJointsAreNotHeldToFallingPeaks) {
+  // a damped double pendulum: energy only falls, but one link may swing higher as the
+  // other hands it energy; only the total-energy test applies
+  Model model = Model::FromXmlString(R"(<mujoco><option integrator="RK4"/><worldbody>
+      <body pos="0 0 2"><joint name="shoulder" axis="0 1 0" damping="0.01"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.03" mass="1"/>
+        <body pos="0 0 -0.5"><joint name="elbow" axis="0 1 0" damping="0.01"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.03" mass="0.5" contype="0"
+                conaffinity="0"/></body></body></worldbody></mujoco>)");
+  VerifyOptions options;
+  options.sets = {ParseAssignment(model, "qpos[shoulder]=0.9")};
+  options.until = 4;
+  VerifyReport report = Verify(model, options);
+  const CheckResult& energy = Find(report, "energy");
+  EXPECT_EQ(energy.status, CheckStatus::kPass) << energy.detail;
+  EXPECT_NE(energy.detail.find("coupled"), std::string::npos) << energy.detail;
+}
+
+TEST_F(VerifyTest, ConvergenceIsJudgedOnTheSwingNotTheOffset) {
+  // the same swing about q = 0 and about q = 100 (a hinge whose zero is 100 rad away)
+  // must get the same verdict: errors are compared with the amplitude, not |q|
+  VerifyOptions near, far;
+  near.sets = {ParseAssignment(pendulum_, "qpos[hinge]=0.7"),
+               ParseAssignment(pendulum_, "opt.timestep=0.02")};
+  far.sets = {ParseAssignment(pendulum_, "qpos[hinge]=" + std::to_string(0.7 + 32 * M_PI)),
+              ParseAssignment(pendulum_, "opt.timestep=0.02")};
+  const CheckResult a = Find(Verify(pendulum_, near), "convergence");
+  const CheckResult b = Find(Verify(pendulum_, far), "convergence");
+  EXPECT_EQ(a.status, b.status) << a.detail << "\n" << b.detail;
+  EXPECT_NE(a.status, CheckStatus::kPass) << a.detail;
+  EXPECT_NEAR(a.reference_value, b.reference_value, 1e-6 * a.reference_value);
+}
+
 }  // namespace
 }  // namespace plumb
