@@ -17,9 +17,12 @@ namespace fs = std::filesystem;
 
 // Failures that are real findings, with the explanation (see the closing note).
 const std::map<std::string, std::string> kKnownFailures = {
-    // A cloth of 288 soft equality constraints flapping in wind: convergence is a clean
-    // first order, and at its own 2 ms step the state at 0.5 s is ~16% (norm, mostly
-    // the cloth's fast velocities) from the extrapolated answer.
+    // A cloth of soft equality constraints flapping in wind. state@0.5 at dt = 4, 2, 1,
+    // 0.5, 0.25 ms: successive differences shrink by 2.47, 2.24, 2.11 (observed order
+    // 1.02 for Euler's 1, a clean first order), so the Richardson estimate holds: at its
+    // own 2 ms step the state is 7.5 (16 % of the state's excursion 47, mostly the
+    // cloth's fast velocities) from the extrapolated answer; 0.125 ms would pass 1 %.
+    // A real finding about the model's timestep, not a defect of the check.
     {"flag.xml:convergence", "clean first-order convergence shows dt = 2 ms is too coarse"},
 };
 
@@ -30,10 +33,15 @@ TEST_P(VerifyModelsTest, NoCrashAndNoUnexplainedFailure) {
   VerifyReport report = Verify(model, {});
   TakeMujocoWarnings();
   ASSERT_GE(report.checks.size(), 5u);
+  std::string file = fs::path(GetParam()).filename().string();
   for (const CheckResult& c : report.checks) {
-    if (c.status != CheckStatus::kFail) continue;
-    std::string key = fs::path(GetParam()).filename().string() + ":" + c.id;
-    EXPECT_TRUE(kKnownFailures.count(key)) << key << " failed: " << c.detail;
+    std::string key = file + ":" + c.id;
+    if (c.status == CheckStatus::kFail) {
+      EXPECT_TRUE(kKnownFailures.count(key)) << key << " failed: " << c.detail;
+    } else if (kKnownFailures.count(key)) {
+      // the list must not rot: a known failure that went away is removed from it
+      ADD_FAILURE() << key << " (" << kKnownFailures.at(key) << ") no longer fails: " << c.detail;
+    }
   }
 }
 
