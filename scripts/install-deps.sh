@@ -15,7 +15,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libtbb-dev libcpptoml-dev
   libopenmpi-dev openmpi-bin
-  valgrind
+  valgrind sqlite3
 )
 
 missing=()

@@ -50,6 +50,14 @@ void ProgressBar::Finish() {
   if (enabled_) std::fprintf(stderr, "\r%80s\r", "");
 }
 
+void ProgressBar::Clear() {
+  if (!enabled_) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::fprintf(stderr, "\r%80s\r", "");
+  std::fflush(stderr);
+  last_draw_ns_ = 0;  // drawn again at the next update
+}
+
 void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
                      const std::string& when) {
   cmd->add_option("model", *model, "MJCF (.xml) or binary (.mjb) model file")->required();
@@ -101,20 +109,34 @@ std::string CsvNumber(double v) {
   return buffer;
 }
 
+std::string CsvText(const std::string& field) {
+  if (field.find_first_of(",\"\n") == std::string::npos) return field;
+  std::string out = "\"";
+  for (char c : field) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 std::string CsvHeader(const std::vector<std::string>& fields) {
   std::string line;
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    const std::string& f = fields[i];
-    if (i) line += ',';
-    if (f.find_first_of(",\"") == std::string::npos) {
-      line += f;
-      continue;
-    }
-    line += '"';
-    for (char c : f) line += c == '"' ? std::string("\"\"") : std::string(1, c);
-    line += '"';
-  }
+  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + CsvText(fields[i]);
   return line + "\n";
+}
+
+std::vector<std::string> RolloutCsvColumns(const std::vector<std::string>& params,
+                                           const std::vector<std::string>& metrics) {
+  std::vector<std::string> columns = {"rollout"};
+  columns.insert(columns.end(), params.begin(), params.end());
+  columns.insert(columns.end(), metrics.begin(), metrics.end());
+  for (const char* c : {"diverged", "diverged_at", "problem"}) columns.push_back(c);
+  return columns;
+}
+
+std::string RolloutCsvRow(const RolloutResult& r) {
+  std::string out = std::to_string(r.index);
+  for (double v : r.params) out += "," + CsvNumber(v);
+  for (double v : r.metrics) out += "," + CsvNumber(v);
+  out += r.diverged ? ",1," + CsvNumber(r.diverged_time) : ",0,";
+  return out + "," + CsvText(r.problem) + "\n";
 }
 
 std::vector<std::string> SplitPathList(const std::string& text) {

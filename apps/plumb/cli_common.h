@@ -14,6 +14,7 @@
 
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/rollout.h"
 
 namespace plumb::cli {
 
@@ -53,6 +54,16 @@ std::string CsvNumber(double v);
 // A CSV header line (with newline), fields quoted where they hold commas or quotes.
 std::string CsvHeader(const std::vector<std::string>& fields);
 
+// One CSV field, quoted (RFC 4180) when it holds a comma, quote or newline.
+std::string CsvText(const std::string& field);
+
+// The columns and rows of a rollout in CSV, shared by `plumb rollout` and `plumb results`:
+// rollout, parameters, metrics (empty when unmeasured), diverged (0/1), diverged_at (s,
+// empty unless diverged), problem (why metrics are missing; empty when none).
+std::vector<std::string> RolloutCsvColumns(const std::vector<std::string>& params,
+                                           const std::vector<std::string>& metrics);
+std::string RolloutCsvRow(const RolloutResult& result);
+
 // Splits a comma-separated list of paths, keeping commas inside [...] together.
 std::vector<std::string> SplitPathList(const std::string& text);
 
@@ -63,6 +74,9 @@ class ProgressBar {
   ProgressBar(long total, std::string unit);
   void Update(long done);
   void Finish();  // clears the line
+  // Clears the bar before other output shares the terminal (table rows, messages), so
+  // lines do not run into it; the next Update draws it again.
+  void Clear();
 
  private:
   long total_;

@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
   try {
     return ctx.action ? ctx.action() : kExitBadInput;
   } catch (const std::exception& e) {
-    return ReportError(e);
+    int code = ReportError(e);
+    MpiAbortOnError(code);  // other ranks may be waiting for this one
+    return code;
   }
 }

@@ -1,5 +1,6 @@
 #include "mpi.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -17,6 +18,7 @@ namespace plumb::cli {
 
 namespace {
 bool g_initialised = false;
+bool g_in_batch = false;        // past MpiGo(true): the ranks depend on each other
 constexpr int kTagResults = 1;  // worker -> root: results of the last chunk (maybe none)
 constexpr int kTagWork = 2;     // root -> worker: the next chunk of indices
 constexpr int kTagStop = 3;     // root -> worker: nothing left
@@ -90,6 +92,23 @@ int MpiRank() {
   return rank;
 }
 
+bool MpiGo(bool ok) {
+  if (!MpiActive()) return ok;
+  int go = ok ? 1 : 0;
+  MPI_Bcast(&go, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  g_in_batch = go != 0;
+  return g_in_batch;
+}
+
+void MpiAbortOnError(int code) {
+  // before the batch every rank meets the same errors and ends on its own
+  if (MpiActive() && g_in_batch) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, code);
+  }
+}
+
 void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                 const std::function<void(const RolloutResult&)>& emit) {
   if (MpiRank() != 0) {
@@ -146,6 +165,8 @@ void MpiInit(int*, char***) {}
 void MpiFinalize() {}
 bool MpiActive() { return false; }
 int MpiRank() { return 0; }
+bool MpiGo(bool ok) { return ok; }
+void MpiAbortOnError(int) {}
 void MpiRollout(const Model&, const RolloutSpec&, const std::vector<long>&,
                 const std::function<void(const RolloutResult&)>&) {
   throw Error("plumb was built without MPI (PLUMB_WITH_MPI=OFF)");

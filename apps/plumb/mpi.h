@@ -25,6 +25,15 @@ int MpiRank();
 
 // Runs the rollouts of `indices` across the ranks. On rank 0 `emit` receives every result
 // in the order of `indices`; other ranks only compute and return when the work is done.
+// Collective: rank 0 says whether the batch goes ahead (its set-up, such as opening the
+// results store, succeeded); every rank returns rank 0's answer. Without MPI, `ok`.
+bool MpiGo(bool ok);
+
+// Stops every rank with `code` after an error on one rank that the others cannot see
+// (they would otherwise wait for it forever). Does nothing without an active MPI world
+// or before MpiGo(true): until then every rank meets the same errors.
+void MpiAbortOnError(int code);
+
 void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                 const std::function<void(const RolloutResult&)>& emit);
 

@@ -23,7 +23,7 @@ struct ResultsOptions {
 
 int RunResults(const ResultsOptions& o) {
   if (!std::ifstream(o.file)) throw IoError("no results store '" + o.file + "'.");
-  ResultsStore store(o.file);
+  ResultsStore store(o.file, ResultsStore::Mode::kReadOnly);
   std::vector<RunInfo> runs = store.Runs();
   if (o.run != 0) {
     runs.erase(
@@ -67,16 +67,13 @@ int RunResults(const ResultsOptions& o) {
     out = j.dump(2) + "\n";
   } else {
     for (const RunInfo& run : runs) {
-      std::vector<std::string> header = {"run", "rollout"};
-      header.insert(header.end(), run.parameters.begin(), run.parameters.end());
-      header.insert(header.end(), run.metrics.begin(), run.metrics.end());
-      header.push_back("diverged");
+      std::vector<std::string> header = {"run"};
+      for (const std::string& c : RolloutCsvColumns(run.parameters, run.metrics)) {
+        header.push_back(c);
+      }
       out += CsvHeader(header);
       for (const RolloutResult& r : store.Results(run.id)) {
-        out += std::to_string(run.id) + "," + std::to_string(r.index);
-        for (double v : r.params) out += "," + CsvNumber(v);
-        for (double v : r.metrics) out += "," + CsvNumber(v);
-        out += r.diverged ? ",1\n" : ",0\n";
+        out += std::to_string(run.id) + "," + RolloutCsvRow(r);
       }
     }
   }

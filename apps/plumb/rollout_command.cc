@@ -10,6 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include "cli_common.h"
 #include "core/strings.h"
 #include "core/version.h"
@@ -41,11 +45,13 @@ struct RolloutOptions {
 
 // Everything that decides a rollout batch's results, as one canonical line: the same
 // config means the same rows, so --resume may continue it and merge may join shards.
+// The model enters as the hash of its compiled form (included files count), and the
+// versions of plumb and MuJoCo, which decide the numbers as much as the options do.
 std::string Config(const RolloutOptions& o, const std::string& model_hash) {
   std::string config = fmt::format(
       "rollout model={} count={} until={:.17g} seed={} "
-      "ctrl_noise={:.17g}",
-      model_hash, o.count, o.until, o.seed, o.ctrl_noise);
+      "ctrl_noise={:.17g} plumb={} mujoco={}",
+      model_hash, o.count, o.until, o.seed, o.ctrl_noise, PLUMB_VERSION, MujocoVersion());
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& r : o.randomize) config += " randomize=" + r;
   for (const std::string& m : o.metrics) config += " metric=" + m;
@@ -56,10 +62,19 @@ std::string Config(const RolloutOptions& o, const std::string& model_hash) {
 void ParseShard(const std::string& text, RolloutSpec* spec) {
   std::string shard = text;
   if (shard.empty()) {
+    // array ids run from SLURM_ARRAY_TASK_MIN (often 1, as in --array=1-8), not from 0
     const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
     const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
     if (!id || !count) return;
-    shard = std::string(id) + "/" + count;
+    std::optional<long> i = ParseIndex(id), lowest = ParseIndex(min ? min : "0");
+    if (!i || !lowest || *i < *lowest) {
+      throw ValueError(fmt::format(
+          "Slurm: SLURM_ARRAY_TASK_ID={} with SLURM_ARRAY_TASK_MIN={} is not a task of the "
+          "array; pass --shard I/N explicitly.",
+          id, min ? min : "(unset)"));
+    }
+    shard = std::to_string(*i - *lowest) + "/" + count;
   }
   std::vector<std::string> parts = Split(shard, '/');
   std::optional<long> i = parts.size() == 2 ? ParseIndex(parts[0]) : std::nullopt;
@@ -69,6 +84,70 @@ void ParseShard(const std::string& text, RolloutSpec* spec) {
   }
   spec->shard_index = *i;
   spec->shard_count = *n;
+}
+
+// Opens the results store of --db and finds or begins the run: a new run, or the same
+// run continued with --resume (whose finished rollouts go into spec->skip).
+void OpenStore(const RolloutOptions& o, const Context& ctx, const std::vector<std::string>& params,
+               const std::string& model_hash, std::optional<ResultsStore>* store_out, long* run_out,
+               RolloutSpec* spec_out) {
+  if (o.db.empty()) return;
+  std::optional<ResultsStore>& store = *store_out;
+  long& run_id = *run_out;
+  RolloutSpec& spec = *spec_out;
+  store.emplace(o.db);
+  std::string config = Config(o, model_hash);
+  std::optional<RunInfo> existing = store->FindRun(config);
+  if (!existing && o.resume) {
+    // --resume of a run this command does not describe: say what differs
+    std::optional<RunInfo> last;
+    for (RunInfo& run : store->Runs()) {
+      if (run.kind == "rollout") last = run;
+    }
+    if (!last) {
+      throw ValueError("--resume: results store '" + o.db +
+                       "' holds no rollout run to continue; run without --resume to start one.");
+    }
+    std::vector<std::string> mine = Split(config, ' '), theirs = Split(last->config, ' ');
+    std::vector<std::string> differences;
+    for (const std::string& t : theirs) {
+      if (std::find(mine.begin(), mine.end(), t) == mine.end())
+        differences.push_back("stored " + t);
+    }
+    for (const std::string& t : mine) {
+      if (std::find(theirs.begin(), theirs.end(), t) == theirs.end())
+        differences.push_back("now " + t);
+    }
+    throw ValueError(fmt::format(
+        "--resume: this command is not the run stored in '{}' (run {}), so its results would "
+        "not be comparable: {}. Repeat the stored command ({}) or use a new --db file.",
+        o.db, last->id, fmt::join(differences, ", "), last->command));
+  }
+  if (existing && !o.resume) {
+    throw ValueError(fmt::format(
+        "results store '{}' already holds this run (id {}, {} of {} rollouts done); add "
+        "--resume to complete it, or use another --db file.",
+        o.db, existing->id, store->DoneIndices(existing->id).size(), existing->count));
+  }
+  if (existing) {
+    run_id = existing->id;
+    spec.skip = store->DoneIndices(run_id);
+  } else {
+    RunInfo info;
+    info.kind = "rollout";
+    info.config = config;
+    std::vector<std::string> quoted;
+    for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
+    info.command = fmt::format("{}", fmt::join(quoted, " "));
+    info.model_file = o.model;
+    info.model_hash = model_hash;
+    info.plumb_version = PLUMB_VERSION;
+    info.mujoco_version = MujocoVersion();
+    info.parameters = params;
+    info.metrics = o.metrics;
+    info.count = o.count;
+    run_id = store->BeginRun(info);
+  }
 }
 
 int RunRollout(const RolloutOptions& o, const Context& ctx) {
@@ -90,41 +169,21 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   long run_id = 0;
   if (o.resume && o.db.empty()) throw ValueError("--resume needs --db FILE");
   ValidateRolloutSpec(model, spec);
-  // under MPI, ranks other than 0 only compute what rank 0 hands them
+  // under MPI, ranks other than 0 only compute what rank 0 hands them, once rank 0 has
+  // set up the store (an error there must not leave them waiting)
   if (MpiActive() && MpiRank() != 0) {
+    if (!MpiGo(true)) return kExitBadInput;  // rank 0 reports the error
     MpiRollout(model, spec, {}, nullptr);
     return kExitOk;
   }
-  if (!o.db.empty()) {
-    store.emplace(o.db);
-    std::string config = Config(o, HashFile(o.model));
-    std::optional<RunInfo> existing = store->FindRun(config);
-    if (existing && !o.resume) {
-      throw ValueError(fmt::format(
-          "results store '{}' already holds this run (id {}, {} of {} rollouts done); add "
-          "--resume to complete it, or use another --db file.",
-          o.db, existing->id, store->DoneIndices(existing->id).size(), existing->count));
-    }
-    if (existing) {
-      run_id = existing->id;
-      spec.skip = store->DoneIndices(run_id);
-    } else {
-      RunInfo info;
-      info.kind = "rollout";
-      info.config = config;
-      std::vector<std::string> quoted;
-      for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
-      info.command = fmt::format("{}", fmt::join(quoted, " "));
-      info.model_file = o.model;
-      info.model_hash = HashFile(o.model);
-      info.plumb_version = PLUMB_VERSION;
-      info.mujoco_version = MujocoVersion();
-      info.parameters = params;
-      info.metrics = o.metrics;
-      info.count = o.count;
-      run_id = store->BeginRun(info);
-    }
+  try {
+    OpenStore(o, ctx, params, HashModel(model), &store, &run_id, &spec);
+  } catch (...) {
+    MpiGo(false);
+    throw;
   }
+  MpiGo(true);
+  // from here on an error on rank 0 stops every rank (see main)
 
   long total = 0;
   for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
@@ -134,12 +193,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   spec.progress = [&](long done, long) { progress.Update(done); };
 
   // header
-  std::vector<std::string> columns = {"rollout"};
-  columns.insert(columns.end(), params.begin(), params.end());
-  columns.insert(columns.end(), o.metrics.begin(), o.metrics.end());
-  columns.push_back("diverged");
+  std::vector<std::string> columns = RolloutCsvColumns(params, o.metrics);
+  if (o.format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
   std::string out;
   auto flush = [&] {
+    if (out.empty()) return;
+    progress.Clear();
     std::fwrite(out.data(), 1, out.size(), stdout);
     out.clear();
   };
@@ -161,27 +220,43 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   long diverged = 0, emitted = 0;
   auto start = std::chrono::steady_clock::now();
   InstallSignalHandlers();
-  std::vector<long> indices;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
-    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) indices.push_back(i);
-  }
+  // the indices of this shard that are not stored yet, `limit` at a time: memory does
+  // not grow with --count
+  long next_index = spec.shard_index;
+  auto next_indices = [&](std::size_t limit) {
+    std::vector<long> chunk;
+    for (; next_index < spec.count && chunk.size() < limit; next_index += spec.shard_count) {
+      if (!std::binary_search(spec.skip.begin(), spec.skip.end(), next_index)) {
+        chunk.push_back(next_index);
+      }
+    }
+    return chunk;
+  };
   auto run = [&](const std::function<void(const RolloutResult&)>& emit) {
     if (MpiActive()) {
-      MpiRollout(model, spec, indices, emit);
-    } else {
-      RolloutCases(model, spec, indices, emit, &StopRequested());
+      // rank 0 hands the list out in small chunks; it holds the whole list (8 bytes each)
+      MpiRollout(model, spec, next_indices(static_cast<std::size_t>(total)), emit);
+      return;
+    }
+    RolloutSpec chunked = spec;
+    long done_before = 0;
+    chunked.progress = [&](long done, long) { progress.Update(done_before + done); };
+    for (std::vector<long> chunk = next_indices(1 << 16); !chunk.empty();
+         chunk = next_indices(1 << 16)) {
+      RolloutCases(model, chunked, chunk, emit, &StopRequested());
+      done_before += static_cast<long>(chunk.size());
+#ifdef __GLIBC__
+      malloc_trim(0);  // hand freed pages back: resident memory stays flat as --count grows
+#endif
     }
   };
-  run([&](const RolloutResult& r) {
+  auto emit = [&](const RolloutResult& r) {
     ++emitted;
     diverged += r.diverged;
     if (store) store->Add(run_id, r);
     for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
     if (o.format == "csv") {
-      out += std::to_string(r.index);
-      for (double v : r.params) out += "," + CsvNumber(v);
-      for (double v : r.metrics) out += "," + CsvNumber(v);
-      out += r.diverged ? ",1\n" : ",0\n";
+      out += RolloutCsvRow(r);
     } else if (o.format == "json") {
       nlohmann::ordered_json row;
       row["rollout"] = r.index;
@@ -195,6 +270,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
       row["metrics"] = m;
       row["diverged"] = r.diverged;
       if (r.diverged) row["diverged_time"] = r.diverged_time;
+      if (!r.problem.empty()) row["problem"] = r.problem;
       out += (emitted > 1 ? ",\n  " : "  ") + row.dump();
     } else {
       std::size_t w = 0;
@@ -205,9 +281,22 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
                              : fmt::format("{:>{}.6g}", v, widths[w++]);
       }
       out += fmt::format("{:>{}}\n", r.diverged ? "yes" : "no", widths[w++]);
+      if (!r.problem.empty() && !r.diverged) {
+        progress.Clear();
+        std::fprintf(stderr, "plumb: %s\n", r.problem.c_str());
+      }
     }
     if (out.size() > (1 << 16)) flush();
-  });
+  };
+  try {
+    run(emit);
+  } catch (const Interrupted&) {
+    // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
+    flush();
+    progress.Finish();
+    if (store) store->Commit();
+    throw;
+  }
   if (o.format == "json") out += "\n]\n";
   flush();
   progress.Finish();
@@ -254,9 +343,9 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       "--db FILE records everything in SQLite; --resume skips what a killed run finished;\n"
       "plumb results FILE exports, plumb merge A B -o OUT joins shard files.");
   AddModelOptions(cmd, &o->model, &o->sets, "for every rollout");
-  cmd->add_option("--count", o->count, "number of rollouts")
+  cmd->add_option("--count", o->count, "number of rollouts (at least 1)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(1L, 1L << 53));
   cmd->add_option("--until", o->until, "length of each rollout in s")->capture_default_str();
   cmd->add_option("--threads", o->threads, "worker threads")
       ->capture_default_str()

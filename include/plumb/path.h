@@ -63,8 +63,10 @@ Path ResolvePath(const Model& model, std::string_view text);
 // a single-element path is returned as it is.
 std::vector<Path> ScalarPaths(const Path& path);
 
-// Resolves `text`, where the row index may be `*` (every named row:
-// "body_mass[*]", "geom_friction[*][0]"), into one path per match.
+// Resolves `text`, where the row index may be `*` (every object that has a row, named
+// or not, except the world body: "body_mass[*]", "geom_friction[*][0]"), into one path
+// per match. Unnamed objects are written by id, "body_mass[#2]", which ResolvePath
+// also accepts.
 // @throws PathError as ResolvePath does.
 std::vector<Path> ExpandPath(const Model& model, std::string_view text);
 
@@ -92,6 +94,11 @@ struct Assignment {
 // Parses and validates `text`. A single value given for a block is repeated over it.
 // @throws PathError / ValueError with the option text quoted.
 Assignment ParseAssignment(const Model& model, std::string_view text);
+
+// Throws ValueError unless `value` may be written to `path`: finite, fits the element
+// type, and within what MuJoCo accepts (see ParseAssignment). For values computed at run
+// time, such as randomized draws.
+void CheckAssignable(const Path& path, double value);
 
 // Applies assignments in the order a run needs them: parameter edits to the model
 // first, then mj_setConst when any model array changed (derived constants such as

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "plumb/model.h"
 #include "plumb/rollout.h"
 
 namespace plumb {
@@ -30,9 +31,9 @@ struct RunInfo {
   long id = 0;
   std::string kind;     // "rollout"
   std::string config;   // canonical text of everything that decides the results
-  std::string command;  // the command line
+  std::string command;  // the command line (a merged run: one line per shard)
   std::string model_file;
-  std::string model_hash;  // FNV-1a 64 of the model file's bytes, hex
+  std::string model_hash;  // HashModel of the compiled model, hex
   std::string plumb_version, mujoco_version;
   std::string started, finished;  // ISO 8601 UTC; finished empty while incomplete
   std::vector<std::string> parameters, metrics;
@@ -42,11 +43,21 @@ struct RunInfo {
 // Hex FNV-1a 64-bit hash of a file's bytes. @throws IoError.
 std::string HashFile(const std::string& path);
 
+// Hex FNV-1a 64-bit hash of the compiled model as mj_saveModel writes it: changes when
+// any included file changes, not when only comments or formatting do.
+std::string HashModel(const Model& model);
+
+// SQLite application_id of a plumb results store ("plmb").
+inline constexpr int kStoreApplicationId = 0x706c6d62;
+
 class ResultsStore {
  public:
-  // Opens (creating if needed) the store. @throws IoError naming the file when it cannot
-  // be opened or is not a plumb store.
-  explicit ResultsStore(const std::string& path);
+  enum class Mode { kReadWrite, kReadOnly };
+
+  // Opens the store; read-write creates it if needed and runs SQLite's quick_check on an
+  // existing one, read-only never writes. @throws IoError naming the file when it cannot
+  // be opened, is damaged, or is an SQLite file of some other program.
+  explicit ResultsStore(const std::string& path, Mode mode = Mode::kReadWrite);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;
   ResultsStore& operator=(const ResultsStore&) = delete;
@@ -56,6 +67,8 @@ class ResultsStore {
   // Records a new run and returns its id.
   long BeginRun(const RunInfo& info);
   void FinishRun(long run);
+  // Adds another command line to a run's record (a merged run keeps every shard's).
+  void AppendCommand(long run, const std::string& command);
   std::vector<RunInfo> Runs();
 
   // Indices of the rollouts of `run` that already have results, sorted.

@@ -1,5 +1,6 @@
 #include "plumb/rollout.h"
 
+#include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -159,14 +160,44 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
     double z = StandardNormal(spec.seed, static_cast<std::uint64_t>(index), key, 1);
     return dist.Apply(nominal_value, u, z);
   };
+  // restores what this rollout changed, so the next starts from the nominal model
+  auto restore = [&] {
+    for (const Randomization& r : spec.randomize) {
+      for (const Path& p : r.paths) {
+        if (p.role == Role::kParameter)
+          WriteValues(w.work, w.data, p, {ReadValue(nominal, w.data, p)});
+      }
+    }
+    m->opt.enableflags = nominal->opt.enableflags;
+  };
+  // a draw MuJoCo cannot take (a negative mass from N(mu, sigma), a fraction for an
+  // integer field) is this rollout's problem, recorded; the batch goes on
+  auto refuse = [&](const Randomization& r, const Error& e) {
+    out.problem = fmt::format("rollout {}: --randomize '{}' drew a value MuJoCo cannot take: {}",
+                              index, r.text, e.what());
+    out.metrics.assign(spec.metrics.size(), kNaN);
+    return out;
+  };
   std::uint32_t key = 0;
   out.params.assign(ParameterCount(spec), kNaN);
   for (const Randomization& r : spec.randomize) {
     for (const Path& p : r.paths) {
       if (p.role == Role::kParameter) {
-        double v = draw(r.dist, key, ReadValue(nominal, w.data, p));
-        out.params[key] = v;
-        WriteValues(w.work, w.data, p, {v});
+        out.params[key] = draw(r.dist, key, ReadValue(nominal, w.data, p));
+        try {
+          CheckAssignable(p, out.params[key]);
+        } catch (const Error& e) {
+          return refuse(r, e);  // nothing written yet
+        }
+      }
+      ++key;
+    }
+  }
+  key = 0;
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      if (p.role == Role::kParameter) {
+        WriteValues(w.work, w.data, p, {out.params[key]});
         arrays_changed = arrays_changed || p.field.rfind("opt.", 0) != 0;
       }
       ++key;
@@ -185,6 +216,12 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
       if (p.role != Role::kParameter) {
         double v = draw(r.dist, key, ReadValue(w.work, w.data, p));
         out.params[key] = v;
+        try {
+          CheckAssignable(p, v);
+        } catch (const Error& e) {
+          restore();
+          return refuse(r, e);
+        }
         WriteValues(w.work, w.data, p, {v});
       }
       ++key;
@@ -297,14 +334,7 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
     }
     out.metrics = probe.values;
   }
-  // restore what this rollout changed, so the next starts from the nominal model
-  for (const Randomization& r : spec.randomize) {
-    for (const Path& p : r.paths) {
-      if (p.role == Role::kParameter)
-        WriteValues(w.work, w.data, p, {ReadValue(nominal, w.data, p)});
-    }
-  }
-  if (energy) m->opt.enableflags = nominal->opt.enableflags;
+  restore();
   return out;
 }
 

@@ -358,7 +358,11 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
                       "' (counted by " + field->row_kind +
                       ") have no names; use a number from 0 to " + std::to_string(rows - 1) + ".");
     }
-    int id = mj_name2id(m, kind->obj, row.c_str());
+    // "#3": the object with id 3 (how '*' names unnamed objects), else a name
+    std::optional<long> by_id =
+        row.size() > 1 && row[0] == '#' ? ParseIndex(row.substr(1)) : std::nullopt;
+    int id = by_id && *by_id < ObjectCount(m, kind->obj) ? static_cast<int>(*by_id)
+                                                         : mj_name2id(m, kind->obj, row.c_str());
     if (id < 0) {
       std::vector<std::string> names = NamesOf(model, kind->obj, ObjectCount(m, kind->obj));
       std::string listing = names.empty()
@@ -506,15 +510,16 @@ std::vector<Path> ExpandPath(const Model& model, std::string_view text) {
   }
   const mjModel* m = model.get();
   std::vector<Path> paths;
-  for (long id = 0; id < ObjectCount(m, kind->obj); ++id) {
+  // every object with a row, named or not; the world body is not a body one randomizes
+  for (long id = kind->obj == mjOBJ_BODY ? 1 : 0; id < ObjectCount(m, kind->obj); ++id) {
+    if (RowsOf(m, *kind, static_cast<int>(id)).second == 0) continue;
     std::string name = model.Name(kind->obj, static_cast<int>(id));
-    if (name.empty() || RowsOf(m, *kind, static_cast<int>(id)).second == 0) continue;
     Parsed one = parsed;
-    one.indices[0] = name;
+    one.indices[0] = name.empty() ? "#" + std::to_string(id) : name;
     paths.push_back(ResolveParsed(model, text, one));
   }
   if (paths.empty()) {
-    throw PathError("path '" + std::string(text) + "' matches nothing: this model has no named " +
+    throw PathError("path '" + std::string(text) + "' matches nothing: this model has no " +
                     kind->noun + " with a row in '" + parsed.field + "'.");
   }
   return paths;
@@ -684,12 +689,12 @@ constexpr Bound kBounds[] = {
 // Throws ValueError when the values parse but MuJoCo would reject or misread them: an
 // enumerated option outside its names, a geom's condim other than 1, 3, 4, 6, option
 // flags beyond the defined bits, or a value below a field's bound.
-void CheckDomain(const Assignment& a, const compat::EnumName* names, std::size_t enum_size) {
-  const std::string& field = a.path.field;
-  auto fail = [&](const std::string& why) {
-    throw ValueError("--set '" + a.text + "': " + why + ".");
-  };
-  for (double v : a.values) {
+void CheckDomain(const Path& path, const std::string& text, const std::vector<double>& values) {
+  std::size_t enum_size = 0;
+  const compat::EnumName* names = EnumTable(path.field, &enum_size);
+  const std::string& field = path.field;
+  auto fail = [&](const std::string& why) { throw ValueError(text + ": " + why + "."); };
+  for (double v : values) {
     if (names) {
       bool known = false;
       std::vector<std::string> valid;
@@ -763,8 +768,13 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
   }
   RequireWritable(a.path);
   for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
-  CheckDomain(a, names, enum_size);
+  CheckDomain(a.path, "--set '" + a.text + "'", a.values);
   return a;
+}
+
+void CheckAssignable(const Path& path, double value) {
+  CheckValue(Fields()[path.field_index].type, path.text, value);
+  CheckDomain(path, "'" + path.text + "' = " + FormatNumber(value), {value});
 }
 
 void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments) {

@@ -1,5 +1,6 @@
 #include "plumb/store.h"
 
+#include <fmt/format.h>
 #include <sqlite3.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "plumb/error.h"
 
@@ -97,6 +99,20 @@ std::string HashFile(const std::string& path) {
   return hex;
 }
 
+std::string HashModel(const Model& model) {
+  const mjModel* m = model.get();
+  std::vector<unsigned char> buffer(static_cast<std::size_t>(mj_sizeModel(m)));
+  mj_saveModel(m, nullptr, buffer.data(), static_cast<int>(buffer.size()));
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : buffer) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
 struct ResultsStore::Impl {
   sqlite3* db = nullptr;
   std::string file;
@@ -112,16 +128,48 @@ struct ResultsStore::Impl {
   }
 };
 
-ResultsStore::ResultsStore(const std::string& path) : impl_(std::make_unique<Impl>()) {
+ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>()) {
   impl_->file = path;
-  if (sqlite3_open_v2(path.c_str(), &impl_->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
-                      nullptr) != SQLITE_OK) {
+  bool read_only = mode == Mode::kReadOnly;
+  int flags = read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  if (sqlite3_open_v2(path.c_str(), &impl_->db, flags, nullptr) != SQLITE_OK) {
     std::string message = impl_->db ? sqlite3_errmsg(impl_->db) : "out of memory";
     sqlite3_close(impl_->db);
+    impl_->db = nullptr;
     throw IoError("cannot open results store '" + path + "': " + message);
   }
   sqlite3_busy_timeout(impl_->db, 10000);
   try {
+    auto integer = [&](const char* sql) {
+      Statement s(impl_->db, sql, path);
+      return s.Step() ? s.Int(0) : 0L;
+    };
+    long tables = integer("SELECT count(*) FROM sqlite_master WHERE type = 'table'");
+    long ours = integer(
+        "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name IN "
+        "('runs', 'cases', 'results')");
+    long id = integer("PRAGMA application_id");
+    bool fresh = tables == 0;
+    // stores written before the id existed have id 0 and exactly our tables
+    bool plumb = id == kStoreApplicationId || (id == 0 && ours == 3 && tables == 3);
+    if (!fresh && !plumb) {
+      throw IoError("'" + path + "' is an SQLite file but not a plumb results store (" +
+                    (id != 0 ? fmt::format("application_id {:#x}", id)
+                             : std::to_string(tables) + " unrelated table(s)") +
+                    "); give plumb a file of its own.");
+    }
+    if (read_only) {
+      if (fresh) throw IoError("'" + path + "' is empty, not a plumb results store.");
+      return;
+    }
+    if (!fresh) {
+      Statement check(impl_->db, "PRAGMA quick_check", path);
+      std::string verdict = check.Step() ? check.Text(0) : "no answer";
+      if (verdict != "ok") {
+        throw IoError("results store '" + path + "' is damaged (SQLite quick_check: " + verdict +
+                      "); restore it from a copy or start a new --db file.");
+      }
+    }
     impl_->Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
     impl_->Exec(
         "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, config TEXT, "
@@ -133,13 +181,18 @@ ResultsStore::ResultsStore(const std::string& path) : impl_(std::make_unique<Imp
         "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
         "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
         "PRIMARY KEY(run, idx));");
-  } catch (const IoError& e) {
+    impl_->Exec(
+        fmt::format("PRAGMA application_id = {}; PRAGMA user_version = 1;", kStoreApplicationId)
+            .c_str());
+  } catch (const Error&) {
     sqlite3_close(impl_->db);
-    throw IoError(std::string(e.what()) + " (is it a plumb results store?)");
+    impl_->db = nullptr;
+    throw;
   }
 }
 
 ResultsStore::~ResultsStore() {
+  if (!impl_->db) return;
   try {
     Commit();
   } catch (...) {
@@ -166,6 +219,14 @@ long ResultsStore::BeginRun(const RunInfo& info) {
   s.Bind(10, json(info.parameters).dump()).Bind(11, json(info.metrics).dump()).Bind(12, info.count);
   s.Step();
   return sqlite3_last_insert_rowid(impl_->db);
+}
+
+void ResultsStore::AppendCommand(long run, const std::string& command) {
+  Statement s(impl_->db,
+              "UPDATE runs SET command = command || char(10) || ? WHERE id = ? AND "
+              "instr(char(10) || command || char(10), char(10) || ? || char(10)) = 0",
+              impl_->file);
+  s.Bind(1, command).Bind(2, run).Bind(3, command).Step();
 }
 
 void ResultsStore::FinishRun(long run) {
@@ -271,22 +332,30 @@ void MergeStores(const std::vector<std::string>& inputs, const std::string& outp
     throw IoError("merge: '" + output + "' exists already; give a new file name.");
   }
   std::string temp = output + ".tmp-merge";
-  std::filesystem::remove(temp);
-  std::filesystem::remove(temp + "-wal");
-  std::filesystem::remove(temp + "-shm");
-  {
+  auto remove_temp = [&] {
+    std::error_code ignored;
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(temp + suffix, ignored);
+  };
+  remove_temp();
+  try {
     ResultsStore out(temp);
     std::map<std::string, long> by_config;
     std::map<std::pair<long, long>, RolloutResult> seen;
     for (const std::string& input : inputs) {
       if (!std::filesystem::exists(input)) throw IoError("merge: no such store '" + input + "'.");
-      ResultsStore in(input);
+      ResultsStore in(input, ResultsStore::Mode::kReadOnly);
       for (const RunInfo& run : in.Runs()) {
         auto [it, fresh] = by_config.emplace(run.config, 0);
         if (fresh) {
           RunInfo copy = run;
           copy.finished.clear();
           it->second = out.BeginRun(copy);
+        } else {
+          // every shard's command line stays on record
+          std::istringstream commands(run.command);
+          for (std::string line; std::getline(commands, line);) {
+            out.AppendCommand(it->second, line);
+          }
         }
         long target = it->second;
         for (const RolloutResult& r : in.Results(run.id)) {
@@ -312,6 +381,9 @@ void MergeStores(const std::vector<std::string>& inputs, const std::string& outp
     for (const RunInfo& run : out.Runs()) {
       if (static_cast<long>(out.DoneIndices(run.id).size()) == run.count) out.FinishRun(run.id);
     }
+  } catch (...) {
+    remove_temp();  // a failed merge leaves nothing behind
+    throw;
   }
   std::filesystem::rename(temp, output);
   std::filesystem::remove(temp + "-wal");

@@ -15,11 +15,17 @@ const std::string kArgs =
     " --count 70 --until 0.3 --seed 9 --randomize 'body_mass[*]=*U(0.9,1.1)' "
     "--ctrl-noise 0.01 --metric 'xpos[torso][2]@0.3' --format csv";
 
+testing::CommandResult MpirunResult(int ranks, const std::string& args,
+                                    const std::string& dir = ".") {
+  // CI runs as root, and this machine has fewer cores than ranks; `timeout` turns a hang
+  // into a failure (exit 124) instead of a stuck test
+  return RunShell("timeout 60 mpirun --allow-run-as-root --oversubscribe -np " +
+                      std::to_string(ranks) + " '" + PLUMB_CLI + "' " + args,
+                  dir);
+}
+
 std::string Mpirun(int ranks, const std::string& args, const std::string& dir = ".") {
-  // CI runs as root, and this machine has fewer cores than ranks
-  testing::CommandResult r = RunShell("mpirun --allow-run-as-root --oversubscribe -np " +
-                                          std::to_string(ranks) + " '" + PLUMB_CLI + "' " + args,
-                                      dir);
+  testing::CommandResult r = MpirunResult(ranks, args, dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return r.out;
 }
@@ -39,6 +45,21 @@ TEST(MpiTest, RankZeroWritesTheStore) {
   std::string b = RunPlumb("results one.sqlite", dir.path()).out;
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 71);
   EXPECT_EQ(a, b);
+}
+
+TEST(MpiTest, AnErrorOnRankZeroEndsEveryRank) {
+  // the store already holds this run: only rank 0 opens it, and the workers that wait for
+  // its go-ahead must end too, promptly, with the same exit code
+  TempDir dir;
+  RunPlumb("rollout " + testing::kHumanoid + kArgs + " --db taken.sqlite", dir.path());
+  testing::CommandResult r =
+      MpirunResult(2, "rollout " + testing::kHumanoid + kArgs + " --db taken.sqlite", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("already holds this run"), std::string::npos) << r.err;
+  // and an error every rank sees (a bad option value) ends them all the same way
+  testing::CommandResult bad =
+      MpirunResult(2, "rollout " + testing::kHumanoid + " --randomize 'body_mass[*]=W(1,2)'");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
 }
 
 }  // namespace

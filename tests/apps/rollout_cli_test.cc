@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -36,7 +37,8 @@ TEST(CliRolloutTest, CsvCarriesOnlyDataAndTheSummaryGoesToStderr) {
   CommandResult r = RunPlumb("rollout " + testing::kHumanoid + " --count 6" + kArgs);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
-            "rollout,body_mass[torso],geom_friction[floor][0],xpos[torso][2]@0.5,diverged");
+            "rollout,body_mass[torso],geom_friction[floor][0],xpos[torso][2]@0.5,diverged,"
+            "diverged_at,problem");
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 7);
   EXPECT_NE(r.err.find("6 rollouts, 0 diverged"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("median"), std::string::npos) << r.err;
@@ -107,6 +109,64 @@ TEST(CliRolloutTest, SlurmArrayVariablesPickTheShard) {
                           .out;
   EXPECT_EQ(shard1, slurm);
   EXPECT_EQ(std::count(shard1.begin(), shard1.end(), '\n'), 3);  // header + rollouts 1, 4
+  // an array declared --array=1-3 numbers its tasks from 1: task 2 is shard 1
+  std::string from_one =
+      testing::RunShell("SLURM_ARRAY_TASK_ID=2 SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_COUNT=3 '" +
+                        std::string(PLUMB_CLI) + "' rollout " + testing::kHumanoid + " --count 6" +
+                        kArgs)
+          .out;
+  EXPECT_EQ(shard1, from_one);
+}
+
+TEST(CliRolloutTest, TheStoreGuardsItsRuns) {
+  TempDir dir;
+  const std::string run = "rollout " + testing::kHumanoid + " --count 4" + kArgs;
+  ASSERT_EQ(RunPlumb(run + " --db r.sqlite", dir.path()).exit_code, 0);
+  // --resume with other options is not the same run: refused, naming what differs
+  CommandResult other = RunPlumb(
+      "rollout " + testing::kHumanoid + " --count 5" + kArgs + " --db r.sqlite --resume",
+      dir.path());
+  EXPECT_EQ(other.exit_code, 2) << other.err;
+  EXPECT_NE(other.err.find("stored count=4"), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("now count=5"), std::string::npos) << other.err;
+  // an SQLite file of another program is refused, and left as it was
+  ASSERT_EQ(testing::RunShell(
+                "sqlite3 foreign.sqlite 'CREATE TABLE t(x); INSERT INTO t VALUES(1);'", dir.path())
+                .exit_code,
+            0);
+  CommandResult foreign = RunPlumb(run + " --db foreign.sqlite", dir.path());
+  EXPECT_EQ(foreign.exit_code, 2);
+  EXPECT_NE(foreign.err.find("not a plumb results store"), std::string::npos) << foreign.err;
+  EXPECT_EQ(RunPlumb("results foreign.sqlite", dir.path()).exit_code, 2);
+  EXPECT_EQ(
+      testing::RunShell("sqlite3 foreign.sqlite 'SELECT count(*) FROM sqlite_master'", dir.path())
+          .out,
+      "1\n");
+  // exporting never writes: a read-only store can be exported
+  ASSERT_EQ(testing::RunShell("chmod a-w r.sqlite", dir.path()).exit_code, 0);
+  EXPECT_EQ(RunPlumb("results r.sqlite", dir.path()).exit_code, 0);
+  // a failed merge leaves no temporary file behind
+  CommandResult merge = RunPlumb("merge r.sqlite foreign.sqlite -o m.sqlite", dir.path());
+  EXPECT_EQ(merge.exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir.File("m.sqlite")));
+  EXPECT_FALSE(std::filesystem::exists(dir.File("m.sqlite.tmp-merge")));
+}
+
+TEST(CliRolloutTest, MergeKeepsEveryShardsCommand) {
+  TempDir dir;
+  for (int s = 0; s < 2; ++s) {
+    ASSERT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --count 4" + kArgs + " --shard " +
+                           std::to_string(s) + "/2 --db s" + std::to_string(s) + ".sqlite",
+                       dir.path())
+                  .exit_code,
+              0);
+  }
+  ASSERT_EQ(RunPlumb("merge s0.sqlite s1.sqlite -o all.sqlite", dir.path()).exit_code, 0);
+  nlohmann::json j =
+      nlohmann::json::parse(RunPlumb("results all.sqlite --format json", dir.path()).out);
+  std::string command = j[0]["command"];
+  EXPECT_NE(command.find("--shard 0/2"), std::string::npos) << command;
+  EXPECT_NE(command.find("--shard 1/2"), std::string::npos) << command;
 }
 
 TEST(CliRolloutTest, SweepsWriteTheStoreToo) {
@@ -133,6 +193,13 @@ TEST(CliRolloutTest, BadInputIsExit2) {
   EXPECT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --shard 3/3").exit_code, 2);
   EXPECT_EQ(RunPlumb("rollout " + testing::kHumanoid + " --resume").exit_code, 2);
   EXPECT_EQ(RunPlumb("results /nonexistent/x.sqlite").exit_code, 2);
+  for (const char* option : {"--count 0", "--count -5", "--threads 0"}) {
+    CommandResult r = RunPlumb("rollout " + testing::kHumanoid + " " + option);
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_NE(r.err.find(std::string(option).substr(0, std::string(option).find(' '))),
+              std::string::npos)
+        << r.err;
+  }
 }
 
 }  // namespace

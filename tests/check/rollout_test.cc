@@ -68,10 +68,22 @@ TEST_F(RolloutTest, SampleMomentsMatchEachDistribution) {
   EXPECT_NEAR(mean(1), 2, 5 * 0.5 / std::sqrt(n));
   EXPECT_NEAR(var(1), 0.25, 5 * 0.25 * std::sqrt(2.0 / n));
   // log-uniform: the log is uniform on [log 0.001, log 0.004]
-  double lsum = 0;
-  for (const RolloutResult& r : results) lsum += std::log(r.params[2]);
-  EXPECT_NEAR(lsum / n, 0.5 * (std::log(0.001) + std::log(0.004)),
-              5 * std::log(4.0) / std::sqrt(12 * n));
+  double lsum = 0, lsum2 = 0;
+  for (const RolloutResult& r : results) {
+    lsum += std::log(r.params[2]);
+    lsum2 += std::log(r.params[2]) * std::log(r.params[2]);
+  }
+  double width = std::log(4.0);  // log 0.004 - log 0.001
+  double lmean = lsum / n, lvar = lsum2 / n - lmean * lmean;
+  EXPECT_NEAR(lmean, 0.5 * (std::log(0.001) + std::log(0.004)), 5 * width / std::sqrt(12 * n));
+  // a uniform of width w has variance w^2/12 and fourth central moment w^4/80
+  EXPECT_NEAR(lvar, width * width / 12,
+              5 * std::sqrt((std::pow(width, 4) / 80 - std::pow(width * width / 12, 2)) / n));
+  // and the values themselves: E[x] = (b - a) / ln(b/a), E[x^2] = (b^2 - a^2) / (2 ln(b/a))
+  double xmean = mean(2), xvar = var(2);
+  double ex = (0.004 - 0.001) / width, ex2 = (0.004 * 0.004 - 0.001 * 0.001) / (2 * width);
+  EXPECT_NEAR(xmean, ex, 5 * std::sqrt((ex2 - ex * ex) / n));
+  EXPECT_NEAR(xvar, ex2 - ex * ex, 0.1 * (ex2 - ex * ex));
 }
 
 TEST_F(RolloutTest, OneTwoThreadsAndShardsAreBitIdentical) {
@@ -100,7 +112,7 @@ TEST_F(RolloutTest, OneTwoThreadsAndShardsAreBitIdentical) {
   ASSERT_EQ(shards.size(), 12u);
   for (std::size_t i = 0; i < one.size(); ++i) {
     EXPECT_EQ(one[i].index, static_cast<long>(i));
-    EXPECT_EQ(one[i].params.size(), 18u);  // 17 bodies (with the world) + the floor friction
+    EXPECT_EQ(one[i].params.size(), 17u);  // 16 bodies (not the world) + the floor friction
     for (std::size_t k = 0; k < one[i].metrics.size(); ++k) {
       EXPECT_TRUE(BitEqual(one[i].metrics[k], two[i].metrics[k])) << i;
       EXPECT_TRUE(BitEqual(one[i].metrics[k], shards[i].metrics[k])) << i;
@@ -201,6 +213,57 @@ TEST_F(RolloutTest, DivergedRolloutIsRecordedAndTheBatchGoesOn) {
   int expected = 0;
   for (const RolloutResult& x : r) expected += x.params[0] > 4e4;
   EXPECT_EQ(diverged, expected);
+}
+
+TEST_F(RolloutTest, DerivedConstantsFollowTheRandomizedMass) {
+  // body_subtreemass is computed by mj_setConst: it equals the drawn masses only if the
+  // rollout recomputed it, and returns to nominal for the next rollout
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="upper" pos="0 0 1"><joint axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05" mass="1"/>
+        <body name="lower" pos="0 0 -0.5"><joint axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05" mass="2"/></body></body>
+    </worldbody></mujoco>)");
+  RolloutSpec spec;
+  spec.count = 6;
+  spec.until = 0.1;
+  spec.randomize = {ParseRandomization(model, "body_mass[lower]=U(3,4)")};
+  spec.metrics = {ParseMetric(model, "body_subtreemass[upper]@0.1")};
+  for (const RolloutResult& r : Collect(model, spec)) {
+    EXPECT_NEAR(r.metrics[0], 1 + r.params[0], 1e-12) << r.index;
+  }
+}
+
+TEST_F(RolloutTest, ADrawMujocoCannotTakeIsThatRolloutsProblem) {
+  // N(0.2, 1) masses are often negative: those rollouts are refused with the reason, the
+  // others run, and a refused draw leaves the next rollout's model untouched
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="link" pos="0 0 1"><joint name="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05" mass="1"/></body>
+    </worldbody></mujoco>)");
+  RolloutSpec spec;
+  spec.count = 40;
+  spec.until = 0.2;
+  spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  spec.randomize = {ParseRandomization(model, "body_mass[link]=N(0.2,1)")};
+  spec.metrics = {ParseMetric(model, "qpos[hinge]@0.2")};
+  std::vector<RolloutResult> r = Collect(model, spec);
+  ASSERT_EQ(r.size(), 40u);
+  int refused = 0;
+  for (const RolloutResult& x : r) {
+    if (x.params[0] < 0) {
+      ++refused;
+      EXPECT_TRUE(std::isnan(x.metrics[0]));
+      EXPECT_FALSE(x.diverged);
+      EXPECT_NE(x.problem.find("rollout " + std::to_string(x.index)), std::string::npos);
+      EXPECT_NE(x.problem.find("body_mass[link]=N(0.2,1)"), std::string::npos) << x.problem;
+    } else {
+      EXPECT_TRUE(std::isfinite(x.metrics[0])) << x.index;
+      EXPECT_TRUE(x.problem.empty()) << x.problem;
+    }
+  }
+  EXPECT_GT(refused, 5);
+  EXPECT_LT(refused, 35);
 }
 
 TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {

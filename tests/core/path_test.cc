@@ -231,14 +231,27 @@ TEST_F(PathTest, ApplyAssignmentsSetsStateAfterParametersAndForwards) {
   EXPECT_EQ(data_->xpos[3 * 2 + 2], 3);
 }
 
-TEST_F(PathTest, StarExpandsEveryNamedRow) {
+TEST_F(PathTest, StarExpandsEveryRowButTheWorld) {
   std::vector<Path> masses = ExpandPath(robot_, "body_mass[*]");
-  ASSERT_EQ(masses.size(), 5u);  // world, mocap, torso, arm, forearm
-  EXPECT_EQ(masses[0].text, "body_mass[world]");
-  EXPECT_EQ(masses[2].text, "body_mass[torso]");
+  ASSERT_EQ(masses.size(), 4u);  // mocap, torso, arm, forearm: not the world body
+  EXPECT_EQ(masses[0].text, "body_mass[mocap]");
+  EXPECT_EQ(masses[1].text, "body_mass[torso]");
   std::vector<Path> friction = ExpandPath(robot_, "geom_friction[*][0]");
   EXPECT_EQ(friction.size(), 3u);
   EXPECT_EQ(friction[2].count, 1);
+  // unnamed objects are included, written by id, and that text resolves again
+  Model anonymous = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="named"><freejoint/><geom size="0.1"/>
+        <body pos="0.3 0 0"><joint axis="0 1 0"/><geom size="0.1"/></body></body>
+    </worldbody></mujoco>)");
+  std::vector<Path> all = ExpandPath(anonymous, "body_mass[*]");
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[1].text, "body_mass[#2]");
+  EXPECT_EQ(ResolvePath(anonymous, "body_mass[#2]").first, 2);
+  std::vector<Path> joints = ExpandPath(anonymous, "qpos[*]");
+  ASSERT_EQ(joints.size(), 2u);
+  EXPECT_EQ(joints[0].count, 7);  // the free joint's block
+  EXPECT_EQ(joints[1].first, 7);  // the unnamed hinge's qpos address
 }
 
 TEST_F(PathTest, DefaultColumnsExpandBlocks) {
