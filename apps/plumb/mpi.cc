@@ -114,6 +114,9 @@ void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<l
   if (MpiRank() != 0) {
     // a worker: ask for work with the results of the last chunk, until told to stop
     std::vector<RolloutResult> results;
+    RolloutSpec local = spec;
+    local.progress = nullptr;
+    RolloutPool pool(model, local);  // one model copy per thread for every chunk
     while (true) {
       std::string message = Pack(results);
       MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, kTagResults,
@@ -124,9 +127,7 @@ void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<l
       std::vector<long> chunk(work.size() / sizeof(long));
       std::memcpy(chunk.data(), work.data(), chunk.size() * sizeof(long));
       results.clear();
-      RolloutSpec local = spec;
-      local.progress = nullptr;
-      RolloutCases(model, local, chunk, [&](const RolloutResult& r) { results.push_back(r); });
+      pool.Run(chunk, [&](const RolloutResult& r) { results.push_back(r); });
     }
   }
   // the root: hand out chunks in index order as workers ask, emit results in order

@@ -241,9 +241,10 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     RolloutSpec chunked = spec;
     long done_before = 0;
     chunked.progress = [&](long done, long) { progress.Update(done_before + done); };
+    RolloutPool pool(model, chunked);  // worker models made once for all chunks
     for (std::vector<long> chunk = next_indices(1 << 16); !chunk.empty();
          chunk = next_indices(1 << 16)) {
-      RolloutCases(model, chunked, chunk, emit, &StopRequested());
+      pool.Run(chunk, emit, &StopRequested());
       done_before += static_cast<long>(chunk.size());
 #ifdef __GLIBC__
       malloc_trim(0);  // hand freed pages back: resident memory stays flat as --count grows

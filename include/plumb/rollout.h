@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -94,6 +95,24 @@ void Rollout(const Model& model, const RolloutSpec& spec,
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                   const std::function<void(const RolloutResult&)>& emit,
                   const std::atomic<bool>* stop = nullptr);
+
+// RolloutCases for many batches of indices (chunks of a long run, or work an MPI rank is
+// handed): the worker threads' model copies and data are made once and kept between
+// calls. `model` and `spec` must outlive the pool.
+class RolloutPool {
+ public:
+  RolloutPool(const Model& model, const RolloutSpec& spec);
+  ~RolloutPool();
+  RolloutPool(const RolloutPool&) = delete;
+  RolloutPool& operator=(const RolloutPool&) = delete;
+
+  void Run(const std::vector<long>& indices, const std::function<void(const RolloutResult&)>& emit,
+           const std::atomic<bool>* stop = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Checks a spec (counts, shard, until, metric times). @throws ValueError.
 void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec);

@@ -376,14 +376,27 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   }
 }
 
-void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
-                  const std::function<void(const RolloutResult&)>& emit,
-                  const std::atomic<bool>* stop) {
-  bool energy = NeedsEnergy(spec);
+struct RolloutPool::Impl {
+  const Model& model;
+  const RolloutSpec& spec;
+  bool energy;
   tbb::enumerable_thread_specific<std::optional<Worker>> workers;
-  tbb::task_arena arena(spec.threads);
+  tbb::task_arena arena;
+  Impl(const Model& m, const RolloutSpec& s)
+      : model(m), spec(s), energy(NeedsEnergy(s)), arena(s.threads) {}
+};
+
+RolloutPool::RolloutPool(const Model& model, const RolloutSpec& spec)
+    : impl_(std::make_unique<Impl>(model, spec)) {}
+
+RolloutPool::~RolloutPool() = default;
+
+void RolloutPool::Run(const std::vector<long>& indices,
+                      const std::function<void(const RolloutResult&)>& emit,
+                      const std::atomic<bool>* stop) {
+  Impl& p = *impl_;
   std::atomic<long> done{0};
-  const std::size_t chunk = 64 * static_cast<std::size_t>(spec.threads);
+  const std::size_t chunk = 64 * static_cast<std::size_t>(p.spec.threads);
   std::vector<RolloutResult> results;
   for (std::size_t first = 0; first < indices.size(); first += chunk) {
     if (stop && stop->load()) {
@@ -391,17 +404,24 @@ void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector
     }
     std::size_t n = std::min(chunk, indices.size() - first);
     results.assign(n, RolloutResult{});
-    arena.execute([&] {
+    p.arena.execute([&] {
       tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        std::optional<Worker>& w = workers.local();
-        if (!w) w.emplace(model);
-        results[i] = RunOne(model, *w, spec, indices[first + i], energy);
+        std::optional<Worker>& w = p.workers.local();
+        if (!w) w.emplace(p.model);
+        results[i] = RunOne(p.model, *w, p.spec, indices[first + i], p.energy);
         long finished = ++done;
-        if (spec.progress) spec.progress(finished, static_cast<long>(indices.size()));
+        if (p.spec.progress) p.spec.progress(finished, static_cast<long>(indices.size()));
       });
     });
     for (const RolloutResult& r : results) emit(r);
   }
+}
+
+void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
+                  const std::function<void(const RolloutResult&)>& emit,
+                  const std::atomic<bool>* stop) {
+  RolloutPool pool(model, spec);
+  pool.Run(indices, emit, stop);
 }
 
 void Rollout(const Model& model, const RolloutSpec& spec,

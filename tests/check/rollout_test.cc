@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 
 #include "fixture.h"
 #include "plumb/error.h"
@@ -118,6 +119,30 @@ TEST_F(RolloutTest, OneTwoThreadsAndShardsAreBitIdentical) {
       EXPECT_TRUE(BitEqual(one[i].metrics[k], shards[i].metrics[k])) << i;
     }
     EXPECT_EQ(one[i].params, shards[i].params);
+  }
+}
+
+TEST_F(RolloutTest, ResultsDoNotDependOnTheOrderRolloutsRun) {
+  // the same indices forwards, backwards and in one reused pool give the same rows
+  RolloutSpec spec;
+  spec.until = 0.1;
+  spec.seed = 21;
+  spec.ctrl_noise = 0.01;
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[*]=*U(0.8,1.2)")};
+  spec.metrics = {ParseMetric(humanoid_, "state@0.1")};
+  std::vector<long> forwards = {0, 1, 2, 3, 4, 5, 6, 7};
+  std::vector<long> backwards(forwards.rbegin(), forwards.rend());
+  std::map<long, RolloutResult> a, b, c;
+  RolloutCases(humanoid_, spec, forwards, [&](const RolloutResult& r) { a[r.index] = r; });
+  RolloutCases(humanoid_, spec, backwards, [&](const RolloutResult& r) { b[r.index] = r; });
+  RolloutPool pool(humanoid_, spec);
+  pool.Run({5, 6, 7}, [&](const RolloutResult& r) { c[r.index] = r; });
+  pool.Run({4, 0, 3, 1, 2}, [&](const RolloutResult& r) { c[r.index] = r; });
+  ASSERT_EQ(a.size(), 8u);
+  for (long i = 0; i < 8; ++i) {
+    EXPECT_TRUE(BitEqual(a[i].metrics[0], b[i].metrics[0])) << i;
+    EXPECT_TRUE(BitEqual(a[i].metrics[0], c[i].metrics[0])) << i;
+    EXPECT_EQ(a[i].params, c[i].params) << i;
   }
 }
 
