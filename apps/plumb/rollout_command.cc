@@ -314,6 +314,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
                                     seconds > 0 ? emitted / seconds : 0.0);
   for (std::size_t k = 0; k < summaries.size(); ++k) {
     const Summary& s = summaries[k];
+    if (s.count() == 0) {
+      // no value to summarise: no mean, and no +-inf from empty minima and maxima
+      summary +=
+          fmt::format("{}: n 0, no value measured ({} missing)\n", o.metrics[k], s.missing());
+      continue;
+    }
     summary += fmt::format(
         "{}: n {} mean {:.6g} std {:.6g} min {:.6g} q05 {:.6g} median {:.6g} q95 {:.6g} max "
         "{:.6g}{}\n",

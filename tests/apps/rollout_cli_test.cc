@@ -123,9 +123,9 @@ TEST(CliRolloutTest, TheStoreGuardsItsRuns) {
   const std::string run = "rollout " + testing::kHumanoid + " --count 4" + kArgs;
   ASSERT_EQ(RunPlumb(run + " --db r.sqlite", dir.path()).exit_code, 0);
   // --resume with other options is not the same run: refused, naming what differs
-  CommandResult other = RunPlumb(
-      "rollout " + testing::kHumanoid + " --count 5" + kArgs + " --db r.sqlite --resume",
-      dir.path());
+  CommandResult other =
+      RunPlumb("rollout " + testing::kHumanoid + " --count 5" + kArgs + " --db r.sqlite --resume",
+               dir.path());
   EXPECT_EQ(other.exit_code, 2) << other.err;
   EXPECT_NE(other.err.find("stored count=4"), std::string::npos) << other.err;
   EXPECT_NE(other.err.find("now count=5"), std::string::npos) << other.err;
@@ -184,6 +184,15 @@ TEST(CliRolloutTest, SweepsWriteTheStoreToo) {
   ASSERT_EQ(j[0]["rollouts"].size(), 2u);
   EXPECT_NEAR(j[0]["rollouts"][1]["metrics"]["qpos[hinge]@2"].get<double>(), 0.310947692600239,
               1e-12);
+}
+
+TEST(CliRolloutTest, ASummaryWithoutValuesPrintsNoInfinity) {
+  // from rest the pendulum never crosses: no period in any rollout
+  CommandResult r = RunPlumb("rollout " + testing::kPendulum +
+                             " --count 3 --until 0.2 --metric 'period(qpos[hinge])' --format csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("no value measured (3 missing)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("inf"), std::string::npos) << r.err;
 }
 
 TEST(CliRolloutTest, BadInputIsExit2) {
