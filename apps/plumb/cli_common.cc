@@ -1,11 +1,16 @@
 #include "cli_common.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <map>
+#include <optional>
 
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::cli {
@@ -155,6 +160,125 @@ std::vector<std::string> SplitPathList(const std::string& text) {
   }
   parts.push_back(current);
   return parts;
+}
+
+namespace {
+// Options by their names as typed ("--until", "-o"), positionals left out.
+std::vector<std::string> OptionNames(const CLI::App& cmd) {
+  std::vector<std::string> names;
+  for (const CLI::Option* opt : cmd.get_options()) {
+    if (!opt->nonpositional()) continue;
+    for (const std::string& l : opt->get_lnames()) names.push_back("--" + l);
+    for (const std::string& s : opt->get_snames()) names.push_back("-" + s);
+  }
+  return names;
+}
+
+// The option `token` names ("--until", "--until=2", "-o"), or "" when it is no option name
+// (a value such as "-0.5").
+std::string OptionToken(const std::string& token) {
+  if (token.size() < 2 || token[0] != '-' || ParseNumber(token)) return "";
+  if (token[1] != '-') return token.substr(0, 2);
+  return token.substr(0, token.find('='));
+}
+
+// "; did you mean 'a' or 'b'?" for the plausible typos of `word`, or "".
+std::string Suggestion(const std::string& word, const std::vector<std::string>& candidates) {
+  std::vector<std::string> quoted;
+  for (const std::string& n : Closest(word, candidates)) quoted.push_back("'" + n + "'");
+  return quoted.empty() ? "" : "; did you mean " + Join(quoted, " or ") + "?";
+}
+}  // namespace
+
+void AcceptIntegerNotation(CLI::App* app) {
+  for (CLI::App* sub : app->get_subcommands(std::function<bool(CLI::App*)>())) {
+    AcceptIntegerNotation(sub);
+  }
+  for (CLI::Option* opt : app->get_options()) {
+    std::string type = opt->get_type_name();
+    bool is_unsigned = type.rfind("UINT", 0) == 0;
+    if (!is_unsigned && type.rfind("INT", 0) != 0) continue;
+    std::string name = opt->get_name();
+    opt->transform(CLI::Validator(
+        [name, is_unsigned](std::string& text) -> std::string {
+          std::string kind = is_unsigned ? "a non-negative integer" : "an integer";
+          std::optional<double> v = ParseNumber(text);
+          if (!v || !std::isfinite(*v) || std::floor(*v) != *v) {
+            return "takes " + kind + ", not '" + text + "'";
+          }
+          if (is_unsigned && (*v < 0 || text.find('-') == 0)) {
+            return "takes " + kind + ", not '" + text + "'";
+          }
+          // digits alone go to CLI11 unchanged (its range checks see every digit); an exact
+          // integer in other notation ("1e3", "100.0") is rewritten as its digits
+          bool digits = text.find_first_not_of("+-0123456789") == std::string::npos;
+          if (!digits) {
+            if (std::fabs(*v) > 9007199254740992.0) {
+              return "takes " + kind + ": '" + text +
+                     "' is too large to be exact; write its digits";
+            }
+            text = fmt::format("{:.0f}", *v);
+          }
+          return "";
+        },
+        "", ""));
+  }
+}
+
+std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::string>& args) {
+  std::vector<std::string> commands;
+  const CLI::App* cmd = nullptr;
+  for (const CLI::App* sub : app.get_subcommands(std::function<bool(const CLI::App*)>())) {
+    commands.push_back(sub->get_name());
+    if (!args.empty() && args[0] == sub->get_name()) cmd = sub;
+  }
+  // no command, an unknown one, or an unknown option before it
+  std::string list = "The commands are: " + Join(commands, ", ") + ".";
+  if (args.empty()) return "no command given. " + list;
+  if (cmd == nullptr) {
+    std::string name = OptionToken(args[0]);
+    if (!name.empty()) {
+      return "unknown option " + name + Suggestion(name, OptionNames(app)) + "\n" + list;
+    }
+    return "unknown command '" + args[0] + "'" + Suggestion(args[0], commands) + "\n" + list;
+  }
+  // unknown options, with the nearest names of this command's options
+  std::vector<std::string> names = OptionNames(*cmd);
+  for (const std::string& n : OptionNames(app)) names.push_back(n);
+  std::string problems;
+  std::map<const CLI::Option*, std::vector<std::string>> given;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    if (args[i] == "--") break;
+    std::string name = OptionToken(args[i]);
+    if (name.empty()) continue;
+    const CLI::Option* opt = nullptr;
+    for (const CLI::Option* o : cmd->get_options()) {
+      if (o->nonpositional() && o->check_name(name)) opt = o;
+    }
+    if (opt == nullptr) {
+      if (std::find(names.begin(), names.end(), name) != names.end()) continue;  // --help
+      problems += "unknown option " + name + " for 'plumb " + cmd->get_name() + "'" +
+                  Suggestion(name, names) + "\n";
+      continue;
+    }
+    std::size_t eq = args[i].find('=');
+    if (eq != std::string::npos) {
+      given[opt].push_back(args[i].substr(eq + 1));
+    } else {
+      given[opt].push_back(i + 1 < args.size() ? args[i + 1] : "");
+    }
+  }
+  // an option that takes one value, given more than once
+  for (const auto& [opt, values] : given) {
+    bool single = opt->get_type_size_max() == 1 && opt->get_expected_max() == 1;
+    if (!single || values.size() < 2) continue;
+    std::vector<std::string> quoted;
+    for (const std::string& v : values) quoted.push_back("'" + v + "'");
+    problems += fmt::format("{} was given {} times ({}); it takes one value: give it once\n",
+                            opt->get_name(), values.size(), Join(quoted, ", "));
+  }
+  if (!problems.empty()) problems.pop_back();
+  return problems;
 }
 
 }  // namespace plumb::cli

@@ -102,6 +102,17 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx);
 void SetupResultsCommands(CLI::App& app, Context& ctx);     // results and merge
 void SetupRegressionCommands(CLI::App& app, Context& ctx);  // snapshot and diff
 
+// Makes every integer option of `app` and of its subcommands take an integer written in any
+// number notation ("--count 1e3" is 1000) and refuse anything else with the option's name
+// ("--count takes an integer, not '1.5'"; unsigned options also refuse negative values).
+// Call once, after every subcommand is set up.
+void AcceptIntegerNotation(CLI::App* app);
+
+// Why `args` (the command line without the program name) failed to parse, said for a
+// user: an unknown command or option with the nearest valid names, or an option that takes
+// one value given more than once. Empty when none of these is the reason.
+std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::string>& args);
+
 }  // namespace plumb::cli
 
 #endif  // PLUMB_APPS_PLUMB_CLI_COMMON_H_

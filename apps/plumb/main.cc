@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   SetupSweepCommand(app, ctx);
   SetupRolloutCommand(app, ctx);
   SetupResultsCommands(app, ctx);
+  AcceptIntegerNotation(&app);
 
   MpiInit(&argc, &argv);
   struct Finalize {
@@ -46,7 +47,17 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "plumb: error: %s\nRun '%s --help' for usage.\n", e.what(), argv[0]);
+    // say what was meant where we can tell (typos, repeated options), else CLI11's words
+    std::vector<std::string> args(argv + 1, argv + argc);
+    std::string why = DiagnoseCommandLine(app, args);
+    if (why.empty()) why = e.what();
+    std::string help = "plumb";
+    const CLI::App& commands = app;
+    for (const CLI::App* sub : commands.get_subcommands(std::function<bool(const CLI::App*)>())) {
+      if (!args.empty() && args[0] == sub->get_name()) help += " " + args[0];
+    }
+    std::fprintf(stderr, "plumb: error: %s\nRun '%s --help' for usage.\n", why.c_str(),
+                 help.c_str());
     return kExitBadInput;
   }
   try {

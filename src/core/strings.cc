@@ -24,21 +24,26 @@ std::string_view TrimBlanks(std::string_view s) {
   return s;
 }
 
+// Edit distance counting a swap of two neighbouring letters as one edit (optimal string
+// alignment), case-insensitive: "rnu" is one edit from "run".
 std::size_t EditDistance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  auto same = [](char x, char y) {
+    return std::tolower(static_cast<unsigned char>(x)) ==
+           std::tolower(static_cast<unsigned char>(y));
+  };
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      std::size_t above = row[j];
-      bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                  std::tolower(static_cast<unsigned char>(b[j - 1]));
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
-      diagonal = above;
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (same(a[i - 1], b[j - 1]) ? 0 : 1)});
+      if (i > 1 && j > 1 && same(a[i - 1], b[j - 2]) && same(a[i - 2], b[j - 1])) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
     }
   }
-  return row[b.size()];
+  return d[a.size()][b.size()];
 }
 }  // namespace
 
@@ -119,6 +124,19 @@ std::string DidYouMean(std::string_view word, const std::vector<std::string>& ca
   std::vector<std::string> near = Nearest(word, candidates);
   if (near.empty()) return "";
   return "did you mean: " + Join(near, ", ") + "?";
+}
+
+std::vector<std::string> Closest(std::string_view word,
+                                 const std::vector<std::string>& candidates) {
+  std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
+  std::vector<std::string> out;
+  for (const std::string& c : Nearest(word, candidates, candidates.size())) {
+    if (out.size() == 3) break;
+    bool contains = std::min(word.size(), c.size()) >= 3 &&
+                    (c.find(word) != std::string::npos || word.find(c) != std::string::npos);
+    if (contains || EditDistance(word, c) <= limit) out.push_back(c);
+  }
+  return out;
 }
 
 }  // namespace plumb

@@ -38,6 +38,12 @@ std::vector<std::string> Nearest(std::string_view word, const std::vector<std::s
 // "did you mean: a, b, c?" or "" when there is nothing to suggest.
 std::string DidYouMean(std::string_view word, const std::vector<std::string>& candidates);
 
+// The entries of `candidates` that `word` is plausibly a typo of, nearest first (at most
+// three): within an edit distance of a third of the word's length (at least 1), or
+// containing it or contained in it (three characters or more). Empty when nothing is that
+// close, so that a command-line typo is answered with one name, not a list of guesses.
+std::vector<std::string> Closest(std::string_view word, const std::vector<std::string>& candidates);
+
 }  // namespace plumb
 
 #endif  // PLUMB_SRC_CORE_STRINGS_H_

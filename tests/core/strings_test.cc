@@ -39,5 +39,18 @@ TEST(StringsTest, NearestPutsTyposFirst) {
   EXPECT_EQ(DidYouMean("tors", names).rfind("did you mean: torso", 0), 0u);
 }
 
+TEST(StringsTest, ClosestNamesOnlyPlausibleTypos) {
+  std::vector<std::string> commands = {"verify",  "audit",   "snapshot", "diff",
+                                       "run",     "inspect", "converge", "sweep",
+                                       "rollout", "results", "merge"};
+  EXPECT_EQ(Closest("rn", commands), std::vector<std::string>{"run"});
+  EXPECT_EQ(Closest("verfy", commands), std::vector<std::string>{"verify"});
+  EXPECT_EQ(Closest("rnu", commands), std::vector<std::string>{"run"});  // a swap is one edit
+  EXPECT_TRUE(Closest("xyzzy", commands).empty());
+  std::vector<std::string> options = {"--set", "--until", "--every", "--columns", "-o", "--output"};
+  EXPECT_EQ(Closest("--untill", options), std::vector<std::string>{"--until"});
+  EXPECT_EQ(Closest("--column", options), std::vector<std::string>{"--columns"});
+}
+
 }  // namespace
 }  // namespace plumb

@@ -1,0 +1,124 @@
+// The friction a new user meets on the command line: typos in commands and options,
+// repeated options, integers in other notations, tables that bury their findings, and
+// `plumb results` on a store with several runs.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+using testing::CommandResult;
+using testing::RunPlumb;
+using testing::TempDir;
+
+const std::string kPendulum = testing::kPendulum;
+
+// The number of lines of `text` that start with `prefix`.
+int LinesStartingWith(const std::string& text, const std::string& prefix) {
+  std::istringstream in(text);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) n += line.rfind(prefix, 0) == 0;
+  return n;
+}
+
+TEST(FrictionCliTest, MistypedCommandSuggestsTheNearest) {
+  CommandResult r = RunPlumb("rn " + kPendulum);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown command 'rn'; did you mean 'run'?"), std::string::npos) << r.err;
+  r = RunPlumb("verfy " + kPendulum);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("did you mean 'verify'?"), std::string::npos) << r.err;
+  // nothing close: no guess, but the list of commands
+  r = RunPlumb("xyzzy");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("The commands are: verify, audit"), std::string::npos) << r.err;
+}
+
+TEST(FrictionCliTest, MistypedOptionSuggestsTheNearestOnEveryCommand) {
+  struct Case {
+    std::string args, suggestion;
+  };
+  const std::vector<Case> cases = {
+      {"run " + kPendulum + " --untill 1", "'--until'"},
+      {"verify " + kPendulum + " --untill 1", "'--until'"},
+      {"audit " + kPendulum + " --scenaro s.toml", "'--scenario'"},
+      {"snapshot " + kPendulum + " --ouput snap.json", "'--output'"},
+      {"diff snap.json " + kPendulum + " --tol=0.1 --formt json", "'--format'"},
+      {"inspect " + kPendulum + " --sett 'qpos[hinge]=1'", "'--set'"},
+      {"converge " + kPendulum + " --halving 3", "'--halvings'"},
+      {"sweep " + kPendulum + " --vary 'qpos[hinge]=0:1:3' --metrics 'qpos[hinge]@1'",
+       "'--metric'"},
+      {"rollout " + kPendulum + " --cuont 10", "'--count'"},
+      {"results store.sqlite --rnu 2", "'--run'"},
+      {"merge a.sqlite b.sqlite --ouptut c.sqlite", "'--output'"},
+  };
+  for (const Case& c : cases) {
+    CommandResult r = RunPlumb(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.err.find("did you mean " + c.suggestion + "?"), std::string::npos) << c.args << "\n"
+                                                                                   << r.err;
+    std::string command = c.args.substr(0, c.args.find(' '));
+    EXPECT_NE(r.err.find("Run 'plumb " + command + " --help'"), std::string::npos) << r.err;
+  }
+}
+
+TEST(FrictionCliTest, RepeatedSingleValuedOptionIsRefused) {
+  CommandResult r = RunPlumb("run " + kPendulum + " --until 1 --until=2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--until was given 2 times ('1', '2'); it takes one value: give it once"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  r = RunPlumb("verify " + kPendulum + " --format json --format table");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--format was given 2 times"), std::string::npos) << r.err;
+  // repeatable options stay repeatable
+  r = RunPlumb("run " + kPendulum +
+               " --set 'qpos[hinge]=0.1' --set 'qvel[hinge]=1' --until 0.1 --format csv");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\n0,0.1"), std::string::npos) << r.out;
+}
+
+TEST(FrictionCliTest, IntegerOptionTakesAnExactIntegerInAnyNotation) {
+  const std::string rollout =
+      "rollout " + kPendulum + " --until 0.1 --metric 'qpos[hinge]@0.1' --format csv --count ";
+  CommandResult r = RunPlumb(rollout + "1e1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(LinesStartingWith(r.out, "9,"), 1) << r.out;
+  EXPECT_EQ(LinesStartingWith(r.out, "10,"), 0) << r.out;
+  EXPECT_EQ(RunPlumb(rollout + "10").out, r.out);
+  // not an integer: refused, naming the option
+  for (const char* bad : {"1.5", "abc", "1e-3"}) {
+    r = RunPlumb(rollout + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find(std::string("--count: takes an integer, not '") + bad + "'"),
+              std::string::npos)
+        << r.err;
+  }
+  // the same rule on every integer option
+  r = RunPlumb("converge " + kPendulum + " --halvings 2.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--halvings: takes an integer, not '2.5'"), std::string::npos) << r.err;
+  r = RunPlumb("results store.sqlite --run 0.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--run: takes an integer"), std::string::npos) << r.err;
+  r = RunPlumb(rollout + "2 --seed 1.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--seed: takes a non-negative integer, not '1.5'"), std::string::npos)
+      << r.err;
+  // range checks still apply after the notation is read
+  r = RunPlumb(rollout + "0e0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace plumb
