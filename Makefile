@@ -21,8 +21,8 @@ build: deps
 
 # the main job on the chapter's pendulum
 demo: build
-	@echo "== plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7'"
-	@$(PLUMB) verify models/pendulum.xml --set 'qpos[hinge]=0.7'
+	@echo "== plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all"
+	@$(PLUMB) verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all
 
 test: test-release test-asan
 

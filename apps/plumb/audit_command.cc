@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/audit.h"
+#include "summary.h"
 
 namespace plumb::cli {
 namespace {
@@ -19,27 +20,23 @@ struct AuditCommandOptions {
   bool strict = false;
   std::string format = "table";
   std::string repro;
+  TableDetail detail = TableDetail::kFindings;
 };
 
-std::string Table(const AuditReport& report) {
-  std::string out = fmt::format("plumb audit {} (MuJoCo {})\n", report.model, MujocoVersion());
-  std::string layer;
+std::string Table(const AuditReport& report, TableDetail detail) {
+  std::vector<CheckRow> rows;
   for (const Finding& f : report.findings) {
-    if (f.layer != layer) {
-      layer = f.layer;
-      out += fmt::format("\n== {}\n", layer);
-    }
-    out += fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.check,
-                       f.element.empty() ? "(model)" : f.element);
+    std::string element = f.element.empty() ? "(model)" : f.element;
+    CheckRow row{f.status, f.layer, f.check + " " + element, "", f.measured};
+    row.text = fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.check, element);
     std::string numbers = "      " + f.measured;
     if (!f.threshold.empty()) numbers += "   threshold " + f.threshold;
-    out += numbers + "\n";
-    if (f.status != CheckStatus::kPass) out += "      fix: " + f.fix + "\n";
+    row.text += numbers + "\n";
+    if (f.status != CheckStatus::kPass) row.text += "      fix: " + f.fix + "\n";
+    rows.push_back(row);
   }
-  out += fmt::format("\n{} passed, {} warned, {} failed, {} skipped\n",
-                     report.Count(CheckStatus::kPass), report.Count(CheckStatus::kWarn),
-                     report.Count(CheckStatus::kFail), report.Count(CheckStatus::kSkip));
-  return out;
+  return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()), rows,
+                    detail);
 }
 
 std::string Json(const AuditReport& report) {
@@ -76,7 +73,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
       o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
   options.argv = ctx.argv;
   AuditReport report = Audit(model, options);
-  std::string text = o.format == "json" ? Json(report) : Table(report);
+  std::string text = o.format == "json" ? Json(report) : Table(report, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   bool failed =
       report.Count(CheckStatus::kFail) > 0 || (o.strict && report.Count(CheckStatus::kWarn) > 0);
@@ -103,6 +100,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--format", o->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
+  AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunAudit(*o, ctx); }; });

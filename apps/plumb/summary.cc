@@ -1,6 +1,11 @@
 #include "summary.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <map>
+
+#include "core/strings.h"
 
 namespace plumb::cli {
 namespace {
@@ -101,6 +106,79 @@ double Summary::Quantile(double p, const P2Quantile& estimate) const {
   long lo = static_cast<long>(at);
   long hi = std::min<long>(lo + 1, n_ - 1);
   return sorted[lo] + (at - lo) * (sorted[hi] - sorted[lo]);
+}
+
+void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail) {
+  CLI::Option* all = cmd->add_flag_callback(
+      "--all", [detail] { *detail = TableDetail::kAll; },
+      "show every check, PASS rows included (default: failures, warnings and skips)");
+  CLI::Option* quiet = cmd->add_flag_callback(
+      "--quiet", [detail] { *detail = TableDetail::kQuiet; }, "print the count line alone");
+  all->excludes(quiet);
+}
+
+std::string Wrap(const std::string& text, std::size_t width, const std::string& indent) {
+  std::string out, line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(start, end - start);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += indent + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    start = end + 1;
+  }
+  if (!line.empty()) out += indent + line + "\n";
+  return out;
+}
+
+std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
+                       TableDetail detail) {
+  std::map<CheckStatus, long> count;
+  // the SKIPs of each reason: their ids and the row that shows them
+  std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> skipped;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ++count[rows[i].status];
+    if (rows[i].status != CheckStatus::kSkip) continue;
+    auto it = skipped.try_emplace(rows[i].skip_reason, i, std::vector<std::string>()).first;
+    it->second.second.push_back(rows[i].id);
+  }
+  std::string counts =
+      fmt::format("{} passed, {} warned, {} failed, {} skipped", count[CheckStatus::kPass],
+                  count[CheckStatus::kWarn], count[CheckStatus::kFail], count[CheckStatus::kSkip]);
+  if (detail == TableDetail::kQuiet) return counts + "\n";
+
+  std::string out = title + "\n";
+  std::string section = "\n";  // no section yet; a blank line after the title
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CheckRow& row = rows[i];
+    // by default PASS rows are counted, and SKIPs sharing a reason show as one row
+    std::string text = row.text;
+    if (detail == TableDetail::kFindings) {
+      if (row.status == CheckStatus::kPass) continue;
+      if (row.status == CheckStatus::kSkip) {
+        const auto& [shown_at, ids] = skipped[row.skip_reason];
+        if (ids.size() > 1 && shown_at != i) continue;  // shown with the first
+        if (ids.size() > 1) {
+          text = fmt::format("SKIP  {} checks skipped: {}\n", ids.size(), row.skip_reason) +
+                 Wrap(Join(ids, ", "), 94, "      ");
+        }
+      }
+    }
+    if (row.section != section) {
+      section = row.section;
+      out += section.empty() ? "\n" : "\n== " + section + "\n";
+    }
+    out += text;
+  }
+  out += "\n" + counts;
+  if (detail == TableDetail::kFindings && count[CheckStatus::kPass] > 0) {
+    out += " (passed checks not listed: --all shows every check)";
+  }
+  return out + "\n";
 }
 
 }  // namespace plumb::cli

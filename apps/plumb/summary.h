@@ -1,15 +1,19 @@
 // Streaming summary statistics for plumb's batch commands: count, mean, standard
 // deviation (Welford), min, max and quantiles (exact for the first 4096 values, then the
 // P-square estimator of Jain and Chlamtac, 1985), in bounded memory however many values
-// arrive.
+// arrive. And the check tables of `plumb verify` and `plumb audit`: findings first, the
+// rest counted.
 
 #ifndef PLUMB_APPS_PLUMB_SUMMARY_H_
 #define PLUMB_APPS_PLUMB_SUMMARY_H_
 
+#include <CLI/CLI.hpp>
 #include <array>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include "plumb/verify.h"
 
 namespace plumb::cli {
 
@@ -48,6 +52,32 @@ class Summary {
   double mean_ = 0, m2_ = 0, min_ = INFINITY, max_ = -INFINITY;
   P2Quantile q05_{0.05}, q50_{0.5}, q95_{0.95};
 };
+
+// How much of a check table to print: the findings (FAIL and WARN rows, SKIPs grouped by
+// reason, PASS rows counted), every row (--all), or the count line alone (--quiet).
+enum class TableDetail { kFindings, kAll, kQuiet };
+
+// Adds --all and --quiet (mutually exclusive) to `cmd`, setting `*detail`.
+void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail);
+
+// One row of a check table. `section` starts a "== section" heading when it changes (audit's
+// layers; empty for none); `text` is the row as printed with --all (status first, one or more
+// lines each ending in a newline); `id` names the check in a group of SKIPs; `skip_reason` is
+// what SKIPs with the same reason are grouped by.
+struct CheckRow {
+  CheckStatus status = CheckStatus::kPass;
+  std::string section, id, text, skip_reason;
+};
+
+// The table: `title` (a line), the rows `detail` asks for, and the count line "N passed, W
+// warned, F failed, S skipped", saying how to see rows it left out. kQuiet gives the count
+// line alone. By default SKIPs sharing a reason become one row: "SKIP  8 checks skipped:
+// REASON" with their ids below.
+std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
+                       TableDetail detail);
+
+// Wraps `text` at `width` columns, each line prefixed with `indent` and ending in a newline.
+std::string Wrap(const std::string& text, std::size_t width, const std::string& indent);
 
 }  // namespace plumb::cli
 

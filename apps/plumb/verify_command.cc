@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/verify.h"
+#include "summary.h"
 
 namespace plumb::cli {
 namespace {
@@ -18,44 +19,26 @@ struct VerifyCommandOptions {
   std::string format = "table";
   double tol = 1e-2;
   double until = 0;
+  TableDetail detail = TableDetail::kFindings;
 };
 
-// Wraps `text` at `width` columns, each line prefixed with `indent`.
-std::string Wrap(const std::string& text, std::size_t width, const std::string& indent) {
-  std::string out, line;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find(' ', start);
-    if (end == std::string::npos) end = text.size();
-    std::string word = text.substr(start, end - start);
-    if (!line.empty() && line.size() + 1 + word.size() > width) {
-      out += indent + line + "\n";
-      line.clear();
-    }
-    line += (line.empty() ? "" : " ") + word;
-    start = end + 1;
-  }
-  if (!line.empty()) out += indent + line + "\n";
-  return out;
-}
-
-std::string Table(const VerifyReport& report, double tol) {
-  std::string out =
-      fmt::format("plumb verify {} (MuJoCo {}, tol {:g})\n\n", report.model, MujocoVersion(), tol);
+std::string Table(const VerifyReport& report, double tol, TableDetail detail) {
+  std::vector<CheckRow> rows;
   for (const CheckResult& c : report.checks) {
-    out += fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
+    CheckRow row{c.status, "", c.id, "", c.detail};
+    row.text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
     if (c.status != CheckStatus::kSkip) {
       std::string numbers = "measured " + (c.measured.empty() ? "-" : c.measured);
       if (!c.reference.empty()) numbers += "   reference " + c.reference;
       if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
-      out += Wrap(numbers, 94, "      ");
+      row.text += Wrap(numbers, 94, "      ");
     }
-    out += Wrap(c.detail, 94, "      ");
+    row.text += Wrap(c.detail, 94, "      ");
+    rows.push_back(row);
   }
-  out += fmt::format("\n{} passed, {} warned, {} failed, {} skipped\n",
-                     report.Count(CheckStatus::kPass), report.Count(CheckStatus::kWarn),
-                     report.Count(CheckStatus::kFail), report.Count(CheckStatus::kSkip));
-  return out;
+  return CheckTable(
+      fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model, MujocoVersion(), tol),
+      rows, detail);
 }
 
 nlohmann::ordered_json Value(double number, const std::string& text) {
@@ -94,7 +77,7 @@ int RunVerify(const VerifyCommandOptions& o) {
   options.tol = o.tol;
   options.until = o.until;
   VerifyReport report = Verify(model, options);
-  std::string text = o.format == "json" ? Json(report, o.tol) : Table(report, o.tol);
+  std::string text = o.format == "json" ? Json(report, o.tol) : Table(report, o.tol, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.failed() ? kExitCheckFailed : kExitOk;
 }
@@ -116,6 +99,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--format", o->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
+  AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--tol", o->tol,
                   "relative tolerance: convergence error and energy drift, of the metric's scale")
       ->capture_default_str();

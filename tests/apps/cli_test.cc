@@ -304,7 +304,7 @@ TEST(CliSignalTest, InterruptedRunLeavesNoOutputFile) {
 }
 
 TEST(CliVerifyTest, PendulumPassesAndPrintsEveryCheck) {
-  CommandResult r = RunPlumb("verify " + kPendulum + kSet);
+  CommandResult r = RunPlumb("verify " + kPendulum + kSet + "--all");  // PASS rows need --all
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   for (const char* id : {"load", "determinism", "warnings", "convergence", "energy",
                          "analytic.period", "experiment.A", "experiment.B", "experiment.C",
@@ -446,7 +446,7 @@ TEST(CliSweepTest, RowsInCaseOrderWhateverTheThreads) {
 }
 
 TEST(CliAuditTest, HumanoidPassesWithSectionsPerLayer) {
-  CommandResult r = RunPlumb("audit " + testing::kHumanoid);
+  CommandResult r = RunPlumb("audit " + testing::kHumanoid + " --all");  // PASS rows need --all
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   for (const char* section :
        {"== structure", "== inertia", "== actuator", "== contact", "== behaviour", "== warnings"}) {

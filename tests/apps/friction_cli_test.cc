@@ -120,5 +120,98 @@ TEST(FrictionCliTest, IntegerOptionTakesAnExactIntegerInAnyNotation) {
   EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
 }
 
+// A double pendulum: every single-hinge check is skipped for the same reason.
+const char kDoublePendulum[] = R"(<mujoco><worldbody>
+    <body name="upper" pos="0 0 2"><joint name="shoulder" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      <body name="lower" pos="0 0 -0.5"><joint name="elbow" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/></body></body>
+  </worldbody></mujoco>)";
+
+// The count line as the table prints it, from the JSON summary of the same command.
+std::string CountLine(const nlohmann::json& summary) {
+  return std::to_string(summary["pass"].get<int>()) + " passed, " +
+         std::to_string(summary["warn"].get<int>()) + " warned, " +
+         std::to_string(summary["fail"].get<int>()) + " failed, " +
+         std::to_string(summary["skip"].get<int>()) + " skipped";
+}
+
+TEST(FrictionCliTest, VerifyTableShowsFindingsAndGroupsSkipsThatShareAReason) {
+  TempDir dir;
+  testing::WriteFile(dir.File("double.xml"), kDoublePendulum);
+  const std::string verify = "verify double.xml --set 'qpos[shoulder]=0.5' --until 1 ";
+  CommandResult json = RunPlumb(verify + "--format json", dir.path());
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  nlohmann::json j = nlohmann::json::parse(json.out);
+  int pass = j["summary"]["pass"], skipped_alike = 0;
+  for (const nlohmann::json& c : j["checks"]) {
+    skipped_alike += c["detail"].get<std::string>().rfind("not a single hinge pendulum", 0) == 0;
+  }
+  ASSERT_GE(pass, 3);
+  ASSERT_GE(skipped_alike, 2);
+
+  // default: no PASS row, one row for the skips that share a reason, naming their ids
+  CommandResult table = RunPlumb(verify, dir.path());
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_EQ(LinesStartingWith(table.out, "PASS"), 0) << table.out;
+  EXPECT_EQ(LinesStartingWith(table.out, "SKIP  " + std::to_string(skipped_alike) +
+                                             " checks skipped: not a single hinge pendulum"),
+            1)
+      << table.out;
+  EXPECT_NE(table.out.find("analytic.period, "), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find(CountLine(j["summary"]) +
+                           " (passed checks not listed: --all shows every check)\n"),
+            std::string::npos)
+      << table.out;
+
+  // --all: every check on its own row
+  CommandResult all = RunPlumb(verify + "--all", dir.path());
+  EXPECT_EQ(LinesStartingWith(all.out, "PASS  "), pass) << all.out;
+  EXPECT_EQ(LinesStartingWith(all.out, "PASS  ") + LinesStartingWith(all.out, "SKIP  ") +
+                LinesStartingWith(all.out, "WARN  ") + LinesStartingWith(all.out, "FAIL  "),
+            static_cast<int>(j["checks"].size()))
+      << all.out;
+
+  // --quiet: the count line alone; and JSON stays complete whatever the table shows
+  CommandResult quiet = RunPlumb(verify + "--quiet", dir.path());
+  EXPECT_EQ(quiet.exit_code, 0);
+  EXPECT_EQ(quiet.out, CountLine(j["summary"]) + "\n");
+  EXPECT_EQ(RunPlumb(verify + "--quiet --format json", dir.path()).out, json.out);
+  EXPECT_EQ(RunPlumb(verify + "--all --quiet", dir.path()).exit_code, 2);
+}
+
+TEST(FrictionCliTest, AuditTableShowsFindingsNotHundredsOfPassRows) {
+  CommandResult json = RunPlumb("audit " + testing::kHumanoid + " --format json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  nlohmann::json j = nlohmann::json::parse(json.out);
+  int pass = j["summary"]["pass"];
+  ASSERT_GT(pass, 50);
+
+  CommandResult table = RunPlumb("audit " + testing::kHumanoid);
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_EQ(LinesStartingWith(table.out, "PASS"), 0) << table.out;
+  EXPECT_EQ(table.out.find("== structure"), std::string::npos) << table.out;  // nothing to show
+  EXPECT_NE(table.out.find(CountLine(j["summary"]) + " (passed checks not listed"),
+            std::string::npos)
+      << table.out;
+  EXPECT_EQ(LinesStartingWith(RunPlumb("audit " + testing::kHumanoid + " --all").out, "PASS  "),
+            pass);
+  EXPECT_EQ(RunPlumb("audit " + testing::kHumanoid + " --quiet").out,
+            CountLine(j["summary"]) + "\n");
+
+  // a failure shows under its layer's heading, with its fix, and still exits 1
+  TempDir dir;
+  testing::WriteFile(dir.File("ghost.xml"), R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="ghost" pos="0 0 1"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="0" conaffinity="0"/></body>
+    </worldbody></mujoco>)");
+  CommandResult ghost = RunPlumb("audit ghost.xml", dir.path());
+  EXPECT_EQ(ghost.exit_code, 1);
+  EXPECT_NE(ghost.out.find("== contact\nFAIL  contact.free_fall"), std::string::npos) << ghost.out;
+  EXPECT_NE(ghost.out.find("      fix: "), std::string::npos) << ghost.out;
+  EXPECT_EQ(RunPlumb("audit ghost.xml --quiet", dir.path()).exit_code, 1);
+}
+
 }  // namespace
 }  // namespace plumb
