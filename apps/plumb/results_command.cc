@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/store.h"
 
@@ -20,6 +21,26 @@ struct ResultsOptions {
   long run = 0;  // 0: every run
   std::string format = "csv";
 };
+
+// CSV is one table (one header, a run column): runs whose parameters or metrics differ
+// cannot share it, so the user is asked to pick one. @throws ValueError listing the runs.
+void RefuseRunsWithDifferentColumns(const std::vector<RunInfo>& runs, const std::string& file) {
+  bool same = std::all_of(runs.begin(), runs.end(), [&](const RunInfo& r) {
+    return r.parameters == runs[0].parameters && r.metrics == runs[0].metrics;
+  });
+  if (same) return;
+  std::string list;
+  for (const RunInfo& r : runs) {
+    list += fmt::format("\n  run {} ({}, {} rollouts): parameters {}; metrics {}", r.id, r.kind,
+                        r.count, r.parameters.empty() ? "none" : Join(r.parameters, ", "),
+                        r.metrics.empty() ? "none" : Join(r.metrics, ", "));
+  }
+  throw ValueError(
+      fmt::format("'{}' holds {} runs with different columns, which one CSV table cannot hold:{}\n"
+                  "Export one run with --run N (e.g. plumb results {} --run {}), or every run with "
+                  "--format json.",
+                  file, runs.size(), list, file, runs.back().id));
+}
 
 int RunResults(const ResultsOptions& o) {
   if (!std::ifstream(o.file)) throw IoError("no results store '" + o.file + "'.");
@@ -65,13 +86,14 @@ int RunResults(const ResultsOptions& o) {
                    {"rollouts", rows}});
     }
     out = j.dump(2) + "\n";
-  } else {
+  } else if (!runs.empty()) {
+    RefuseRunsWithDifferentColumns(runs, o.file);
+    std::vector<std::string> header = {"run"};
+    for (const std::string& c : RolloutCsvColumns(runs[0].parameters, runs[0].metrics)) {
+      header.push_back(c);
+    }
+    out = CsvHeader(header);
     for (const RunInfo& run : runs) {
-      std::vector<std::string> header = {"run"};
-      for (const std::string& c : RolloutCsvColumns(run.parameters, run.metrics)) {
-        header.push_back(c);
-      }
-      out += CsvHeader(header);
       for (const RolloutResult& r : store.Results(run.id)) {
         out += std::to_string(run.id) + "," + RolloutCsvRow(r);
       }
@@ -86,9 +108,14 @@ int RunResults(const ResultsOptions& o) {
 void SetupResultsCommands(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<ResultsOptions>();
   CLI::App* results = app.add_subcommand("results", "Export a results store as CSV or JSON");
-  results->footer("Example:\n  plumb results rollouts.sqlite --format csv > rollouts.csv");
+  results->footer(
+      "Example:\n  plumb results rollouts.sqlite --format csv > rollouts.csv\n"
+      "CSV is one table with a run column: one header, every row the same width. Runs whose\n"
+      "parameters or metrics differ are exported one at a time with --run N, or all with JSON.");
   results->add_option("file", o->file, "the SQLite results store")->required();
-  results->add_option("--run", o->run, "only this run id (default: every run)");
+  results->add_option(
+      "--run", o->run,
+      "only this run id (default: every run; CSV needs runs with the same columns)");
   results->add_option("--format", o->format, "csv or json")
       ->check(CLI::IsMember({"csv", "json"}))
       ->capture_default_str();

@@ -120,6 +120,84 @@ TEST(FrictionCliTest, IntegerOptionTakesAnExactIntegerInAnyNotation) {
   EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
 }
 
+// The fields of one CSV line (RFC 4180 quotes).
+std::vector<std::string> CsvFields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
+      fields.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+// Reads `csv` back as a table: the header, then rows that must each have its width.
+std::vector<std::vector<std::string>> ReadTable(const std::string& csv) {
+  std::istringstream in(csv);
+  std::vector<std::vector<std::string>> table;
+  for (std::string line; std::getline(in, line);) {
+    table.push_back(CsvFields(line));
+    EXPECT_EQ(table.back().size(), table.front().size()) << "line " << table.size() << ": " << line;
+  }
+  return table;
+}
+
+TEST(FrictionCliTest, ResultsOfSeveralRunsAreOneTableWithARunColumn) {
+  TempDir dir;
+  const std::string rollout = "rollout " + kPendulum +
+                              " --until 0.2 --randomize 'qpos[hinge]=U(0,1)' "
+                              "--metric 'qpos[hinge]@0.2' --count 3 --format csv --db s.sqlite ";
+  ASSERT_EQ(RunPlumb(rollout + "--seed 1", dir.path()).exit_code, 0);
+  ASSERT_EQ(RunPlumb(rollout + "--seed 2", dir.path()).exit_code, 0);
+
+  // two runs with the same columns: one header, every row as wide, both runs in the run column
+  CommandResult both = RunPlumb("results s.sqlite", dir.path());
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  std::vector<std::vector<std::string>> table = ReadTable(both.out);
+  ASSERT_EQ(table.size(), 7u) << both.out;
+  EXPECT_EQ(table[0][0], "run");
+  EXPECT_EQ(LinesStartingWith(both.out, "run,"), 1) << both.out;
+  EXPECT_EQ(LinesStartingWith(both.out, "1,"), 3) << both.out;
+  EXPECT_EQ(LinesStartingWith(both.out, "2,"), 3) << both.out;
+
+  // a run with other columns: CSV refuses to mix them, naming the runs and --run
+  ASSERT_EQ(RunPlumb("rollout " + kPendulum +
+                         " --until 0.2 --randomize 'dof_damping[hinge]=U(0,1)' "
+                         "--metric 'qvel[hinge]@0.2' --metric 'qpos[hinge]@0.2' --count 2 "
+                         "--format csv --db s.sqlite",
+                     dir.path())
+                .exit_code,
+            0);
+  CommandResult mixed = RunPlumb("results s.sqlite", dir.path());
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_TRUE(mixed.out.empty()) << mixed.out;
+  EXPECT_NE(mixed.err.find("3 runs with different columns"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("run 3 (rollout, 2 rollouts): parameters dof_damping[hinge]; "
+                           "metrics qvel[hinge]@0.2, qpos[hinge]@0.2"),
+            std::string::npos)
+      << mixed.err;
+  EXPECT_NE(mixed.err.find("--run N"), std::string::npos) << mixed.err;
+
+  // one run at a time, and JSON with every run, still work
+  CommandResult third = RunPlumb("results s.sqlite --run 3", dir.path());
+  ASSERT_EQ(third.exit_code, 0) << third.err;
+  table = ReadTable(third.out);
+  ASSERT_EQ(table.size(), 3u) << third.out;
+  EXPECT_EQ(table[0].size(), 8u) << third.out;  // run, rollout, 1 parameter, 2 metrics, 3 more
+  CommandResult json = RunPlumb("results s.sqlite --format json", dir.path());
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_EQ(nlohmann::json::parse(json.out).size(), 3u);
+}
+
 // A double pendulum: every single-hinge check is skipped for the same reason.
 const char kDoublePendulum[] = R"(<mujoco><worldbody>
     <body name="upper" pos="0 0 2"><joint name="shoulder" axis="0 1 0"/>
