@@ -7,7 +7,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <map>
 #include <optional>
 
 #include "core/strings.h"
@@ -245,8 +244,8 @@ std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::stri
   // unknown options, with the nearest names of this command's options
   std::vector<std::string> names = OptionNames(*cmd);
   for (const std::string& n : OptionNames(app)) names.push_back(n);
-  std::string problems;
-  std::map<const CLI::Option*, std::vector<std::string>> given;
+  std::vector<std::string> problems;
+  std::vector<std::pair<const CLI::Option*, std::vector<std::string>>> given;  // in order
   for (std::size_t i = 1; i < args.size(); ++i) {
     if (args[i] == "--") break;
     std::string name = OptionToken(args[i]);
@@ -257,15 +256,18 @@ std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::stri
     }
     if (opt == nullptr) {
       if (std::find(names.begin(), names.end(), name) != names.end()) continue;  // --help
-      problems += "unknown option " + name + " for 'plumb " + cmd->get_name() + "'" +
-                  Suggestion(name, names) + "\n";
+      problems.push_back("unknown option " + name + " for 'plumb " + cmd->get_name() + "'" +
+                         Suggestion(name, names));
       continue;
     }
+    auto it =
+        std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == opt; });
+    if (it == given.end()) it = given.insert(given.end(), {opt, {}});
     std::size_t eq = args[i].find('=');
     if (eq != std::string::npos) {
-      given[opt].push_back(args[i].substr(eq + 1));
+      it->second.push_back(args[i].substr(eq + 1));
     } else {
-      given[opt].push_back(i + 1 < args.size() ? args[i + 1] : "");
+      it->second.push_back(i + 1 < args.size() ? args[i + 1] : "");
     }
   }
   // an option that takes one value, given more than once
@@ -274,11 +276,11 @@ std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::stri
     if (!single || values.size() < 2) continue;
     std::vector<std::string> quoted;
     for (const std::string& v : values) quoted.push_back("'" + v + "'");
-    problems += fmt::format("{} was given {} times ({}); it takes one value: give it once\n",
-                            opt->get_name(), values.size(), Join(quoted, ", "));
+    problems.push_back(fmt::format("{} was given {} times ({}); it takes one value: give it once",
+                                   opt->get_name(), values.size(), Join(quoted, ", ")));
   }
-  if (!problems.empty()) problems.pop_back();
-  return problems;
+  // one problem a line, each as an error of its own
+  return Join(problems, "\nplumb: error: ");
 }
 
 }  // namespace plumb::cli

@@ -110,7 +110,8 @@ void AcceptIntegerNotation(CLI::App* app);
 
 // Why `args` (the command line without the program name) failed to parse, said for a
 // user: an unknown command or option with the nearest valid names, or an option that takes
-// one value given more than once. Empty when none of these is the reason.
+// one value given more than once (several problems: one a line, each after the first starting
+// "plumb: error: "). Empty when none of these is the reason.
 std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::string>& args);
 
 }  // namespace plumb::cli

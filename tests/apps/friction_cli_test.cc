@@ -80,6 +80,13 @@ TEST(FrictionCliTest, RepeatedSingleValuedOptionIsRefused) {
   r = RunPlumb("verify " + kPendulum + " --format json --format table");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--format was given 2 times"), std::string::npos) << r.err;
+  // every problem of the line is named, each as an error of its own
+  r = RunPlumb("run " + kPendulum + " --evry 0.1 --until 1 --until 2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("plumb: error: unknown option --evry for 'plumb run'; did you mean "
+                       "'--every'?\nplumb: error: --until was given 2 times"),
+            std::string::npos)
+      << r.err;
   // repeatable options stay repeatable
   r = RunPlumb("run " + kPendulum +
                " --set 'qpos[hinge]=0.1' --set 'qvel[hinge]=1' --until 0.1 --format csv");
