@@ -208,10 +208,15 @@ void AcceptIntegerNotation(CLI::App* app) {
           if (is_unsigned && (*v < 0 || text.find('-') == 0)) {
             return "takes " + kind + ", not '" + text + "'";
           }
-          // digits alone go to CLI11 unchanged (its range checks see every digit); an exact
-          // integer in other notation ("1e3", "100.0") is rewritten as its digits
+          // digits go to CLI11 without leading zeros (which it would read as octal: "010"
+          // is 10, not 8) and otherwise unchanged, so its range checks see every digit; an
+          // exact integer in other notation ("1e3", "100.0") is rewritten as its digits
           bool digits = text.find_first_not_of("+-0123456789") == std::string::npos;
-          if (!digits) {
+          if (digits) {
+            std::size_t sign = text[0] == '+' || text[0] == '-' ? 1 : 0;
+            std::size_t first = text.find_first_not_of('0', sign);
+            text = text.substr(0, sign) + (first == std::string::npos ? "0" : text.substr(first));
+          } else {
             if (std::fabs(*v) > 9007199254740992.0) {
               return "takes " + kind + ": '" + text +
                      "' is too large to be exact; write its digits";

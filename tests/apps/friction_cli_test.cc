@@ -102,6 +102,8 @@ TEST(FrictionCliTest, IntegerOptionTakesAnExactIntegerInAnyNotation) {
   EXPECT_EQ(LinesStartingWith(r.out, "9,"), 1) << r.out;
   EXPECT_EQ(LinesStartingWith(r.out, "10,"), 0) << r.out;
   EXPECT_EQ(RunPlumb(rollout + "10").out, r.out);
+  EXPECT_EQ(RunPlumb(rollout + "010").out, r.out);  // decimal, not octal 8
+  EXPECT_EQ(RunPlumb(rollout + "10.0").out, r.out);
   // not an integer: refused, naming the option
   for (const char* bad : {"1.5", "abc", "1e-3"}) {
     r = RunPlumb(rollout + bad);
