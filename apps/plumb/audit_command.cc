@@ -27,7 +27,8 @@ std::string Table(const AuditReport& report, TableDetail detail) {
   std::vector<CheckRow> rows;
   for (const Finding& f : report.findings) {
     std::string element = f.element.empty() ? "(model)" : f.element;
-    CheckRow row{f.status, f.layer, f.check + " " + element, "", f.measured};
+    CheckRow row{f.status,   f.layer,   f.check + " " + element, "",
+                 f.measured, f.element, f.element_type,          f.element_name};
     row.text = fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.check, element);
     std::string numbers = "      " + f.measured;
     if (!f.threshold.empty()) numbers += "   threshold " + f.threshold;

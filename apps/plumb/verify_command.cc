@@ -25,7 +25,7 @@ struct VerifyCommandOptions {
 std::string Table(const VerifyReport& report, double tol, TableDetail detail) {
   std::vector<CheckRow> rows;
   for (const CheckResult& c : report.checks) {
-    CheckRow row{c.status, "", c.id, "", c.detail};
+    CheckRow row{c.status, "", c.id, "", c.detail, "", "", ""};  // about no one element
     row.text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
     if (c.status != CheckStatus::kSkip) {
       std::string numbers = "measured " + (c.measured.empty() ? "-" : c.measured);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -298,6 +299,81 @@ TEST(FrictionCliTest, AuditTableShowsFindingsNotHundredsOfPassRows) {
   EXPECT_NE(ghost.out.find("== contact\nFAIL  contact.free_fall"), std::string::npos) << ghost.out;
   EXPECT_NE(ghost.out.find("      fix: "), std::string::npos) << ghost.out;
   EXPECT_EQ(RunPlumb("audit ghost.xml --quiet", dir.path()).exit_code, 1);
+}
+
+TEST(FrictionCliTest, AuditTableGroupsTheSameFindingAboutSeveralElements) {
+  const std::string quadruped = testing::kSuite + "/quadruped.xml";
+  if (!std::filesystem::exists(quadruped)) GTEST_SKIP() << quadruped << " is not here";
+  CommandResult json = RunPlumb("audit " + quadruped + " --format json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  nlohmann::json j = nlohmann::json::parse(json.out);
+  std::vector<std::string> limited;  // the actuators actuator.limits warns about, in order
+  for (const nlohmann::json& f : j["layers"]["actuator"]) {
+    if (f["check"] == "actuator.limits" && f["status"] == "WARN") {
+      limited.push_back(f["element_name"]);
+    }
+  }
+  ASSERT_EQ(limited.size(), 12u) << json.out;
+
+  // default: one row for the twelve, naming each, with the first as the example and the fix
+  CommandResult table = RunPlumb("audit " + quadruped);
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_EQ(LinesStartingWith(table.out, "WARN  actuator.limits"), 1) << table.out;
+  EXPECT_NE(table.out.find("WARN  actuator.limits            12 actuators alike:\n      " +
+                           limited[0] + ", " + limited[1] + ", "),
+            std::string::npos)
+      << table.out;
+  for (const std::string& name : limited) {
+    EXPECT_NE(table.out.find(name), std::string::npos) << name << "\n" << table.out;
+  }
+  EXPECT_NE(table.out.find("      e.g. actuator '" + limited[0] +
+                           "' (id 0): ctrl limited, force unlimited, gear 1   threshold a force "
+                           "bound\n      fix: a real motor saturates"),
+            std::string::npos)
+      << table.out;
+  EXPECT_EQ(LinesStartingWith(table.out, "      fix: "), 1) << table.out;
+  EXPECT_NE(table.out.find("12 warned"), std::string::npos) << table.out;  // counts stay per row
+
+  // --all: every warning on its own row; JSON the same whatever the table groups
+  EXPECT_EQ(
+      LinesStartingWith(RunPlumb("audit " + quadruped + " --all").out, "WARN  actuator.limits"),
+      12);
+  EXPECT_EQ(RunPlumb("audit " + quadruped + " --all --format json").out, json.out);
+}
+
+TEST(FrictionCliTest, AuditTableKeepsDifferentFindingsOfOneCheckApart) {
+  // two motors with nothing bounded (different gears: still the same finding) and a
+  // position servo whose ctrl is bounded but its force is not (another finding)
+  TempDir dir;
+  testing::WriteFile(dir.File("arm.xml"), R"(<mujoco><worldbody>
+      <body name="link1" pos="0 0 1"><joint name="j1" axis="0 0 1"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+        <body name="link2" pos="0.3 0 0"><joint name="j2" axis="0 0 1"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+          <body name="link3" pos="0.3 0 0"><joint name="j3" axis="0 0 1"/>
+            <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></body></body>
+    </worldbody>
+    <actuator>
+      <motor name="shoulder" joint="j1"/>
+      <motor name="elbow" joint="j2" gear="50"/>
+      <position name="wrist" joint="j3" kp="10" ctrllimited="true" ctrlrange="-1 1"/>
+    </actuator></mujoco>)");
+  CommandResult table = RunPlumb("audit arm.xml", dir.path());
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_EQ(LinesStartingWith(table.out, "WARN  actuator.limits"), 2) << table.out;
+  EXPECT_NE(
+      table.out.find("WARN  actuator.limits            2 actuators alike:\n"
+                     "      shoulder, elbow\n"
+                     "      e.g. actuator 'shoulder' (id 0): ctrl unlimited, force unlimited"),
+      std::string::npos)
+      << table.out;
+  EXPECT_NE(table.out.find("WARN  actuator.limits            actuator 'wrist' (id 2)\n"
+                           "      ctrl limited, force unlimited"),
+            std::string::npos)
+      << table.out;
+  EXPECT_EQ(
+      LinesStartingWith(RunPlumb("audit arm.xml --all", dir.path()).out, "WARN  actuator.limits"),
+      3);
 }
 
 }  // namespace
