@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# Runs the plumb command lines that README.md shows, to catch examples the CLI no longer accepts.
+#
+#   scripts/check-readme-examples.sh [PLUMB] [README]
+#
+# PLUMB is the plumb binary (default build/plumb), README the Markdown file (default README.md),
+# both relative to the repository root. A command is a line inside a fenced code block that
+# starts with "plumb " or, in a block showing a session, "$ build/plumb " (the lines after it
+# are its output); lines ending in a backslash continue on the next one. Synopses
+# ("plumb run MODEL [--set ...]") are not run; neither are commands naming a model or scenario
+# that is not here (placeholders such as robot.xml or humanoid.xml): both are listed. The other
+# commands run in order, each block in a temporary directory holding a copy of the folders of
+# the files they name, so the repository is never written to. Exit 0 (ok) and 1 (a check
+# failed) are fine; exit 2 (bad input) means the README is wrong, and any other code (crash,
+# timeout) is reported too. The script exits 1 when any command failed.
+
+set -u
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+plumb="${1:-$root/build/plumb}"
+readme="${2:-$root/README.md}"
+[[ "$plumb" = /* ]] || plumb="$root/$plumb"
+[[ "$readme" = /* ]] || readme="$root/$readme"
+if [[ ! -x "$plumb" ]]; then
+  echo "check-readme-examples: no plumb binary at $plumb: build it first (make build)" >&2
+  exit 2
+fi
+if [[ ! -f "$readme" ]]; then
+  echo "check-readme-examples: no file $readme" >&2
+  exit 2
+fi
+readme_dir="$(cd "$(dirname "$readme")" && pwd)"
+per_command_timeout="${PLUMB_README_TIMEOUT:-300}"
+
+# the commands, one per record: "block<TAB>line<TAB>command" (continuations joined)
+extract() {
+  awk '
+    function flush_block(   i, prompts) {
+      prompts = 0
+      for (i = 1; i <= n; ++i) if (text[i] ~ /^\$ build\/plumb /) ++prompts
+      for (i = 1; i <= n; ++i) {
+        line = text[i]
+        if (prompts > 0) {
+          if (line !~ /^\$ build\/plumb /) continue
+          sub(/^\$ build\//, "", line)
+        } else if (line !~ /^plumb /) {
+          continue
+        }
+        start = at[i]
+        while (line ~ /\\$/ && i < n) {
+          sub(/[ \t]*\\$/, "", line)
+          next_line = text[++i]
+          sub(/^[ \t]+/, "", next_line)
+          line = line " " next_line
+        }
+        printf "%d\t%d\t%s\n", block, start, line
+      }
+      n = 0
+    }
+    /^[ \t]*```/ {
+      if (inside) flush_block()
+      else ++block
+      inside = !inside
+      next
+    }
+    inside { text[++n] = $0; at[n] = NR }
+  ' "$readme"
+}
+
+# The files a command reads that must exist: its .xml and .toml arguments, unquoted.
+named_files() {
+  local word
+  for word in $1; do
+    word="${word//\'/}"
+    word="${word//\"/}"
+    case "$word" in
+      -*=*) word="${word#*=}" ;;
+    esac
+    case "$word" in
+      *.xml | *.toml) echo "$word" ;;
+    esac
+  done
+}
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+ran=0 failed=0 skipped=0
+failures=()
+current_block=""
+
+while IFS=$'\t' read -r block line command; do
+  where="README.md:$line"
+  [[ "$readme" = "$root/README.md" ]] || where="$(basename "$readme"):$line"
+  # a synopsis: placeholders in capitals or options in brackets
+  if [[ "$command" =~ \ [A-Z][A-Z]+( |$) || "$command" == *"[--"* ]]; then
+    echo "skip  $where  synopsis: $command"
+    skipped=$((skipped + 1))
+    continue
+  fi
+  missing=""
+  while read -r file; do
+    [[ -z "$file" ]] && continue
+    if [[ "$file" = /* ]]; then
+      [[ -e "$file" ]] || missing+=" $file"
+    elif [[ ! -e "$readme_dir/$file" ]]; then
+      missing+=" $file"
+    fi
+  done < <(named_files "$command")
+  if [[ -n "$missing" ]]; then
+    echo "skip  $where  not here:$missing: $command"
+    skipped=$((skipped + 1))
+    continue
+  fi
+  # each block runs in a directory of its own, with copies of the folders its files are in
+  if [[ "$block" != "$current_block" ]]; then
+    current_block="$block"
+    dir="$work/block$block"
+    mkdir -p "$dir"
+  fi
+  while read -r file; do
+    [[ -z "$file" || "$file" = /* ]] && continue
+    folder="$(dirname "$file")"
+    [[ -e "$dir/$folder/$(basename "$file")" ]] && continue
+    (cd "$readme_dir" && cp -r --parents "$folder" "$dir/") 2>/dev/null ||
+      cp "$readme_dir/$file" "$dir/"
+  done < <(named_files "$command")
+  log="$work/command$line.log"
+  (cd "$dir" && PLUMB="$plumb" timeout "$per_command_timeout" bash -c \
+    'plumb() { "$PLUMB" "$@"; }
+'"$command" >"$log.out" 2>"$log")
+  code=$?
+  ran=$((ran + 1))
+  if [[ $code -eq 0 || $code -eq 1 ]]; then
+    echo "ok    $where  exit $code: $command"
+  else
+    case $code in
+      2) why="bad input: the README is wrong" ;;
+      124) why="timed out after ${per_command_timeout} s" ;;
+      *) why="exit $code" ;;
+    esac
+    echo "FAIL  $where  exit $code ($why): $command"
+    sed 's/^/        /' "$log" | head -n 8
+    failed=$((failed + 1))
+    failures+=("$where")
+  fi
+done < <(extract)
+
+echo
+echo "$ran run, $failed failed, $skipped skipped${failures[*]:+ (failed: ${failures[*]})}"
+[[ $failed -eq 0 ]]
