@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -105,8 +106,8 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
 std::string CsvNumber(double v) {
   if (std::isnan(v)) return "";
   char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
+  std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
+  return std::string(buffer, r.ptr);
 }
 
 std::string CsvText(const std::string& field) {

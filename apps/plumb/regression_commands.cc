@@ -47,7 +47,7 @@ int RunSnapshot(const SnapshotOptions& o) {
   std::fwrite(text.data(), 1, text.size(), file.stream());
   file.Commit();
   std::fprintf(stderr, "plumb: wrote the snapshot of %s to %s\n", o.model.c_str(),
-               o.output.c_str());
+               o.output == "-" ? "standard output" : o.output.c_str());
   return kExitOk;
 }
 
@@ -103,7 +103,8 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
       "Exit codes: 0 written, 2 bad input, 3 the golden trajectory diverges (nothing is\n"
       "written on 2 or 3).");
   AddModelOptions(snapshot, &s->model, &s->sets, "before snapshotting");
-  snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON)")->required();
+  snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON; '-' for stdout)")
+      ->required();
   snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });
 
   auto d = std::make_shared<DiffOptions>();

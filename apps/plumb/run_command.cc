@@ -136,7 +136,8 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       ->check(CLI::IsMember({"table", "csv", "jsonl"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
-                  "write samples to FILE (atomically: complete or not at all) instead of stdout");
+                  "write samples to FILE (atomically: complete or not at all; a FIFO or device is "
+                  "written directly, a symlink is followed; '-' is stdout)");
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRun(*o, ctx); }; });
