@@ -502,7 +502,7 @@ TEST(CliRegressionTest, SnapshotThenDiff) {
                dir.path())
           .out);
   EXPECT_FALSE(j["identical"].get<bool>());
-  EXPECT_EQ(j["changes"][0], "dof_damping[hinge]: 0.05 → 0.1");
+  EXPECT_EQ(j["changes"][0]["what"], "dof_damping[hinge]: 0.05 → 0.1");
 }
 
 TEST(CliRegressionTest, BadSnapshotsAndPathsAreBadInput) {

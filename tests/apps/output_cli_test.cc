@@ -81,5 +81,78 @@ TEST(OutputCliTest, CsvPrintsTheShortestTextThatRoundTrips) {
   EXPECT_NE(r.out.find("\n0.1,"), std::string::npos) << r.out;
 }
 
+// A folder with a model, a copy and its snapshot, an empty and a binary file.
+class DiffArgumentsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::copy_file(kPendulum, dir_.File("a.xml"));
+    fs::copy_file(kPendulum, dir_.File("b.xml"));
+    ASSERT_EQ(Plumb("snapshot a.xml -o a.json").exit_code, 0);
+    WriteFile(dir_.File("empty.xml"), "");
+    WriteFile(dir_.File("binary.xml"), std::string("\x7f"
+                                                   "ELF\x02\x01\x01\x00\x00",
+                                                   9));
+  }
+  CommandResult Plumb(const std::string& args) { return RunPlumb(args, dir_.path()); }
+  // Expects exit 2 and `text` in the message, and no raw MuJoCo parser error.
+  void ExpectRefused(const std::string& args, const std::string& text) {
+    CommandResult r = Plumb(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(text), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.find("XML Error"), std::string::npos) << args << "\n" << r.err;
+  }
+  TempDir dir_;
+};
+
+TEST_F(DiffArgumentsTest, SwappedArgumentsSayTheRightOrder) {
+  ExpectRefused("diff a.xml a.json", "the arguments are swapped");
+  ExpectRefused("diff a.xml a.json", "plumb diff a.json a.xml");
+}
+
+TEST_F(DiffArgumentsTest, TwoModelsSayHowToTakeASnapshot) {
+  ExpectRefused("diff a.xml b.xml", "'a.xml' is an MJCF model (XML), not a plumb snapshot");
+  ExpectRefused("diff a.xml b.xml", "plumb snapshot a.xml -o");
+}
+
+TEST_F(DiffArgumentsTest, EmptyOrBinaryFilesAreNamed) {
+  ExpectRefused("diff empty.xml a.xml", "'empty.xml' is empty, not a plumb snapshot");
+  ExpectRefused("diff binary.xml a.xml", "'binary.xml' is a binary file, not a plumb snapshot");
+  ExpectRefused("diff a.json empty.xml", "model file 'empty.xml' is empty");
+  ExpectRefused("diff a.json binary.xml", "model file 'binary.xml' is a binary file");
+  ExpectRefused("diff a.json a.json", "is a plumb snapshot (JSON), not a model");
+  // every command loads models the same way
+  ExpectRefused("run empty.xml", "model file 'empty.xml' is empty");
+  ExpectRefused("inspect binary.xml", "model file 'binary.xml' is a binary file");
+}
+
+TEST(OutputCliTest, SnapshotWithSetDiffsIdenticalAgainstTheSameModel) {
+  TempDir dir;
+  ASSERT_EQ(RunPlumb("snapshot " + kPendulum + kSet + "-o p.json", dir.path()).exit_code, 0);
+  CommandResult same = RunPlumb("diff p.json " + kPendulum, dir.path());
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_NE(same.out.find("--set 'qpos[hinge]=0.7'"), std::string::npos) << same.out;
+}
+
+TEST(OutputCliTest, DiffJsonGivesStructuredChanges) {
+  TempDir dir;
+  ASSERT_EQ(RunPlumb("snapshot " + kPendulum + kSet + "-o p.json", dir.path()).exit_code, 0);
+  CommandResult r = RunPlumb(
+      "diff p.json " + kPendulum + " --set 'dof_damping[hinge]=0.1' --format json", dir.path());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["snapshot"], "p.json");
+  EXPECT_FALSE(j["identical"].get<bool>());
+  EXPECT_EQ(j["snapshot_sets"], nlohmann::json({"qpos[hinge]=0.7"}));
+  ASSERT_GE(j["changes"].size(), 2u) << r.out;
+  const nlohmann::json& damping = j["changes"][0];
+  EXPECT_EQ(damping["path"], "dof_damping[hinge]");
+  EXPECT_EQ(damping["old"], 0.05);
+  EXPECT_EQ(damping["new"], 0.1);
+  EXPECT_EQ(damping["kind"], "parameter");
+  const nlohmann::json& departs = j["changes"].back();
+  EXPECT_EQ(departs["kind"], "trajectory") << r.out;
+  EXPECT_TRUE(departs["old"].is_number() && departs["new"].is_number()) << r.out;
+}
+
 }  // namespace
 }  // namespace plumb
