@@ -154,5 +154,26 @@ TEST(OutputCliTest, DiffJsonGivesStructuredChanges) {
   EXPECT_TRUE(departs["old"].is_number() && departs["new"].is_number()) << r.out;
 }
 
+const std::string kCartpole = testing::kSuite + "/cartpole.xml";
+
+TEST(OutputCliTest, InspectShowsCtrlAndJointForceOfAGearedMotor) {
+  CommandResult r = RunPlumb("inspect " + kCartpole);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string row = r.out.substr(r.out.find("joint:slider"));
+  row = row.substr(0, row.find('\n'));
+  EXPECT_NE(row.find("[-1, 1] N/gear"), std::string::npos) << row;
+  EXPECT_NE(row.find("[-10, 10] N"), std::string::npos) << row;
+}
+
+TEST(OutputCliTest, AuditStepResponseGivesTheLengthsUnit) {
+  CommandResult r = RunPlumb("audit " + kCartpole);
+  std::size_t at = r.out.find("moves the actuator length by");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::string text = r.out.substr(at, r.out.find('\n', at) - at);
+  EXPECT_NE(text.find("(gear 10 x "), std::string::npos) << text;
+  EXPECT_NE(text.find(" m at the joint)"), std::string::npos) << text;
+  EXPECT_NE(text.find(" m/s at the joint)"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace plumb
