@@ -1,5 +1,6 @@
 #include "plumb/output.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -179,6 +180,24 @@ TEST(AtomicFileTest, SocketIsRefused) {
   }
   close(fd);
   EXPECT_TRUE(fs::is_socket(fs::symlink_status(path))) << "the socket was replaced";
+}
+
+TEST(AtomicFileTest, ProcLinkIsWrittenThroughLikeDevStdout) {
+  // /dev/stdout is a link to /proc/self/fd/1, which names an open file, not a path
+  TempDir dir;
+  int fd = ::open(dir.File("opened.csv").c_str(), O_WRONLY | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  fs::create_symlink("/proc/self/fd/" + std::to_string(fd), dir.File("stdout"));
+  {
+    AtomicFile file(dir.File("stdout"));
+    EXPECT_TRUE(file.direct());
+    std::fputs("through", file.stream());
+    file.Commit();
+  }
+  ::close(fd);
+  EXPECT_TRUE(fs::is_symlink(dir.File("stdout")));
+  EXPECT_EQ(ReadFile(dir.File("opened.csv")), "through");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 2);
 }
 
 TEST(AtomicFileTest, DashIsStandardOutput) {
