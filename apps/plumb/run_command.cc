@@ -103,7 +103,13 @@ int RunRun(const RunOptions& o, const Context& ctx) {
       std::fprintf(stderr, "plumb: warning: no repro folder: %s (choose one with --repro DIR)\n",
                    e.what());
     }
-    if (file) std::fprintf(stderr, "plumb: no output file was written\n");
+    if (file && file->direct()) {
+      // a FIFO or device cannot be left untouched: it has the samples up to the divergence
+      std::fprintf(stderr, "plumb: %s received the samples up to the divergence\n",
+                   file->path() == "-" ? "standard output" : file->path().c_str());
+    } else if (file) {
+      std::fprintf(stderr, "plumb: no output file was written\n");
+    }
     return kExitDiverged;
   }
   if (file) file->Commit();
