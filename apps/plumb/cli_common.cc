@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -109,8 +110,8 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
 std::string CsvNumber(double v) {
   if (std::isnan(v)) return "";
   char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
+  std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
+  return std::string(buffer, r.ptr);
 }
 
 std::string CsvText(const std::string& field) {

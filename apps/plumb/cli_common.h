@@ -48,7 +48,8 @@ Model LoadModel(const std::string& path);
 // Parses every --set assignment against the model.
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
 
-// A number for CSV output: %.17g (round-trips exactly), empty for NaN (not measured).
+// A number for CSV output: the shortest text that reads back exactly (0.3, not
+// 0.29999999999999999), empty for NaN (not measured).
 std::string CsvNumber(double v);
 
 // A CSV header line (with newline), fields quoted where they hold commas or quotes.

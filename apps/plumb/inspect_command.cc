@@ -90,21 +90,24 @@ std::string Table(const ModelDescription& d) {
   if (d.actuators.empty())
     line("  (none: a passive system, ctrl is empty)");
   else
-    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8} {:<28} {}", "id", "name", "kind", "drives",
-                     "gear", "ctrlrange", "forcerange"));
+    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8} {:<26} {:<24} {}", "id", "name", "kind",
+                     "drives", "gear", "ctrlrange", "joint force", "forcerange"));
+  auto range = [](const std::array<double, 2>& r, const std::string& unit) {
+    return fmt::format("[{:.6g}, {:.6g}] {}", r[0], r[1], unit);
+  };
   for (const ActuatorDescription& a : d.actuators) {
-    std::string ctrl = a.ctrllimited ? fmt::format("[{:.6g}, {:.6g}] {}", a.ctrlrange[0],
-                                                   a.ctrlrange[1], a.ctrl_unit)
-                                     : "unlimited (" + a.ctrl_unit + ")";
-    std::string force = a.forcelimited ? fmt::format("[{:.6g}, {:.6g}] {}", a.forcerange[0],
-                                                     a.forcerange[1], a.force_unit)
-                                       : "unlimited";
-    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8.6g} {:<28} {}", a.id, a.name, a.kind,
-                     a.transmission + ":" + a.target, a.gear, ctrl, force));
+    std::string ctrl =
+        a.ctrllimited ? range(a.ctrlrange, a.ctrl_unit) : "unlimited (" + a.ctrl_unit + ")";
+    std::string joint = a.joint_force_limited ? range(a.joint_force_range, a.joint_force_unit)
+                                              : "unlimited (" + a.joint_force_unit + ")";
+    std::string force = a.forcelimited ? range(a.forcerange, a.force_unit) : "unlimited";
+    line(fmt::format("  {:>3} {:<16} {:<9} {:<24} {:>8.6g} {:<26} {:<24} {}", a.id, a.name, a.kind,
+                     a.transmission + ":" + a.target, a.gear, ctrl, joint, force));
   }
   if (!d.actuators.empty()) {
-    line("  units: the force on the joint or tendon is gear x actuator force; ctrl is a force for");
-    line("  motors, a target position (velocity) for position (velocity) servos");
+    line("  units: the joint (tendon) receives gear x actuator force; a motor's ctrl is its");
+    line("  actuator force (N/gear: ctrl 1 with gear 10 is 10 N at the joint), a servo's ctrl");
+    line("  a target of the actuator length (gear x the joint position) or its velocity");
   }
   line("");
   line("sensors");

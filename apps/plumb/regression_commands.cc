@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_common.h"
+#include "core/file_kind.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/regression.h"
@@ -47,22 +49,53 @@ int RunSnapshot(const SnapshotOptions& o) {
   std::fwrite(text.data(), 1, text.size(), file.stream());
   file.Commit();
   std::fprintf(stderr, "plumb: wrote the snapshot of %s to %s\n", o.model.c_str(),
-               o.output.c_str());
+               o.output == "-" ? "standard output" : o.output.c_str());
   return kExitOk;
 }
 
-int RunDiff(const DiffOptions& o) {
-  std::ifstream in(o.snapshot);
-  if (!in)
-    throw IoError("cannot read snapshot '" + o.snapshot + "': no such file or not readable.");
+// Reads a whole file, or "" with `*readable` false.
+std::string ReadWhole(const std::string& path, bool* readable) {
+  std::ifstream in(path, std::ios::binary);
+  *readable = static_cast<bool>(in) && !std::filesystem::is_directory(path);
   std::stringstream text;
-  text << in.rdbuf();
+  if (*readable) text << in.rdbuf();
+  return text.str();
+}
+
+// Refuses a snapshot argument that is no snapshot (a model, swapped arguments, an empty
+// or binary file), saying what it is and what to run instead. @throws ValueError.
+void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
+  FileKind kind = SniffFileKind(text);
+  if (kind == FileKind::kSnapshot || kind == FileKind::kJson || kind == FileKind::kText) return;
+  std::string what = "'" + o.snapshot + "' is " + FileKindName(kind) + ", not a plumb snapshot";
+  if (kind == FileKind::kMjcf || kind == FileKind::kXml) {
+    bool readable = false;
+    std::string second = ReadWhole(o.model, &readable);
+    if (readable && SniffFileKind(second) == FileKind::kSnapshot) {
+      throw ValueError("the arguments are swapped: " + what + ", and '" + o.model +
+                       "' is the snapshot. plumb diff takes the snapshot first: plumb diff " +
+                       o.model + " " + o.snapshot);
+    }
+    throw ValueError(
+        what + ". plumb diff compares a model with a snapshot taken earlier: " + "plumb snapshot " +
+        o.snapshot + " -o before.snap.json, then plumb diff " + "before.snap.json " + o.model);
+  }
+  throw ValueError(what + " (JSON written by plumb snapshot MODEL -o FILE). Write a fresh one " +
+                   "with plumb snapshot, or restore it from version control.");
+}
+
+int RunDiff(const DiffOptions& o) {
+  bool readable = false;
+  std::string text = ReadWhole(o.snapshot, &readable);
+  if (!readable)
+    throw IoError("cannot read snapshot '" + o.snapshot + "': no such file or not readable.");
+  CheckSnapshotArgument(o, text);
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);
   if (!(o.tol >= 0)) throw ValueError("--tol must be >= 0");
   SnapshotDiff diff;
   try {
-    diff = DiffSnapshot(text.str(), model, sets, o.tol);
+    diff = DiffSnapshot(text, model, sets, o.tol);
   } catch (const ValueError& e) {
     throw ValueError(o.snapshot + ": " + e.what() +
                      ". The file is not a snapshot or was damaged: write a fresh one with "
@@ -70,15 +103,30 @@ int RunDiff(const DiffOptions& o) {
   }
   std::string out;
   if (o.format == "json") {
-    nlohmann::ordered_json j;
+    using nlohmann::ordered_json;
+    ordered_json j;
     j["snapshot"] = o.snapshot;
     j["model"] = o.model;
     j["identical"] = !diff.changed();
-    nlohmann::ordered_json changes = nlohmann::ordered_json::array();
-    for (const SnapshotChange& c : diff.changes) changes.push_back(c.what);
-    j["changes"] = changes;
-    j["notes"] = diff.notes;
     j["tol"] = o.tol;
+    j["snapshot_plumb_version"] = diff.snapshot_plumb_version;
+    j["snapshot_mujoco_version"] = diff.snapshot_mujoco_version;
+    j["mujoco_version"] = MujocoVersion();
+    j["snapshot_sets"] = diff.sets;
+    j["sets"] = o.sets;
+    j["diverged"] = diff.diverged;
+    j["notes"] = diff.notes;
+    ordered_json changes = ordered_json::array();
+    for (const SnapshotChange& c : diff.changes) {
+      ordered_json one = {{"path", c.path},
+                          {"old", ordered_json::parse(c.old_value)},
+                          {"new", ordered_json::parse(c.new_value)},
+                          {"kind", c.kind}};
+      if (c.step > 0) one["step"] = c.step;
+      one["what"] = c.what;
+      changes.push_back(one);
+    }
+    j["changes"] = changes;
     out = j.dump(2) + "\n";
   } else {
     for (const std::string& n : diff.notes) out += "note: " + n + "\n";
@@ -100,10 +148,12 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
       "snapshot", "Record a model's structure, inertia, actuators and a golden trajectory");
   snapshot->footer(
       "Example:\n  plumb snapshot robot.xml -o robot.snap.json    # commit it with the model\n"
+      "The --set values are recorded in the snapshot; plumb diff applies them again.\n"
       "Exit codes: 0 written, 2 bad input, 3 the golden trajectory diverges (nothing is\n"
       "written on 2 or 3).");
   AddModelOptions(snapshot, &s->model, &s->sets, "before snapshotting");
-  snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON)")->required();
+  snapshot->add_option("-o,--output", s->output, "the snapshot file (JSON; '-' for stdout)")
+      ->required();
   snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });
 
   auto d = std::make_shared<DiffOptions>();
@@ -112,11 +162,13 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
       "Example:\n  plumb diff robot.snap.json robot.xml --tol 1e-6\n"
       "Prints each change (dof_damping[hinge]: 0.05 → 0.1, body added: gripper,\n"
       "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
-      "1 changed, 2 bad input, 3 the golden trajectory diverges.");
+      "1 changed, 2 bad input, 3 the golden trajectory diverges.\n"
+      "The model is simulated with the snapshot's own --set values, then diff's --set.");
   diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
   AddModelOptions(diff, &d->model, &d->sets, "before comparing");
   diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
-  diff->add_option("--format", d->format, "table or json")
+  diff->add_option("--format", d->format,
+                   "table (in words) or json (header, then changes as {path, old, new, kind})")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
   diff->callback([d, &ctx] { ctx.action = [d] { return RunDiff(*d); }; });

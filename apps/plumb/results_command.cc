@@ -131,6 +131,11 @@ void SetupResultsCommands(CLI::App& app, Context& ctx) {
   merge->add_option("-o,--output", *output, "the new store")->required();
   merge->callback([inputs, output, &ctx] {
     ctx.action = [inputs, output] {
+      if (*output == "-") {
+        throw ValueError(
+            "merge -o -: a results store is an SQLite file and cannot go to standard output; "
+            "give a file name, then print it with plumb results FILE.");
+      }
       MergeStores(*inputs, *output);
       return static_cast<int>(kExitOk);
     };

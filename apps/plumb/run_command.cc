@@ -103,7 +103,13 @@ int RunRun(const RunOptions& o, const Context& ctx) {
       std::fprintf(stderr, "plumb: warning: no repro folder: %s (choose one with --repro DIR)\n",
                    e.what());
     }
-    if (file) std::fprintf(stderr, "plumb: no output file was written\n");
+    if (file && file->direct()) {
+      // a FIFO or device cannot be left untouched: it has the samples up to the divergence
+      std::fprintf(stderr, "plumb: %s received the samples up to the divergence\n",
+                   file->path() == "-" ? "standard output" : file->path().c_str());
+    } else if (file) {
+      std::fprintf(stderr, "plumb: no output file was written\n");
+    }
     return kExitDiverged;
   }
   if (file) file->Commit();
@@ -136,7 +142,8 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       ->check(CLI::IsMember({"table", "csv", "jsonl"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
-                  "write samples to FILE (atomically: complete or not at all) instead of stdout");
+                  "write samples to FILE (atomically: complete or not at all; a FIFO or device is "
+                  "written directly, a symlink is followed; '-' is stdout)");
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRun(*o, ctx); }; });

@@ -53,9 +53,19 @@ struct ActuatorDescription {
   std::array<double, 2> ctrlrange{};
   bool forcelimited = false;
   std::array<double, 2> forcerange{};  // in force_unit
-  std::string kind;        // motor, position, velocity, muscle or general (from gain/bias)
-  std::string ctrl_unit;   // what ctrl means: "N*m" (motor on a hinge), "rad" (position), ...
-  std::string force_unit;  // unit of the actuator force and forcerange: "N*m", "N", "N, N*m"
+  std::string kind;  // motor, position, velocity, muscle or general (from gain/bias)
+  // What ctrl means: "N*m" (motor on a hinge), "rad" (position servo), ... With a gear
+  // other than 1 the actuator works in geared units: a motor's ctrl is "N*m/gear" (the
+  // joint feels gear x ctrl) and a servo's "gear*rad" (it targets gear x the angle).
+  std::string ctrl_unit;
+  std::string force_unit;  // of the actuator force and forcerange: "N*m", "N", "N/gear", ...
+  // The force or torque the joint (tendon) receives, gear x actuator force, bounded by a
+  // motor's ctrlrange (times its gain) and by forcerange; `joint_force_limited` is false
+  // when neither bounds it. In joint_force_unit: "N*m" on a hinge, "N" on a slide or a
+  // tendon, "N, N*m" for site and body transmissions.
+  bool joint_force_limited = false;
+  std::array<double, 2> joint_force_range{};
+  std::string joint_force_unit;
 };
 
 struct SensorDescription {
@@ -92,6 +102,11 @@ struct ModelDescription {
 
 // Describes `model` as compiled.
 ModelDescription Describe(const Model& model);
+
+// The unit of the position of what actuator `actuator` drives: "rad" for a hinge, "m" for
+// a slide or a tendon, "m, rad" for site and body transmissions. The actuator length is
+// gear x that position. `actuator` must be in [0, nu).
+std::string ActuatorPositionUnit(const mjModel* m, int actuator);
 
 }  // namespace plumb
 

@@ -22,9 +22,10 @@ namespace plumb {
 inline constexpr int kSnapshotSteps = 100;
 
 // The snapshot of `model` after `sets`, as pretty JSON (2-space indent, keys in a fixed
-// order, doubles printed to round-trip exactly). The golden trajectory starts at the
-// reference pose (keyframe "home" if present, else qpos0) and drives every ctrl-limited
-// actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
+// order, doubles printed to round-trip exactly). The text of each of `sets` is recorded
+// ("sets": ["qpos[hinge]=0.7"]) so that DiffSnapshot applies them again. The golden trajectory
+// starts at the reference pose (keyframe "home" if present, else qpos0) and drives every
+// ctrl-limited actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
 // unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each.
 // Every element records its id (ids are not compared one by one: a shift is one change).
 // A diverging trajectory is recorded up to the step before and `divergence` (when given)
@@ -32,19 +33,37 @@ inline constexpr int kSnapshotSteps = 100;
 std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets,
                          std::string* divergence = nullptr);
 
+// One difference between a snapshot and the current model.
 struct SnapshotChange {
   std::string what;  // in words: "body_mass[link]: 1 → 2", "body added: gripper"
   bool beyond_tol = true;
+  // What changed, for machines: `kind` is "structure" (sizes, element types, parents,
+  // id shifts), "parameter" (a numeric field of an element), "option" (opt.*), "added"
+  // or "removed" (an element), "trajectory" (the golden trajectory) or "set" (a --set
+  // recorded in the snapshot that the current model refuses). `path` names it in
+  // plumb's words ("dof_damping[hinge]", "opt.timestep", "body[gripper]",
+  // "trajectory.qpos[0]"); `old_value` and `new_value` are JSON texts (a number, a
+  // string, an array, or null when there is no value on that side).
+  std::string kind;
+  std::string path;
+  std::string old_value = "null";
+  std::string new_value = "null";
+  long step = 0;  // for a trajectory departure: the first step beyond tolerance (1-based)
 };
 
 struct SnapshotDiff {
   std::vector<SnapshotChange> changes;  // only changes beyond tolerance are listed
   std::vector<std::string> notes;       // e.g. a different MuJoCo version wrote the snapshot
-  bool diverged = false;                // the current model's trajectory diverged
+  std::vector<std::string> sets;        // the --set values the snapshot recorded, reapplied
+  std::string snapshot_plumb_version;   // the versions that wrote the snapshot
+  std::string snapshot_mujoco_version;
+  bool diverged = false;  // the current model's trajectory diverged
   bool changed() const { return !changes.empty(); }
 };
 
-// Compares `snapshot_text` (as MakeSnapshot wrote it) with `model` after `sets`.
+// Compares `snapshot_text` (as MakeSnapshot wrote it) with `model` after the --set values
+// the snapshot recorded (none in snapshots written before they were recorded), then
+// `sets` (applied after them, so they win).
 // Parameters differ when |a - b| > tol * max(|a|, |b|) (relative: 1e-8 -> 2e-8 is a
 // change); trajectory values when |a - b| > tol * max(1, |a|, |b|). @throws ValueError
 // when the text is not a plumb snapshot or is damaged, naming the entry, e.g.

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "core/mujoco_compat.h"
+#include "plumb/describe.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 
@@ -572,10 +573,17 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
   double moved = data->actuator_length[u] - length0;
   if (kind == ActuatorKind::kMotor) {
     out.moved = std::fabs(moved) > 1e-9 || max_speed > 1e-9;
+    // the actuator length is gear x the joint (tendon) position
+    double gear = m->actuator_gear[6 * u];
+    std::string unit = ActuatorPositionUnit(m, u);
+    std::string by = gear == 1 ? fmt::format("{:.3g} {}", moved, unit)
+                               : fmt::format("{:.3g} (gear {:g} x {:.3g} {} at the joint)", moved,
+                                             gear, moved / gear, unit);
     out.measured = fmt::format(
-        "no setpoint (motor): ctrl {:.3g} -> {:.3g} moves the actuator length by {:.3g} in {:g} s "
-        "(peak speed {:.3g})",
-        before, after, moved, duration, max_speed);
+        "no setpoint (motor): ctrl {:.3g} -> {:.3g} moves the actuator length by {} in {:g} s "
+        "(peak speed {:.3g} {}/s{})",
+        before, after, by, duration, max_speed / std::fabs(gear), unit,
+        gear == 1 ? "" : " at the joint");
     return out;
   }
   // servos reach for their setpoint; other actuators' force settles where it settles

@@ -221,6 +221,9 @@ ordered_json Snapshot(const Model& model, const std::vector<Assignment>& sets,
   j["plumb_version"] = PLUMB_VERSION;
   j["mujoco_version"] = MujocoVersion();
   j["model"] = std::string(m->names);
+  ordered_json texts = ordered_json::array();
+  for (const Assignment& a : sets) texts.push_back(a.text);
+  j["sets"] = texts;
   ordered_json sizes;
   for (const char* size : {"nq", "nv", "nu", "na", "nbody", "njnt", "ngeom", "nsite", "nsensor",
                            "nsensordata", "ntendon", "neq", "nmocap", "nkey"}) {
@@ -337,6 +340,12 @@ void ValidateSnapshot(const ordered_json& before, const ordered_json& after) {
                      " is not one this plumb reads (1)");
   }
   Member(before, "", "mujoco_version", &J::is_string, "a string");
+  if (before.contains("sets")) {  // snapshots before the --set values were recorded lack it
+    const J& sets = Member(before, "", "sets", &J::is_array, "an array of --set values");
+    for (std::size_t i = 0; i < sets.size(); ++i) {
+      if (!sets[i].is_string()) Damaged("sets[" + std::to_string(i) + "]", "a string", sets[i]);
+    }
+  }
   const J& sizes = Member(before, "", "sizes", &J::is_object, "an object");
   for (const auto& [key, value] : sizes.items()) {
     if (!value.is_number_integer() || value.get<long long>() < 0) {
@@ -436,12 +445,51 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
     throw ValueError("not a plumb snapshot (no plumb_snapshot entry)");
   }
   SnapshotDiff diff;
+  auto change = [&](const char* kind, std::string path, const ordered_json& was,
+                    const ordered_json& is, std::string what) {
+    SnapshotChange c;
+    c.what = std::move(what);
+    c.kind = kind;
+    c.path = std::move(path);
+    c.old_value = was.dump();
+    c.new_value = is.dump();
+    diff.changes.push_back(std::move(c));
+  };
+  // the snapshot's own --set values first, then the caller's (which win)
+  std::vector<Assignment> all;
+  std::vector<std::pair<std::string, std::string>> refused;  // text, reason
+  if (parsed.contains("sets") && parsed["sets"].is_array()) {
+    for (const ordered_json& text : parsed["sets"]) {
+      if (!text.is_string()) continue;  // ValidateSnapshot names it below
+      try {
+        all.push_back(ParseAssignment(model, text.get<std::string>()));
+        diff.sets.push_back(text.get<std::string>());
+      } catch (const Error& e) {
+        refused.emplace_back(text.get<std::string>(), e.what());
+      }
+    }
+  }
+  all.insert(all.end(), sets.begin(), sets.end());
   std::string diverged;
-  const ordered_json after = Snapshot(model, sets, &diverged);
+  const ordered_json after = Snapshot(model, all, &diverged);
   const ordered_json& before = parsed;  // const: a missing key can never be inserted
   ValidateSnapshot(before, after);
   diff.diverged = !diverged.empty();
-  auto change = [&](std::string what) { diff.changes.push_back({std::move(what), true}); };
+  diff.snapshot_mujoco_version = before["mujoco_version"].get<std::string>();
+  if (before.contains("plumb_version") && before["plumb_version"].is_string()) {
+    diff.snapshot_plumb_version = before["plumb_version"].get<std::string>();
+  }
+  for (const auto& [text, reason] : refused) {
+    change("set", text, text, nullptr,
+           "the snapshot's --set '" + text + "' does not apply to the current model (" + reason +
+               "); compared without it");
+  }
+  if (!diff.sets.empty()) {
+    std::string list;
+    for (const std::string& t : diff.sets)
+      list += (list.empty() ? "--set '" : " --set '") + t + "'";
+    diff.notes.push_back("the model is simulated with the snapshot's " + list);
+  }
   if (before["mujoco_version"] != after["mujoco_version"]) {
     diff.notes.push_back("the snapshot was written with MuJoCo " +
                          before["mujoco_version"].get<std::string>() + ", this is " +
@@ -452,25 +500,33 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
   for (const auto& [key, value] : after["sizes"].items()) {
     auto old = before["sizes"].find(key);
     const ordered_json& was = old == before["sizes"].end() ? none : *old;
-    if (was != value) change(key + ": " + Show(was) + " → " + Show(value));
+    if (was != value)
+      change("structure", key, was, value, key + ": " + Show(was) + " → " + Show(value));
   }
   for (const auto& [key, value] : after["options"].items()) {
     auto old = before["options"].find(key);
     if (old == before["options"].end()) continue;
-    if (!Same(*old, value, tol)) change(key + ": " + Show(*old) + " → " + Show(value));
+    if (!Same(*old, value, tol)) {
+      change("option", key, *old, value, key + ": " + Show(*old) + " → " + Show(value));
+    }
   }
   for (const auto& [section, elements] : after["structure"].items()) {
     auto found = before["structure"].find(section);
     const ordered_json empty = ordered_json::object();
     const ordered_json& old = found == before["structure"].end() ? empty : *found;
     for (const auto& [name, fields] : old.items()) {
-      if (!elements.contains(name)) change(section + " removed: " + name);
+      if (!elements.contains(name)) {
+        change("removed", section + "[" + name + "]", fields["id"], nullptr,
+               section + " removed: " + name);
+      }
     }
     int renumbered = 0;
     std::string first_renumbered;
+    ordered_json first_was, first_is;
     for (const auto& [name, fields] : elements.items()) {
       if (!old.contains(name)) {
-        change(section + " added: " + name + " (id " + Show(fields["id"]) + ")");
+        change("added", section + "[" + name + "]", nullptr, fields["id"],
+               section + " added: " + name + " (id " + Show(fields["id"]) + ")");
         continue;
       }
       const ordered_json& was = old[name];
@@ -479,38 +535,47 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
         if (field == "id") {
           if (was[field] != value && renumbered++ == 0) {
             first_renumbered = name + ": " + Show(was[field]) + " → " + Show(value);
+            first_was = was[field];
+            first_is = value;
           }
           continue;
         }
         if (!Same(was[field], value, tol)) {
-          change(field + "[" + name + "]: " + Show(was[field]) + " → " + Show(value));
+          // what an element is and where it hangs is structure; its numbers are parameters
+          bool structural = value.is_string() ||
+                            (field.size() > 5 && field.compare(field.size() - 5, 5, "_type") == 0);
+          change(structural ? "structure" : "parameter", field + "[" + name + "]", was[field],
+                 value, field + "[" + name + "]: " + Show(was[field]) + " → " + Show(value));
         }
       }
     }
     if (renumbered > 0) {
-      change(section + " ids shift: " + std::to_string(renumbered) + " renumbered (first " +
-             first_renumbered + "); code that indexes " + section + "s by id must follow");
+      change("structure", std::string(section) + " ids", first_was, first_is,
+             section + " ids shift: " + std::to_string(renumbered) + " renumbered (first " +
+                 first_renumbered + "); code that indexes " + section + "s by id must follow");
     }
   }
   // the golden trajectory, step by step
   const ordered_json& t0 = before["trajectory"];
   const ordered_json& t1 = after["trajectory"];
   if (t0["qpos"].size() != t1["qpos"].size() && !diff.diverged) {
-    change("trajectory length: " + std::to_string(t0["qpos"].size()) + " → " +
-           std::to_string(t1["qpos"].size()) + " steps");
+    change("trajectory", "trajectory.steps", t0["qpos"].size(), t1["qpos"].size(),
+           "trajectory length: " + std::to_string(t0["qpos"].size()) + " → " +
+               std::to_string(t1["qpos"].size()) + " steps");
   }
   bool shapes = before["sizes"]["nq"] == after["sizes"]["nq"] &&
                 before["sizes"]["nv"] == after["sizes"]["nv"] &&
                 before["sizes"]["na"] == after["sizes"]["na"];
   if (!shapes) {
     if (!t0["qpos"].empty() && !t1["qpos"].empty()) {
-      change("trajectory not compared: the state's size changed");
+      change("trajectory", "trajectory", nullptr, nullptr,
+             "trajectory not compared: the state's size changed");
     }
   } else {
     std::size_t steps = std::min(t0["qpos"].size(), t1["qpos"].size());
     for (std::size_t s = 0; s < steps; ++s) {
-      std::string worst_field, worst_at;
-      double worst = 0;
+      std::string worst_field, worst_at, worst_path;
+      double worst = 0, worst_was = 0, worst_is = 0;
       bool departs = false;
       for (const char* field : {"qpos", "qvel", "act"}) {
         const ordered_json& a = t0[field][s];
@@ -522,22 +587,28 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
             worst = std::fabs(x - y);
             worst_field = field;
             worst_at = StateElement(model, field, i);
+            worst_path = std::string("trajectory.") + field + "[" + std::to_string(i) + "]";
+            worst_was = x;
+            worst_is = y;
           }
         }
       }
       if (departs) {
         char buffer[64];
         std::snprintf(buffer, sizeof(buffer), "%.2g (tol %g)", worst, tol);
-        change("trajectory departs at step " + std::to_string(s + 1) + ": max |Δ" + worst_field +
-               "| = " + buffer + " at " + worst_at);
+        change("trajectory", worst_path, worst_was, worst_is,
+               "trajectory departs at step " + std::to_string(s + 1) + ": max |Δ" + worst_field +
+                   "| = " + buffer + " at " + worst_at);
+        diff.changes.back().step = static_cast<long>(s + 1);
         break;
       }
     }
   }
   if (diff.diverged) {
-    change("the golden trajectory diverges on the current model: " + diverged +
-           " Fix: look at the changes above; a smaller timestep, joint damping or armature, "
-           "or softer contacts keep it finite.");
+    change("trajectory", "trajectory", nullptr, nullptr,
+           "the golden trajectory diverges on the current model: " + diverged +
+               " Fix: look at the changes above; a smaller timestep, joint damping or armature, "
+               "or softer contacts keep it finite.");
   }
   return diff;
 }

@@ -1,5 +1,7 @@
 #include "plumb/describe.h"
 
+#include <algorithm>
+
 #include "core/mujoco_compat.h"
 
 namespace plumb {
@@ -66,6 +68,15 @@ std::string SensorUnit(const mjModel* m, int s) {
 }
 
 }  // namespace
+
+std::string ActuatorPositionUnit(const mjModel* m, int actuator) {
+  int trn = m->actuator_trntype[actuator];
+  int target = m->actuator_trnid[2 * actuator];
+  bool joint = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT;
+  if (joint && m->jnt_type[target] == mjJNT_HINGE) return "rad";
+  if ((joint && m->jnt_type[target] == mjJNT_SLIDE) || trn == mjTRN_TENDON) return "m";
+  return "m, rad";
+}
 
 ModelDescription Describe(const Model& model) {
   const mjModel* m = model.get();
@@ -137,22 +148,37 @@ ModelDescription Describe(const Model& model) {
     act.ctrlrange = {m->actuator_ctrlrange[2 * u], m->actuator_ctrlrange[2 * u + 1]};
     act.forcelimited = m->actuator_forcelimited[u];
     act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
-    // the actuator force is what the transmission sees before gear: with a unit gear it
-    // is a torque on a hinge and a force on a slide or tendon
-    int target = m->actuator_trnid[2 * u];
-    int joint_type = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT ? m->jnt_type[target] : -1;
-    act.force_unit = joint_type == mjJNT_HINGE                          ? "N*m"
-                     : joint_type == mjJNT_SLIDE || trn == mjTRN_TENDON ? "N"
-                                                                        : "N, N*m";
-    std::string position = joint_type == mjJNT_HINGE                          ? "rad"
-                           : joint_type == mjJNT_SLIDE || trn == mjTRN_TENDON ? "m"
-                                                                              : "m, rad";
+    // the joint (tendon) receives gear x the actuator force: a torque on a hinge, a force
+    // on a slide or tendon
+    std::string position = ActuatorPositionUnit(m, u);
+    act.joint_force_unit = position == "rad" ? "N*m" : position == "m" ? "N" : "N, N*m";
+    // with a gear the actuator's force is the joint's divided by it, its length multiplied
+    bool geared = act.gear != 1;
+    act.force_unit = geared ? act.joint_force_unit + "/gear" : act.joint_force_unit;
+    if (geared) position = "gear*" + position;
     act.kind = ActuatorKind(m, u);
     act.ctrl_unit = act.kind == "motor"      ? act.force_unit
                     : act.kind == "position" ? position
                     : act.kind == "velocity" ? position + "/s"
                     : act.kind == "muscle"   ? "activation 0..1"
                                              : "set by gainprm";
+    // the bounds of the actuator force: a motor's gain x ctrlrange, then forcerange
+    double lo = -mjMAXVAL, hi = mjMAXVAL;
+    if (act.kind == "motor" && act.ctrllimited) {
+      double gain = m->actuator_gainprm[mjNGAIN * u];
+      lo = std::min(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
+      hi = std::max(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
+      act.joint_force_limited = true;
+    }
+    if (act.forcelimited) {
+      lo = std::max(lo, act.forcerange[0]);
+      hi = std::min(hi, act.forcerange[1]);
+      act.joint_force_limited = true;
+    }
+    if (act.joint_force_limited) {
+      act.joint_force_range = {std::min(act.gear * lo, act.gear * hi),
+                               std::max(act.gear * lo, act.gear * hi)};
+    }
     out.actuators.push_back(act);
   }
 

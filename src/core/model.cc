@@ -13,6 +13,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "core/file_kind.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/error.h"
@@ -167,6 +168,8 @@ Model Model::Load(const std::string& path) {
                         ". Check the path (it is relative to the current directory).",
                     "");
   }
+  // an empty, binary or JSON file is named for what it is, not by MuJoCo's XML parser
+  if (!EndsWith(path, ".mjb")) CheckModelText(path, text);
 
   // binary models: mj_loadModel reports problems as warnings and returns nullptr
   if (EndsWith(path, ".mjb")) {

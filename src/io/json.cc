@@ -64,18 +64,22 @@ std::string DescriptionToJson(const ModelDescription& d, const std::string& mujo
   j["joints"] = joints;
   ordered_json actuators = ordered_json::array();
   for (const ActuatorDescription& a : d.actuators) {
-    actuators.push_back({{"id", a.id},
-                         {"name", a.name},
-                         {"transmission", a.transmission},
-                         {"target", a.target},
-                         {"gear", a.gear},
-                         {"ctrllimited", a.ctrllimited},
-                         {"ctrlrange", a.ctrlrange},
-                         {"forcelimited", a.forcelimited},
-                         {"forcerange", a.forcerange},
-                         {"kind", a.kind},
-                         {"ctrl_unit", a.ctrl_unit},
-                         {"force_unit", a.force_unit}});
+    actuators.push_back(
+        {{"id", a.id},
+         {"name", a.name},
+         {"transmission", a.transmission},
+         {"target", a.target},
+         {"gear", a.gear},
+         {"ctrllimited", a.ctrllimited},
+         {"ctrlrange", a.ctrlrange},
+         {"forcelimited", a.forcelimited},
+         {"forcerange", a.forcerange},
+         {"kind", a.kind},
+         {"ctrl_unit", a.ctrl_unit},
+         {"force_unit", a.force_unit},
+         {"joint_force_range",
+          a.joint_force_limited ? ordered_json(a.joint_force_range) : ordered_json(nullptr)},
+         {"joint_force_unit", a.joint_force_unit}});
   }
   j["actuators"] = actuators;
   ordered_json sensors = ordered_json::array();

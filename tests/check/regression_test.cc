@@ -48,6 +48,69 @@ TEST_F(RegressionTest, ChangedDampingIsNamedInMujocosWords) {
   EXPECT_EQ(d.changes[0].what, "dof_damping[hinge]: 0.05 → 0.1");
 }
 
+TEST_F(RegressionTest, ChangesCarryPathOldNewAndKind) {
+  SnapshotDiff d = DiffSnapshot(snapshot_, pendulum_,
+                                {ParseAssignment(pendulum_, "dof_damping[hinge]=0.1"),
+                                 ParseAssignment(pendulum_, "opt.timestep=0.001")},
+                                1e-6);
+  auto find = [&](const std::string& path) -> const SnapshotChange* {
+    for (const SnapshotChange& c : d.changes) {
+      if (c.path == path) return &c;
+    }
+    return nullptr;
+  };
+  const SnapshotChange* damping = find("dof_damping[hinge]");
+  ASSERT_NE(damping, nullptr) << Changes(d);
+  EXPECT_EQ(damping->kind, "parameter");
+  EXPECT_EQ(damping->old_value, "0.05");
+  EXPECT_EQ(damping->new_value, "0.1");
+  const SnapshotChange* timestep = find("opt.timestep");
+  ASSERT_NE(timestep, nullptr) << Changes(d);
+  EXPECT_EQ(timestep->kind, "option");
+  EXPECT_EQ(timestep->old_value, "0.002");
+  EXPECT_EQ(timestep->new_value, "0.001");
+}
+
+TEST_F(RegressionTest, SnapshotTakenWithSetIsIdenticalToTheSameModel) {
+  std::vector<Assignment> start = {ParseAssignment(pendulum_, "qpos[hinge]=0.7"),
+                                   ParseAssignment(pendulum_, "dof_damping[hinge]=0.2")};
+  std::string moving = MakeSnapshot(pendulum_, start);
+  nlohmann::json j = nlohmann::json::parse(moving);
+  EXPECT_EQ(j["sets"], nlohmann::json({"qpos[hinge]=0.7", "dof_damping[hinge]=0.2"}));
+  SnapshotDiff d = DiffSnapshot(moving, pendulum_, {}, 1e-9);
+  EXPECT_FALSE(d.changed()) << Changes(d);
+  EXPECT_EQ(d.sets, std::vector<std::string>({"qpos[hinge]=0.7", "dof_damping[hinge]=0.2"}));
+  ASSERT_EQ(d.notes.size(), 1u);
+  EXPECT_NE(d.notes[0].find("--set 'qpos[hinge]=0.7'"), std::string::npos) << d.notes[0];
+  // the caller's --set comes after the snapshot's and wins
+  SnapshotDiff edited =
+      DiffSnapshot(moving, pendulum_, {ParseAssignment(pendulum_, "dof_damping[hinge]=0.3")}, 1e-9);
+  ASSERT_TRUE(edited.changed());
+  EXPECT_EQ(edited.changes[0].what, "dof_damping[hinge]: 0.2 → 0.3");
+}
+
+TEST_F(RegressionTest, SnapshotWithoutRecordedSetsStillLoads) {
+  // snapshots written before the --set values were recorded have no "sets" entry
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(snapshot_);
+  j.erase("sets");
+  SnapshotDiff d = DiffSnapshot(j.dump(2), pendulum_, {}, 1e-6);
+  EXPECT_FALSE(d.changed()) << Changes(d);
+  EXPECT_TRUE(d.sets.empty());
+}
+
+TEST_F(RegressionTest, RecordedSetTheModelRefusesIsAChange) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(snapshot_);
+  j["sets"] = {"qpos[gone]=1"};
+  SnapshotDiff d = DiffSnapshot(j.dump(2), pendulum_, {}, 1e-6);
+  ASSERT_EQ(d.changes.size(), 1u) << Changes(d);
+  EXPECT_EQ(d.changes[0].kind, "set");
+  EXPECT_EQ(d.changes[0].path, "qpos[gone]=1");
+  EXPECT_NE(d.changes[0].what.find("does not apply to the current model"), std::string::npos)
+      << d.changes[0].what;
+  j["sets"] = {1};
+  EXPECT_THROW(DiffSnapshot(j.dump(2), pendulum_, {}, 1e-6), ValueError);
+}
+
 TEST_F(RegressionTest, TrajectoryDepartureNamesTheStep) {
   // start away from rest so the trajectory moves, then nudge gravity slightly
   std::vector<Assignment> start = {ParseAssignment(pendulum_, "qpos[hinge]=0.7")};
@@ -58,6 +121,10 @@ TEST_F(RegressionTest, TrajectoryDepartureNamesTheStep) {
   EXPECT_NE(all.find("opt.gravity"), std::string::npos) << all;
   EXPECT_NE(all.find("trajectory departs at step "), std::string::npos) << all;
   EXPECT_NE(all.find("(joint 'hinge')"), std::string::npos) << all;
+  const SnapshotChange& departs = d.changes.back();
+  EXPECT_EQ(departs.kind, "trajectory");
+  EXPECT_GT(departs.step, 0);
+  EXPECT_EQ(departs.path.rfind("trajectory.q", 0), 0u) << departs.path;
   EXPECT_NE(all.find("(tol 1e-09)"), std::string::npos) << all;
   // below the tolerance it is the same model
   EXPECT_FALSE(DiffSnapshot(moving, pendulum_, start, 1e-6).changed());

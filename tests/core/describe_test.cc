@@ -63,6 +63,35 @@ TEST_F(DescribeTest, HumanoidShowsNqDiffersFromNv) {
   EXPECT_FALSE(d.actuators[0].target.empty());
 }
 
+TEST_F(DescribeTest, GearedMotorShowsCtrlAndJointForceSeparately) {
+  // dm_control's cartpole: a gear-10 motor on a slide with ctrlrange [-1, 1]
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body name="cart"><joint name="slider" type="slide"/><geom size="0.1"/>
+        <body name="pole"><joint name="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 1" size="0.05"/></body></body></worldbody>
+    <actuator>
+      <motor name="slide" joint="slider" gear="10" ctrllimited="true" ctrlrange="-1 1"/>
+      <motor name="clipped" joint="hinge" gear="2" ctrllimited="true" ctrlrange="-5 5"
+             forcelimited="true" forcerange="-3 1"/>
+      <motor name="free" joint="hinge"/>
+    </actuator></mujoco>)");
+  ModelDescription d = Describe(model);
+  ASSERT_EQ(d.actuators.size(), 3u);
+  const ActuatorDescription& slide = d.actuators[0];
+  EXPECT_EQ(slide.ctrl_unit, "N/gear");
+  EXPECT_TRUE(slide.joint_force_limited);
+  EXPECT_EQ(slide.joint_force_range, (std::array<double, 2>{-10, 10}));
+  EXPECT_EQ(slide.joint_force_unit, "N");
+  // ctrlrange x gain, then forcerange, then gear
+  const ActuatorDescription& clipped = d.actuators[1];
+  EXPECT_EQ(clipped.joint_force_range, (std::array<double, 2>{-6, 2}));
+  EXPECT_EQ(clipped.joint_force_unit, "N*m");
+  EXPECT_EQ(d.actuators[2].ctrl_unit, "N*m");  // gear 1: ctrl is the torque
+  EXPECT_FALSE(d.actuators[2].joint_force_limited);
+  EXPECT_EQ(ActuatorPositionUnit(model.get(), 0), "m");
+  EXPECT_EQ(ActuatorPositionUnit(model.get(), 1), "rad");
+}
+
 TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
   Model model = Model::FromXmlString(R"(<mujoco><worldbody>
       <body name="arm"><joint name="shoulder" axis="0 1 0"/>
@@ -84,7 +113,7 @@ TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
   ModelDescription d = Describe(model);
   ASSERT_EQ(d.actuators.size(), 3u);
   EXPECT_EQ(d.actuators[0].kind, "motor");
-  EXPECT_EQ(d.actuators[0].ctrl_unit, "N*m");
+  EXPECT_EQ(d.actuators[0].ctrl_unit, "N*m/gear");  // gear 5: the joint feels 5 x ctrl
   EXPECT_EQ(d.actuators[1].kind, "position");
   EXPECT_EQ(d.actuators[1].ctrl_unit, "rad");
   EXPECT_EQ(d.actuators[2].kind, "velocity");

@@ -1,10 +1,19 @@
 #include "plumb/output.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
+#include <thread>
 
 #include "fixture.h"
 #include "plumb/error.h"
@@ -41,6 +50,162 @@ TEST(AtomicFileTest, UnwritablePathsAreIoErrors) {
   EXPECT_THROW(AtomicFile("/nonexistent-dir/out.csv"), IoError);
   TempDir dir;
   EXPECT_THROW(AtomicFile{dir.path()}, IoError);  // a directory
+}
+
+// Reads everything from the FIFO `path` on a thread, as `cat path` would.
+class FifoReader {
+ public:
+  explicit FifoReader(const std::string& path, bool close_at_once = false)
+      : thread_([this, path, close_at_once] {
+          std::FILE* in = std::fopen(path.c_str(), "r");
+          if (!in) return;
+          char buffer[4096];
+          std::size_t n;
+          while (!close_at_once && (n = std::fread(buffer, 1, sizeof(buffer), in)) > 0) {
+            text_.append(buffer, n);
+          }
+          std::fclose(in);
+        }) {}
+  // Waits for the writer to close and returns what was read.
+  std::string Text() {
+    thread_.join();
+    return text_;
+  }
+  ~FifoReader() {
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::string text_;
+  std::thread thread_;
+};
+
+TEST(AtomicFileTest, FifoIsWrittenThroughNotReplaced) {
+  TempDir dir;
+  std::string fifo = dir.File("pipe");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  FifoReader reader(fifo);
+  {
+    AtomicFile file(fifo);
+    EXPECT_TRUE(file.direct());
+    std::fputs("through the pipe\n", file.stream());
+    file.Commit();
+  }
+  EXPECT_EQ(reader.Text(), "through the pipe\n");
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo))) << "the FIFO was replaced";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1)
+      << "a temporary file was left behind";
+}
+
+TEST(AtomicFileTest, WriteErrorOnDirectOutputIsReported) {
+  // a reader that closes at once: writing more than a pipe holds fails with EPIPE, as a
+  // full device fails with ENOSPC
+  TempDir dir;
+  std::string fifo = dir.File("pipe");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  struct sigaction ignore = {}, old = {};
+  ignore.sa_handler = SIG_IGN;
+  sigaction(SIGPIPE, &ignore, &old);
+  FifoReader reader(fifo, /*close_at_once=*/true);
+  AtomicFile file(fifo);
+  reader.Text();
+  std::string block(1 << 20, 'x');
+  std::fwrite(block.data(), 1, block.size(), file.stream());
+  try {
+    file.Commit();
+    ADD_FAILURE() << "a write error was not reported";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("Broken pipe"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fifo), std::string::npos) << e.what();
+  }
+  sigaction(SIGPIPE, &old, nullptr);
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
+}
+
+TEST(AtomicFileTest, SymlinkStaysALinkAndItsTargetIsReplaced) {
+  TempDir dir;
+  fs::create_directory(dir.File("data"));
+  testing::WriteFile(dir.File("data/real.csv"), "old");
+  fs::permissions(dir.File("data/real.csv"), fs::perms(0640));
+  fs::create_symlink("data/real.csv", dir.File("out.csv"));
+  AtomicFile file(dir.File("out.csv"));
+  EXPECT_FALSE(file.direct());
+  std::fputs("new", file.stream());
+  EXPECT_EQ(ReadFile(dir.File("out.csv")), "old");  // untouched until commit
+  file.Commit();
+  EXPECT_TRUE(fs::is_symlink(dir.File("out.csv"))) << "the link was replaced";
+  EXPECT_EQ(fs::read_symlink(dir.File("out.csv")), "data/real.csv");
+  EXPECT_EQ(ReadFile(dir.File("data/real.csv")), "new");
+  EXPECT_EQ(fs::status(dir.File("data/real.csv")).permissions(), fs::perms(0640))
+      << "the target lost its permissions";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.File("data")), fs::directory_iterator()), 1);
+}
+
+TEST(AtomicFileTest, DanglingSymlinkCreatesItsTarget) {
+  TempDir dir;
+  fs::create_symlink("first", dir.File("out.csv"));
+  fs::create_symlink(dir.File("second.csv"), dir.File("first"));  // a chain of two links
+  {
+    AtomicFile file(dir.File("out.csv"));
+    std::fputs("made", file.stream());
+    file.Commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir.File("out.csv")));
+  EXPECT_TRUE(fs::is_symlink(dir.File("first")));
+  EXPECT_EQ(ReadFile(dir.File("second.csv")), "made");
+}
+
+TEST(AtomicFileTest, SymlinkLoopIsAnIoError) {
+  TempDir dir;
+  fs::create_symlink("b", dir.File("a"));
+  fs::create_symlink("a", dir.File("b"));
+  EXPECT_THROW(AtomicFile{dir.File("a")}, IoError);
+}
+
+TEST(AtomicFileTest, SocketIsRefused) {
+  TempDir dir;
+  std::string path = dir.File("sock");
+  int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address = {};
+  address.sun_family = AF_UNIX;
+  ASSERT_LT(path.size(), sizeof(address.sun_path));
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
+  try {
+    AtomicFile file(path);
+    ADD_FAILURE() << "a socket was accepted";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("it is a socket"), std::string::npos) << e.what();
+  }
+  close(fd);
+  EXPECT_TRUE(fs::is_socket(fs::symlink_status(path))) << "the socket was replaced";
+}
+
+TEST(AtomicFileTest, ProcLinkIsWrittenThroughLikeDevStdout) {
+  // /dev/stdout is a link to /proc/self/fd/1, which names an open file, not a path
+  TempDir dir;
+  int fd = ::open(dir.File("opened.csv").c_str(), O_WRONLY | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  fs::create_symlink("/proc/self/fd/" + std::to_string(fd), dir.File("stdout"));
+  {
+    AtomicFile file(dir.File("stdout"));
+    EXPECT_TRUE(file.direct());
+    std::fputs("through", file.stream());
+    file.Commit();
+  }
+  ::close(fd);
+  EXPECT_TRUE(fs::is_symlink(dir.File("stdout")));
+  EXPECT_EQ(ReadFile(dir.File("opened.csv")), "through");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 2);
+}
+
+TEST(AtomicFileTest, DashIsStandardOutput) {
+  AtomicFile file("-");
+  EXPECT_EQ(file.stream(), stdout);
+  EXPECT_TRUE(file.direct());
+  file.Commit();
+  EXPECT_NE(std::fputs("", stdout), EOF) << "standard output was closed";
 }
 
 class WriterTest : public testing::MujocoTest {
@@ -81,10 +246,43 @@ TEST_F(WriterTest, CsvHasExactHeaderAndRoundTrips) {
   std::getline(csv, line);
   EXPECT_EQ(line, "time,qpos[hinge],qvel[hinge]");
   std::getline(csv, line);
-  EXPECT_EQ(line, "0,0.69999999999999996,0");
+  EXPECT_EQ(line, "0,0.7,0");  // the shortest text that reads back as the value set
   int rows = 1;
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, 6);
+}
+
+// Writes one CSV row of `values` and returns its text (without the newline).
+std::string CsvRow(const std::vector<double>& values) {
+  std::FILE* out = std::tmpfile();
+  std::unique_ptr<SampleSink> writer = MakeSampleWriter(SampleFormat::kCsv, out);
+  std::vector<Path> columns(values.size());
+  writer->Begin(columns);
+  writer->Sample(values);
+  writer->End();
+  std::rewind(out);
+  char buffer[4096] = {};
+  std::fread(buffer, 1, sizeof(buffer) - 1, out);
+  std::fclose(out);
+  std::string text = buffer;
+  text = text.substr(text.find('\n') + 1);  // past the header
+  return text.substr(0, text.find('\n'));
+}
+
+TEST(CsvNumberTest, ShortestTextThatRoundTrips) {
+  EXPECT_EQ(CsvRow({0.3, 0.1 + 0.2, 1e-300, -2.5, 100, 1e21}),
+            "0.3,0.30000000000000004,1e-300,-2.5,100,1e+21");
+  // random doubles of every magnitude read back exactly
+  std::mt19937_64 random(9);
+  std::uniform_real_distribution<double> mantissa(-1, 1);
+  std::uniform_int_distribution<int> exponent(-300, 300);
+  for (int i = 0; i < 2000; ++i) {
+    double v = std::ldexp(mantissa(random), exponent(random));
+    if (i % 2) v = static_cast<double>(random()) / 3.0;  // large integers and thirds
+    std::string text = CsvRow({v});
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+    EXPECT_LE(text.size(), 24u) << text;
+  }
 }
 
 TEST_F(WriterTest, JsonLinesParse) {
