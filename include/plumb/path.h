@@ -97,7 +97,8 @@ struct Assignment {
   Path path;
   std::vector<double> values;  // path.count values
   // What MuJoCo will silently do differently from what was asked, one sentence each
-  // (today: a ctrl or act outside its actuator's range, which MuJoCo clamps). Commands
+  // (a ctrl or act outside its actuator's range, which MuJoCo clamps; a free or ball
+  // joint's quaternion whose norm is not 1, which MuJoCo normalises). Commands
   // print them to stderr as "plumb: warning: ...".
   std::vector<std::string> warnings;
 };

@@ -812,11 +812,36 @@ std::string BlockDescription(const Model& model, const Path& path) {
   return block;
 }
 
-// What MuJoCo will silently change about an assignment: a ctrl (or act) outside the
-// actuator's ctrlrange (actrange) is clamped to it at every step.
-std::vector<std::string> ClampWarnings(const Model& model, const Assignment& a) {
+// Warnings for quaternions of free and ball joints written whole in a qpos assignment
+// whose norm is not 1: MuJoCo normalises them in mj_forward.
+std::vector<std::string> QuaternionWarnings(const Model& model, const Assignment& a) {
   const mjModel* m = model.get();
   std::vector<std::string> warnings;
+  if (a.path.field != "qpos") return warnings;
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_FREE && m->jnt_type[j] != mjJNT_BALL) continue;
+    long q = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
+    if (q < a.path.first || q + 4 > a.path.first + a.path.count) continue;
+    const double* w = a.values.data() + (q - a.path.first);
+    double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
+    if (std::fabs(norm - 1) <= 1e-4) continue;
+    std::string name = model.Name(mjOBJ_JOINT, j);
+    warnings.push_back("--set '" + a.text + "': the orientation quaternion of joint " +
+                       (name.empty() ? "#" + std::to_string(j) : "'" + name + "'") + " (qpos[" +
+                       std::to_string(q) + "..." + std::to_string(q + 3) + "]) has norm " +
+                       FormatNumber(norm) +
+                       (norm > 0 ? "; MuJoCo normalises it to unit length."
+                                 : "; MuJoCo replaces it with the identity (1, 0, 0, 0)."));
+  }
+  return warnings;
+}
+
+// What MuJoCo will silently change about an assignment: a ctrl (or act) outside the
+// actuator's ctrlrange (actrange) is clamped to it at every step; a quaternion is
+// normalised.
+std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignment& a) {
+  const mjModel* m = model.get();
+  std::vector<std::string> warnings = QuaternionWarnings(model, a);
   bool is_ctrl = a.path.field == "ctrl";
   if (!is_ctrl && a.path.field != "act") return warnings;
   if (is_ctrl && (m->opt.disableflags & mjDSBL_CLAMPCTRL)) return warnings;
@@ -836,8 +861,8 @@ std::vector<std::string> ClampWarnings(const Model& model, const Assignment& a) 
     std::string actuator = name.empty() ? "#" + std::to_string(id) : "'" + name + "'";
     double clamped = std::clamp(v, range[0], range[1]);
     warnings.push_back("--set '" + a.text + "': " + FormatNumber(v) + " is outside the " +
-                       (is_ctrl ? "ctrlrange" : "actrange") + " [" + FormatNumber(range[0]) +
-                       ", " + FormatNumber(range[1]) + "] of actuator " + actuator +
+                       (is_ctrl ? "ctrlrange" : "actrange") + " [" + FormatNumber(range[0]) + ", " +
+                       FormatNumber(range[1]) + "] of actuator " + actuator +
                        "; MuJoCo clamps it, so the actuator acts as if " + a.path.field + " = " +
                        FormatNumber(clamped) + ".");
   }
@@ -889,7 +914,7 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
   RequireWritable(a.path);
   for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
   CheckDomain(a.path, "--set '" + a.text + "'", a.values);
-  a.warnings = ClampWarnings(model, a);
+  a.warnings = SilentChangeWarnings(model, a);
   return a;
 }
 

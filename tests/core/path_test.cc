@@ -203,6 +203,11 @@ TEST_F(PathTest, ABlockTakesExactlyAsManyValuesAsItHas) {
         << e.what();
   }
   EXPECT_EQ(ParseAssignment(robot_, "qpos[root]=0,0,1,1,0,0,0").values.size(), 7u);
+  EXPECT_TRUE(ParseAssignment(robot_, "qpos[root]=0,0,1,1,0,0,0").warnings.empty());
+  // a quaternion MuJoCo will normalise is said to be
+  std::vector<std::string> w = ParseAssignment(robot_, "qpos[root]=1,1,1,1,1,1,1").warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("norm 2; MuJoCo normalises it"), std::string::npos) << w[0];
   Assignment z = ParseAssignment(robot_, "qpos[root][2]=1");
   ApplyAssignments(robot_, data_, {z});
   EXPECT_EQ(data_->qpos[2], 1);
