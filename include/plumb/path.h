@@ -58,7 +58,8 @@ struct Path {
 // @throws PathError naming the unknown field or name, with the nearest valid ones,
 //         or the index that is out of bounds; and for the data arrays that no state
 //         plumb samples has computed (qfrc_inverse is mj_inverse's, qH the Euler
-//         integrator's, qDeriv the implicit one's), which would read as 0.
+//         integrator's, qDeriv the implicit one's), which would read as 0, and for
+//         efc_AR and efc_JT, packed by the current nefc where [row][element] assumes njmax.
 Path ResolvePath(const Model& model, std::string_view text);
 
 // Splits a block into one path per element ("qpos[root]" -> "qpos[root][0]" ... [6]);

@@ -98,6 +98,12 @@ constexpr NotComputed kNotComputed[] = {
     {"D_colind", "only the implicit integrator fills it inside mj_step"},
     {"qDeriv", "only the implicit integrator computes it inside mj_step, for the previous step"},
     {"qLU", "only the implicit integrator computes it inside mj_step, for the previous step"},
+    // matrices over the constraint rows that MuJoCo packs with a row length of nefc, not the
+    // njmax of the X-macro tables, so [row][element] would name the wrong element
+    {"efc_AR", "an nefc x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_AR_colind", "an nefc x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_JT", "an nv x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_JT_colind", "an nv x nefc matrix packed by the current nefc; a path cannot index it"},
 };
 
 // Integer model fields that are switches users set, not structure.
@@ -320,8 +326,8 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
   for (const NotComputed& n : kNotComputed) {
     if (field->name == n.name) {
       throw PathError("path '" + std::string(text) + "': '" + field->name +
-                      "' is not computed at the states plumb samples (" + n.why +
-                      "), so it would read as 0 or as a stale value.");
+                      "' cannot be read at the states plumb samples (" + n.why +
+                      "): it would read as 0, a stale or a wrong value.");
     }
   }
   Access access = AccessOf(*field);
