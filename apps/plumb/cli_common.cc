@@ -103,7 +103,12 @@ Model LoadModel(const std::string& path) {
 
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets) {
   std::vector<Assignment> out;
-  for (const std::string& s : sets) out.push_back(ParseAssignment(model, s));
+  for (const std::string& s : sets) {
+    out.push_back(ParseAssignment(model, s));
+    for (const std::string& w : out.back().warnings) {
+      std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+    }
+  }
   return out;
 }
 

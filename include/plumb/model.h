@@ -117,7 +117,9 @@ class Data {
 
   // mj_resetData: time 0, qpos = qpos0, zero velocities, controls and warnings.
   void Reset();
-  // mj_forward: recomputes every derived quantity from the state without advancing time.
+  // mj_forward: recomputes every derived quantity from the state without advancing time,
+  // including those MuJoCo computes only on request (energy without
+  // <flag energy="enable"/>, cacc, cfrc_int, cfrc_ext, subtree_linvel, subtree_angmom).
   // @throws MujocoError.
   void Forward();
   // mj_step: advances the state by one timestep. @throws MujocoError.

@@ -56,7 +56,10 @@ struct Path {
 
 // Resolves `text` against `model`.
 // @throws PathError naming the unknown field or name, with the nearest valid ones,
-//         or the index that is out of bounds.
+//         or the index that is out of bounds; and for the data arrays that no state
+//         plumb samples has computed (qfrc_inverse is mj_inverse's, qH the Euler
+//         integrator's, qDeriv the implicit one's), which would read as 0, and for
+//         efc_AR and efc_JT, packed by the current nefc where [row][element] assumes njmax.
 Path ResolvePath(const Model& model, std::string_view text);
 
 // Splits a block into one path per element ("qpos[root]" -> "qpos[root][0]" ... [6]);
@@ -75,10 +78,15 @@ std::vector<Path> ExpandPath(const Model& model, std::string_view text);
 std::vector<Path> DefaultColumns(const Model& model);
 
 // Reads element `k` (0 <= k < path.count) as a double.
+// @throws PathError when the element lies beyond the rows the data holds now: the
+//         constraint arrays (efc_force, efc_pos, ...) have nefc rows, which change from
+//         step to step, although ResolvePath checks them against their room (njmax).
 double ReadValue(const Model& model, const Data& data, const Path& path, long k = 0);
 
 // Writes `values` (exactly path.count of them) into the block. Integer fields take
-// integral values only.
+// integral values only. A new body_mass keeps the body's shape and mass distribution:
+// its body_inertia scales by new mass / old mass (a massless body keeps its inertia);
+// to change the mass alone, write body_inertia after it.
 // @throws ValueError for a wrong count, NaN/Inf, non-integral or out-of-range values;
 //         PathError when the path is not writable (derived quantities, structure).
 void WriteValues(Model& model, Data& data, const Path& path, const std::vector<double>& values);
@@ -89,10 +97,17 @@ struct Assignment {
   std::string text;  // as typed
   Path path;
   std::vector<double> values;  // path.count values
+  // What MuJoCo will silently do differently from what was asked, one sentence each
+  // (a ctrl or act outside its actuator's range, which MuJoCo clamps; a free or ball
+  // joint's quaternion whose norm is not 1, which MuJoCo normalises). Commands
+  // print them to stderr as "plumb: warning: ...".
+  std::vector<std::string> warnings;
 };
 
-// Parses and validates `text`. A single value given for a block is repeated over it.
-// @throws PathError / ValueError with the option text quoted.
+// Parses and validates `text`. A block takes exactly as many values as it has elements
+// (`qpos[root]` of a free joint takes 7); set a single element by its index
+// (`qpos[root][2]=1`).
+// @throws PathError / ValueError with the option text quoted, naming the block's size.
 Assignment ParseAssignment(const Model& model, std::string_view text);
 
 // Throws ValueError unless `value` may be written to `path`: finite, fits the element
@@ -101,9 +116,10 @@ Assignment ParseAssignment(const Model& model, std::string_view text);
 void CheckAssignable(const Path& path, double value);
 
 // Applies assignments in the order a run needs them: parameter edits to the model
-// first, then mj_setConst when any model array changed (derived constants such as
-// body_subtreemass stay right), then mj_resetData, then state and input edits, then
-// mj_forward so derived quantities (xpos, sensordata) are consistent with the state.
+// first (body_inertia last, so a given inertia overrides the rescaling that a new
+// body_mass implies, see WriteValues), then mj_setConst when any model array changed (derived
+// constants such as body_subtreemass stay right), then mj_resetData, then state and input edits,
+// then mj_forward so derived quantities (xpos, sensordata) are consistent with the state.
 // @throws ValueError / PathError as WriteValues does.
 void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments);
 

@@ -128,8 +128,9 @@ struct RunResult {
 // whatever the sink throws.
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink);
 
-// Recomputes the derived quantities (xpos, sensordata, energy, contacts, qacc) of the
-// state `data` holds, as mj_forward does, without changing the trajectory that follows
+// Recomputes the derived quantities (xpos, sensordata, energy, contacts, qacc, and what
+// MuJoCo computes only on request: energy without its flag, cacc, cfrc_int, cfrc_ext) of
+// the state `data` holds, as mj_forward does, without changing the trajectory that follows
 // or counting MuJoCo warnings again. After mj_step they still describe the state before
 // the step (with RK4, an intermediate stage): call this before reading them in an
 // after_step callback. Costs about one mj_forward. Holds scratch buffers sized for one
@@ -149,7 +150,9 @@ void RefreshDerived(const Model& model, Data& data);
 
 // The chapter's common-error table, for the state a run is about to start from: one
 // line of advice per problem found (empty when nothing looks wrong). Today: a system
-// at rest in equilibrium with nothing driving it will not move.
+// at rest in equilibrium with nothing driving it will not move; the advice names a
+// --set that plumb tried and found to make it accelerate (so following it never
+// repeats the hint), or a velocity when no offset does.
 std::vector<std::string> StartHints(const Model& model, const Data& data);
 
 }  // namespace plumb

@@ -238,6 +238,49 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
 
 // ---- inertia -------------------------------------------------------------------------
 
+// How far from the point `com` (body frame) the mass of body `b` lies (rms, in m) if
+// it all sits in one of the body's geoms, filled uniformly: the smallest and largest
+// over its geoms (which geom carries the mass is not in the compiled model: a
+// decorative geom may have none). {-1, -1} when a geom has no primitive volume.
+std::pair<double, double> GeomSpread(const mjModel* m, int b, const mjtNum* com) {
+  double lo = INFINITY, hi = 0;
+  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    if (GeomVolume(m, g) < 0) return {-1, -1};
+    const mjtNum* s = m->geom_size + 3 * g;
+    // mean squared distance of a uniform solid from its centre
+    double within = 0;
+    switch (m->geom_type[g]) {
+      case mjGEOM_SPHERE:
+        within = 0.6 * s[0] * s[0];
+        break;
+      case mjGEOM_ELLIPSOID:
+        within = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / 5;
+        break;
+      case mjGEOM_BOX:
+        within = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / 3;
+        break;
+      case mjGEOM_CYLINDER:
+        within = s[0] * s[0] / 2 + s[1] * s[1] / 3;
+        break;
+      case mjGEOM_CAPSULE: {
+        // the cylinder and the two hemispherical caps (centroid 3r/8 beyond the ends)
+        double cylinder = M_PI * s[0] * s[0] * 2 * s[1];
+        double caps = 4.0 / 3 * M_PI * std::pow(s[0], 3);
+        within = (cylinder * (s[0] * s[0] / 2 + s[1] * s[1] / 3) +
+                  caps * (s[1] * s[1] + 0.75 * s[1] * s[0] + 0.6 * s[0] * s[0])) /
+                 (cylinder + caps);
+        break;
+      }
+    }
+    const mjtNum* p = m->geom_pos + 3 * g;
+    double offset = (p[0] - com[0]) * (p[0] - com[0]) + (p[1] - com[1]) * (p[1] - com[1]) +
+                    (p[2] - com[2]) * (p[2] - com[2]);
+    lo = std::min(lo, std::sqrt(offset + within));
+    hi = std::max(hi, std::sqrt(offset + within));
+  }
+  return hi > 0 ? std::make_pair(lo, hi) : std::make_pair(-1.0, -1.0);
+}
+
 // Extreme eigenvalues of the mass matrix by power iteration (with M) and inverse power
 // iteration (with MuJoCo's sparse factorisation): fine for any nv.
 std::pair<double, double> MassMatrixExtremes(const mjModel* m, mjData* d) {
@@ -266,6 +309,12 @@ std::pair<double, double> MassMatrixExtremes(const mjModel* m, mjData* d) {
   };
   return {iterate(true), iterate(false)};
 }
+
+// How far, as a factor, the rms mass radius an inertia implies may lie from its geoms'
+// before audit warns and fails (calibrated on every sample and dm_control model: see
+// tests/check/audit_models_test.cc).
+constexpr double kSpreadWarn = 3;
+constexpr double kSpreadFail = 10;
 
 void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
   const mjModel* m = model.get();
@@ -354,6 +403,32 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
                  "1 .. 25000 kg/m^3", CheckStatus::kWarn,
                  "no solid is this light or heavy (water 1000, steel 7850): check "
                  "the mass, the geom sizes and their units"));
+      }
+    }
+    // inertia against mass and size: the principal moments say how far the mass lies
+    // from the com on average (I1 + I2 + I3 = 2 * sum m r^2); the body's geoms say how
+    // far it can lie. A factor kSpreadFail beyond them is no solid of this shape (a
+    // 1000 kg pole with the 0.0094 kg*m^2 of a light one), kSpreadWarn is suspect.
+    if (all_primitive && mass > 0 && positive && triangle && !marker) {
+      auto [lo, hi] = GeomSpread(m, b, m->body_ipos + 3 * b);
+      double implied = std::sqrt((I[0] + I[1] + I[2]) / (2 * mass));
+      double factor = lo > 0 ? std::max(lo / implied, implied / hi) : 0;
+      if (factor > kSpreadWarn) {
+        bool low = implied < lo;
+        std::string range =
+            lo < hi ? fmt::format("{:.3g} .. {:.3g} m", lo, hi) : fmt::format("{:.3g} m", lo);
+        out->push_back(Make(
+            L, "inertia.size", element,
+            fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg puts the mass "
+                        "{:.3g} m (rms) from the com; its geoms, filled uniformly: {}",
+                        I[0], I[1], I[2], mass, implied, range),
+            fmt::format("within x{:g} of {}", kSpreadWarn, range),
+            factor > kSpreadFail ? CheckStatus::kFail : CheckStatus::kWarn,
+            fmt::format("the inertia is {:.3g} times too {} for this mass and size: was the mass "
+                        "changed without the inertia (it scales with the mass at fixed shape), or "
+                        "<inertial diaginertia> given in other units? Omit <inertial> to let the "
+                        "compiler derive both from the geoms",
+                        factor * factor, low ? "small" : "large")));
       }
     }
     // centre of mass far outside the body's geoms

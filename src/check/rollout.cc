@@ -160,6 +160,8 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
     double z = StandardNormal(spec.seed, static_cast<std::uint64_t>(index), key, 1);
     return dist.Apply(nominal_value, u, z);
   };
+  // a drawn body_mass rescales its body's inertia (WriteValues): kept to be put back exactly
+  std::vector<mjtNum> inertia(m->body_inertia, m->body_inertia + 3 * m->nbody);
   // restores what this rollout changed, so the next starts from the nominal model
   auto restore = [&] {
     for (const Randomization& r : spec.randomize) {
@@ -169,6 +171,7 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
       }
     }
     m->opt.enableflags = nominal->opt.enableflags;
+    std::copy(inertia.begin(), inertia.end(), m->body_inertia);
   };
   // a draw MuJoCo cannot take (a negative mass from N(mu, sigma), a fraction for an
   // integer field) is this rollout's problem, recorded; the batch goes on

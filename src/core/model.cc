@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/file_kind.h"
+#include "core/derived.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/error.h"
@@ -304,7 +305,25 @@ Data Data::Clone() const {
 }
 
 void Data::Reset() { mj_resetData(m_, d_.get()); }
-void Data::Forward() { mj_forward(m_, d_.get()); }
+void Data::Forward() {
+  mj_forward(m_, d_.get());
+  CompleteDerived(m_, d_.get());
+}
+
+void CompleteDerived(const mjModel* m, mjData* d) {
+  // energy: without the flag mj_forward leaves it as it was (0 after a reset), and
+  // mj_energyPos/Vel check the flag themselves: they get a shallow copy of the model
+  // with it set (the arrays are shared, nothing is written to the model)
+  if (!(m->opt.enableflags & mjENBL_ENERGY)) {
+    mjModel with_energy = *m;
+    with_energy.opt.enableflags |= mjENBL_ENERGY;
+    mj_energyPos(&with_energy, d);
+    mj_energyVel(&with_energy, d);
+  }
+  // subtree momenta and the com-based accelerations and forces of every body
+  mj_subtreeVel(m, d);
+  mj_rnePostConstraint(m, d);
+}
 void Data::Step() { mj_step(m_, d_.get()); }
 
 }  // namespace plumb

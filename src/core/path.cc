@@ -83,6 +83,29 @@ constexpr const char* kConstants[] = {
     "cam_mat0",          "light_poscom0",   "light_pos0",       "light_dir0",  "geom_rbound",
 };
 
+// Data arrays that neither mj_forward nor plumb's on-demand completion (core/derived.h)
+// computes: at a sample they hold another stage's leftovers or zeros, so they are refused.
+struct NotComputed {
+  const char* name;
+  const char* why;
+};
+constexpr NotComputed kNotComputed[] = {
+    {"qfrc_inverse", "only mj_inverse computes it, and plumb's runs call mj_forward/mj_step"},
+    {"qH", "only the Euler integrator computes it inside mj_step, for the previous step"},
+    {"qHDiagInv", "only the Euler integrator computes it inside mj_step, for the previous step"},
+    {"D_rownnz", "only the implicit integrator fills it inside mj_step"},
+    {"D_rowadr", "only the implicit integrator fills it inside mj_step"},
+    {"D_colind", "only the implicit integrator fills it inside mj_step"},
+    {"qDeriv", "only the implicit integrator computes it inside mj_step, for the previous step"},
+    {"qLU", "only the implicit integrator computes it inside mj_step, for the previous step"},
+    // matrices over the constraint rows that MuJoCo packs with a row length of nefc, not the
+    // njmax of the X-macro tables, so [row][element] would name the wrong element
+    {"efc_AR", "an nefc x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_AR_colind", "an nefc x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_JT", "an nv x nefc matrix packed by the current nefc; a path cannot index it"},
+    {"efc_JT_colind", "an nv x nefc matrix packed by the current nefc; a path cannot index it"},
+};
+
 // Integer model fields that are switches users set, not structure.
 constexpr const char* kWritableIntFields[] = {
     "geom_contype",
@@ -300,6 +323,13 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
     throw PathError("field '" + field->name + "' in path '" + std::string(text) +
                     "' holds structures, not numbers, and cannot be read as a path.");
   }
+  for (const NotComputed& n : kNotComputed) {
+    if (field->name == n.name) {
+      throw PathError("path '" + std::string(text) + "': '" + field->name +
+                      "' cannot be read at the states plumb samples (" + n.why +
+                      "): it would read as 0, a stale or a wrong value.");
+    }
+  }
   Access access = AccessOf(*field);
   Path path;
   path.field = field->name;
@@ -463,6 +493,36 @@ void RequireWritable(const Path& path) {
   throw PathError("cannot set '" + path.text + "': " + why);
 }
 
+// Throws PathError when element `k` of `path` lies beyond the rows `d` holds now. The
+// constraint arrays (efc_*) are allocated for njmax rows but hold nefc, a number that
+// changes from step to step; the rest is beyond what MuJoCo computed.
+void RequireCurrentRow(const FieldInfo& field, const mjModel* m, const mjData* d, const Path& path,
+                       long k) {
+  if (field.source != FieldSource::kDataArray || field.name.rfind("efc_", 0) != 0) return;
+  mjModel now = *m;  // the sizes as they are at this state (shallow copy, pointers shared)
+  now.njmax = d->nefc;
+  now.nconmax = d->ncon;
+  long count = field.rows(&now) * field.cols(&now);
+  if (path.first + k < count) return;
+  throw PathError("'" + path.text + "' does not exist at t = " + FormatNumber(d->time) +
+                  " s: there are nefc = " + std::to_string(d->nefc) + " constraint rows now ('" +
+                  field.name + "' holds " + std::to_string(count) +
+                  " element(s); it has room for njmax = " + std::to_string(m->njmax) +
+                  " rows, but the constraints active at this state fill only nefc of "
+                  "them, a number that changes with contacts and limits from step to step).");
+}
+
+// A body whose mass changes keeps its shape and mass distribution: its principal
+// moments of inertia scale by new mass / old mass (a massless body keeps its inertia).
+void KeepShape(mjModel* m, const Path& mass, const std::vector<double>& values) {
+  for (long k = 0; k < mass.count; ++k) {
+    long body = mass.first + k;
+    double old_mass = m->body_mass[body];
+    if (!(old_mass > 0) || values[k] == old_mass) continue;
+    for (int i = 0; i < 3; ++i) m->body_inertia[3 * body + i] *= values[k] / old_mass;
+  }
+}
+
 void* MutableElement(Model& model, Data& data, const Path& path, long k) {
   const FieldInfo& field = Fields()[path.field_index];
   const void* base = FieldBase(field, model.get(), data.get());
@@ -574,6 +634,7 @@ std::vector<Path> DefaultColumns(const Model& model) {
 
 double ReadValue(const Model& model, const Data& data, const Path& path, long k) {
   const FieldInfo& field = Fields()[path.field_index];
+  RequireCurrentRow(field, model.get(), data.get(), path, k);
   const char* at = static_cast<const char*>(FieldBase(field, model.get(), data.get())) +
                    (path.first + k) * ElemSize(field.type);
   switch (field.type) {
@@ -604,9 +665,10 @@ void WriteValues(Model& model, Data& data, const Path& path, const std::vector<d
     throw ValueError("'" + path.text + "' takes " + std::to_string(path.count) + " value(s), got " +
                      std::to_string(values.size()) + ".");
   }
+  for (double v : values) CheckValue(field.type, path.text, v);
+  if (path.field == "body_mass") KeepShape(model.get_mutable(), path, values);
   for (long k = 0; k < path.count; ++k) {
     double v = values[k];
-    CheckValue(field.type, path.text, v);
     void* at = MutableElement(model, data, path, k);
     switch (field.type) {
       case ElemType::kNum:
@@ -727,6 +789,94 @@ void CheckDomain(const Path& path, const std::string& text, const std::vector<do
 
 }  // namespace
 
+namespace {
+
+// "a block of 7 values (free joint: x, y, z, then quaternion w, x, y, z)".
+std::string BlockDescription(const Model& model, const Path& path) {
+  const mjModel* m = model.get();
+  std::string block = path.count == 1 ? std::string("a single value")
+                                      : "a block of " + std::to_string(path.count) + " values";
+  for (int j = 0; j < m->njnt; ++j) {
+    int type = m->jnt_type[j];
+    if (type != mjJNT_FREE && type != mjJNT_BALL) continue;
+    bool is_qpos = path.field == "qpos" && path.first == m->jnt_qposadr[j] &&
+                   path.count == JointQposSize(type);
+    bool is_dof = path.first == m->jnt_dofadr[j] && path.count == JointDofSize(type) &&
+                  Fields()[path.field_index].row_kind == "nv";
+    if (!is_qpos && !is_dof) continue;
+    if (is_qpos) {
+      return block + (type == mjJNT_FREE
+                          ? " (a free joint: position x, y, z, then orientation quaternion w, x, "
+                            "y, z, which MuJoCo normalises)"
+                          : " (a ball joint: orientation quaternion w, x, y, z, which MuJoCo "
+                            "normalises)");
+    }
+    return block + (type == mjJNT_FREE ? " (a free joint's 6 dofs: linear x, y, z, then angular "
+                                         "x, y, z)"
+                                       : " (a ball joint's 3 rotational dofs)");
+  }
+  return block;
+}
+
+// Warnings for quaternions of free and ball joints written whole in a qpos assignment
+// whose norm is not 1: MuJoCo normalises them in mj_forward.
+std::vector<std::string> QuaternionWarnings(const Model& model, const Assignment& a) {
+  const mjModel* m = model.get();
+  std::vector<std::string> warnings;
+  if (a.path.field != "qpos") return warnings;
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_FREE && m->jnt_type[j] != mjJNT_BALL) continue;
+    long q = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
+    if (q < a.path.first || q + 4 > a.path.first + a.path.count) continue;
+    const double* w = a.values.data() + (q - a.path.first);
+    double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
+    if (std::fabs(norm - 1) <= 1e-4) continue;
+    std::string name = model.Name(mjOBJ_JOINT, j);
+    warnings.push_back("--set '" + a.text + "': the orientation quaternion of joint " +
+                       (name.empty() ? "#" + std::to_string(j) : "'" + name + "'") + " (qpos[" +
+                       std::to_string(q) + "..." + std::to_string(q + 3) + "]) has norm " +
+                       FormatNumber(norm) +
+                       (norm > 0 ? "; MuJoCo normalises it to unit length."
+                                 : "; MuJoCo replaces it with the identity (1, 0, 0, 0)."));
+  }
+  return warnings;
+}
+
+// What MuJoCo will silently change about an assignment: a ctrl (or act) outside the
+// actuator's ctrlrange (actrange) is clamped to it at every step; a quaternion is
+// normalised.
+std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignment& a) {
+  const mjModel* m = model.get();
+  std::vector<std::string> warnings = QuaternionWarnings(model, a);
+  bool is_ctrl = a.path.field == "ctrl";
+  if (!is_ctrl && a.path.field != "act") return warnings;
+  if (is_ctrl && (m->opt.disableflags & mjDSBL_CLAMPCTRL)) return warnings;
+  for (long k = 0; k < a.path.count; ++k) {
+    long row = a.path.first + k;
+    int id = -1;
+    for (int u = 0; u < m->nu && id < 0; ++u) {
+      if (is_ctrl ? u == row : compat::ActuatorActAddress(m, u) == row) id = u;
+    }
+    if (id < 0) continue;
+    bool limited = is_ctrl ? m->actuator_ctrllimited[id] : m->actuator_actlimited[id];
+    if (!limited) continue;
+    const mjtNum* range = (is_ctrl ? m->actuator_ctrlrange : m->actuator_actrange) + 2 * id;
+    double v = a.values[k];
+    if (v >= range[0] && v <= range[1]) continue;
+    std::string name = model.Name(mjOBJ_ACTUATOR, id);
+    std::string actuator = name.empty() ? "#" + std::to_string(id) : "'" + name + "'";
+    double clamped = std::clamp(v, range[0], range[1]);
+    warnings.push_back("--set '" + a.text + "': " + FormatNumber(v) + " is outside the " +
+                       (is_ctrl ? "ctrlrange" : "actrange") + " [" + FormatNumber(range[0]) + ", " +
+                       FormatNumber(range[1]) + "] of actuator " + actuator +
+                       "; MuJoCo clamps it, so the actuator acts as if " + a.path.field + " = " +
+                       FormatNumber(clamped) + ".");
+  }
+  return warnings;
+}
+
+}  // namespace
+
 Assignment ParseAssignment(const Model& model, std::string_view text) {
   std::size_t eq = text.find('=');
   if (eq == std::string_view::npos) {
@@ -760,15 +910,17 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
     }
     a.values.push_back(*v);
   }
-  if (a.values.size() == 1 && a.path.count > 1) a.values.assign(a.path.count, a.values[0]);
   if (static_cast<long>(a.values.size()) != a.path.count) {
-    throw ValueError("--set '" + a.text + "': '" + a.path.text + "' takes " +
-                     std::to_string(a.path.count) + " value(s) separated by commas, got " +
-                     std::to_string(a.values.size()) + ".");
+    throw ValueError("--set '" + a.text + "': '" + a.path.text + "' is " +
+                     BlockDescription(model, a.path) + "; give exactly " +
+                     std::to_string(a.path.count) + " values separated by commas (got " +
+                     std::to_string(a.values.size()) + "), or set one element, e.g. " +
+                     a.path.text + "[0]=" + FormatNumber(a.values.front()) + ".");
   }
   RequireWritable(a.path);
   for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
   CheckDomain(a.path, "--set '" + a.text + "'", a.values);
+  a.warnings = SilentChangeWarnings(model, a);
   return a;
 }
 
@@ -779,11 +931,14 @@ void CheckAssignable(const Path& path, double value) {
 
 void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments) {
   // parameters first: the state edits below may depend on them (qpos0, sizes)
+  // (inertias the user gives last: they override the rescaling a new mass implies)
   bool arrays_changed = false;
-  for (const Assignment& a : assignments) {
-    if (a.path.role != Role::kParameter) continue;
-    WriteValues(model, data, a.path, a.values);
-    if (Fields()[a.path.field_index].source == FieldSource::kModelArray) arrays_changed = true;
+  for (bool inertia : {false, true}) {
+    for (const Assignment& a : assignments) {
+      if (a.path.role != Role::kParameter || (a.path.field == "body_inertia") != inertia) continue;
+      WriteValues(model, data, a.path, a.values);
+      if (Fields()[a.path.field_index].source == FieldSource::kModelArray) arrays_changed = true;
+    }
   }
   // recompute constants derived from masses, inertias and qpos0 (uses its own data:
   // mj_setConst overwrites the state it is given)

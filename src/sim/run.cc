@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/derived.h"
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
 
@@ -198,13 +199,15 @@ DerivedRefresher::DerivedRefresher(const mjModel* m) : m_(m), qpos_(m->nq), warm
 
 // MuJoCo 2.x's mj_forward renormalises quaternions in qpos and rewrites the solver's warm
 // start, which would change the last bits of the trajectory: both are put back, and the
-// warnings it raises again are not counted twice.
+// warnings it raises again are not counted twice. What mj_forward skips without a flag
+// or sensor asking for it (energy, cacc, cfrc_ext, ...) is computed too.
 void DerivedRefresher::operator()(mjData* d) {
   mjWarningStat warnings[mjNWARNING];
   std::copy(d->warning, d->warning + mjNWARNING, warnings);
   std::copy(d->qpos, d->qpos + m_->nq, qpos_.begin());
   std::copy(d->qacc_warmstart, d->qacc_warmstart + m_->nv, warmstart_.begin());
   mj_forward(m_, d);
+  CompleteDerived(m_, d);
   std::copy(qpos_.begin(), qpos_.end(), d->qpos);
   std::copy(warmstart_.begin(), warmstart_.end(), d->qacc_warmstart);
   std::copy(warnings, warnings + mjNWARNING, d->warning);
@@ -352,6 +355,59 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   return result;
 }
 
+namespace {
+
+// A --set that takes the model out of the equilibrium `data` holds, found by trying
+// it: the first hinge or slide coordinate whose offset (0.7 rad, 0.1 m, kept inside the
+// joint's range) makes some |qacc| exceed 1e-3, so following the advice always moves
+// the model (a slider under a balanced pole does not, the pole's hinge does). When no
+// offset does (no gravity, no springs), a velocity.
+std::string EquilibriumBreaker(const Model& model, const Data& data) {
+  const mjModel* m = model.get();
+  Data probe = data.Clone();
+  auto label = [&](int j, int adr) {
+    std::string name = model.Name(mjOBJ_JOINT, j);
+    return name.empty() ? std::to_string(adr) : name;
+  };
+  int first_joint = -1;
+  for (int j = 0; j < m->njnt; ++j) {
+    int type = m->jnt_type[j];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+    if (first_joint < 0) first_joint = j;
+    int adr = m->jnt_qposadr[j];
+    double now = data->qpos[adr];
+    double value = now + (type == mjJNT_HINGE ? 0.7 : 0.1);
+    if (m->jnt_limited[j]) {
+      const mjtNum* range = m->jnt_range + 2 * j;
+      if (value > range[1]) {
+        value = range[1] > now ? now + 0.5 * (range[1] - now) : now - 0.5 * (now - range[0]);
+      }
+    }
+    if (value == now) continue;
+    mj_copyData(probe.get(), m, data.get());
+    probe->qpos[adr] = value;
+    mj_forward(m, probe.get());
+    double largest = 0;
+    for (int i = 0; i < m->nv; ++i) largest = std::max(largest, std::fabs(probe->qacc[i]));
+    if (largest > 1e-3) {
+      char text[64];
+      std::snprintf(text, sizeof(text), "%.6g", value);
+      return "Start it away from equilibrium, e.g. --set 'qpos[" + label(j, adr) + "]=" + text +
+             "' (plumb tried it: it gives |qacc| up to " + Format("%.3g", largest) + ").";
+    }
+  }
+  // a velocity of the first joint's first dof (an element, also of a free or ball joint)
+  int j = first_joint >= 0 ? first_joint : 0;
+  std::string dof = label(j, m->jnt_dofadr[j]);
+  bool block = m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL;
+  if (block && !model.Name(mjOBJ_JOINT, j).empty()) dof += "][0";
+  return "No single offset of a hinge or slide makes it accelerate (no gravity or springs "
+         "act on it): give it a velocity instead, e.g. --set 'qvel[" +
+         dof + "]=1'.";
+}
+
+}  // namespace
+
 std::vector<std::string> StartHints(const Model& model, const Data& data) {
   const mjModel* m = model.get();
   const mjData* d = data.get();
@@ -369,20 +425,11 @@ std::vector<std::string> StartHints(const Model& model, const Data& data) {
                   all_below(d->xfrc_applied, 6 * m->nbody, 0.0) &&
                   all_below(d->qfrc_actuator, m->nv, 0.0);
   if (at_rest && in_equilibrium && undriven) {
-    // suggest the first hinge or slide joint, the chapter's fix
-    std::string example = "qpos[0]=0.7";
-    for (int j = 0; j < m->njnt; ++j) {
-      if (m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE) {
-        std::string name = model.Name(mjOBJ_JOINT, j);
-        example = "qpos[" + (name.empty() ? std::to_string(m->jnt_qposadr[j]) : name) + "]=0.7";
-        break;
-      }
-    }
     hints.push_back(
         "hint: the model starts at rest in equilibrium (qvel = 0, |qacc| < 1e-9) and nothing "
         "drives it (no control, no applied force): it will not move, and every sample will "
-        "repeat the initial state. Start it away from equilibrium, e.g. --set '" +
-        example + "'.");
+        "repeat the initial state. " +
+        EquilibriumBreaker(model, data));
   }
   return hints;
 }

@@ -118,6 +118,43 @@ TEST_F(AuditTest, MarkerBodiesWeldedToTheirParentAreNotTinyBodies) {
   EXPECT_EQ(Find(r, "inertia.principal"), nullptr) << Failures(r);
 }
 
+// issue 9: a 1000 kg pole with the I = 0.0094 kg*m^2 of a light one passed the audit
+constexpr char kHeavyPole[] = R"(<mujoco><worldbody>
+    <body name="cart"><joint name="slider" type="slide" axis="1 0 0"/>
+      <geom type="box" size="0.2 0.15 0.1" mass="1"/>
+      <body name="pole"><joint name="hinge" axis="0 1 0"/>
+        INERTIAL<geom type="capsule" fromto="0 0 0 0 0 1" size="0.045" mass="0.1"/></body>
+    </body></worldbody></mujoco>)";
+
+std::string HeavyPole(const std::string& inertial) {
+  std::string xml = kHeavyPole;
+  return xml.replace(xml.find("INERTIAL"), 8, inertial);
+}
+
+TEST_F(AuditTest, InertiaImplausibleForMassAndSizeFails) {
+  AuditReport r = AuditXml(
+      HeavyPole(R"(<inertial pos="0 0 0.5" mass="1000" diaginertia="0.0094 0.0094 0.0001"/>)"));
+  const Finding* f = Find(r, "inertia.size", "'pole'");
+  ASSERT_NE(f, nullptr) << Failures(r);
+  EXPECT_EQ(f->status, CheckStatus::kFail);
+  EXPECT_NE(f->measured.find("1000 kg"), std::string::npos) << f->measured;
+  EXPECT_NE(f->fix.find("too small"), std::string::npos) << f->fix;
+  // the same pole as the compiler derives it, and a mass set on it, are plausible
+  AuditReport nominal = AuditXml(HeavyPole(""));
+  EXPECT_EQ(Find(nominal, "inertia.size"), nullptr) << Find(nominal, "inertia.size")->measured;
+  AuditOptions heavier;
+  Model model = Model::FromXmlString(HeavyPole(""), "pole.xml");
+  heavier.sets = {ParseAssignment(model, "body_mass[pole]=1000")};
+  AuditReport set = AuditXml(HeavyPole(""), heavier);
+  EXPECT_EQ(Find(set, "inertia.size"), nullptr) << Find(set, "inertia.size")->measured;
+  // a mass spread about 5 times wider than the geoms allow (inertia x24) is a warning
+  AuditReport wide =
+      AuditXml(HeavyPole(R"(<inertial pos="0 0 0.5" mass="0.1" diaginertia="0.2 0.2 0.001"/>)"));
+  const Finding* w = Find(wide, "inertia.size", "'pole'");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->status, CheckStatus::kWarn);
+}
+
 TEST_F(AuditTest, MotorWithoutLimitsIsFlagged) {
   AuditReport r = AuditXml(R"(<mujoco><worldbody>
       <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0"/>

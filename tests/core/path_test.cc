@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "core/fields.h"
 #include "fixture.h"
@@ -103,12 +104,26 @@ TEST_F(PathTest, RolesFollowTheChaptersClassification) {
 }
 
 TEST_F(PathTest, EveryArrayOfTheXMacroTablesIsReachable) {
-  // every numeric field with rows in this model (or a scalar) resolves and reads
+  // every numeric field with rows in this model (or a scalar) resolves and reads, but
+  // those no sampled state computes, and constraint rows beyond nefc (0 here)
+  const std::set<std::string> not_computed = {
+      "qfrc_inverse", "qH",  "qHDiagInv", "D_rownnz",      "D_rowadr", "D_colind",
+      "qDeriv",       "qLU", "efc_AR",    "efc_AR_colind", "efc_JT",   "efc_JT_colind"};
   int resolved = 0;
   for (const FieldInfo& field : Fields()) {
     if (field.type == compat::ElemType::kOther) continue;
     if (field.rows(robot_.get()) * field.cols(robot_.get()) == 0) continue;
+    if (not_computed.count(field.name)) {
+      EXPECT_THROW(ResolvePath(robot_, field.name), PathError) << field.name;
+      continue;
+    }
     Path p = ResolvePath(robot_, field.name);
+    bool constraint_rows = field.row_kind == "njmax" || field.cols(robot_.get()) == robot_->njmax;
+    if (field.name.rfind("efc_", 0) == 0 && constraint_rows) {
+      ASSERT_EQ(data_->nefc, 0);
+      EXPECT_THROW(ReadValue(robot_, data_, p, p.count - 1), PathError) << field.name;
+      continue;
+    }
     double v = ReadValue(robot_, data_, p, p.count - 1);
     EXPECT_FALSE(std::isnan(v) && field.type != compat::ElemType::kNum) << field.name;
     ++resolved;
@@ -165,8 +180,114 @@ TEST_F(PathTest, AssignmentsParseVectorsAndEnumNames) {
   EXPECT_EQ(rk4.values[0], mjINT_RK4);
   EXPECT_EQ(ParseAssignment(robot_, "opt.integrator=implicit").values[0], mjINT_IMPLICIT);
   EXPECT_THROW(ParseAssignment(robot_, "opt.integrator=Verlet"), ValueError);
-  Assignment broadcast = ParseAssignment(robot_, "qvel[shoulder]=0.5");
-  EXPECT_EQ(broadcast.values, (std::vector<double>{0.5, 0.5, 0.5}));
+  Assignment ball = ParseAssignment(robot_, "qvel[shoulder]=0.5,0,0");
+  EXPECT_EQ(ball.values, (std::vector<double>{0.5, 0, 0}));
+}
+
+// issue 9: 'qpos[root]=1' silently wrote all 7 entries of a free joint (and MuJoCo then
+// normalised the quaternion), while 3 values were refused
+TEST_F(PathTest, ABlockTakesExactlyAsManyValuesAsItHas) {
+  for (const char* text : {"qpos[root]=1", "qpos[root]=0,0,1", "qvel[shoulder]=0.5"}) {
+    try {
+      ParseAssignment(robot_, text);
+      ADD_FAILURE() << text << " was accepted";
+    } catch (const ValueError& e) {
+      std::string what = e.what();
+      EXPECT_NE(what.find("give exactly"), std::string::npos) << what;
+      EXPECT_NE(what.find("[0]="), std::string::npos) << what;  // how to set one element
+    }
+  }
+  try {
+    ParseAssignment(robot_, "qpos[root]=1");
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("a block of 7 values (a free joint"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(ParseAssignment(robot_, "qpos[root]=0,0,1,1,0,0,0").values.size(), 7u);
+  EXPECT_TRUE(ParseAssignment(robot_, "qpos[root]=0,0,1,1,0,0,0").warnings.empty());
+  // a quaternion MuJoCo will normalise is said to be
+  std::vector<std::string> w = ParseAssignment(robot_, "qpos[root]=1,1,1,1,1,1,1").warnings;
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("norm 2; MuJoCo normalises it"), std::string::npos) << w[0];
+  Assignment z = ParseAssignment(robot_, "qpos[root][2]=1");
+  ApplyAssignments(robot_, data_, {z});
+  EXPECT_EQ(data_->qpos[2], 1);
+  EXPECT_EQ(data_->qpos[3], 1);  // the quaternion is untouched
+  EXPECT_EQ(data_->qpos[0], 0);
+}
+
+// issue 9: 'ctrl[slide]=5' beyond ctrlrange was clamped by MuJoCo without a word
+TEST_F(PathTest, CtrlBeyondCtrlrangeWarnsWithTheRange) {
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody><body>
+      <joint name="slider" type="slide"/><geom size="0.1" mass="1"/></body></worldbody>
+      <actuator><motor name="slide" joint="slider" ctrlrange="-1 1" ctrllimited="true"/>
+        <motor name="free" joint="slider"/></actuator></mujoco>)");
+  Assignment beyond = ParseAssignment(model, "ctrl[slide]=5");
+  ASSERT_EQ(beyond.warnings.size(), 1u);
+  EXPECT_NE(beyond.warnings[0].find("ctrlrange [-1, 1] of actuator 'slide'"), std::string::npos)
+      << beyond.warnings[0];
+  EXPECT_NE(beyond.warnings[0].find("ctrl = 1"), std::string::npos) << beyond.warnings[0];
+  EXPECT_TRUE(ParseAssignment(model, "ctrl[slide]=-1").warnings.empty());
+  EXPECT_TRUE(ParseAssignment(model, "ctrl[free]=50").warnings.empty());  // not limited
+  EXPECT_EQ(ParseAssignment(model, "ctrl=3,50").warnings.size(), 1u);
+}
+
+// issue 9: efc_force[200] was readable with nefc = 32 (MuJoCo allocates njmax rows)
+TEST_F(PathTest, EfcForceBeyondNefcIsRefused) {
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="box" pos="0 0 0.09"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    </worldbody></mujoco>)");
+  Data data(model);
+  data.Forward();
+  int nefc = data->nefc;
+  ASSERT_GT(nefc, 0);
+  ASSERT_LT(nefc, 200);
+  EXPECT_NO_THROW(
+      ReadValue(model, data, ResolvePath(model, "efc_force[" + std::to_string(nefc - 1) + "]")));
+  Path beyond = ResolvePath(model, "efc_force[200]");  // within njmax: resolves
+  try {
+    ReadValue(model, data, beyond);
+    ADD_FAILURE() << "efc_force[200] read with nefc = " << nefc;
+  } catch (const PathError& e) {
+    EXPECT_NE(std::string(e.what()).find("nefc = " + std::to_string(nefc)), std::string::npos)
+        << e.what();
+  }
+  // the whole array reads exactly nefc elements
+  Path all = ResolvePath(model, "efc_force");
+  EXPECT_NO_THROW(ReadValue(model, data, all, nefc - 1));
+  EXPECT_THROW(ReadValue(model, data, all, nefc), PathError);
+}
+
+// issue 9: paths whose value no sampled state has computed read as 0
+TEST_F(PathTest, FieldsMujocoDoesNotComputeAreRefused) {
+  for (const char* text : {"qfrc_inverse[elbow]", "qH", "qLU", "qDeriv", "efc_AR[0][1]"}) {
+    try {
+      ResolvePath(robot_, text);
+      ADD_FAILURE() << text << " resolved";
+    } catch (const PathError& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot be read"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// issue 9: scaling a body's mass left its inertia, giving a 1000 kg body the moments of 1 kg
+TEST_F(PathTest, AMassEditScalesTheInertia) {
+  int arm = mj_name2id(robot_.get(), mjOBJ_BODY, "arm");
+  std::vector<double> before(robot_->body_inertia + 3 * arm, robot_->body_inertia + 3 * arm + 3);
+  double ratio = 25 / robot_->body_mass[arm];
+  ApplyAssignments(robot_, data_, {ParseAssignment(robot_, "body_mass[arm]=25")});
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(robot_->body_inertia[3 * arm + i], ratio * before[i], 1e-12 * ratio * before[i]);
+  }
+  // an inertia given with it wins, in either order
+  Model again = Model::FromXmlString(kRobot, "robot.xml");
+  Data data(again);
+  ApplyAssignments(again, data,
+                   {ParseAssignment(again, "body_inertia[arm]=0.1,0.2,0.25"),
+                    ParseAssignment(again, "body_mass[arm]=100")});
+  EXPECT_EQ(again->body_mass[arm], 100);
+  EXPECT_EQ(again->body_inertia[3 * arm + 1], 0.2);
 }
 
 TEST_F(PathTest, BadValuesAreRejected) {

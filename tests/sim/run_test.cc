@@ -275,6 +275,151 @@ TEST_F(RunTest, AtRestInEquilibriumGetsTheChaptersHint) {
   EXPECT_TRUE(StartHints(model, data).empty());
 }
 
+// The value of `path` at every sample of a run of `model` from `sets`.
+std::vector<double> Sampled(Model& model, const std::string& path,
+                            const std::vector<std::string>& sets = {}, double until = 0.5) {
+  Data data(model);
+  std::vector<Assignment> assignments;
+  for (const std::string& s : sets) assignments.push_back(ParseAssignment(model, s));
+  ApplyAssignments(model, data, assignments);
+  RunSpec spec;
+  spec.until = until;
+  spec.every = 0.1;
+  spec.columns = {ResolvePath(model, "time"), ResolvePath(model, path)};
+  RecordingSink sink;
+  plumb::Run(model, data, spec, sink);
+  std::vector<double> values;
+  for (const std::vector<double>& row : sink.rows) values.push_back(row[1]);
+  return values;
+}
+
+// issue 9: energy read 0 on every model without <flag energy="enable"/>
+TEST_F(RunTest, EnergyIsComputedWithoutTheEnergyFlag) {
+  Model model = Model::Load(kPendulum);
+  ASSERT_FALSE(model->opt.enableflags & mjENBL_ENERGY);
+  Model flagged = model.Clone();
+  flagged.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
+  for (const char* path : {"energy[0]", "energy[1]"}) {
+    std::vector<double> computed = Sampled(model, path, {"qpos[hinge]=0.7"});
+    EXPECT_EQ(computed, Sampled(flagged, path, {"qpos[hinge]=0.7"})) << path;
+    EXPECT_NE(computed.back(), 0) << path;
+  }
+  // potential energy at the start: -m g . (com position), the mass alone on its hinge
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
+  double mgh = 0;
+  for (int b = 1; b < model->nbody; ++b) {
+    mgh -= model->body_mass[b] * mju_dot3(model->opt.gravity, data->xipos + 3 * b);
+  }
+  EXPECT_NEAR(Sampled(model, "energy[0]", {"qpos[hinge]=0.7"})[0], mgh, 1e-12 * std::fabs(mgh));
+  EXPECT_NE(mgh, 0);
+}
+
+// A box resting on the floor, with and without an accelerometer (which makes MuJoCo
+// compute cacc and cfrc_* itself).
+constexpr char kRestingBox[] = R"(
+<mujoco model="resting">
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <body name="box" pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="2"/>
+      <site name="imu"/></body>
+  </worldbody>
+  SENSORS
+</mujoco>)";
+
+std::string RestingBox(bool sensor) {
+  std::string xml = kRestingBox;
+  xml.replace(xml.find("SENSORS"), 7,
+              sensor ? "<sensor><accelerometer name=\"acc\" site=\"imu\"/></sensor>" : "");
+  return xml;
+}
+
+// issue 9: cacc, cfrc_int and cfrc_ext read 0 on every sample: MuJoCo computes them only
+// in mj_rnePostConstraint, which mj_forward calls for acceleration and force sensors
+TEST_F(RunTest, ComAccelerationsAndForcesAreComputedOnDemand) {
+  Model plain = Model::FromXmlString(RestingBox(false), "resting.xml");
+  Model sensed = Model::FromXmlString(RestingBox(true), "resting_sensed.xml");
+  for (const char* path : {"cacc[box][5]", "cfrc_ext[box][5]", "cfrc_int[box][5]"}) {
+    EXPECT_EQ(Sampled(plain, path), Sampled(sensed, path)) << path;
+  }
+  // at rest on the floor: the contact carries the weight, the com accelerates at -g
+  // against the free-falling frame MuJoCo uses (what an accelerometer reads)
+  double weight = 2 * 9.81;
+  EXPECT_NEAR(Sampled(plain, "cfrc_ext[box][5]").back(), weight, 1e-3 * weight);
+  EXPECT_NEAR(Sampled(plain, "cacc[box][5]").back(), 9.81, 1e-3 * 9.81);
+}
+
+// sampling the on-demand quantities must not change where the model goes
+TEST_F(RunTest, SamplingEnergyAndComForcesLeavesTheTrajectoryUnchanged) {
+  Model model = Model::Load(testing::kHumanoid);
+  std::vector<std::vector<double>> final_qpos;
+  for (bool derived : {false, true}) {
+    Data data(model);
+    ApplyAssignments(model, data, {});
+    RunSpec spec;
+    spec.until = 0.3;
+    spec.every = model->opt.timestep;
+    spec.columns = {ResolvePath(model, "time")};
+    if (derived) {
+      for (const char* p :
+           {"energy[0]", "cfrc_ext[torso][5]", "cacc[torso][5]", "subtree_linvel[torso][2]"}) {
+        spec.columns.push_back(ResolvePath(model, p));
+      }
+    }
+    NullSink sink;
+    ASSERT_FALSE(plumb::Run(model, data, spec, sink).diverged);
+    final_qpos.emplace_back(data->qpos, data->qpos + model->nq);
+  }
+  EXPECT_EQ(final_qpos[0], final_qpos[1]);  // bit-identical
+}
+
+// issue 9: on cartpole the hint suggested the slider, which leaves the pole balanced, so
+// following it printed the same hint again
+constexpr char kCartpole[] = R"(
+<mujoco model="cartpole">
+  <worldbody>
+    <body name="cart">
+      <joint name="slider" type="slide" axis="1 0 0" limited="true" range="-1.8 1.8"/>
+      <geom type="box" size="0.2 0.15 0.1" mass="1"/>
+      <body name="pole">
+        <joint name="hinge_1" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 1" size="0.045" mass="0.1"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><motor name="slide" joint="slider" gear="10" ctrlrange="-1 1" ctrllimited="true"/></actuator>
+</mujoco>)";
+
+TEST_F(RunTest, EquilibriumHintSuggestsACoordinateThatMoves) {
+  Model model = Model::FromXmlString(kCartpole, "cartpole.xml");
+  for (const char* start : {"qpos[slider]=0", "qpos[slider]=0.7"}) {
+    Data data(model);
+    ApplyAssignments(model, data, {ParseAssignment(model, start)});
+    std::vector<std::string> hints = StartHints(model, data);
+    ASSERT_EQ(hints.size(), 1u) << start;
+    EXPECT_EQ(hints[0].find("qpos[slider]"), std::string::npos) << hints[0];
+    std::size_t at = hints[0].find("--set '");
+    ASSERT_NE(at, std::string::npos) << hints[0];
+    std::string advice = hints[0].substr(at + 7, hints[0].find('\'', at + 7) - at - 7);
+    EXPECT_EQ(advice.rfind("qpos[hinge_1]=", 0), 0u) << advice;
+    // following it: no hint, and the model moves
+    ApplyAssignments(model, data, {ParseAssignment(model, start), ParseAssignment(model, advice)});
+    EXPECT_TRUE(StartHints(model, data).empty()) << advice;
+    std::vector<double> pole = Sampled(model, "qpos[hinge_1]", {start, advice});
+    EXPECT_NE(pole.front(), pole.back());
+  }
+}
+
+// with nothing that pulls (no gravity), no offset breaks the equilibrium: a velocity does
+TEST_F(RunTest, WeightlessEquilibriumHintSuggestsAVelocity) {
+  Model model = Model::FromXmlString(kCartpole, "cartpole.xml");
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "opt.gravity=0,0,0")});
+  std::vector<std::string> hints = StartHints(model, data);
+  ASSERT_EQ(hints.size(), 1u);
+  EXPECT_NE(hints[0].find("--set 'qvel[slider]=1'"), std::string::npos) << hints[0];
+}
+
 TEST_F(RunTest, RunsAreBitIdentical) {
   Model model = Model::Load(testing::kHumanoid);
   std::vector<std::vector<double>> first;
