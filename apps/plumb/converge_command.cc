@@ -10,6 +10,7 @@
 #include "plumb/converge.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
+#include "plumb/timing.h"
 
 namespace plumb::cli {
 namespace {
@@ -19,6 +20,7 @@ constexpr double kUnset = -1e300;
 struct ConvergeOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   std::string metric;
   double dt = kUnset;  // the model's timestep
   int halvings = 4;
@@ -34,7 +36,7 @@ nlohmann::ordered_json Number(double v) {
 
 int RunConverge(const ConvergeOptions& o) {
   Model model = LoadModel(o.model);
-  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
   Metric metric = ParseMetric(model, o.metric);
   // the nominal model after --set decides the default dt and the integrator
   Model nominal = model.Clone();
@@ -51,7 +53,7 @@ int RunConverge(const ConvergeOptions& o) {
   positive(o.dt, "--dt", "the coarsest timestep (s)");
   positive(o.until, "--until", "the run length (s)");
   positive(o.tol, "--tol", "the relative tolerance");
-  double dt0 = o.dt != kUnset ? o.dt : nominal->opt.timestep;
+  double dt0 = o.dt != kUnset ? o.dt : RunTimestep(model, sets);
   double until = o.until != kUnset ? o.until : DefaultDuration(metric);
   ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until);
   double expected = ExpectedOrder(nominal->opt.integrator);
@@ -134,6 +136,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       "Metrics: PATH@T, period(PATH), maxabs(PATH), energy_drift, state@T.\n"
       "Exit codes: 0 ok, 2 bad input or a metric that cannot be measured, 3 a level diverged.");
   AddModelOptions(cmd, &o->model, &o->sets, "before each run");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
   cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");
   cmd->add_option("--halvings", o->halvings, "number of halvings of dt")

@@ -17,6 +17,7 @@
 #include "plumb/error.h"
 #include "plumb/metric.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
@@ -884,28 +885,25 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   // the nominal run: 2 s like the chapter; for other models at most 250 steps and at
   // most 1e5 / nv steps (the convergence ladder runs ~16 times as many), always a whole
   // number of 2*dt so the ladder lands on it exactly
-  double dt = m->opt.timestep;
+  double dt = RunTimestep(model, options.sets);
   double max_steps =
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
-  double until = options.until > 0 ? options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
-  if (options.until != 0 && !(options.until > 0 && std::isfinite(options.until))) {
+  double until = options.until ? *options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
+  if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
+    // a run of zero steps would pass determinism and warnings without testing anything
     throw ValueError(
         fmt::format("--until {:g}: the nominal run length must be a positive number "
-                    "of seconds.",
-                    options.until));
+                    "of seconds (a run of zero steps checks nothing).",
+                    *options.until));
   }
   if (!(options.tol > 0 && std::isfinite(options.tol))) {
     throw ValueError(fmt::format("--tol {:g}: the relative tolerance must be positive and finite.",
                                  options.tol));
   }
-  double pairs = until / (2 * dt);
-  if (options.until > 0 && std::fabs(pairs - std::round(pairs)) > 1e-9 * std::max(1.0, pairs)) {
+  if (options.until) {
     // the convergence ladder runs at 2*dt too, so the run must end on a whole 2*dt
-    throw ValueError(fmt::format(
-        "--until {:g}: must be a whole multiple of twice the timestep ({:g} s), so every level "
-        "of the convergence ladder ends on it; nearest: {:g} or {:g}.",
-        options.until, 2 * dt, std::max(1.0, std::floor(pairs)) * 2 * dt,
-        std::max(1.0, std::ceil(pairs)) * 2 * dt));
+    RequireWholeSteps(*options.until, 2 * dt, fmt::format("--until {:g}", *options.until),
+                      "twice the timestep: the convergence ladder's coarsest level");
   }
   until = std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
 
