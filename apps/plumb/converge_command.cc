@@ -76,15 +76,19 @@ int RunConverge(const ConvergeOptions& o) {
                         {"diff", Number(l.diff)},
                         {"order", Number(l.order)},
                         {"error", Number(l.error)},
+                        {"error_is_richardson", l.error_is_richardson},
                         {"roundoff", l.roundoff}});
     }
     j["levels"] = levels;
     j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
     j["order_resolved"] = r.estimate.resolved;
-    j["extrapolated"] = Number(r.estimate.extrapolated);
+    j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
     j["scale"] = r.scale;
     j["tol"] = r.tol;
     j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+    j["contacts"] = r.max_contacts;
+    j["caveat"] =
+        r.caveat.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.caveat);
     j["note"] = r.ok ? r.estimate.note : r.problem;
     std::string text = j.dump(2) + "\n";
     std::fwrite(text.data(), 1, text.size(), stdout);
@@ -96,9 +100,10 @@ int RunConverge(const ConvergeOptions& o) {
       return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
     };
     for (const ConvergenceLevel& l : r.levels) {
-      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}\n", l.dt, num(l.value, "{:.15g}"),
+      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}{}\n", l.dt, num(l.value, "{:.15g}"),
                          num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"),
-                         l.roundoff ? "  (diff is round-off)" : "");
+                         l.roundoff ? "  (diff is round-off)" : "",
+                         l.error_is_richardson ? "  (Richardson estimate: no finer level)" : "");
     }
     out += "\n";
     if (!r.ok) {
@@ -108,14 +113,19 @@ int RunConverge(const ConvergeOptions& o) {
                  ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
                                r.estimate.order, expected)
                  : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
-      out +=
-          fmt::format("value           {:.15g} ({})\n", r.estimate.extrapolated, r.estimate.note);
+      bool measured = r.estimate.extrapolated == r.levels.back().value;
+      out += fmt::format("value           {:.15g} ({}: {})\n", r.estimate.extrapolated,
+                         measured ? "measured at the finest level" : "an estimate",
+                         r.estimate.note);
       out += r.recommended_dt > 0
                  ? fmt::format(
-                       "recommended dt  {:g} s: the largest dt/2^k with estimated error "
+                       "recommended dt  {:g} s: the largest tested level with estimated error "
                        "below tol {:g} x scale {:.3g}\n",
                        r.recommended_dt, r.tol, r.scale)
-                 : std::string("recommended dt  none (no level is shown to meet the tolerance)\n");
+                 : std::string(
+                       "recommended dt  none (no tested level is shown to meet the tolerance; "
+                       "try a smaller --dt or more --halvings)\n");
+      if (!r.caveat.empty()) out += "caveat          " + r.caveat + "\n";
     }
     std::fwrite(out.data(), 1, out.size(), stdout);
   }

@@ -276,6 +276,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
   double expected = ExpectedOrder(m->opt.integrator);
   std::string integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   bool contacts = nominal.max_ncon > 0;
+  std::string caveat = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";
   if (!c.ok) {
     bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
                          std::isfinite(c.levels[1].value);
@@ -296,13 +297,12 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
     if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
       r.status = CheckStatus::kPass;
       r.measured = "round-off";
-      r.detail = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}",
-                             metric_text, levels, c.estimate.note);
+      r.detail = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
+                             metric_text, levels, c.estimate.note, caveat);
     } else {
       r.status = CheckStatus::kWarn;
       r.measured = "no order visible";
-      r.detail = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels,
-                             contacts ? " Contacts make trajectories non-smooth." : "");
+      r.detail = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
     }
     return r;
   }
@@ -313,7 +313,8 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
   bool order_as_expected = std::fabs(c.estimate.order - expected) <= 0.5;
   std::string advice =
       c.recommended_dt > 0
-          ? fmt::format("the largest timestep that would pass is {:g} s", c.recommended_dt)
+          ? fmt::format("the largest timestep that would pass is {:g} s (a tested level)",
+                        c.recommended_dt)
           : std::string("no tested timestep passes");
   if (own.error <= tol * c.scale) {
     r.status = CheckStatus::kPass;
@@ -323,6 +324,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
         metric_text, integrator, dt, 100 * own.error / c.scale, c.estimate.extrapolated,
         c.estimate.order, expected, integrator, levels);
     if (!order_as_expected) r.detail += " The order differs from the integrator's.";
+    r.detail += caveat;
   } else {
     // a clean asymptotic sequence proves the error; contacts or an odd order only suggest it
     r.status = order_as_expected && !contacts ? CheckStatus::kFail : CheckStatus::kWarn;
@@ -330,8 +332,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
         "not converged: {} at dt = {:g} s is off by {:.3g} ({:.2g}% of its scale {:.3g}), more "
         "than tol {:g}; {}. Observed order {:.2f} (expected {:g} for {}).{} Levels {}.",
         metric_text, dt, own.error, 100 * own.error / c.scale, c.scale, tol, advice,
-        c.estimate.order, expected, integrator,
-        contacts ? " Contacts make this estimate rough." : "", levels);
+        c.estimate.order, expected, integrator, caveat, levels);
   }
   return r;
 }
