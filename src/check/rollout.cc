@@ -296,7 +296,8 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   };
   RunSpec run;
   run.until = spec.until;
-  run.every = std::ceil(spec.until / dt) * dt > 0 ? std::ceil(spec.until / dt) * dt : dt;
+  run.every = static_cast<double>(std::max(1L, StepsToReach(spec.until, dt))) *
+              dt;  // metrics probe every step
   if (spec.ctrl_noise > 0) {
     run.before_step = [&](mjData* dd, long step) {
       for (int j = 0; j < m->nu; ++j) {
