@@ -16,6 +16,7 @@ namespace {
 struct AuditCommandOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   std::string scenario;
   bool strict = false;
   std::string format = "table";
@@ -69,6 +70,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   AuditOptions options;
   options.sets = ParseAssignments(model, o.sets);
+  options.keyframe = o.keyframe;
   if (!o.scenario.empty()) options.scenario = LoadScenario(model, o.scenario);
   options.repro_dir =
       o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
@@ -96,6 +98,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
       "Exit codes: 0 nothing failed, 1 a check failed (or warned, with --strict), 2 bad input.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the audit");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
   cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
   cmd->add_option("--format", o->format, "table or json")

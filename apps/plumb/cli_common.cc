@@ -12,6 +12,7 @@
 
 #include "core/strings.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 
 namespace plumb::cli {
 
@@ -71,6 +72,19 @@ void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>
                       ", e.g. 'qpos[hinge]=0.7', 'opt.gravity=0,0,-1.62', "
                       "'opt.integrator=RK4' (repeatable)")
       ->allow_extra_args(false);
+}
+
+void AddKeyframeOption(CLI::App* cmd, std::string* keyframe) {
+  cmd->add_option("--keyframe", *keyframe,
+                  "start from the model's keyframe NAME (qpos, qvel, act, ctrl, mocap, time as "
+                  "mj_resetDataKeyframe); --set applies on top");
+}
+
+std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
+                                         const std::vector<std::string>& sets) {
+  std::vector<Assignment> out = KeyframeAssignments(model, keyframe);
+  for (Assignment& a : ParseAssignments(model, sets)) out.push_back(std::move(a));
+  return out;
 }
 
 int ReportError(const std::exception& error) {

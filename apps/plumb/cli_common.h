@@ -39,6 +39,16 @@ struct Context {
 void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
                      const std::string& when);
 
+// --keyframe NAME: start from the model's keyframe NAME (as mj_resetDataKeyframe), with
+// every --set applied on top. Commands read it with StartAssignments.
+void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
+
+// The assignments a run starts from: keyframe `keyframe` (when not empty), then every
+// --set in order. @throws ValueError for an unknown keyframe; PathError / ValueError
+// for a bad --set.
+std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
+                                         const std::vector<std::string>& sets);
+
 // Maps an exception to its exit code after printing it on stderr as one paragraph.
 int ReportError(const std::exception& error);
 

@@ -10,6 +10,7 @@
 #include "plumb/converge.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
+#include "plumb/timing.h"
 
 namespace plumb::cli {
 namespace {
@@ -19,6 +20,7 @@ constexpr double kUnset = -1e300;
 struct ConvergeOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   std::string metric;
   double dt = kUnset;  // the model's timestep
   int halvings = 4;
@@ -34,7 +36,7 @@ nlohmann::ordered_json Number(double v) {
 
 int RunConverge(const ConvergeOptions& o) {
   Model model = LoadModel(o.model);
-  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
   Metric metric = ParseMetric(model, o.metric);
   // the nominal model after --set decides the default dt and the integrator
   Model nominal = model.Clone();
@@ -51,7 +53,7 @@ int RunConverge(const ConvergeOptions& o) {
   positive(o.dt, "--dt", "the coarsest timestep (s)");
   positive(o.until, "--until", "the run length (s)");
   positive(o.tol, "--tol", "the relative tolerance");
-  double dt0 = o.dt != kUnset ? o.dt : nominal->opt.timestep;
+  double dt0 = o.dt != kUnset ? o.dt : RunTimestep(model, sets);
   double until = o.until != kUnset ? o.until : DefaultDuration(metric);
   ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until);
   double expected = ExpectedOrder(nominal->opt.integrator);
@@ -74,15 +76,19 @@ int RunConverge(const ConvergeOptions& o) {
                         {"diff", Number(l.diff)},
                         {"order", Number(l.order)},
                         {"error", Number(l.error)},
+                        {"error_is_richardson", l.error_is_richardson},
                         {"roundoff", l.roundoff}});
     }
     j["levels"] = levels;
     j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
     j["order_resolved"] = r.estimate.resolved;
-    j["extrapolated"] = Number(r.estimate.extrapolated);
+    j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
     j["scale"] = r.scale;
     j["tol"] = r.tol;
     j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+    j["contacts"] = r.max_contacts;
+    j["caveat"] =
+        r.caveat.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.caveat);
     j["note"] = r.ok ? r.estimate.note : r.problem;
     std::string text = j.dump(2) + "\n";
     std::fwrite(text.data(), 1, text.size(), stdout);
@@ -94,9 +100,10 @@ int RunConverge(const ConvergeOptions& o) {
       return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
     };
     for (const ConvergenceLevel& l : r.levels) {
-      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}\n", l.dt, num(l.value, "{:.15g}"),
+      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}{}\n", l.dt, num(l.value, "{:.15g}"),
                          num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"),
-                         l.roundoff ? "  (diff is round-off)" : "");
+                         l.roundoff ? "  (diff is round-off)" : "",
+                         l.error_is_richardson ? "  (Richardson estimate: no finer level)" : "");
     }
     out += "\n";
     if (!r.ok) {
@@ -106,14 +113,19 @@ int RunConverge(const ConvergeOptions& o) {
                  ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
                                r.estimate.order, expected)
                  : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
-      out +=
-          fmt::format("value           {:.15g} ({})\n", r.estimate.extrapolated, r.estimate.note);
+      bool measured = r.estimate.extrapolated == r.levels.back().value;
+      out += fmt::format("value           {:.15g} ({}: {})\n", r.estimate.extrapolated,
+                         measured ? "measured at the finest level" : "an estimate",
+                         r.estimate.note);
       out += r.recommended_dt > 0
                  ? fmt::format(
-                       "recommended dt  {:g} s: the largest dt/2^k with estimated error "
+                       "recommended dt  {:g} s: the largest tested level with estimated error "
                        "below tol {:g} x scale {:.3g}\n",
                        r.recommended_dt, r.tol, r.scale)
-                 : std::string("recommended dt  none (no level is shown to meet the tolerance)\n");
+                 : std::string(
+                       "recommended dt  none (no tested level is shown to meet the tolerance; "
+                       "try a smaller --dt or more --halvings)\n");
+      if (!r.caveat.empty()) out += "caveat          " + r.caveat + "\n";
     }
     std::fwrite(out.data(), 1, out.size(), stdout);
   }
@@ -134,6 +146,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       "Metrics: PATH@T, period(PATH), maxabs(PATH), energy_drift, state@T.\n"
       "Exit codes: 0 ok, 2 bad input or a metric that cannot be measured, 3 a level diverged.");
   AddModelOptions(cmd, &o->model, &o->sets, "before each run");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
   cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");
   cmd->add_option("--halvings", o->halvings, "number of halvings of dt")

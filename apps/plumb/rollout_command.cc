@@ -30,6 +30,7 @@ namespace {
 struct RolloutOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   long count = 100;
   double until = 2;
   int threads = 1;
@@ -52,6 +53,7 @@ std::string Config(const RolloutOptions& o, const std::string& model_hash) {
       "rollout model={} count={} until={:.17g} seed={} "
       "ctrl_noise={:.17g} plumb={} mujoco={}",
       model_hash, o.count, o.until, o.seed, o.ctrl_noise, PLUMB_VERSION, MujocoVersion());
+  if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& r : o.randomize) config += " randomize=" + r;
   for (const std::string& m : o.metrics) config += " metric=" + m;
@@ -153,7 +155,7 @@ void OpenStore(const RolloutOptions& o, const Context& ctx, const std::vector<st
 int RunRollout(const RolloutOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   RolloutSpec spec;
-  spec.sets = ParseAssignments(model, o.sets);
+  spec.sets = StartAssignments(model, o.keyframe, o.sets);
   for (const std::string& r : o.randomize) spec.randomize.push_back(ParseRandomization(model, r));
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.count = o.count;
@@ -350,6 +352,7 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       "--db FILE records everything in SQLite; --resume skips what a killed run finished;\n"
       "plumb results FILE exports, plumb merge A B -o OUT joins shard files.");
   AddModelOptions(cmd, &o->model, &o->sets, "for every rollout");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--count", o->count, "number of rollouts (at least 1)")
       ->capture_default_str()
       ->check(CLI::Range(1L, 1L << 53));

@@ -1,6 +1,7 @@
 // plumb run: step a model and print or record chosen paths at exact sample times.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb::cli {
 namespace {
@@ -17,8 +19,10 @@ namespace {
 struct RunOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   double until = 2.0;
   double every = 0.1;
+  bool every_given = false;  // else about 0.1 s, on whole steps of the timestep the run uses
   std::string columns;
   std::string format = "table";
   std::string output;
@@ -28,11 +32,18 @@ struct RunOptions {
 int RunRun(const RunOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   Data data(model);
-  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
 
+  // the timestep the run uses is the one --set chooses; the default sampling adapts to it
+  double dt = RunTimestep(model, sets);
   RunSpec spec;
   spec.until = o.until;
   spec.every = o.every;
+  if (!o.every_given && !WholeSteps(o.every, dt)) {
+    spec.every = DefaultEvery(dt, o.every);
+    std::fprintf(stderr, "plumb: sampling every %g s (%ld steps of %g s, the nearest to 0.1 s)\n",
+                 spec.every, std::lround(spec.every / dt), dt);
+  }
   if (o.columns.empty()) {
     spec.columns = DefaultColumns(model);
   } else {
@@ -47,9 +58,8 @@ int RunRun(const RunOptions& o, const Context& ctx) {
     }
   }
   // validate the schedule before any output file appears
-  MakeSchedule(model->opt.timestep, o.until, o.every);
+  MakeSchedule(dt, spec.until, spec.every);
   ApplyAssignments(model, data, sets);
-  MakeSchedule(model->opt.timestep, o.until, o.every);  // --set may change the timestep
 
   SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
                         : o.format == "jsonl" ? SampleFormat::kJsonl
@@ -132,9 +142,11 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       "  or mjData array by name). Angles are radians.\n"
       "Exit codes: 0 ok, 2 bad input, 3 diverged (a repro folder is written).");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--until", o->until, "final time in seconds")->capture_default_str();
-  cmd->add_option("--every", o->every, "sampling interval in seconds (a multiple of the timestep)")
-      ->capture_default_str();
+  cmd->add_option("--every", o->every,
+                  "sampling interval in seconds, a whole number of timesteps (default: the whole "
+                  "number of steps nearest to 0.1 s)");
   cmd->add_option("--columns", o->columns,
                   "comma-separated paths to sample instead of the defaults ('*' expands rows, "
                   "e.g. 'qpos[*]')");
@@ -146,7 +158,10 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
                   "written directly, a symlink is followed; '-' is stdout)");
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
-  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRun(*o, ctx); }; });
+  cmd->callback([o, cmd, &ctx] {
+    o->every_given = cmd->count("--every") > 0;
+    ctx.action = [o, &ctx] { return RunRun(*o, ctx); };
+  });
 }
 
 }  // namespace plumb::cli

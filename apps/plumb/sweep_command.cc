@@ -19,6 +19,7 @@ namespace {
 struct SweepOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   std::vector<std::string> vary;
   std::vector<std::string> metrics;
   int threads = 1;
@@ -36,6 +37,7 @@ void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
   info.model_file = o.model;
   info.model_hash = HashFile(o.model);
   info.config = "sweep model=" + info.model_hash;
+  if (!o.keyframe.empty()) info.config += " keyframe=" + o.keyframe;
   for (const std::string& s : o.sets) info.config += " set=" + s;
   for (const std::string& v : o.vary) info.config += " vary=" + v;
   for (const std::string& m : o.metrics) info.config += " metric=" + m;
@@ -69,7 +71,7 @@ void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec;
-  spec.sets = ParseAssignments(model, o.sets);
+  spec.sets = StartAssignments(model, o.keyframe, o.sets);
   for (const std::string& v : o.vary) spec.axes.push_back(ParseSweepAxis(model, v));
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.threads = o.threads;
@@ -181,6 +183,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       "A case that diverged shows 'diverged', one whose metric cannot be measured (e.g. no\n"
       "crossings for period) 'n/a'; the reason goes to stderr and the sweep goes on.");
   AddModelOptions(cmd, &o->model, &o->sets, "applied to every case");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--vary", o->vary, "PATH=V1,V2,... or PATH=START:STOP:COUNT (repeatable)")
       ->allow_extra_args(false)
       ->required();

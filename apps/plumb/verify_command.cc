@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli_common.h"
 #include "plumb/verify.h"
@@ -16,9 +17,10 @@ namespace {
 struct VerifyCommandOptions {
   std::string model;
   std::vector<std::string> sets;
+  std::string keyframe;
   std::string format = "table";
   double tol = 1e-2;
-  double until = 0;
+  std::optional<double> until;  // unset: the default run length
   TableDetail detail = TableDetail::kFindings;
 };
 
@@ -73,7 +75,7 @@ std::string Json(const VerifyReport& report, double tol) {
 int RunVerify(const VerifyCommandOptions& o) {
   Model model = LoadModel(o.model);
   VerifyOptions options;
-  options.sets = ParseAssignments(model, o.sets);
+  options.sets = StartAssignments(model, o.keyframe, o.sets);
   options.tol = o.tol;
   options.until = o.until;
   VerifyReport report = Verify(model, options);
@@ -96,6 +98,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
       "also analytic.*, the chapter's experiments A/B/C and exercises.\n"
       "Exit codes: 0 nothing failed, 1 a check failed, 2 bad input.");
   AddModelOptions(cmd, &o->model, &o->sets, "for the nominal scenario");
+  AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--format", o->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
@@ -103,8 +106,9 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--tol", o->tol,
                   "relative tolerance: convergence error and energy drift, of the metric's scale")
       ->capture_default_str();
-  cmd->add_option("--until", o->until,
-                  "nominal run length in s (default 2 s; at most 250 steps for large models)");
+  cmd->add_option_function<double>(
+      "--until", [o](double v) { o->until = v; },
+      "nominal run length in s (default 2 s; at most 250 steps for large models)");
   cmd->callback([o, &ctx] { ctx.action = [o] { return RunVerify(*o); }; });
 }
 

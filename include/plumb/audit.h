@@ -82,6 +82,10 @@ Scenario LoadScenario(const Model& model, const std::string& file);
 
 struct AuditOptions {
   std::vector<Assignment> sets;  // applied before everything
+  // The keyframe of the reference pose, by name (--keyframe); empty: keyframe "home" or
+  // "test" when the model has one, else qpos0. A scenario's own keyframe still decides
+  // where that scenario starts.
+  std::string keyframe;
   std::optional<Scenario> scenario;
   std::string repro_dir;          // where a diverged run's repro goes ("" = none)
   std::vector<std::string> argv;  // the command line, for the repro folder

@@ -4,7 +4,7 @@
 // Example:
 //   plumb::ConvergenceResult r = plumb::Converge(model, sets, metric, 0.002, 4, 1e-3);
 //   r.observed_order   // ~1 for Euler, ~4 for RK4 on the chapter's pendulum
-//   r.recommended_dt   // the largest dt/2^k whose estimated error is below tol * scale
+//   r.recommended_dt   // the largest tested dt/2^k whose estimated error is below tol * scale
 
 #ifndef PLUMB_INCLUDE_PLUMB_CONVERGE_H_
 #define PLUMB_INCLUDE_PLUMB_CONVERGE_H_
@@ -32,11 +32,16 @@ OrderEstimate EstimateOrder(const std::vector<double>& values, const std::vector
                             double noise);
 
 struct ConvergenceLevel {
-  double dt = 0;          // s
-  double value = 0;       // the metric at this dt
-  double diff = 0;        // |value - value at dt/2| (a norm for state@T); NaN for the finest level
-  double order = 0;       // log2(diff / next diff); NaN where undefined
-  double error = 0;       // estimated error |value - extrapolated|; NaN when unresolved
+  double dt = 0;     // s
+  double value = 0;  // the metric at this dt
+  double diff = 0;   // |value - value at dt/2| (a norm for state@T); NaN for the finest level
+  double order = 0;  // log2(diff / next diff); NaN where undefined
+  // Estimated error |value - extrapolated| (for state@T the geometric tail of the
+  // differences); for the finest level the Richardson estimate |diff of the finest pair| /
+  // (2^p - 1), flagged by `error_is_richardson`. NaN when not estimated: no order, or
+  // the level's difference is round-off (never a fake zero).
+  double error = 0;
+  bool error_is_richardson = false;
   bool roundoff = false;  // diff is below the round-off level: it and the orders from it
                           // are noise (order is then NaN)
 };
@@ -45,12 +50,16 @@ struct ConvergenceResult {
   std::string metric;
   std::vector<ConvergenceLevel> levels;  // coarsest first
   OrderEstimate estimate;
-  double scale = 1;           // the metric's magnitude, errors are compared with tol * scale
-  double tol = 1e-3;          // relative tolerance
-  double recommended_dt = 0;  // largest dt0 * 2^-k (k >= -1) predicted to meet tol; 0 if none;
-                              // dt0 when every level agrees to round-off
-  bool ok = true;             // false when a level diverged or could not be measured
-  bool diverged = false;      // ... because a level diverged
+  double scale = 1;   // the metric's magnitude, errors are compared with tol * scale
+  double tol = 1e-3;  // relative tolerance
+  // The largest tested level (one of levels[].dt, never an extrapolated step) whose
+  // estimated error meets tol * scale, or whose difference to every finer level is
+  // round-off or within the tolerance; 0 if none.
+  double recommended_dt = 0;
+  int max_contacts = 0;   // most contacts at once in the run at dt0
+  std::string caveat;     // ContactCaveat(max_contacts): empty without contacts
+  bool ok = true;         // false when a level diverged or could not be measured
+  bool diverged = false;  // ... because a level diverged
   std::string problem;
 };
 
@@ -60,6 +69,11 @@ struct ConvergenceResult {
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol,
                            double until);
+
+// The caveat every convergence report (converge's table and JSON, verify's convergence
+// check) gives when contacts occur: contacts make trajectories non-smooth in time, so
+// orders (even negative ones) and extrapolations are rough. Empty when max_contacts is 0.
+std::string ContactCaveat(int max_contacts);
 
 // The order the integrator is expected to show: Euler 1, RK4 4, implicit 1 (and
 // implicitfast 1 on MuJoCo 3).

@@ -15,6 +15,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_VERIFY_H_
 #define PLUMB_INCLUDE_PLUMB_VERIFY_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,8 +42,10 @@ struct CheckResult {
 struct VerifyOptions {
   std::vector<Assignment> sets;  // the nominal scenario's --set assignments
   double tol = 1e-2;  // relative tolerance for convergence and energy, of the metric's scale
-  double until = 0;   // nominal run length, s; 0 picks 2 s (the chapter's), and for models
-                      // that are not a single pendulum at most min(250, 1e5 / nv) steps
+  // Nominal run length, s: a positive whole number of twice the timestep (the
+  // convergence ladder's coarsest level). Unset picks 2 s (the chapter's), and for models
+  // that are not a single pendulum at most min(250, 1e5 / nv) steps.
+  std::optional<double> until;
 };
 
 struct VerifyReport {

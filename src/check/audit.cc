@@ -13,7 +13,9 @@
 #include "core/mujoco_compat.h"
 #include "plumb/describe.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 #include "plumb/output.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
@@ -82,14 +84,20 @@ double GeomVolume(const mjModel* m, int g) {
   }
 }
 
-// The reference pose: keyframe "home" or "test" if present, else qpos0; then --set.
+// The reference pose: the keyframe the user named (--keyframe), else keyframe "home" or
+// "test" if present, else qpos0; then --set.
 struct Reference {
   int keyframe = -1;
   std::string description;
 };
 
-Reference FindReference(const Model& model) {
+Reference FindReference(const Model& model, const std::string& keyframe) {
   Reference ref;
+  if (!keyframe.empty()) {
+    ref.keyframe = FindKeyframe(model, keyframe);
+    ref.description = fmt::format("keyframe '{}' (--keyframe)", keyframe);
+    return ref;
+  }
   for (const char* name : {"home", "test"}) {
     int k = mj_name2id(model.get(), mjOBJ_KEY, name);
     if (k >= 0) {
@@ -513,9 +521,8 @@ double Duration(const mjModel* m, double wanted, double budget = kDofStepBudget)
 std::string ReproOf(const Model& work, const RunResult& r, const AuditOptions& options,
                     const std::string& label) {
   if (!r.diverged || options.repro_dir.empty()) return "";
-  std::vector<std::string> argv = options.argv;
-  argv.push_back("# audit run: " + label);
-  return WriteRepro(work, r, argv, options.repro_dir);
+  return WriteRepro(work, r, options.argv, options.repro_dir,
+                    "the audit run that diverged: " + label);
 }
 
 // What to do about a diverged audit run, after MuJoCo's reason.
@@ -807,10 +814,23 @@ void Append(RunResult* total, const RunResult& part) {
       same->message = w.message;
     }
   }
+  if (part.divergence) {
+    // the piece counts its steps from its own start: number them from the run's start,
+    // so that step and time agree (time = start + step * timestep)
+    Divergence divergence = *part.divergence;
+    std::string local = fmt::format("(in step {},", divergence.bad.step);
+    std::size_t at = divergence.reason.find(local);
+    if (at != std::string::npos) {
+      divergence.reason.replace(at, local.size(),
+                                fmt::format("(in step {},", divergence.bad.step + total->steps));
+    }
+    divergence.last_good.step += total->steps;
+    divergence.bad.step += total->steps;
+    total->divergence = std::move(divergence);
+  }
   total->steps += part.steps;
   total->samples += part.samples;
   total->diverged = part.diverged;
-  if (part.divergence) total->divergence = part.divergence;
 }
 
 // Max |qvel| below which a model counts as at rest.
@@ -1164,7 +1184,7 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
   Data data(work);
   StartAt(work, data, start, all);
   RunSpec spec;
-  spec.until = std::ceil(sc.duration / m->opt.timestep - 1e-9) * m->opt.timestep;
+  spec.until = StepsToReach(sc.duration, m->opt.timestep) * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {
     for (const ControlSchedule& c : sc.controls) d->ctrl[c.id] = c.At(d->time);
@@ -1276,11 +1296,11 @@ int AuditReport::Count(CheckStatus status) const {
 AuditReport Audit(const Model& model, const AuditOptions& options) {
   AuditReport report;
   report.model = model.file();
-  // the reference pose: keyframe home/test (or qpos0), then the user's --set, state
-  // assignments included
+  // the reference pose: --keyframe, else keyframe home/test (or qpos0), then the user's --set,
+  // state assignments included
   Model nominal = model.Clone();
   Data data(nominal);
-  Reference ref = FindReference(nominal);
+  Reference ref = FindReference(nominal, options.keyframe);
   StartAt(nominal, data, ref, options.sets);
   TakeMujocoWarnings();
 

@@ -1,11 +1,14 @@
 #include "plumb/converge.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "plumb/error.h"
+#include "plumb/run.h"
 
 namespace plumb {
 
@@ -57,6 +60,40 @@ OrderEstimate EstimateOrder(const std::vector<double>& values, const std::vector
   return out;
 }
 
+std::string ContactCaveat(int max_contacts) {
+  if (max_contacts <= 0) return "";
+  return "contacts occur (up to " + std::to_string(max_contacts) +
+         " at once): they make the trajectory non-smooth in time, so orders (even negative "
+         "ones) and the extrapolation are rough; trust differences between levels more than "
+         "the order";
+}
+
+namespace {
+// Most contacts at once in the scenario's run at `dt` (the coarsest, cheapest level).
+int MaxContacts(const Model& model, const std::vector<Assignment>& sets, double dt, double until) {
+  class MaxSink : public SampleSink {
+   public:
+    void Begin(const std::vector<Path>&) override {}
+    void Sample(const std::vector<double>& row) override {
+      most = std::max(most, static_cast<int>(row[0]));
+    }
+    int most = 0;
+  } sink;
+  Model work = model.Clone();
+  Data data(work);
+  std::vector<Assignment> all = sets;
+  all.push_back(ParseAssignment(work, fmt::format("opt.timestep={:.17g}", dt)));
+  ApplyAssignments(work, data, all);
+  RunSpec spec;
+  spec.until = until;
+  spec.every = dt;
+  spec.columns = {ResolvePath(work, "ncon")};
+  Run(work, data, spec, sink);
+  TakeMujocoWarnings();  // the levels' own runs report them
+  return sink.most;
+}
+}  // namespace
+
 double ExpectedOrder(int integrator) { return integrator == mjINT_RK4 ? 4.0 : 1.0; }
 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
@@ -85,6 +122,9 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   }
   out.scale = measured.back().scale;
   if (!out.ok) return out;
+  bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+  out.max_contacts = MaxContacts(model, sets, dt0, at_time ? metric.time : until);
+  out.caveat = ContactCaveat(out.max_contacts);
 
   // successive differences (norms for state vectors) and local orders
   std::vector<double> values, diffs;
@@ -125,42 +165,52 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     return out;
   }
 
-  // estimated errors; for state vectors the difference to the finest level stands in
+  // estimated errors: against the extrapolated value, for state vectors the tail of the
+  // differences; a level whose difference is round-off has no error to show
+  std::size_t last = out.levels.size() - 1;
   for (std::size_t i = 0; i < out.levels.size(); ++i) {
-    if (!out.estimate.resolved) {
-      out.levels[i].error = kNaN;
-    } else if (metric.kind == MetricKind::kStateAt) {
-      double p = out.estimate.order;
-      // sum of the geometric tail of differences beyond level i
-      out.levels[i].error = i < diffs.size() ? diffs[i] / (1 - std::pow(2.0, -p)) : 0;
-    } else {
-      out.levels[i].error = std::fabs(out.levels[i].value - out.estimate.extrapolated);
-    }
-  }
-  if (!out.estimate.resolved) {
-    // without an order, a level whose difference to every finer one is within tolerance
-    // is still converged: its error is about its difference (less for higher orders)
-    for (std::size_t i = diffs.size(); i-- > 0 && diffs[i] <= tol * out.scale;) {
-      out.recommended_dt = out.levels[i].dt;
-    }
-    if (out.recommended_dt > 0) {
-      out.estimate.note +=
-          "; the recommended dt is the coarsest level whose differences to all "
-          "finer levels are within the tolerance";
-    }
-  }
-  // the largest dt0 * 2^-k (k >= -1) whose predicted error meets tol * scale
-  if (out.estimate.resolved) {
+    ConvergenceLevel& level = out.levels[i];
+    level.error = kNaN;
+    if (!out.estimate.resolved) continue;
     double p = out.estimate.order;
-    double err0 = out.levels[0].error;
-    double target = tol * out.scale;
-    for (int k = -1; k <= 30; ++k) {
-      double predicted = err0 * std::pow(2.0, -p * k);
-      if (predicted <= target) {
-        out.recommended_dt = dt0 * std::pow(2.0, -k);
-        break;
+    if (out.estimate.noise_from >= 0) {
+      // the finest levels agree to round-off: coarser levels' errors are their distance to
+      // the finest value; the rest are in the noise
+      if (static_cast<int>(i) < out.estimate.noise_from) {
+        level.error = metric.kind == MetricKind::kStateAt
+                          ? diffs[i] / (1 - std::pow(2.0, -p))
+                          : std::fabs(level.value - out.estimate.extrapolated);
       }
+    } else if (i == last) {
+      // nothing finer to compare with: Richardson's estimate, labelled as such
+      level.error = diffs.back() / (std::pow(2.0, p) - 1);
+      level.error_is_richardson = true;
+    } else if (metric.kind == MetricKind::kStateAt) {
+      level.error = diffs[i] / (1 - std::pow(2.0, -p));
+    } else {
+      level.error = std::fabs(level.value - out.estimate.extrapolated);
     }
+  }
+  // recommend only a tested level: the coarsest whose error meets the tolerance, or
+  // whose differences to every finer level are round-off or within the tolerance
+  double target = tol * out.scale;
+  std::vector<char> settled(out.levels.size(), 0);
+  settled[last] = out.levels[last - 1].roundoff;  // the finest pair agrees to round-off
+  for (std::size_t i = diffs.size(); i-- > 0;) {
+    settled[i] =
+        (diffs[i] <= target || out.levels[i].roundoff) && (i + 1 >= diffs.size() || settled[i + 1]);
+  }
+  for (std::size_t i = 0; i < out.levels.size(); ++i) {
+    const ConvergenceLevel& level = out.levels[i];
+    if (std::isfinite(level.error) ? level.error <= target : settled[i] != 0) {
+      out.recommended_dt = level.dt;
+      break;
+    }
+  }
+  if (!out.estimate.resolved && out.recommended_dt > 0) {
+    out.estimate.note +=
+        "; the recommended dt is the coarsest level whose differences to all finer levels "
+        "are within the tolerance";
   }
   return out;
 }

@@ -8,6 +8,7 @@
 #include "plumb/analytic.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
@@ -79,11 +80,6 @@ class MetricSink : public SampleSink {
   double maxabs = 0, max_kinetic = 0, excursion = 0;
   double low = std::numeric_limits<double>::infinity(), high = -low;
 };
-
-bool WholeSteps(double time, double dt) {
-  double n = std::round(time / dt);
-  return std::fabs(time / dt - n) <= 1e-9 * std::max(1.0, n);
-}
 
 }  // namespace
 
@@ -158,11 +154,7 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
   if (metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt) {
     until = metric.time;
   }
-  if (!WholeSteps(until, timestep)) {
-    throw ValueError("metric '" + metric.text + "': " + std::to_string(until) +
-                     " s is not a whole number of timesteps of " + std::to_string(timestep) +
-                     " s; choose a time that is.");
-  }
+  RequireWholeSteps(until, timestep, "metric '" + metric.text + "'", "", 0);
   std::vector<Assignment> all = sets;
   Assignment dt;
   dt.text = "opt.timestep";

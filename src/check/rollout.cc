@@ -18,6 +18,7 @@
 #include "plumb/error.h"
 #include "plumb/random.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 
@@ -298,7 +299,8 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   };
   RunSpec run;
   run.until = spec.until;
-  run.every = std::ceil(spec.until / dt) * dt > 0 ? std::ceil(spec.until / dt) * dt : dt;
+  run.every = static_cast<double>(std::max(1L, StepsToReach(spec.until, dt))) *
+              dt;  // metrics probe every step
   if (spec.ctrl_noise > 0) {
     run.before_step = [&](mjData* dd, long step) {
       for (int j = 0; j < m->nu; ++j) {
@@ -363,18 +365,31 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1) {
     throw ValueError("--ctrl-noise must be in [0, 1]");
   }
-  double dt = model->opt.timestep;
-  for (const Assignment& a : spec.sets) {
-    if (a.path.field == "opt.timestep") dt = a.values[0];
+  // the one timing rule: a metric's time falls on whole steps of every timestep a rollout
+  // may use, which a timestep drawn at random cannot promise
+  double dt = RunTimestep(model, spec.sets);
+  std::string random_dt;
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      if (p.field == "opt.timestep") random_dt = r.text;
+    }
   }
   for (const Metric& metric : spec.metrics) {
-    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
-    double steps = metric.time / dt;
-    if (at_time && (metric.time > spec.until + 1e-12 ||
-                    std::fabs(steps - std::round(steps)) > 1e-9 * std::max(1.0, steps))) {
-      throw ValueError("metric '" + metric.text + "': its time must be a whole number of steps (" +
-                       std::to_string(dt) + " s) within --until " + std::to_string(spec.until) +
-                       " s.");
+    if (metric.kind != MetricKind::kValueAt && metric.kind != MetricKind::kStateAt) continue;
+    std::string what = "--metric '" + metric.text + "'";
+    if (!random_dt.empty()) {
+      throw ValueError(what +
+                       ": a metric at a fixed time needs a whole number of steps, and "
+                       "--randomize '" +
+                       random_dt +
+                       "' draws timesteps that do not divide it. "
+                       "Use period(...), maxabs(...) or energy_drift, or vary the timestep over "
+                       "listed values with plumb sweep --vary.");
+    }
+    RequireWholeSteps(metric.time, dt, what, "", 0);
+    if (metric.time > spec.until + 1e-12) {
+      throw ValueError(fmt::format("{}: {:g} s is after the end of the run (--until {:g} s).", what,
+                                   metric.time, spec.until));
     }
   }
 }

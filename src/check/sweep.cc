@@ -13,6 +13,7 @@
 
 #include "core/strings.h"
 #include "plumb/error.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 
@@ -95,16 +96,11 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
   if (spec.threads < 1) throw ValueError("--threads must be at least 1");
   long total = CaseCount(spec.axes);
   std::vector<SweepCase> cases(total);
-  double dt = [&] {
-    Model nominal = model.Clone();
-    Data data(nominal);
-    ApplyAssignments(nominal, data, spec.sets);
-    return nominal->opt.timestep;
-  }();
+  double dt = RunTimestep(model, spec.sets);
 
   // every case's runs must end on whole steps of its timestep: checked for all cases
   // before any runs, not found in the middle of the sweep
-  std::vector<std::pair<double, std::string>> timesteps = {{dt, "the model's timestep"}};
+  std::vector<std::pair<double, std::string>> timesteps = {{dt, "the timestep the run uses"}};
   for (const SweepAxis& axis : spec.axes) {
     if (axis.path.field != "opt.timestep") continue;
     timesteps.clear();
@@ -116,13 +112,7 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
     bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
     double until = at_time ? metric.time : spec.until > 0 ? spec.until : DefaultDuration(metric);
     for (const auto& [step, source] : timesteps) {
-      double n = std::round(until / step);
-      if (n < 1 || std::fabs(until / step - n) > 1e-9 * std::max(1.0, n)) {
-        throw ValueError(fmt::format(
-            "--metric '{}': {:g} s is not a whole number of timesteps of {:g} s ({}); choose "
-            "times and timesteps that divide evenly.",
-            metric.text, until, step, source));
-      }
+      RequireWholeSteps(until, step, "--metric '" + metric.text + "'", source);
     }
   }
 
@@ -153,10 +143,7 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
       sets.push_back(spec.axes[a].values[c.choice[a]]);
     }
     // a varied timestep is the case's timestep
-    double case_dt = dt;
-    for (const Assignment& s : sets) {
-      if (s.path.field == "opt.timestep") case_dt = s.values[0];
-    }
+    double case_dt = RunTimestep(model, sets);
     for (const Metric& metric : spec.metrics) {
       double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
       c.metrics.push_back(

@@ -17,6 +17,7 @@
 #include "plumb/error.h"
 #include "plumb/metric.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
@@ -275,6 +276,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
   double expected = ExpectedOrder(m->opt.integrator);
   std::string integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   bool contacts = nominal.max_ncon > 0;
+  std::string caveat = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";
   if (!c.ok) {
     bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
                          std::isfinite(c.levels[1].value);
@@ -295,13 +297,12 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
     if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
       r.status = CheckStatus::kPass;
       r.measured = "round-off";
-      r.detail = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}",
-                             metric_text, levels, c.estimate.note);
+      r.detail = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
+                             metric_text, levels, c.estimate.note, caveat);
     } else {
       r.status = CheckStatus::kWarn;
       r.measured = "no order visible";
-      r.detail = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels,
-                             contacts ? " Contacts make trajectories non-smooth." : "");
+      r.detail = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
     }
     return r;
   }
@@ -312,7 +313,8 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
   bool order_as_expected = std::fabs(c.estimate.order - expected) <= 0.5;
   std::string advice =
       c.recommended_dt > 0
-          ? fmt::format("the largest timestep that would pass is {:g} s", c.recommended_dt)
+          ? fmt::format("the largest timestep that would pass is {:g} s (a tested level)",
+                        c.recommended_dt)
           : std::string("no tested timestep passes");
   if (own.error <= tol * c.scale) {
     r.status = CheckStatus::kPass;
@@ -322,6 +324,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
         metric_text, integrator, dt, 100 * own.error / c.scale, c.estimate.extrapolated,
         c.estimate.order, expected, integrator, levels);
     if (!order_as_expected) r.detail += " The order differs from the integrator's.";
+    r.detail += caveat;
   } else {
     // a clean asymptotic sequence proves the error; contacts or an odd order only suggest it
     r.status = order_as_expected && !contacts ? CheckStatus::kFail : CheckStatus::kWarn;
@@ -329,8 +332,7 @@ CheckResult CheckConvergence(const Scenario& s, const std::optional<PendulumPara
         "not converged: {} at dt = {:g} s is off by {:.3g} ({:.2g}% of its scale {:.3g}), more "
         "than tol {:g}; {}. Observed order {:.2f} (expected {:g} for {}).{} Levels {}.",
         metric_text, dt, own.error, 100 * own.error / c.scale, c.scale, tol, advice,
-        c.estimate.order, expected, integrator,
-        contacts ? " Contacts make this estimate rough." : "", levels);
+        c.estimate.order, expected, integrator, caveat, levels);
   }
   return r;
 }
@@ -884,28 +886,25 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   // the nominal run: 2 s like the chapter; for other models at most 250 steps and at
   // most 1e5 / nv steps (the convergence ladder runs ~16 times as many), always a whole
   // number of 2*dt so the ladder lands on it exactly
-  double dt = m->opt.timestep;
+  double dt = RunTimestep(model, options.sets);
   double max_steps =
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
-  double until = options.until > 0 ? options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
-  if (options.until != 0 && !(options.until > 0 && std::isfinite(options.until))) {
+  double until = options.until ? *options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
+  if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
+    // a run of zero steps would pass determinism and warnings without testing anything
     throw ValueError(
         fmt::format("--until {:g}: the nominal run length must be a positive number "
-                    "of seconds.",
-                    options.until));
+                    "of seconds (a run of zero steps checks nothing).",
+                    *options.until));
   }
   if (!(options.tol > 0 && std::isfinite(options.tol))) {
     throw ValueError(fmt::format("--tol {:g}: the relative tolerance must be positive and finite.",
                                  options.tol));
   }
-  double pairs = until / (2 * dt);
-  if (options.until > 0 && std::fabs(pairs - std::round(pairs)) > 1e-9 * std::max(1.0, pairs)) {
+  if (options.until) {
     // the convergence ladder runs at 2*dt too, so the run must end on a whole 2*dt
-    throw ValueError(fmt::format(
-        "--until {:g}: must be a whole multiple of twice the timestep ({:g} s), so every level "
-        "of the convergence ladder ends on it; nearest: {:g} or {:g}.",
-        options.until, 2 * dt, std::max(1.0, std::floor(pairs)) * 2 * dt,
-        std::max(1.0, std::ceil(pairs)) * 2 * dt));
+    RequireWholeSteps(*options.until, 2 * dt, fmt::format("--until {:g}", *options.until),
+                      "twice the timestep: the convergence ladder's coarsest level");
   }
   until = std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
 

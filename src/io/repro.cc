@@ -41,7 +41,8 @@ std::string ShellQuote(const std::string& arg) {
 }
 
 std::string WriteRepro(const Model& model, const RunResult& result,
-                       const std::vector<std::string>& argv, const std::string& dir) {
+                       const std::vector<std::string>& argv, const std::string& dir,
+                       const std::string& note) {
   // pick a name that does not exist yet
   std::string final_dir = dir;
   std::error_code ec;
@@ -56,8 +57,10 @@ std::string WriteRepro(const Model& model, const RunResult& result,
   try {
     std::string command;
     for (const std::string& a : argv) command += (command.empty() ? "" : " ") + ShellQuote(a);
-    WriteText(temp / "command.txt",
-              "# run from: " + fs::current_path().string() + "\n" + command + "\n");
+    // comments on their own lines, so the command line runs as written (sh command.txt)
+    std::string comments = "# run from: " + fs::current_path().string() + "\n";
+    if (!note.empty()) comments += "# " + note + "\n";
+    WriteText(temp / "command.txt", comments + command + "\n");
     model.SaveBinary((temp / "model.mjb").string());
     std::string xml_note;
     try {

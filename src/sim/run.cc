@@ -7,17 +7,10 @@
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
-
-// Steps per interval when `interval` is a whole multiple of `timestep`, else -1.
-long WholeSteps(double interval, double timestep) {
-  double ratio = interval / timestep;
-  double nearest = std::round(ratio);
-  if (nearest < 1 || std::fabs(ratio - nearest) > 1e-9 * nearest) return -1;
-  return static_cast<long>(nearest);
-}
 
 std::string Format(const char* fmt, double a, double b = 0, double c = 0) {
   char buffer[256];
@@ -62,22 +55,12 @@ Schedule MakeSchedule(double timestep, double until, double every) {
         Format(" steps of %g s; plumb counts steps exactly up to 2^53 (9.0e15). ", timestep) +
         "Choose a shorter final time.");
   }
-  double nearest = std::round(ratio);
-  schedule.steps = static_cast<long>(
-      std::fabs(ratio - nearest) <= 1e-9 * std::max(1.0, nearest) ? nearest : std::ceil(ratio));
+  schedule.steps = StepsToReach(until, timestep);
   if (!std::isfinite(every) || every <= 0) {
     throw ValueError("--every " + Format("%g", every) +
                      ": the sampling interval must be a positive number of seconds.");
   }
-  schedule.stride = WholeSteps(every, timestep);
-  if (schedule.stride < 0) {
-    double below = std::max(1.0, std::floor(every / timestep)) * timestep;
-    double above = std::ceil(every / timestep) * timestep;
-    throw ValueError(
-        Format("--every %g is not a whole multiple of the timestep %g", every, timestep) +
-        Format(" (it is %.4g steps): samples must fall on exact steps. Use ", every / timestep) +
-        Format("%.10g or %.10g, or change opt.timestep.", below, above));
-  }
+  schedule.stride = RequireWholeSteps(every, timestep, Format("--every %g", every));
   return schedule;
 }
 
@@ -290,7 +273,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       divergence.reset_by_mujoco = true;
       divergence.element = ElementLabel(model, CheckedArray(reset_kind), index);
       divergence.bad = before.state();
-      divergence.bad.step = step;
+      // the state it found bad is the one step `step` started from: step - 1, as its time
+      divergence.bad.step = step - 1;
       divergence.bad.qacc = before.Accelerations();
       std::string value;
       if (reset_kind == mjWARN_BADQACC && index >= 0 && index < m->nv &&

@@ -187,5 +187,55 @@ TEST_F(ConvergeTest, RoundOffLevelsCarryNoOrder) {
   EXPECT_DOUBLE_EQ(r.recommended_dt, 0.0005);
 }
 
+// Regression: converge recommended 0.02 s when the coarsest level was 0.01 s, and
+// 7.8e-05 s below the finest: a recommendation is always a level that was run.
+TEST_F(ConvergeTest, RecommendsOnlyATestedLevel) {
+  Metric q2 = ParseMetric(pendulum_, "qpos[hinge]@2");
+  for (double tol : {0.5, 1e-3, 1e-6}) {
+    ConvergenceResult r = Converge(pendulum_, Start(), q2, 0.002, 4, tol, 2);
+    ASSERT_TRUE(r.ok) << r.problem;
+    if (r.recommended_dt == 0) continue;  // none meets the tolerance
+    bool tested = false;
+    for (const ConvergenceLevel& l : r.levels) tested = tested || l.dt == r.recommended_dt;
+    EXPECT_TRUE(tested) << "tol " << tol << ": " << r.recommended_dt;
+  }
+  // a loose tolerance is met by the coarsest level, not by an untested 2 * dt0
+  EXPECT_EQ(Converge(pendulum_, Start(), q2, 0.002, 4, 0.5, 2).recommended_dt, 0.002);
+  // a tolerance no level meets recommends nothing, not a step below the finest
+  EXPECT_EQ(Converge(pendulum_, Start(), q2, 0.002, 4, 1e-6, 2).recommended_dt, 0);
+}
+
+// Regression: the finest level showed "est. error 0.000e+00".
+TEST_F(ConvergeTest, FinestLevelHasNoFakeZeroError) {
+  Metric q2 = ParseMetric(pendulum_, "qpos[hinge]@2");
+  ConvergenceResult euler = Converge(pendulum_, Start(), q2, 0.002, 4, 1e-3, 2);
+  const ConvergenceLevel& finest = euler.levels.back();
+  EXPECT_TRUE(finest.error_is_richardson);
+  // Richardson: half the finest difference for a first-order method
+  EXPECT_NEAR(finest.error, euler.levels[3].diff / (std::pow(2.0, euler.estimate.order) - 1),
+              1e-15);
+  EXPECT_GT(finest.error, 0);
+  for (std::size_t i = 0; i + 1 < euler.levels.size(); ++i) {
+    EXPECT_FALSE(euler.levels[i].error_is_richardson);
+  }
+  // where the finest levels agree to round-off, their error is not shown at all
+  ConvergenceResult rk4 = Converge(pendulum_, Start("RK4"), q2, 0.002, 4, 1e-3, 2);
+  EXPECT_TRUE(std::isnan(rk4.levels.back().error));
+  EXPECT_FALSE(rk4.levels.back().error_is_richardson);
+}
+
+TEST_F(ConvergeTest, ContactsGiveTheCaveat) {
+  Model humanoid = Model::Load(testing::kHumanoid);
+  Metric z = ParseMetric(humanoid, "xpos[torso][2]@1");
+  ConvergenceResult r = Converge(humanoid, {}, z, 0.005, 2, 1e-3, 1);
+  EXPECT_GT(r.max_contacts, 0);
+  EXPECT_EQ(r.caveat, ContactCaveat(r.max_contacts));
+  EXPECT_NE(r.caveat.find("non-smooth"), std::string::npos) << r.caveat;
+  Metric q2 = ParseMetric(pendulum_, "qpos[hinge]@2");
+  ConvergenceResult pendulum = Converge(pendulum_, Start(), q2, 0.002, 2, 1e-3, 2);
+  EXPECT_EQ(pendulum.max_contacts, 0);
+  EXPECT_EQ(pendulum.caveat, "");
+}
+
 }  // namespace
 }  // namespace plumb

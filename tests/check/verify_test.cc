@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fixture.h"
+#include "plumb/error.h"
 
 namespace plumb {
 namespace {
@@ -120,6 +121,31 @@ TEST_F(VerifyTest, FreeBoxOnAPlaneGetsWhatApplies) {
   EXPECT_EQ(Find(report, "determinism").status, CheckStatus::kPass);
   EXPECT_EQ(Find(report, "energy").status, CheckStatus::kSkip);  // contacts
   EXPECT_NE(Find(report, "energy").detail.find("contacts"), std::string::npos);
+}
+
+// Regression: converge printed orders like -3.12 on contact-rich models with no word,
+// while verify said it only in some branches; both now give ContactCaveat's text.
+TEST_F(VerifyTest, ConvergenceGivesTheContactCaveat) {
+  Model box = Model::FromXmlString(R"(<mujoco><worldbody>
+      <geom type="plane" size="2 2 0.1"/>
+      <body pos="0 0 0.2"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    </worldbody></mujoco>)",
+                                   "box.xml");
+  VerifyReport report = Verify(box, {});
+  const CheckResult& convergence = Find(report, "convergence");
+  EXPECT_NE(convergence.detail.find("Caveat: contacts occur (up to"), std::string::npos)
+      << convergence.detail;
+  EXPECT_EQ(Find(VerifyPendulum({"qpos[hinge]=0.7"}), "convergence").detail.find("Caveat"),
+            std::string::npos);
+}
+
+// Regression: --until 0 ran zero steps and PASSed determinism and warnings.
+TEST_F(VerifyTest, ARunOfZeroStepsIsRefused) {
+  VerifyOptions options;
+  options.until = 0;
+  EXPECT_THROW(Verify(pendulum_, options), ValueError);
+  options.until = 0.003;  // not a whole number of 2 * dt = 0.004 s
+  EXPECT_THROW(Verify(pendulum_, options), ValueError);
 }
 
 TEST_F(VerifyTest, AnEngagedLimitIsNotAConservativeSystem) {

@@ -105,8 +105,11 @@ TEST_F(RunTest, DivergenceStopsTheRunWithBothStates) {
   ASSERT_TRUE(result.divergence);
   EXPECT_LT(result.steps, 1000);
   const Divergence& div = *result.divergence;
-  EXPECT_EQ(div.bad.step, div.last_good.step + 1);
-  EXPECT_EQ(div.bad.step, result.steps);
+  // the failing step is the last one taken; a state MuJoCo found bad is the one that
+  // step started from, and every state's step agrees with its time
+  EXPECT_EQ(div.last_good.step + 1, result.steps);
+  EXPECT_EQ(div.bad.step, div.reset_by_mujoco ? div.last_good.step : div.last_good.step + 1);
+  EXPECT_DOUBLE_EQ(div.bad.time, div.bad.step * 0.01);
   EXPECT_LE(std::fabs(div.last_good.qpos[0]), 1e10);
   EXPECT_TRUE(std::isfinite(div.last_good.qvel[0]));
   // the last good state is the one the failing step started from, timed by its step

@@ -1,0 +1,37 @@
+// Starting a run from a keyframe of the model (MJCF <keyframe><key name="home" .../>),
+// the common way to start from a pose: `--keyframe NAME` on run, verify, converge,
+// sweep, rollout, audit and snapshot.
+//
+// Example:
+//   std::vector<plumb::Assignment> start = plumb::KeyframeAssignments(model, "home");
+//   start.push_back(plumb::ParseAssignment(model, "qvel[hinge]=1"));  // --set on top
+//   plumb::ApplyAssignments(model, data, start);
+
+#ifndef PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
+#define PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+
+namespace plumb {
+
+// The index of keyframe `name` in `model` (unnamed keyframes by id: "#0").
+// @throws ValueError for an unknown name, listing the model's keyframes and the nearest
+//         ("did you mean"), or saying the model has none.
+int FindKeyframe(const Model& model, const std::string& name);
+
+// The state assignments that put a run at keyframe `name` as mj_resetDataKeyframe does:
+// time, qpos, qvel, act, ctrl, mocap_pos and mocap_quat of the key (arrays of size zero
+// are left out). ApplyAssignments resets the data before it writes state, so everything
+// else starts at MuJoCo's reset values, as after mj_resetDataKeyframe. Put the user's
+// --set assignments after these so they apply on top. Each assignment's text reads
+// "keyframe 'home': qpos". Empty `name`: no assignments.
+// @throws ValueError as FindKeyframe does.
+std::vector<Assignment> KeyframeAssignments(const Model& model, const std::string& name);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
