@@ -166,7 +166,7 @@ TEST(OutputCliTest, InspectShowsCtrlAndJointForceOfAGearedMotor) {
 }
 
 TEST(OutputCliTest, AuditStepResponseGivesTheLengthsUnit) {
-  CommandResult r = RunPlumb("audit " + kCartpole);
+  CommandResult r = RunPlumb("audit --all " + kCartpole);
   std::size_t at = r.out.find("moves the actuator length by");
   ASSERT_NE(at, std::string::npos) << r.out;
   std::string text = r.out.substr(at, r.out.find('\n', at) - at);
