@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 
 namespace plumb {
@@ -153,7 +154,7 @@ std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* wh
   d->qpos[adr] = p.equilibrium;
   mj_forward(m, d);
   mjtNum inertia = 0;
-  mj_fullM(m, &inertia, d->qM);
+  compat::FullInertia(m, d, &inertia);
   p.inertia = inertia;
   p.stiffness = p.mass * p.gravity * p.distance;
   p.damping = m->dof_damping[m->jnt_dofadr[0]];

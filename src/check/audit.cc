@@ -139,10 +139,10 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
     const char* plural;
     int obj;
     int count;
-  } kinds[] = {{"joint", "joints", mjOBJ_JOINT, m->njnt},
-               {"actuator", "actuators", mjOBJ_ACTUATOR, m->nu},
-               {"sensor", "sensors", mjOBJ_SENSOR, m->nsensor},
-               {"body", "bodies", mjOBJ_BODY, m->nbody}};
+  } kinds[] = {{"joint", "joints", mjOBJ_JOINT, static_cast<int>(m->njnt)},
+               {"actuator", "actuators", mjOBJ_ACTUATOR, compat::ActuatorCount(m)},
+               {"sensor", "sensors", mjOBJ_SENSOR, static_cast<int>(m->nsensor)},
+               {"body", "bodies", mjOBJ_BODY, static_cast<int>(m->nbody)}};
   for (const Kind& k : kinds) {
     std::vector<std::string> unnamed;
     for (int i = 0; i < k.count; ++i) {
@@ -221,7 +221,7 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
   }
 
   // actuators -> transmission targets, sensors -> sensordata layout
-  for (int u = 0; u < m->nu && u < kMaxListed; ++u) {
+  for (int u = 0; u < compat::ActuatorCount(m) && u < kMaxListed; ++u) {
     int trn = m->actuator_trntype[u];
     int target_type = trn == mjTRN_TENDON ? mjOBJ_TENDON
                       : trn == mjTRN_SITE ? mjOBJ_SITE
@@ -233,7 +233,7 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
                                          compat::NameOf(compat::kTransmissions, trn).c_str())),
                         "", CheckStatus::kPass, "transmission and the element it drives"));
   }
-  ListedNote(L, "structure.actuator", "actuators", m->nu, out);
+  ListedNote(L, "structure.actuator", "actuators", compat::ActuatorCount(m), out);
   for (int s = 0; s < m->nsensor && s < kMaxListed; ++s) {
     out->push_back(Make(L, "structure.sensor", Elem(model, mjOBJ_SENSOR, s, "sensor"),
                         fmt::format("{} sensordata[{}..{}]",
@@ -705,7 +705,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    std::vector<Finding>* out) {
   const mjModel* m = model.get();
   const char* L = "actuator";
-  if (m->nu == 0) {
+  if (compat::ActuatorCount(m) == 0) {
     out->push_back(Make(L, "actuator.none", "", "no actuators", "", CheckStatus::kSkip,
                         "a passive model: nothing to check in this layer"));
     return;
@@ -714,7 +714,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   mju_zero(data->qvel, m->nv);
   data.Forward();
   int holding_rows = 0;
-  for (int u = 0; u < m->nu; ++u) {
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
     std::string element = Elem(model, mjOBJ_ACTUATOR, u, "actuator");
     double gear = m->actuator_gear[6 * u];
     auto [flo, fhi] = ForceRange(m, u);
@@ -770,13 +770,13 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   }
   ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
   // step responses, within one dof-step budget for all of them
-  int count = std::min(m->nu, kStepActuators);
+  int count = std::min(compat::ActuatorCount(m), kStepActuators);
   double duration = Duration(m, 1.0, kDofStepBudget / count);
   Model work = original.Clone();
   work.get_mutable()->opt.disableflags |= mjDSBL_GRAVITY | mjDSBL_CONTACT;
   Data step_data(work);
   for (int i = 0; i < count; ++i) {
-    int u = static_cast<int>(static_cast<long>(i) * m->nu / count);
+    int u = static_cast<int>(static_cast<long>(i) * compat::ActuatorCount(m) / count);
     std::string element = Elem(model, mjOBJ_ACTUATOR, u, "actuator");
     StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, element);
     runs->push_back(r.run);
@@ -798,7 +798,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                         "a step of 10% of ctrlrange from the reference pose, gravity and "
                         "contacts off"));
   }
-  ListedNote(L, "actuator.step_response", "actuators", m->nu, out, count);
+  ListedNote(L, "actuator.step_response", "actuators", compat::ActuatorCount(m), out, count);
 }
 
 // Adds the steps and warnings of `part` (a later piece of the same run) to `total`.

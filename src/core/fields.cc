@@ -1,6 +1,8 @@
 #include "core/fields.h"
 
 #include <cstddef>
+#include <limits>
+#include <string_view>
 
 namespace plumb {
 namespace {
@@ -10,9 +12,30 @@ using compat::ElemTypeOf;
 
 [[maybe_unused]] long One(const mjModel*) { return 1; }
 
+// Rows of an array whose filled part is counted by mjData rather than allocated by
+// mjModel: no fixed bound at compile time; current_rows() gives the rows now.
+[[maybe_unused]] long Unbounded(const mjModel*) { return std::numeric_limits<int>::max(); }
+
+// How the rows of an arena array are counted (3.x): the size's name, the rows allocated
+// and, for sizes of mjData, the rows filled at a state.
+struct ArenaRows {
+  const char* kind;
+  long (*allocated)(const mjModel*);
+  long (*now)(const mjModel*, const mjData*);
+};
+
+// For arrays allocated for the most constraints or contacts a step may hold (2.2.2's
+// njmax and nconmax rows), the rows filled at the state of `d`; nullptr for the rest.
+[[maybe_unused]] long (*CurrentRows(std::string_view row_kind))(const mjModel*, const mjData*) {
+  if (row_kind == "njmax") return [](const mjModel*, const mjData* d) -> long { return d->nefc; };
+  if (row_kind == "nconmax") return [](const mjModel*, const mjData* d) -> long { return d->ncon; };
+  return nullptr;
+}
+
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-variable"
 #pragma GCC diagnostic ignored "-Wunused-but-set-variable"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
 #pragma GCC diagnostic ignored "-Winvalid-offsetof"
 
 std::vector<FieldInfo> BuildFields() {
@@ -64,11 +87,38 @@ std::vector<FieldInfo> BuildFields() {
   f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), #nr, \
                [](const mjModel* m) -> long { return m->nr; },                                  \
                [](const mjModel* m) -> long {                                                   \
-                 MJDATA_POINTERS_PREAMBLE(m)                                                    \
+                 PLUMB_MJDATA_POINTERS_PREAMBLE(m)                                              \
                  return nc;                                                                     \
-               }});
+               },                                                                               \
+               CurrentRows(#nr)});
   MJDATA_POINTERS
 #undef X
+
+#ifdef PLUMB_MJDATA_ARENA_POINTERS
+  // data arrays in the arena (3.x): rows are a size of mjModel (MJ_M) or of mjData (MJ_D)
+#pragma push_macro("MJ_M")
+#pragma push_macro("MJ_D")
+#undef MJ_M
+#undef MJ_D
+#define MJ_M(n) \
+  ArenaRows { #n, [](const mjModel* m) -> long { return m->n; }, nullptr }
+#define MJ_D(n)                                                   \
+  ArenaRows {                                                     \
+    #n, Unbounded, [](const mjModel*, const mjData* d) -> long { \
+      return d->n;                                                \
+    }                                                             \
+  }
+#define X(type, name, nr, nc)                                                                     \
+  {                                                                                               \
+    ArenaRows rows = nr;                                                                          \
+    f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name),      \
+                 rows.kind, rows.allocated, [](const mjModel*) -> long { return nc; }, rows.now}); \
+  }
+  PLUMB_MJDATA_ARENA_POINTERS
+#undef X
+#pragma pop_macro("MJ_D")
+#pragma pop_macro("MJ_M")
+#endif
 
   // data scalars (time, ncon, ...) and the energy vector
 #define X(type, name)                                                                           \

@@ -28,8 +28,11 @@ struct FieldInfo {
   compat::ElemType type;
   std::size_t offset;    // byte offset within mjModel, mjOption or mjData
   std::string row_kind;  // mjModel size naming the rows ("nbody", "nq", ...); "" if none
-  long (*rows)(const mjModel*);
+  long (*rows)(const mjModel*);  // rows allocated (for constraint arrays: the most they hold)
   long (*cols)(const mjModel*);
+  // For arrays whose filled row count changes from step to step (constraints, contacts,
+  // islands): the rows holding values at the state of `d`; nullptr for every other field.
+  long (*current_rows)(const mjModel*, const mjData*) = nullptr;
 };
 
 // Every field, in X-macro order: model arrays, model sizes, options, data arrays,

@@ -35,6 +35,21 @@ inline constexpr bool kMujoco36 = mjVERSION_HEADER >= 3006000;
 #define PLUMB_MJMODEL_SIZES MJMODEL_INTS
 #endif
 
+// 2.x declares the names its MJDATA_POINTERS column counts use (nv, njmax) in a
+// preamble; 3.6.0 removed it, as every column count became a literal.
+#ifdef MJDATA_POINTERS_PREAMBLE
+#define PLUMB_MJDATA_POINTERS_PREAMBLE(m) MJDATA_POINTERS_PREAMBLE(m)
+#else
+#define PLUMB_MJDATA_POINTERS_PREAMBLE(m)
+#endif
+
+// 3.x moved the constraint, contact and island arrays of mjData into the arena, listed
+// by MJDATA_ARENA_POINTERS with rows MJ_M(size of mjModel) or MJ_D(size of mjData);
+// 2.x lists them in MJDATA_POINTERS with njmax/nconmax rows.
+#ifdef MJDATA_ARENA_POINTERS
+#define PLUMB_MJDATA_ARENA_POINTERS MJDATA_ARENA_POINTERS
+#endif
+
 // Newer releases tag some rows of MJMODEL_POINTERS / MJDATA_POINTERS with other
 // macro names; by default they mean the same as X.
 #ifndef XMJV
@@ -196,6 +211,25 @@ inline int ActuatorActAddress(const mjModel* m, int i) {
 #endif
 }
 
+namespace detail {
+template <typename M>
+auto ActuatorCount(const M* m, int) -> decltype(m->nactuator, long()) {
+  return m->nactuator;
+}
+template <typename M>
+long ActuatorCount(const M* m, long) {
+  return m->nu;
+}
+}  // namespace detail
+
+// The number of actuators. 2.x has one control per actuator, so nu counts both; 3.x
+// counts actuators by nactuator (an actuator may take several controls, nu, and give
+// several force outputs, nout). The actuator_* arrays of mjModel are nactuator rows
+// (a few, such as actuator_gear, nout rows: the same for single-output actuators).
+inline int ActuatorCount(const mjModel* m) {
+  return static_cast<int>(detail::ActuatorCount(m, 0));
+}
+
 // Solver iterations used by the last step (summed over islands on 3.x).
 inline int SolverIterations(const mjData* d) {
 #if mjVERSION_HEADER >= 300
@@ -204,6 +238,17 @@ inline int SolverIterations(const mjData* d) {
   return total;
 #else
   return d->solver_iter;
+#endif
+}
+
+// The full nv x nv joint-space inertia matrix M of the state in `d` into `dst`
+// (mj_forward or mj_step must have run). 3.10.0 changed mj_fullM to take the data;
+// 3.11.0 removed d->qM.
+inline void FullInertia(const mjModel* m, const mjData* d, mjtNum* dst) {
+#if mjVERSION_HEADER >= 3010000
+  mj_fullM(m, d, dst);
+#else
+  mj_fullM(m, dst, d->qM);
 #endif
 }
 
