@@ -114,9 +114,16 @@ ordered_json Structure(const Model& model, const Data& data) {
   const mjModel* m = model.get();
   ordered_json out;
   for (const Section& section : kSections) {
-    long rows = 0;
+    // actuators: one row per actuator, its arrays counted by nu on 2.x and by nactuator,
+    // nu (controls) or nout (force outputs) on 3.x, each read by the actuator's id
+    bool actuators = section.obj == mjOBJ_ACTUATOR;
+    auto in_section = [&](const FieldInfo& f) {
+      if (!actuators) return f.row_kind == section.size;
+      return f.row_kind == "nu" || f.row_kind == "nactuator" || f.row_kind == "nout";
+    };
+    long rows = actuators ? compat::ActuatorCount(m) : 0;
     for (const FieldInfo& f : Fields()) {
-      if (f.source == FieldSource::kModelSize && f.name == section.size) {
+      if (!actuators && f.source == FieldSource::kModelSize && f.name == section.size) {
         rows = static_cast<long>(ReadValue(model, data, ResolvePath(model, f.name)));
       }
     }
@@ -125,10 +132,10 @@ ordered_json Structure(const Model& model, const Data& data) {
       ordered_json e = ordered_json::object();
       e["id"] = row;
       for (const FieldInfo& f : Fields()) {
-        if (f.source != FieldSource::kModelArray || f.row_kind != section.size) continue;
+        if (f.source != FieldSource::kModelArray || !in_section(f)) continue;
         if (f.type == compat::ElemType::kOther || f.type == compat::ElemType::kChar) continue;
         if (!Recorded(f.name) || f.cols(m) == 0) continue;
-        Path p = ResolvePath(model, f.name + "[" + std::to_string(row) + "]");
+        Path p = ResolvePath(model, f.name + (actuators ? "[#" : "[") + std::to_string(row) + "]");
         int target = IdTarget(f.name, m, row);
         if (target >= 0) {
           ordered_json ids = ordered_json::array();
@@ -136,6 +143,10 @@ ordered_json Structure(const Model& model, const Data& data) {
             ids.push_back(NameOr(model, target, static_cast<int>(ReadValue(model, data, p, k))));
           }
           e[f.name] = p.count == 1 ? ids[0] : ids;
+        } else if (p.count == 1 &&
+                   compat::EnumFieldName(f.name, static_cast<int>(ReadValue(model, data, p)))) {
+          // enumerations by their MJCF names: MuJoCo renumbers some between releases
+          e[f.name] = *compat::EnumFieldName(f.name, static_cast<int>(ReadValue(model, data, p)));
         } else {
           e[f.name] = Value(model, data, p);
         }
@@ -327,6 +338,36 @@ void ExpectFieldValue(const ordered_json& v, const std::string& entry,
   }
 }
 
+// Snapshots written before enumerations were recorded by name hold their numbers. Under
+// the MuJoCo that wrote them the numbers are named as a new snapshot would name them;
+// under another, whose numbering may differ (mjtSensor's did), they stay marked with
+// the version that numbered them, so a diff shows them instead of guessing.
+void NameNumberedEnums(ordered_json* snapshot) {
+  if (!snapshot->is_object() || !snapshot->contains("structure") ||
+      !(*snapshot)["structure"].is_object()) {
+    return;
+  }
+  auto version = snapshot->find("mujoco_version");
+  std::string writer = version != snapshot->end() && version->is_string()
+                           ? version->get<std::string>()
+                           : "an unknown version";
+  bool same = writer == MujocoVersion();
+  for (auto& [section, elements] : (*snapshot)["structure"].items()) {
+    if (!elements.is_object()) continue;
+    for (auto& [name, fields] : elements.items()) {
+      if (!fields.is_object()) continue;
+      for (auto& [field, value] : fields.items()) {
+        if (!value.is_number_integer()) continue;
+        int number = value.get<int>();
+        std::optional<std::string> named = compat::EnumFieldName(field, number);
+        if (!named) continue;
+        value = same ? *named
+                     : "type " + std::to_string(number) + " as numbered by MuJoCo " + writer;
+      }
+    }
+  }
+}
+
 // Checks that `before` has every entry DiffSnapshot reads, with the right types and
 // lengths (`after` is the current model's snapshot, for the shapes of fields).
 // @throws ValueError naming the entry, e.g. "structure.body.link.body_mass: expected a
@@ -472,6 +513,7 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
   all.insert(all.end(), sets.begin(), sets.end());
   std::string diverged;
   const ordered_json after = Snapshot(model, all, &diverged);
+  NameNumberedEnums(&parsed);
   const ordered_json& before = parsed;  // const: a missing key can never be inserted
   ValidateSnapshot(before, after);
   diff.diverged = !diverged.empty();

@@ -108,11 +108,18 @@ std::vector<FieldInfo> BuildFields() {
       return d->n;                                                \
     }                                                             \
   }
-#define X(type, name, nr, nc)                                                                     \
-  {                                                                                               \
-    ArenaRows rows = nr;                                                                          \
-    f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name),      \
-                 rows.kind, rows.allocated, [](const mjModel*) -> long { return nc; }, rows.now}); \
+// MuJoCo clears every arena pointer at the start of a step and allocates only those the
+// step needs: a null pointer holds no rows
+#define X(type, name, nr, nc)                                                                \
+  {                                                                                          \
+    ArenaRows rows = nr;                                                                     \
+    f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), \
+                 rows.kind, rows.allocated, [](const mjModel*) -> long { return nc; },       \
+                 [](const mjModel* m, const mjData* d) -> long {                             \
+                   ArenaRows r = nr;                                                         \
+                   if (!d->name) return 0;                                                   \
+                   return r.now ? r.now(m, d) : r.allocated(m);                              \
+                 }});                                                                        \
   }
   PLUMB_MJDATA_ARENA_POINTERS
 #undef X

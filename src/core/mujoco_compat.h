@@ -13,8 +13,10 @@
 
 #include <cstddef>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace plumb::compat {
@@ -188,6 +190,29 @@ inline constexpr EnumName kSensorTypes[] = {
     {mjSENS_USER, "user"},
 };
 
+// Geom, equality, actuator dynamics/gain/bias types by their MJCF names (the types both
+// 2.x and 3.x have; a newer type reads as "type N", see NameOf).
+inline constexpr EnumName kGeomTypes[] = {
+    {mjGEOM_PLANE, "plane"},       {mjGEOM_HFIELD, "hfield"},     {mjGEOM_SPHERE, "sphere"},
+    {mjGEOM_CAPSULE, "capsule"},   {mjGEOM_ELLIPSOID, "ellipsoid"}, {mjGEOM_CYLINDER, "cylinder"},
+    {mjGEOM_BOX, "box"},           {mjGEOM_MESH, "mesh"}};
+inline constexpr EnumName kEqualityTypes[] = {{mjEQ_CONNECT, "connect"},
+                                              {mjEQ_WELD, "weld"},
+                                              {mjEQ_JOINT, "joint"},
+                                              {mjEQ_TENDON, "tendon"},
+                                              {mjEQ_DISTANCE, "distance"}};
+inline constexpr EnumName kDynamicsTypes[] = {{mjDYN_NONE, "none"},
+                                              {mjDYN_INTEGRATOR, "integrator"},
+                                              {mjDYN_FILTER, "filter"},
+                                              {mjDYN_MUSCLE, "muscle"},
+                                              {mjDYN_USER, "user"}};
+inline constexpr EnumName kGainTypes[] = {
+    {mjGAIN_FIXED, "fixed"}, {mjGAIN_AFFINE, "affine"}, {mjGAIN_MUSCLE, "muscle"},
+    {mjGAIN_USER, "user"}};
+inline constexpr EnumName kBiasTypes[] = {
+    {mjBIAS_NONE, "none"}, {mjBIAS_AFFINE, "affine"}, {mjBIAS_MUSCLE, "muscle"},
+    {mjBIAS_USER, "user"}};
+
 // The name of `value` in `table`, or "type <value>" when the table lacks it.
 template <std::size_t N>
 std::string NameOf(const EnumName (&table)[N], int value) {
@@ -195,6 +220,25 @@ std::string NameOf(const EnumName (&table)[N], int value) {
     if (e.value == value) return e.name;
   }
   return "type " + std::to_string(value);
+}
+
+// The MJCF name of value `value` of the enumerated model array `field` ("sensor_type",
+// "jnt_type", ...), or nullopt when `field` holds no enumeration. MuJoCo renumbers some
+// enumerations between releases (mjtSensor did), so files store these names, never numbers.
+inline std::optional<std::string> EnumFieldName(const std::string& field, int value) {
+  if (field == "jnt_type") return NameOf(kJointTypes, value);
+  if (field == "geom_type") return NameOf(kGeomTypes, value);
+  if (field == "sensor_type") return NameOf(kSensorTypes, value);
+  if (field == "eq_type") return NameOf(kEqualityTypes, value);
+  if (field == "actuator_trntype") return NameOf(kTransmissions, value);
+  if (field == "actuator_dyntype") return NameOf(kDynamicsTypes, value);
+  if (field == "actuator_gaintype") return NameOf(kGainTypes, value);
+  if (field == "actuator_biastype") return NameOf(kBiasTypes, value);
+  if (field == "sensor_objtype" || field == "sensor_reftype") {
+    const char* name = mju_type2Str(value);
+    return name ? std::string(name) : "type " + std::to_string(value);
+  }
+  return std::nullopt;
 }
 
 // Value above which MuJoCo's own mj_checkPos/Vel/Acc consider a number diverged.
@@ -228,6 +272,35 @@ long ActuatorCount(const M* m, long) {
 // (a few, such as actuator_gear, nout rows: the same for single-output actuators).
 inline int ActuatorCount(const mjModel* m) {
   return static_cast<int>(detail::ActuatorCount(m, 0));
+}
+
+namespace detail {
+template <typename M>
+auto ActuatorControls(const M* m, int i, int) -> decltype(m->actuator_ctrladr, std::pair<long, long>()) {
+  return {m->actuator_ctrladr[i], m->actuator_ctrlnum[i]};
+}
+template <typename M>
+std::pair<long, long> ActuatorControls(const M*, int i, long) {
+  return {i, 1};
+}
+template <typename M>
+auto ActuatorOutputs(const M* m, int i, int) -> decltype(m->actuator_outadr, std::pair<long, long>()) {
+  return {m->actuator_outadr[i], m->actuator_outnum[i]};
+}
+template <typename M>
+std::pair<long, long> ActuatorOutputs(const M*, int i, long) {
+  return {i, 1};
+}
+}  // namespace detail
+
+// The first row and the count of actuator i's controls in d->ctrl (and in the nu-row
+// arrays such as actuator_ctrlrange), and of its force outputs in the nout-row arrays
+// (actuator_force, actuator_gear, ...). 2.x: one of each, at row i.
+inline std::pair<long, long> ActuatorControls(const mjModel* m, int i) {
+  return detail::ActuatorControls(m, i, 0);
+}
+inline std::pair<long, long> ActuatorOutputs(const mjModel* m, int i) {
+  return detail::ActuatorOutputs(m, i, 0);
 }
 
 // Solver iterations used by the last step (summed over islands on 3.x).

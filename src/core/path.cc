@@ -16,7 +16,7 @@ using compat::ElemType;
 
 // How the rows of an array are named: the mjModel size counting them tells which
 // object type names them and how a name maps to a block of rows.
-enum class RowMap { kDirect, kQpos, kDof, kAct, kMocap, kAdrNum };
+enum class RowMap { kDirect, kQpos, kDof, kAct, kCtrl, kOut, kMocap, kAdrNum };
 
 struct RowKind {
   const char* size;  // "nbody", "nq", ...
@@ -41,7 +41,9 @@ constexpr RowKind kRowKinds[] = {
     {"nexclude", mjOBJ_EXCLUDE, RowMap::kDirect, "contact exclude"},
     {"neq", mjOBJ_EQUALITY, RowMap::kDirect, "equality"},
     {"ntendon", mjOBJ_TENDON, RowMap::kDirect, "tendon"},
-    {"nu", mjOBJ_ACTUATOR, RowMap::kDirect, "actuator"},
+    {"nactuator", mjOBJ_ACTUATOR, RowMap::kDirect, "actuator"},
+    {"nu", mjOBJ_ACTUATOR, RowMap::kCtrl, "actuator"},
+    {"nout", mjOBJ_ACTUATOR, RowMap::kOut, "actuator"},
     {"nsensor", mjOBJ_SENSOR, RowMap::kDirect, "sensor"},
     {"nnumeric", mjOBJ_NUMERIC, RowMap::kDirect, "numeric"},
     {"ntext", mjOBJ_TEXT, RowMap::kDirect, "text"},
@@ -206,7 +208,7 @@ long ObjectCount(const mjModel* m, int obj) {
     case mjOBJ_TENDON:
       return m->ntendon;
     case mjOBJ_ACTUATOR:
-      return m->nu;
+      return compat::ActuatorCount(m);
     case mjOBJ_SENSOR:
       return m->nsensor;
     case mjOBJ_NUMERIC:
@@ -238,6 +240,10 @@ std::pair<long, long> RowsOf(const mjModel* m, const RowKind& kind, int id) {
       int adr = compat::ActuatorActAddress(m, id);
       return {adr, adr < 0 ? 0 : 1};
     }
+    case RowMap::kCtrl:
+      return compat::ActuatorControls(m, id);
+    case RowMap::kOut:
+      return compat::ActuatorOutputs(m, id);
     case RowMap::kMocap: {
       int adr = m->body_mocapid[id];
       return {adr, adr < 0 ? 0 : 1};
@@ -324,7 +330,7 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
                     "' holds structures, not numbers, and cannot be read as a path.");
   }
   for (const NotComputed& n : kNotComputed) {
-    if (field->name == n.name) {
+    if (field->source == FieldSource::kDataArray && field->name == n.name) {
       throw PathError("path '" + std::string(text) + "': '" + field->name +
                       "' cannot be read at the states plumb samples (" + n.why +
                       "): it would read as 0, a stale or a wrong value.");
@@ -494,22 +500,24 @@ void RequireWritable(const Path& path) {
 }
 
 // Throws PathError when element `k` of `path` lies beyond the rows `d` holds now. The
-// constraint arrays (efc_*) are allocated for njmax rows but hold nefc, a number that
-// changes from step to step; the rest is beyond what MuJoCo computed.
+// constraint and contact arrays (efc_*, contact, islands) hold as many rows as the
+// state has constraints (nefc), a number that changes from step to step; beyond them
+// is nothing MuJoCo computed.
 void RequireCurrentRow(const FieldInfo& field, const mjModel* m, const mjData* d, const Path& path,
                        long k) {
-  if (field.source != FieldSource::kDataArray || field.name.rfind("efc_", 0) != 0) return;
-  mjModel now = *m;  // the sizes as they are at this state (shallow copy, pointers shared)
-  now.njmax = d->nefc;
-  now.nconmax = d->ncon;
-  long count = field.rows(&now) * field.cols(&now);
+  if (!field.current_rows) return;
+  long count = field.current_rows(m, d) * field.cols(m);
   if (path.first + k < count) return;
+  // 2.x allocates these arrays for njmax/nconmax rows; 3.x counts them by nefc/ncon
+  const std::string& kind = field.row_kind;
+  std::string now = kind == "njmax" ? "nefc" : kind == "nconmax" ? "ncon" : kind;
+  std::string room = now == kind ? "" : "; it has room for " + kind + " = " + std::to_string(field.rows(m)) + " rows";
   throw PathError("'" + path.text + "' does not exist at t = " + FormatNumber(d->time) +
-                  " s: there are nefc = " + std::to_string(d->nefc) + " constraint rows now ('" +
-                  field.name + "' holds " + std::to_string(count) +
-                  " element(s); it has room for njmax = " + std::to_string(m->njmax) +
-                  " rows, but the constraints active at this state fill only nefc of "
-                  "them, a number that changes with contacts and limits from step to step).");
+                  " s: there are " + now + " = " + std::to_string(field.current_rows(m, d)) +
+                  " rows now ('" + field.name + "' holds " + std::to_string(count) +
+                  " element(s)" + room +
+                  ", but the constraints and contacts active at this state fill only " + now +
+                  " of them, a number that changes with contacts and limits from step to step).");
 }
 
 // A body whose mass changes keeps its shape and mass distribution: its principal

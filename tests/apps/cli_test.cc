@@ -138,8 +138,8 @@ TEST_F(CliBadInputTest, NegativeGeomSizeGivesObjectAndLine) {
       "<mujoco>\n<worldbody>\n<body name=\"b\">\n<joint name=\"j\"/>\n"
       "<geom name=\"rod\" type=\"sphere\" size=\"-0.1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
   CommandResult r = Expect2("run " + models.File("neg.xml"), "neg.xml");
-  EXPECT_NE(r.err.find("Object name = rod"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("line = 5"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'rod'"), std::string::npos) << r.err;
+  EXPECT_TRUE(testing::NamesLine(r.err, 5)) << r.err;
 }
 
 TEST_F(CliBadInputTest, RangeWithoutLimitedExplainsAutolimits) {
@@ -147,7 +147,39 @@ TEST_F(CliBadInputTest, RangeWithoutLimitedExplainsAutolimits) {
   WriteFile(models.File("lim.xml"),
             "<mujoco><worldbody><body><joint name=\"j\" range=\"-1 1\"/><geom size=\"1\"/></body>"
             "</worldbody></mujoco>");
+  if (mjVERSION_HEADER >= 300) {
+    // MuJoCo 3 turned autolimits on by default: the range limits the joint
+    CommandResult r = RunPlumb("inspect " + models.File("lim.xml") + " --format json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    return;
+  }
   Expect2("run " + models.File("lim.xml"), "autolimits");
+}
+
+// Syntax only MuJoCo 3 reads: the implicitfast integrator and a range without limited.
+// It loads and runs on the newer legs; on 2.2.2 it is a load error with the chapter
+// table's advice for the range (the first error MuJoCo meets).
+TEST_F(CliBadInputTest, MujocoThreeSyntaxLoadsOrIsExplained) {
+  TempDir models;
+  WriteFile(models.File("new.xml"),
+            "<mujoco><option integrator=\"implicitfast\"/><worldbody><body>"
+            "<joint name=\"j\" range=\"-1 1\"/><geom size=\"0.1\" pos=\"0 0 -1\"/></body>"
+            "</worldbody></mujoco>");
+  if (mjVERSION_HEADER < 300) {
+    WriteFile(models.File("range.xml"),
+              "<mujoco><worldbody><body><joint name=\"j\" range=\"-1 1\"/>"
+              "<geom size=\"0.1\" pos=\"0 0 -1\"/></body></worldbody></mujoco>");
+    Expect2("run " + models.File("range.xml"), "autolimits");
+    Expect2("run " + models.File("new.xml"), "new.xml");
+    return;
+  }
+  CommandResult r = RunPlumb("run " + models.File("new.xml") +
+                             " --set 'qpos[j]=0.5' --until 0.2 --every 0.1 --format csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4) << r.out;  // header, 0, 0.1, 0.2 s
+  CommandResult info = RunPlumb("inspect " + models.File("new.xml") + " --format json");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("implicitfast"), std::string::npos) << info.out;
 }
 
 TEST_F(CliBadInputTest, UnknownPath) {
@@ -544,7 +576,8 @@ TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
   EXPECT_NE(r.out.find("Exit codes"), std::string::npos) << r.out;
   EXPECT_EQ(RunPlumb("").exit_code, 2);
   EXPECT_EQ(RunPlumb("frobnicate").exit_code, 2);
-  EXPECT_NE(RunPlumb("--version").out.find("MuJoCo 2"), std::string::npos);
+  EXPECT_NE(RunPlumb("--version").out.find("MuJoCo " + testing::CompiledMujocoVersion()),
+            std::string::npos);
 }
 
 }  // namespace

@@ -26,7 +26,13 @@ const std::map<std::string, std::string> kKnownFailures = {
 class AuditModelsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(AuditModelsTest, NoCrashAndNoUnexplainedFailure) {
-  Model model = Model::Load(GetParam());
+  std::optional<Model> loaded;
+  if (!testing::LoadThirdParty(GetParam(), &loaded)) {
+    GTEST_SKIP() << GetParam() << " does not load on MuJoCo " << testing::CompiledMujocoVersion()
+                 << ": "
+                 << testing::kSamplesForMujocoTwoOnly.at(fs::path(GetParam()).filename().string());
+  }
+  Model& model = *loaded;
   AuditReport report = Audit(model, {});
   TakeMujocoWarnings();
   ASSERT_GE(report.findings.size(), 5u);

@@ -292,7 +292,7 @@ TEST_F(RolloutTest, ADrawMujocoCannotTakeIsThatRolloutsProblem) {
 }
 
 TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {
-  Model model = Model::FromXmlString(R"(<mujoco><size nconmax="1"/><worldbody>
+  Model model = Model::FromXmlString("<mujoco>" + testing::kOverfullSize + R"(<worldbody>
       <geom name="floor" type="plane" size="5 5 0.1"/>
       <body name="box" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
     </worldbody></mujoco>)");
@@ -302,7 +302,7 @@ TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {
   std::vector<RolloutResult> r = Collect(model, spec);
   TakeMujocoWarnings();
   ASSERT_EQ(r.size(), 2u);
-  EXPECT_NE(r[0].warnings.find("CONTACTFULL"), std::string::npos) << r[0].warnings;
+  EXPECT_NE(r[0].warnings.find(testing::kOverfullWarning), std::string::npos) << r[0].warnings;
   EXPECT_EQ(DecodeResult(EncodeResult(r[0])).warnings, r[0].warnings);
 }
 

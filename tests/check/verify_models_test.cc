@@ -29,7 +29,13 @@ const std::map<std::string, std::string> kKnownFailures = {
 class VerifyModelsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(VerifyModelsTest, NoCrashAndNoUnexplainedFailure) {
-  Model model = Model::Load(GetParam());
+  std::optional<Model> loaded;
+  if (!testing::LoadThirdParty(GetParam(), &loaded)) {
+    GTEST_SKIP() << GetParam() << " does not load on MuJoCo " << testing::CompiledMujocoVersion()
+                 << ": "
+                 << testing::kSamplesForMujocoTwoOnly.at(fs::path(GetParam()).filename().string());
+  }
+  Model& model = *loaded;
   VerifyReport report = Verify(model, {});
   TakeMujocoWarnings();
   ASSERT_GE(report.checks.size(), 5u);

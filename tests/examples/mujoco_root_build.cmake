@@ -1,12 +1,18 @@
 # Builds examples/01_hello against a MuJoCo "release folder" (include/mujoco/*.h,
 # lib/libmujoco.so) given with -DMUJOCO_ROOT, the way a MuJoCo 3.x user builds: here the
-# folder is assembled from Debian's 2.2.2 files. Checks the RPATH points into the folder,
-# so the program runs without LD_LIBRARY_PATH.
+# folder is assembled from the files of the MuJoCo plumb is built with (a copy of the
+# library, so the system path cannot stand in for it). Checks the RPATH points into the
+# folder and the loader takes MuJoCo from there, without LD_LIBRARY_PATH.
 file(REMOVE_RECURSE "${WORK_DIR}")
 set(root "${WORK_DIR}/mujoco-release")
 file(MAKE_DIRECTORY "${root}/include" "${root}/lib")
 file(CREATE_LINK "${MUJOCO_INCLUDE}/mujoco" "${root}/include/mujoco" SYMBOLIC)
-file(CREATE_LINK "${MUJOCO_LIBRARY}" "${root}/lib/libmujoco.so" SYMBOLIC)
+# the library under its real (SONAME) name, as a release folder has it, and the link
+# the linker looks for
+file(REAL_PATH "${MUJOCO_LIBRARY}" real_library)
+get_filename_component(real_name "${real_library}" NAME)
+file(COPY "${real_library}" DESTINATION "${root}/lib")
+file(CREATE_LINK "${real_name}" "${root}/lib/libmujoco.so" SYMBOLIC)
 execute_process(
   COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/01_hello" -B "${WORK_DIR}/build"
     -DCMAKE_BUILD_TYPE=Release -DMUJOCO_ROOT=${root}
@@ -22,6 +28,11 @@ endif()
 execute_process(COMMAND readelf -d "${WORK_DIR}/build/hello" OUTPUT_VARIABLE dynamic)
 if(NOT dynamic MATCHES "${root}/lib")
   message(FATAL_ERROR "hello has no RPATH into ${root}/lib:\n${dynamic}")
+endif()
+# the loader finds MuJoCo in the folder itself, not on the system path
+execute_process(COMMAND ldd "${WORK_DIR}/build/hello" OUTPUT_VARIABLE linked)
+if(NOT linked MATCHES "libmujoco[^\n]*=> ${root}/lib/")
+  message(FATAL_ERROR "hello does not load MuJoCo from ${root}/lib:\n${linked}")
 endif()
 execute_process(COMMAND "${WORK_DIR}/build/hello" "${SOURCE_DIR}/models/pendulum.xml"
   RESULT_VARIABLE rc OUTPUT_VARIABLE out)

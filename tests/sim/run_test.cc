@@ -230,9 +230,9 @@ TEST_F(RunTest, TheSameSpringIsStableWithASmallTimestep) {
 }
 
 // Contacts overflow a deliberately tiny contact buffer: MuJoCo warns, the run goes on.
-constexpr char kCrowded[] = R"(
+const std::string kCrowded = R"(
 <mujoco model="crowded">
-  <size nconmax="1"/>
+  )" + testing::kOverfullSize + R"(
   <worldbody>
     <geom name="floor" type="plane" size="5 5 0.1"/>
     <body name="a" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
@@ -247,7 +247,7 @@ TEST_F(RunTest, WarningsAreSummarisedWithFirstTime) {
   TakeMujocoWarnings();
   EXPECT_FALSE(result.diverged);
   ASSERT_EQ(result.warnings.size(), 1u);
-  EXPECT_EQ(result.warnings[0].kind, "CONTACTFULL");
+  EXPECT_EQ(result.warnings[0].kind, testing::kOverfullWarning);
   EXPECT_GT(result.warnings[0].count, 0);
   EXPECT_GE(result.warnings[0].first_step, 1);
   EXPECT_FALSE(result.warnings[0].message.empty());
