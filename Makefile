@@ -1,22 +1,33 @@
 # The two commands a new user types: `make demo` and `make test`.
 # Both install missing Debian packages first (scripts/install-deps.sh).
 
+# The MuJoCo to build against: 4.0.1 (default), 3.11.0 (the book's), or debian (2.2.2).
+# Each engine other than the default builds in a folder of its own.
+MUJOCO     ?= 4.0.1
+DEFAULT_MUJOCO := 4.0.1
+ifeq ($(MUJOCO),$(DEFAULT_MUJOCO))
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
+else
+BUILD      ?= build-mujoco-$(MUJOCO)
+ASAN_BUILD ?= build-asan-mujoco-$(MUJOCO)
+endif
+# the other legs of the tested version matrix
+MATRIX     ?= 3.11.0 debian
 JOBS       ?= $(shell nproc)
 PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 PLUMB      := $(BUILD)/plumb
 
-.PHONY: all deps build demo test test-release test-asan bench install format clean
+.PHONY: all deps build demo test test-release test-asan test-matrix bench install format clean
 
 all: build
 
 deps:
-	@scripts/install-deps.sh
+	@scripts/install-deps.sh --mujoco $(MUJOCO)
 
 build: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPLUMB_WARNINGS_AS_ERRORS=ON $(CMAKE_FLAGS) >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # the main job on the chapter's pendulum
@@ -31,11 +42,19 @@ test-release: build
 
 # the whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 test-asan: deps
-	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLUMB_WARNINGS_AS_ERRORS=ON \
+	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
 	  -DPLUMB_SANITIZE=address,undefined -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)
+
+# the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2)
+test-matrix:
+	@for v in $(MATRIX); do \
+	  echo "== make test-release MUJOCO=$$v"; start=$$(date +%s); \
+	  $(MAKE) --no-print-directory test-release MUJOCO=$$v || exit 1; \
+	  echo "== MUJOCO=$$v: $$(( $$(date +%s) - start )) s"; \
+	done
 
 bench: build
 	@$(BUILD)/bench/run_overhead_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -49,4 +68,4 @@ format:
 	@clang-format -i $$(git ls-files '*.h' '*.cc')
 
 clean:
-	@rm -rf $(BUILD) $(ASAN_BUILD)
+	@rm -rf build build-asan build-mujoco-* build-asan-mujoco-*

@@ -5,15 +5,39 @@
 # lib/libmujoco.so), an imported target mujoco::mujoco is made from that folder
 # instead, and PLUMB_MUJOCO_LIBDIR names the folder to put in RPATHs.
 
+# PLUMB_MUJOCO names a version fetched into plumb's cache (scripts/fetch-mujoco.sh lays it
+# out as a release folder) or `debian`; MUJOCO_ROOT, when given, wins over it.
+function(plumb_mujoco_cache_root version out)
+  if(DEFINED ENV{PLUMB_CACHE})
+    set(cache "$ENV{PLUMB_CACHE}")
+  elseif(DEFINED ENV{XDG_CACHE_HOME})
+    set(cache "$ENV{XDG_CACHE_HOME}/plumb")
+  else()
+    set(cache "$ENV{HOME}/.cache/plumb")
+  endif()
+  set(${out} "${cache}/mujoco/${version}" PARENT_SCOPE)
+endfunction()
+
 function(plumb_find_mujoco)
   if(TARGET mujoco::mujoco)
     return()
   endif()
+  if(NOT MUJOCO_ROOT AND PLUMB_MUJOCO AND NOT PLUMB_MUJOCO STREQUAL "debian")
+    plumb_mujoco_cache_root("${PLUMB_MUJOCO}" root)
+    if(NOT EXISTS "${root}/.complete")
+      message(FATAL_ERROR
+        "MuJoCo ${PLUMB_MUJOCO} is not in plumb's cache (${root}). Fetch it with\n"
+        "  scripts/install-deps.sh --mujoco ${PLUMB_MUJOCO}\n"
+        "or build against Debian's MuJoCo 2.2.2 with -DPLUMB_MUJOCO=debian.")
+    endif()
+    set(MUJOCO_ROOT "${root}")
+    set(MUJOCO_ROOT "${root}" PARENT_SCOPE)
+  endif()
   if(MUJOCO_ROOT)
     find_path(PLUMB_MUJOCO_INCLUDE_DIR mujoco/mujoco.h
-      PATHS "${MUJOCO_ROOT}/include" NO_DEFAULT_PATH)
+      PATHS "${MUJOCO_ROOT}/include" ${PLUMB_MUJOCO_INCLUDEDIR_HINT} NO_DEFAULT_PATH)
     find_library(PLUMB_MUJOCO_LIBRARY NAMES mujoco
-      PATHS "${MUJOCO_ROOT}/lib" "${MUJOCO_ROOT}/lib64" NO_DEFAULT_PATH)
+      PATHS "${MUJOCO_ROOT}/lib" "${MUJOCO_ROOT}/lib64" ${PLUMB_MUJOCO_LIBDIR_HINT} NO_DEFAULT_PATH)
     if(NOT PLUMB_MUJOCO_INCLUDE_DIR OR NOT PLUMB_MUJOCO_LIBRARY)
       message(FATAL_ERROR
         "MUJOCO_ROOT=${MUJOCO_ROOT} does not look like a MuJoCo release folder: expected "

@@ -1,12 +1,34 @@
 #!/usr/bin/env bash
-# Installs the Debian packages plumb needs to build, test and benchmark.
+# Installs what plumb needs to build, test and benchmark: Debian packages, and the MuJoCo
+# release to build against.
 #
-# Idempotent: checks each package with dpkg-query first, prints nothing and
-# touches nothing when all are present, runs `apt-get update` only when
-# something is missing, and uses sudo when not run as root.
+# Idempotent: checks each package with dpkg-query first, prints nothing and touches
+# nothing when all are present, runs `apt-get update` only when something is missing,
+# and uses sudo when not run as root. MuJoCo comes from its PyPI wheel into plumb's cache
+# (scripts/fetch-mujoco.sh; a second run fetches nothing), or from Debian with `debian`.
 #
-# Usage: scripts/install-deps.sh [--print]   (--print lists missing packages only)
+# Usage: scripts/install-deps.sh [--mujoco VERSION|debian] [--print]
+#   --mujoco   4.0.1 (default), 3.11.0 or another version pinned in
+#              cmake/mujoco-wheels.lock; `debian` is Debian's libmujoco-dev 2.2.2
+#   --print    lists missing Debian packages only
+# Exit codes: 0 ready, 2 bad option, no root, or MuJoCo cannot be fetched.
 set -euo pipefail
+
+mujoco=4.0.1
+print=0
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --print) print=1 ;;
+    --mujoco) mujoco="${2:-}"; shift ;;
+    --mujoco=*) mujoco="${1#--mujoco=}" ;;
+    *) echo "install-deps.sh: unknown option '$1' (use --mujoco VERSION|debian, --print)" >&2; exit 2 ;;
+  esac
+  shift
+done
+if [[ -z "$mujoco" ]]; then
+  echo "install-deps.sh: --mujoco needs a version (4.0.1, 3.11.0) or debian" >&2
+  exit 2
+fi
 
 packages=(
   build-essential cmake pkg-config git
@@ -15,7 +37,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libtbb-dev libcpptoml-dev
   libopenmpi-dev openmpi-bin
-  valgrind sqlite3
+  valgrind sqlite3 python3-pip
 )
 
 missing=()
@@ -24,11 +46,18 @@ for p in "${packages[@]}"; do
   [[ "$status" == "install ok installed" ]] || missing+=("$p")
 done
 
-if [[ "${1:-}" == "--print" ]]; then
+if [[ $print -eq 1 ]]; then
   if [[ ${#missing[@]} -gt 0 ]]; then printf '%s\n' "${missing[@]}"; fi
   exit 0
 fi
-[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+fetch_mujoco() {
+  [[ "$mujoco" == debian ]] || "$(dirname "$0")/fetch-mujoco.sh" "$mujoco"
+}
+if [[ ${#missing[@]} -eq 0 ]]; then
+  fetch_mujoco
+  exit 0
+fi
 
 if [[ $(id -u) -eq 0 ]]; then
   sudo=()
@@ -45,3 +74,4 @@ echo "install-deps.sh: installing ${missing[*]}" >&2
 apt=("${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get)
 "${apt[@]}" update -qq
 "${apt[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fetch_mujoco

@@ -44,14 +44,7 @@ inline const std::string kOverfullSize =
 inline const std::string kOverfullWarning = mjVERSION_HEADER >= 300 ? "CNSTRFULL" : "CONTACTFULL";
 
 // The MuJoCo version plumb is built against, as MuJoCo writes it ("2.2.2", "4.0.1").
-inline std::string CompiledMujocoVersion() {
-  int v = mjVERSION_HEADER;
-  if (v >= 3005000) {
-    return std::to_string(v / 1000000) + "." + std::to_string(v / 1000 % 1000) + "." +
-           std::to_string(v % 1000);
-  }
-  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
-}
+inline std::string CompiledMujocoVersion() { return plumb::CompiledMujocoVersion(); }
 
 // True when `text` names line `line` of a MuJoCo load error, however this MuJoCo words it
 // ("line = 5" on 2.x, "line 5" on 3.x): tests never match MuJoCo's own wording.

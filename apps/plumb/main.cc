@@ -18,7 +18,12 @@ int main(int argc, char** argv) {
                ": load an MJCF model, run it headless, and check the numbers are credible."};
   app.require_subcommand(1);
   app.set_version_flag("--version", [] {
-    return std::string("plumb " PLUMB_VERSION ", MuJoCo ") + plumb::MujocoVersion();
+    std::string plugins = plumb::MujocoPluginPath();
+    return std::string("plumb " PLUMB_VERSION ", MuJoCo ") + plumb::MujocoVersion() +
+           "\n  MuJoCo compiled against: " + plumb::CompiledMujocoVersion() +
+           "\n  MuJoCo loaded:           " + plumb::MujocoVersion() + " from " +
+           plumb::MujocoLibraryPath() +
+           "\n  plugin libraries:        " + (plugins.empty() ? "none" : plugins);
   });
   app.footer(
       "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged.\n"

@@ -147,6 +147,18 @@ void InstallMujocoHandlers();
 // "2.2.2"-style version of the MuJoCo library in use.
 std::string MujocoVersion();
 
+// The MuJoCo version plumb was compiled against ("4.0.1"), from mjVERSION_HEADER.
+std::string CompiledMujocoVersion();
+
+// The file of the MuJoCo library loaded into this process, or "" if it cannot be told.
+std::string MujocoLibraryPath();
+
+// The folder plumb loads MuJoCo's plugin libraries from: $PLUMB_MUJOCO_PLUGIN_PATH, else
+// bin/mujoco_plugin of the release folder the loaded library sits in (lib/../bin/
+// mujoco_plugin), else lib/mujoco_plugin beside it (an installed plumb); "" when none
+// exists (and always on MuJoCo 2.x, which has no plugins).
+std::string MujocoPluginPath();
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_MODEL_H_

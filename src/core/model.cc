@@ -2,6 +2,8 @@
 
 #include "plumb/model.h"
 
+#include <dlfcn.h>
+
 #include <unistd.h>
 
 #include <atomic>
@@ -136,14 +138,43 @@ std::string AutolimitsHint(const std::string& xml, const fs::path& dir) {
 }  // namespace
 
 void InstallMujocoHandlers() {
-  static std::once_flag once;
-  std::call_once(once, [] { compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning); });
   if (mj_version() != mjVERSION_HEADER) {
-    throw Error("MuJoCo library version " + std::to_string(mj_version()) +
-                " does not match the headers plumb was built with (" +
-                std::to_string(mjVERSION_HEADER) +
-                "); rebuild plumb against the MuJoCo it runs with (-DMUJOCO_ROOT=...).");
+    throw Error("the MuJoCo library loaded (" + MujocoVersion() + ", " + MujocoLibraryPath() +
+                ") is not the one plumb was built with (" + CompiledMujocoVersion() +
+                "): MuJoCo changes its binary interface between releases. Rebuild plumb "
+                "against the MuJoCo it runs with (make build MUJOCO=" + MujocoVersion() +
+                ", or -DMUJOCO_ROOT=<release folder>), or run it with the library it was "
+                "built with.");
   }
+  static std::once_flag once;
+  std::call_once(once, [] {
+    compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning);
+    std::string plugins = MujocoPluginPath();
+    if (!plugins.empty()) compat::LoadPluginLibraries(plugins);
+  });
+}
+
+std::string CompiledMujocoVersion() { return compat::VersionText(mjVERSION_HEADER); }
+
+std::string MujocoLibraryPath() {
+  Dl_info info;
+  if (dladdr(reinterpret_cast<void*>(&mj_version), &info) == 0 || !info.dli_fname) return "";
+  std::error_code ec;
+  fs::path path = fs::canonical(info.dli_fname, ec);
+  return ec ? std::string(info.dli_fname) : path.string();
+}
+
+std::string MujocoPluginPath() {
+  if (mjVERSION_HEADER < 300) return "";
+  if (const char* env = std::getenv("PLUMB_MUJOCO_PLUGIN_PATH"); env && *env) return env;
+  std::string library = MujocoLibraryPath();
+  if (library.empty()) return "";
+  fs::path dir = fs::path(library).parent_path();
+  for (const fs::path& candidate : {dir / ".." / "bin" / "mujoco_plugin", dir / "mujoco_plugin"}) {
+    std::error_code ec;
+    if (fs::is_directory(candidate, ec)) return fs::canonical(candidate, ec).string();
+  }
+  return "";
 }
 
 std::vector<std::string> TakeMujocoWarnings() {

@@ -325,6 +325,26 @@ inline void FullInertia(const mjModel* m, const mjData* d, mjtNum* dst) {
 #endif
 }
 
+// "2.2.2", "3.11.0", "4.0.1" for an mjVERSION_HEADER-style number: three digits up to
+// 3.4.0 (340), major*10^6 + minor*10^3 + patch from 3.5.0 (3011000).
+inline std::string VersionText(int v) {
+  if (v >= 1000000) {
+    return std::to_string(v / 1000000) + "." + std::to_string(v / 1000 % 1000) + "." +
+           std::to_string(v % 1000);
+  }
+  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
+}
+
+// Loads every plugin library (mujoco.pid, elasticity, SDF, sensor plugins, ...) in `dir`,
+// so models that use them compile. MuJoCo 2.x has no plugins: nothing to do.
+inline void LoadPluginLibraries(const std::string& dir) {
+#if mjVERSION_HEADER >= 300
+  mj_loadAllPluginLibraries(dir.c_str(), nullptr);
+#else
+  (void)dir;
+#endif
+}
+
 // Installs process-wide error and warning handlers (deprecated but working on 3.10+).
 inline void SetMujocoHandlers(void (*error)(const char*), void (*warning)(const char*)) {
   mju_user_error = error;

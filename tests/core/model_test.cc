@@ -144,6 +144,31 @@ TEST(ModelWarningTest, WarningsAreCollectedNotPrinted) {
   EXPECT_TRUE(TakeMujocoWarnings().empty());
 }
 
+// MuJoCo's first-party plugins ship as libraries beside libmujoco (bin/mujoco_plugin of a
+// release folder); plumb loads them, so a model using the PID actuator plugin compiles
+// and its servo pulls the slider towards the target.
+TEST_F(ModelTest, FirstPartyPluginsLoad) {
+  if (mjVERSION_HEADER < 300) GTEST_SKIP() << "MuJoCo 2.x has no plugins";
+  ASSERT_FALSE(MujocoPluginPath().empty()) << "no plugin folder beside " << MujocoLibraryPath();
+  Model model = Model::FromXmlString(R"(<mujoco>
+      <extension><plugin plugin="mujoco.pid">
+        <instance name="pid1"><config key="kp" value="40"/><config key="kd" value="4"/></instance>
+      </plugin></extension>
+      <worldbody><body><joint name="j" type="slide" axis="1 0 0"/><geom size="0.1" mass="1"/>
+      </body></worldbody>
+      <actuator><plugin name="servo" joint="j" plugin="mujoco.pid" instance="pid1"/></actuator>
+    </mujoco>)");
+  Data data(model);
+  data->ctrl[0] = 0.5;
+  for (int i = 0; i < 1000; ++i) mj_step(model.get(), data.get());
+  EXPECT_NEAR(data->qpos[0], 0.5, 0.1);
+}
+
+TEST_F(ModelTest, VersionsAndLibraryAreReported) {
+  EXPECT_EQ(CompiledMujocoVersion(), MujocoVersion());  // the start-up check holds
+  EXPECT_NE(MujocoLibraryPath().find("libmujoco"), std::string::npos) << MujocoLibraryPath();
+}
+
 TEST_F(ModelTest, CloneIsIndependent) {
   Model model = Model::Load(kPendulum);
   Model copy = model.Clone();

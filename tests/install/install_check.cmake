@@ -28,6 +28,21 @@ execute_process(COMMAND "${prefix}/bin/plumb" --version RESULT_VARIABLE rc OUTPU
 if(rc OR NOT out MATCHES "plumb")
   message(FATAL_ERROR "the installed plumb CLI failed: ${out}")
 endif()
+# built against a release folder (a wheel version in the cache), the installed plumb
+# carries that MuJoCo beside its library and loads it from there, not from the cache
+file(GLOB bundled "${prefix}/lib*/libmujoco.so*")
+if(bundled)
+  file(REAL_PATH "${prefix}" real_prefix)
+  string(FIND "${out}" "from ${real_prefix}/" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "the installed plumb does not load the MuJoCo installed with it:\n${out}")
+  endif()
+  execute_process(COMMAND ldd "${WORK_DIR}/consumer/consumer" OUTPUT_VARIABLE linked)
+  string(FIND "${linked}" "${prefix}/" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "the consumer does not load the installed MuJoCo:\n${linked}")
+  endif()
+endif()
 
 # the model-acceptance helper from an installed plumb: examples/model_ci passes as shipped
 set(ci_src "${WORK_DIR}/model_ci-src")
