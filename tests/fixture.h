@@ -35,12 +35,23 @@ inline const std::string kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.
 inline constexpr double kChapterQ[] = {0.65403, 0.52386, 0.32596, 0.08646, -0.16156};
 inline constexpr double kChapterDq[] = {-0.89118, -1.66939, -2.23353, -2.49511, -2.40852};
 
-// A <size> element that overfills MuJoCo's contact or constraint buffer within a step,
-// and the warning it raises without diverging. The versions differ: 2.x caps contacts
-// with nconmax (CONTACTFULL); 3.x allocates contacts dynamically, so nconmax no longer
-// caps them, and raises CNSTRFULL when the arena (<size memory>) is too small.
-inline const std::string kOverfullSize =
-    mjVERSION_HEADER >= 300 ? R"(<size memory="4K"/>)" : R"(<size nconmax="1"/>)";
+// A model that overfills MuJoCo's contact or constraint buffer on every step without
+// diverging (ten boxes resting on a floor), and the warning it raises. The versions differ:
+// 2.x caps contacts with nconmax (CONTACTFULL); 3.x allocates contacts dynamically, so
+// nconmax no longer caps them, and raises CNSTRFULL when the arena (<size memory>) holds the
+// step's stack but not its constraints (48K does on 3.11.0 and 4.0.1; less overflows the
+// stack, which is a MuJoCo error, and 96K holds everything).
+inline std::string OverfullModel() {
+  std::string size = mjVERSION_HEADER >= 300 ? R"(<size memory="48K"/>)" : R"(<size nconmax="1"/>)";
+  std::string boxes;
+  for (int i = 0; i < 10; ++i) {
+    boxes += "<body pos=\"" + std::to_string(0.3 * i) +
+             " 0 0.05\"><freejoint/><geom type=\"box\" size=\"0.1 0.1 0.05\"/></body>";
+  }
+  return "<mujoco model=\"crowded\">" + size +
+         R"(<worldbody><geom name="floor" type="plane" size="5 5 0.1"/>)" + boxes +
+         "</worldbody></mujoco>";
+}
 inline const std::string kOverfullWarning = mjVERSION_HEADER >= 300 ? "CNSTRFULL" : "CONTACTFULL";
 
 // The MuJoCo version plumb is built against, as MuJoCo writes it ("2.2.2", "4.0.1").
@@ -117,30 +128,41 @@ inline std::vector<std::string> ThirdPartyModels() {
   return files;
 }
 
-// Debian's 2.2.2 sample models that MuJoCo 3 refuses to load, with the reason. They are
-// checked on the 2.2.2 leg only; on a newer leg a test skips them after confirming that
-// they still fail to load (a sample that starts loading must leave this list).
-inline const std::map<std::string, std::string> kSamplesForMujocoTwoOnly = {
-    {"active_adhesion.xml", "uses <composite>, whose 2.x form MuJoCo 3 removed"},
-    {"cloth.xml", "uses <composite type=\"cloth\">, whose 2.x form MuJoCo 3 removed"},
-    {"grid2pin.xml", "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"},
-    {"loop.xml", "uses <composite type=\"loop\">, whose 2.x form MuJoCo 3 removed"},
-    {"particle.xml", "uses <composite type=\"particle\">, whose 2.x form MuJoCo 3 removed"},
-    {"rope.xml", "uses <composite type=\"rope\">, whose 2.x form MuJoCo 3 removed"},
-    {"softbox.xml", "uses <composite type=\"box\">, whose 2.x form MuJoCo 3 removed"},
-    {"flag.xml", "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"},
-    {"hammock.xml", "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"},
+// Debian's 2.2.2 sample models that newer MuJoCo releases refuse to load: the first
+// release (mjVERSION_HEADER) that refuses each, and why. They are checked on the older
+// legs; on a newer leg a test skips them after confirming that they still fail to load
+// (a sample that starts loading must leave this list).
+struct RefusedSample {
+  int since;
+  const char* reason;
+};
+inline const std::map<std::string, RefusedSample> kRefusedSamples = {
+    {"active_adhesion.xml", {300, "uses <composite>, whose 2.x form MuJoCo 3 removed"}},
+    {"cloth.xml", {300, "uses <composite type=\"cloth\">, whose 2.x form MuJoCo 3 removed"}},
+    {"grid2pin.xml", {300, "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"}},
+    {"loop.xml", {300, "uses <composite type=\"loop\">, whose 2.x form MuJoCo 3 removed"}},
+    {"particle.xml", {300, "uses <composite type=\"particle\">, whose 2.x form MuJoCo 3 removed"}},
+    {"rope.xml", {300, "uses <composite type=\"rope\">, whose 2.x form MuJoCo 3 removed"}},
+    {"softbox.xml", {300, "uses <composite type=\"box\">, whose 2.x form MuJoCo 3 removed"}},
+    {"flag.xml", {300, "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"}},
+    {"hammock.xml", {300, "uses <composite type=\"grid\">, whose 2.x form MuJoCo 3 removed"}},
     {"arm26.xml",
-     "its muscles' length ranges no longer converge under MuJoCo 3's lengthrange defaults"},
+     {4000000, "MuJoCo 4's muscle length-range computation does not converge for actuator 1"}},
 };
 
-// Loads a third-party model; on MuJoCo 3 and later a sample listed above is skipped with
-// its reason (and the test fails if it loads after all). Returns false when skipped.
+// The reason `file` does not load on this MuJoCo, or nullptr when it should load.
+inline const char* RefusedReason(const std::string& file) {
+  if (file.rfind("/usr/share/mujoco/", 0) != 0) return nullptr;
+  auto listed = kRefusedSamples.find(std::filesystem::path(file).filename().string());
+  if (listed == kRefusedSamples.end() || mjVERSION_HEADER < listed->second.since) return nullptr;
+  return listed->second.reason;
+}
+
+// Loads a third-party model; a sample this MuJoCo refuses (above) is confirmed to still
+// fail to load, and the test fails if it loads after all. Returns false when refused.
 inline bool LoadThirdParty(const std::string& file, std::optional<Model>* model) {
-  std::string name = std::filesystem::path(file).filename().string();
-  auto listed = kSamplesForMujocoTwoOnly.find(name);
-  if (mjVERSION_HEADER < 300 || listed == kSamplesForMujocoTwoOnly.end() ||
-      file.rfind("/usr/share/mujoco/", 0) != 0) {
+  const char* refused = RefusedReason(file);
+  if (!refused) {
     model->emplace(Model::Load(file));
     return true;
   }
@@ -149,8 +171,8 @@ inline bool LoadThirdParty(const std::string& file, std::optional<Model>* model)
   } catch (const LoadError&) {
     return false;
   }
-  ADD_FAILURE() << name << " loads on this MuJoCo: remove it from kSamplesForMujocoTwoOnly ("
-                << listed->second << ")";
+  ADD_FAILURE() << file << " loads on this MuJoCo: remove it from kRefusedSamples (" << refused
+                << ")";
   return false;
 }
 

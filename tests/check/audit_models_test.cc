@@ -29,8 +29,7 @@ TEST_P(AuditModelsTest, NoCrashAndNoUnexplainedFailure) {
   std::optional<Model> loaded;
   if (!testing::LoadThirdParty(GetParam(), &loaded)) {
     GTEST_SKIP() << GetParam() << " does not load on MuJoCo " << testing::CompiledMujocoVersion()
-                 << ": "
-                 << testing::kSamplesForMujocoTwoOnly.at(fs::path(GetParam()).filename().string());
+                 << ": " << testing::RefusedReason(GetParam());
   }
   Model& model = *loaded;
   AuditReport report = Audit(model, {});

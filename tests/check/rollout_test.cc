@@ -292,10 +292,7 @@ TEST_F(RolloutTest, ADrawMujocoCannotTakeIsThatRolloutsProblem) {
 }
 
 TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {
-  Model model = Model::FromXmlString("<mujoco>" + testing::kOverfullSize + R"(<worldbody>
-      <geom name="floor" type="plane" size="5 5 0.1"/>
-      <body name="box" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
-    </worldbody></mujoco>)");
+  Model model = Model::FromXmlString(testing::OverfullModel());
   RolloutSpec spec;
   spec.count = 2;
   spec.until = 0.1;

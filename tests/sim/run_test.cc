@@ -230,17 +230,8 @@ TEST_F(RunTest, TheSameSpringIsStableWithASmallTimestep) {
 }
 
 // Contacts overflow a deliberately tiny contact buffer: MuJoCo warns, the run goes on.
-const std::string kCrowded = R"(
-<mujoco model="crowded">
-  )" + testing::kOverfullSize + R"(
-  <worldbody>
-    <geom name="floor" type="plane" size="5 5 0.1"/>
-    <body name="a" pos="0 0 0.05"><freejoint/><geom type="box" size="0.1 0.1 0.05"/></body>
-  </worldbody>
-</mujoco>)";
-
 TEST_F(RunTest, WarningsAreSummarisedWithFirstTime) {
-  Model model = Model::FromXmlString(kCrowded, "crowded.xml");
+  Model model = Model::FromXmlString(testing::OverfullModel(), "crowded.xml");
   Data data(model);
   NullSink sink;
   RunResult result = plumb::Run(model, data, PendulumSpec(model, 0.1, 0.01), sink);
