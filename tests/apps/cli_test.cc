@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -535,6 +537,31 @@ TEST(CliRegressionTest, SnapshotThenDiff) {
           .out);
   EXPECT_FALSE(j["identical"].get<bool>());
   EXPECT_EQ(j["changes"][0]["what"], "dof_damping[hinge]: 0.05 → 0.1");
+}
+
+// The upgrade question, "is it safe to move this model to another MuJoCo?": a snapshot
+// taken under MuJoCo 3.11.0 (tests/data) diffed on every leg says which MuJoCo wrote it,
+// finds the same structure, parameters and trajectory within cross-version round-off, and
+// still names a real change of behaviour.
+TEST(CliRegressionTest, SnapshotFromAnotherMujocoDiffsWithinRoundOff) {
+  std::string snap = testing::kSourceDir + "/tests/data/pendulum-mujoco-3.11.0.snap.json";
+  CommandResult same = RunPlumb("diff " + snap + " " + kPendulum + " --tol 1e-9");
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_NE(same.out.find("identical"), std::string::npos) << same.out;
+  if (testing::CompiledMujocoVersion() != "3.11.0") {
+    EXPECT_NE((same.out + same.err).find("written with MuJoCo 3.11.0"), std::string::npos)
+        << same.out << same.err;
+  }
+  TempDir dir;
+  std::ifstream in(kPendulum);
+  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "damping=\"0.05\"";
+  std::size_t at = xml.find(from);
+  ASSERT_NE(at, std::string::npos);
+  WriteFile(dir.File("damped.xml"), xml.replace(at, from.size(), "damping=\"0.06\""));
+  CommandResult changed = RunPlumb("diff " + snap + " " + dir.File("damped.xml") + " --tol 1e-9");
+  EXPECT_EQ(changed.exit_code, 1) << changed.out << changed.err;
+  EXPECT_NE(changed.out.find("dof_damping[hinge]: 0.05"), std::string::npos) << changed.out;
 }
 
 TEST(CliRegressionTest, BadSnapshotsAndPathsAreBadInput) {
