@@ -1,9 +1,10 @@
 // Every difference between the MuJoCo versions plumb builds against lives here.
 //
-// plumb's default is Debian's MuJoCo 2.2.2 (mjVERSION_HEADER 222); a 3.x release
-// (mjVERSION_HEADER >= 300, and from 3.5.0 the 7-digit major*10^6 + minor*10^3 + patch
-// encoding) is supported through -DMUJOCO_ROOT. Code elsewhere uses enum names and the
-// helpers below, never raw enum values or version numbers.
+// plumb's default is MuJoCo 4.0.1 (from its PyPI wheel); 3.11.0 and Debian's 2.2.2
+// (mjVERSION_HEADER 222) are tested legs, and any 3.x/4.x release folder should work.
+// mjVERSION_HEADER is three digits up to 3.4.0 (340) and major*10^6 + minor*10^3 + patch
+// from 3.5.0 (3011000, 4000001). Code elsewhere uses enum names and the helpers below,
+// never raw enum values or version numbers.
 
 #ifndef PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
 #define PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
