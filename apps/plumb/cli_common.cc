@@ -236,6 +236,20 @@ void AcceptIntegerNotation(CLI::App* app) {
             std::size_t sign = text[0] == '+' || text[0] == '-' ? 1 : 0;
             std::size_t first = text.find_first_not_of('0', sign);
             text = text.substr(0, sign) + (first == std::string::npos ? "0" : text.substr(first));
+            // beyond 64 bits CLI11's conversion saturates (every larger seed would become
+            // 2^64 - 1): refuse what does not fit instead
+            bool negative = text[0] == '-';
+            std::string magnitude = text.substr(sign);
+            std::string limit = is_unsigned ? "18446744073709551615"
+                                : negative  ? "9223372036854775808"
+                                            : "9223372036854775807";
+            if (magnitude.size() > limit.size() ||
+                (magnitude.size() == limit.size() && magnitude > limit)) {
+              return "takes " + kind + " from " +
+                     (is_unsigned ? std::string("0 to 18446744073709551615")
+                                  : std::string("-9223372036854775808 to 9223372036854775807")) +
+                     ", not '" + text + "'";
+            }
           } else {
             if (std::fabs(*v) > 9007199254740992.0) {
               return "takes " + kind + ": '" + text +

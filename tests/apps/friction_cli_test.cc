@@ -95,6 +95,23 @@ TEST(FrictionCliTest, RepeatedSingleValuedOptionIsRefused) {
   EXPECT_NE(r.out.find("\n0,0.1"), std::string::npos) << r.out;
 }
 
+// Seeds were parsed by saturation: every seed beyond 2^64 - 1 became 2^64 - 1 and gave the
+// rows of that seed. The largest seed is taken, anything larger is refused naming --seed.
+TEST(FrictionCliTest, SeedsBeyondSixtyFourBitsAreRefusedNotSaturated) {
+  const std::string rollout = "rollout " + kPendulum +
+                              " --count 2 --until 0.1 --randomize 'dof_damping[hinge]=U(0,1)'"
+                              " --format csv --seed ";
+  CommandResult largest = RunPlumb(rollout + "18446744073709551615");
+  ASSERT_EQ(largest.exit_code, 0) << largest.err;
+  for (const char* bad : {"18446744073709551616", "99999999999999999999", "-1"}) {
+    CommandResult r = RunPlumb(rollout + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.out;
+    EXPECT_NE(r.err.find("--seed: takes a non-negative integer"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "") << bad;
+  }
+  EXPECT_NE(RunPlumb(rollout + "18446744073709551614").out, largest.out);
+}
+
 TEST(FrictionCliTest, IntegerOptionTakesAnExactIntegerInAnyNotation) {
   const std::string rollout =
       "rollout " + kPendulum + " --until 0.1 --metric 'qpos[hinge]@0.1' --format csv --count ";
