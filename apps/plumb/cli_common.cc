@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <csignal>
 #include <cstdio>
 #include <optional>
@@ -13,19 +15,39 @@
 #include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/run.h"
 
 namespace plumb::cli {
 
 namespace {
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop.store(true); }
+static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler sets the stop flag");
+// The first SIGINT/SIGTERM asks every run to stop at its next step, so the command can
+// keep what finished; a second one ends the process at once, as the user expects.
+void OnSignal(int sig) {
+  if (StopFlag().exchange(true)) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
 }  // namespace
 
-const std::atomic<bool>& StopRequested() { return g_stop; }
+const std::atomic<bool>& StopRequested() { return StopFlag(); }
 
 void InstallSignalHandlers() {
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
+  // a closed stdout is seen as a failed write (EPIPE) and ends the command with its own
+  // exit code after what finished is stored, not by a signal in the middle of a commit
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+void WriteStdout(const std::string& text) {
+  if (text.empty()) return;
+  errno = 0;
+  std::size_t written = std::fwrite(text.data(), 1, text.size(), stdout);
+  if (written == text.size() && std::fflush(stdout) == 0) return;
+  if (errno == EPIPE) throw OutputClosed();
+  throw IoError(std::string("writing to standard output failed: ") + std::strerror(errno));
 }
 
 ProgressBar::ProgressBar(long total, std::string unit)
@@ -88,12 +110,18 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
 }
 
 int ReportError(const std::exception& error) {
+  // the reader of stdout went away (`plumb rollout ... | head`): what finished was kept, and
+  // there is nobody to tell; the shell's code for a process ended by SIGPIPE
+  if (dynamic_cast<const OutputClosed*>(&error)) return kExitOutputClosed;
+  if (const auto* stop = dynamic_cast<const Interrupted*>(&error)) {
+    std::fprintf(stderr, "plumb: stopped by a signal: %s\n", stop->what());
+    return kExitInterrupted;
+  }
   std::fprintf(stderr, "plumb: error: %s\n", error.what());
   if (const auto* load = dynamic_cast<const LoadError*>(&error)) {
     if (!load->hint().empty()) std::fprintf(stderr, "plumb: %s\n", load->hint().c_str());
     return kExitBadInput;
   }
-  if (dynamic_cast<const Interrupted*>(&error)) return kExitInterrupted;
   if (dynamic_cast<const PathError*>(&error) || dynamic_cast<const ValueError*>(&error) ||
       dynamic_cast<const IoError*>(&error)) {
     return kExitBadInput;

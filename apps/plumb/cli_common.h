@@ -9,6 +9,7 @@
 #include <chrono>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,19 @@ enum ExitCode : int {
   kExitCheckFailed = 1,  // a check failed
   kExitBadInput = 2,     // bad input or usage: missing file, XML error, unknown path, ...
   kExitDiverged = 3,     // the simulation diverged (a repro folder was written)
-  kExitInterrupted = 130,
+  kExitInterrupted = 130,     // SIGINT/SIGTERM: what finished was kept
+  kExitOutputClosed = 141,    // stdout was closed by its reader (as a SIGPIPE death)
 };
+
+// Thrown by WriteStdout when the reader of stdout has gone (EPIPE).
+class OutputClosed : public std::runtime_error {
+ public:
+  OutputClosed() : std::runtime_error("standard output was closed by its reader") {}
+};
+
+// Writes and flushes `text` to stdout, so rows reach a pipe as they are made.
+// @throws OutputClosed when the reader has gone; IoError for another failed write.
+void WriteStdout(const std::string& text);
 
 // Shared state of one invocation.
 struct Context {
@@ -98,7 +110,9 @@ class ProgressBar {
   std::mutex mutex_;
 };
 
-// Set by SIGINT/SIGTERM once InstallSignalHandlers ran.
+// Set by SIGINT/SIGTERM once InstallSignalHandlers ran (plumb::StopFlag, which every run
+// watches). main installs the handlers for every command; a second signal ends the
+// process at once. SIGPIPE is ignored: WriteStdout reports a closed stdout instead.
 const std::atomic<bool>& StopRequested();
 void InstallSignalHandlers();
 

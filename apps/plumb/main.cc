@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
                  help.c_str());
     return kExitBadInput;
   }
+  InstallSignalHandlers();
   try {
     return ctx.action ? ctx.action() : kExitBadInput;
   } catch (const std::exception& e) {

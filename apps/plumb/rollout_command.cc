@@ -22,6 +22,7 @@
 #include "plumb/output.h"
 #include "plumb/rollout.h"
 #include "plumb/store.h"
+#include "run_store.h"
 #include "summary.h"
 
 namespace plumb::cli {
@@ -82,74 +83,20 @@ void ParseShard(const std::string& text, RolloutSpec* spec) {
   std::optional<long> i = parts.size() == 2 ? ParseIndex(parts[0]) : std::nullopt;
   std::optional<long> n = parts.size() == 2 ? ParseIndex(parts[1]) : std::nullopt;
   if (!i || !n || *n < 1 || *i >= *n) {
+    if (text.empty()) {
+      // the user passed no --shard: name what they did set
+      const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+      throw ValueError(fmt::format(
+          "Slurm: SLURM_ARRAY_TASK_ID={} and SLURM_ARRAY_TASK_COUNT={} (SLURM_ARRAY_TASK_MIN={}) "
+          "do not name a task of the array (task ID - MIN must be below COUNT); check the "
+          "job's --array, or pass --shard I/N explicitly.",
+          std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT"),
+          min ? min : "unset"));
+    }
     throw ValueError("--shard '" + shard + "': expected I/N with 0 <= I < N, e.g. 0/4.");
   }
   spec->shard_index = *i;
   spec->shard_count = *n;
-}
-
-// Opens the results store of --db and finds or begins the run: a new run, or the same
-// run continued with --resume (whose finished rollouts go into spec->skip).
-void OpenStore(const RolloutOptions& o, const Context& ctx, const std::vector<std::string>& params,
-               const std::string& model_hash, std::optional<ResultsStore>* store_out, long* run_out,
-               RolloutSpec* spec_out) {
-  if (o.db.empty()) return;
-  std::optional<ResultsStore>& store = *store_out;
-  long& run_id = *run_out;
-  RolloutSpec& spec = *spec_out;
-  store.emplace(o.db);
-  std::string config = Config(o, model_hash);
-  std::optional<RunInfo> existing = store->FindRun(config);
-  if (!existing && o.resume) {
-    // --resume of a run this command does not describe: say what differs
-    std::optional<RunInfo> last;
-    for (RunInfo& run : store->Runs()) {
-      if (run.kind == "rollout") last = run;
-    }
-    if (!last) {
-      throw ValueError("--resume: results store '" + o.db +
-                       "' holds no rollout run to continue; run without --resume to start one.");
-    }
-    std::vector<std::string> mine = Split(config, ' '), theirs = Split(last->config, ' ');
-    std::vector<std::string> differences;
-    for (const std::string& t : theirs) {
-      if (std::find(mine.begin(), mine.end(), t) == mine.end())
-        differences.push_back("stored " + t);
-    }
-    for (const std::string& t : mine) {
-      if (std::find(theirs.begin(), theirs.end(), t) == theirs.end())
-        differences.push_back("now " + t);
-    }
-    throw ValueError(fmt::format(
-        "--resume: this command is not the run stored in '{}' (run {}), so its results would "
-        "not be comparable: {}. Repeat the stored command ({}) or use a new --db file.",
-        o.db, last->id, fmt::join(differences, ", "), last->command));
-  }
-  if (existing && !o.resume) {
-    throw ValueError(fmt::format(
-        "results store '{}' already holds this run (id {}, {} of {} rollouts done); add "
-        "--resume to complete it, or use another --db file.",
-        o.db, existing->id, store->DoneIndices(existing->id).size(), existing->count));
-  }
-  if (existing) {
-    run_id = existing->id;
-    spec.skip = store->DoneIndices(run_id);
-  } else {
-    RunInfo info;
-    info.kind = "rollout";
-    info.config = config;
-    std::vector<std::string> quoted;
-    for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
-    info.command = fmt::format("{}", fmt::join(quoted, " "));
-    info.model_file = o.model;
-    info.model_hash = model_hash;
-    info.plumb_version = PLUMB_VERSION;
-    info.mujoco_version = MujocoVersion();
-    info.parameters = params;
-    info.metrics = o.metrics;
-    info.count = o.count;
-    run_id = store->BeginRun(info);
-  }
 }
 
 int RunRollout(const RolloutOptions& o, const Context& ctx) {
@@ -167,8 +114,6 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   std::vector<std::string> params = ParameterNames(spec);
 
   // the results store: a new run, or the same run continued with --resume
-  std::optional<ResultsStore> store;
-  long run_id = 0;
   if (o.resume && o.db.empty()) throw ValueError("--resume needs --db FILE");
   ValidateRolloutSpec(model, spec);
   // under MPI, ranks other than 0 only compute what rank 0 hands them, once rank 0 has
@@ -178,13 +123,22 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     MpiRollout(model, spec, {}, nullptr);
     return kExitOk;
   }
+  StoredRun stored;
   try {
-    OpenStore(o, ctx, params, HashModel(model), &store, &run_id, &spec);
+    std::string model_hash = HashModel(model);
+    RunInfo info = NewRunInfo("rollout", Config(o, model_hash), ctx, o.model, model_hash);
+    info.parameters = params;
+    info.metrics = o.metrics;
+    info.count = o.count;
+    stored = OpenStoredRun(o.db, o.resume, info);
+    spec.skip = stored.done;
   } catch (...) {
     MpiGo(false);
     throw;
   }
   MpiGo(true);
+  std::unique_ptr<ResultsStore>& store = stored.store;
+  const long run_id = stored.id;
   // from here on an error on rank 0 stops every rank (see main)
 
   long total = 0;
@@ -197,12 +151,17 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   // header
   std::vector<std::string> columns = RolloutCsvColumns(params, o.metrics);
   if (o.format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
+  // rows reach stdout as they finish, in order (at most ten writes a second), so
+  // `plumb rollout ... | head -2` stops the batch early (exit 141, see WriteStdout)
   std::string out;
+  auto last_write = std::chrono::steady_clock::now();
   auto flush = [&] {
+    last_write = std::chrono::steady_clock::now();
     if (out.empty()) return;
     progress.Clear();
-    std::fwrite(out.data(), 1, out.size(), stdout);
-    out.clear();
+    std::string text;
+    text.swap(out);
+    WriteStdout(text);
   };
   std::vector<int> widths;
   if (o.format == "csv") {
@@ -218,10 +177,20 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   }
   flush();
 
+  // a resumed run's summary covers every row of its shard, stored before or run now
   std::vector<Summary> summaries(spec.metrics.size());
-  long diverged = 0, emitted = 0;
+  long diverged = 0, emitted = 0, resumed = 0;
+  if (store && !spec.skip.empty()) {
+    store->ForEachResult(run_id, [&](const RolloutResult& r) {
+      if (r.index % spec.shard_count != spec.shard_index) return;
+      ++resumed;
+      diverged += r.diverged;
+      for (std::size_t k = 0; k < r.metrics.size() && k < summaries.size(); ++k) {
+        summaries[k].Add(r.metrics[k]);
+      }
+    });
+  }
   auto start = std::chrono::steady_clock::now();
-  InstallSignalHandlers();
   // the indices of this shard that are not stored yet, `limit` at a time: memory does
   // not grow with --count
   long next_index = spec.shard_index;
@@ -289,13 +258,27 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
         std::fprintf(stderr, "plumb: %s\n", r.problem.c_str());
       }
     }
-    if (out.size() > (1 << 16)) flush();
+    if (out.size() > (1 << 16) ||
+        std::chrono::steady_clock::now() - last_write > std::chrono::milliseconds(100)) {
+      flush();
+    }
   };
   try {
     run(emit);
-  } catch (const Interrupted&) {
+  } catch (const Interrupted& e) {
     // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
-    flush();
+    progress.Finish();
+    if (store) store->Commit();
+    try {
+      flush();
+    } catch (const OutputClosed&) {
+    }
+    throw Interrupted(fmt::format("{}; {} rollouts finished{}", e.what(), emitted,
+                                  store ? " and are stored in '" + o.db +
+                                              "': repeat the command with --resume to go on"
+                                        : ""));
+  } catch (const OutputClosed&) {
+    // the reader has gone: keep what finished, stop quietly
     progress.Finish();
     if (store) store->Commit();
     throw;
@@ -311,9 +294,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // the human summary: after the table, or on stderr when stdout carries data
-  std::string summary = fmt::format("\n{} rollouts, {} diverged ({:.1f}%), {:.1f} rollouts/s\n",
-                                    emitted, diverged, emitted ? 100.0 * diverged / emitted : 0.0,
-                                    seconds > 0 ? emitted / seconds : 0.0);
+  long all = emitted + resumed;
+  std::string summary = fmt::format(
+      "\n{} rollouts{}, {} diverged ({:.1f}%), {:.1f} rollouts/s\n", all,
+      resumed ? fmt::format(" ({} stored before this --resume, {} run now)", resumed, emitted)
+              : "",
+      diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? emitted / seconds : 0.0);
   for (std::size_t k = 0; k < summaries.size(); ++k) {
     const Summary& s = summaries[k];
     if (s.count() == 0) {
@@ -328,8 +314,11 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
         o.metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(), s.max(),
         s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
   }
-  std::FILE* where = o.format == "table" ? stdout : stderr;
-  std::fwrite(summary.data(), 1, summary.size(), where);
+  if (o.format == "table") {
+    WriteStdout(summary);
+  } else {
+    std::fwrite(summary.data(), 1, summary.size(), stderr);
+  }
   return kExitOk;
 }
 

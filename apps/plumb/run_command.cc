@@ -71,7 +71,6 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   for (const std::string& hint : StartHints(model, data)) {
     std::fprintf(stderr, "plumb: %s\n", hint.c_str());
   }
-  InstallSignalHandlers();
   spec.stop = &StopRequested();
   RunResult result = Run(model, data, spec, *writer);
 

@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
@@ -12,6 +16,8 @@
 #include "plumb/output.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"
+#include "plumb/timing.h"
+#include "run_store.h"
 
 namespace plumb::cli {
 namespace {
@@ -26,143 +32,376 @@ struct SweepOptions {
   double until = 0;
   std::string format = "table";
   std::string db;
+  bool resume = false;
 };
 
-// Records a finished sweep in the results store: one run, one case per combination.
-void Store(const SweepOptions& o, const Context& ctx, const SweepSpec& spec,
-           const std::vector<SweepCase>& cases) {
-  ResultsStore store(o.db);
-  RunInfo info;
-  info.kind = "sweep";
-  info.model_file = o.model;
-  info.model_hash = HashFile(o.model);
-  info.config = "sweep model=" + info.model_hash;
-  if (!o.keyframe.empty()) info.config += " keyframe=" + o.keyframe;
-  for (const std::string& s : o.sets) info.config += " set=" + s;
-  for (const std::string& v : o.vary) info.config += " vary=" + v;
-  for (const std::string& m : o.metrics) info.config += " metric=" + m;
-  std::vector<std::string> quoted;
-  for (const std::string& a : ctx.argv) quoted.push_back(ShellQuote(a));
-  info.command = fmt::format("{}", fmt::join(quoted, " "));
-  info.plumb_version = PLUMB_VERSION;
-  info.mujoco_version = MujocoVersion();
-  for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
-  info.metrics = o.metrics;
-  info.count = static_cast<long>(cases.size());
-  long run = store.BeginRun(info);
-  for (const SweepCase& c : cases) {
-    RolloutResult r;
-    r.index = c.index;
-    for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-      r.params.push_back(spec.axes[a].values[c.choice[a]].values[0]);
-    }
-    for (const Measurement& m : c.metrics) {
-      r.metrics.push_back(m.ok ? m.value : NAN);
-      if (!m.ok) {
-        r.diverged = r.diverged || m.diverged;
-        r.problem += (r.problem.empty() ? "" : "; ") + m.problem;
-      }
-    }
-    store.Add(run, r);
-  }
-  store.FinishRun(run);
+// Everything that decides a sweep's results, as one canonical line (see rollout's Config):
+// the same config means the same rows, so --resume may continue it.
+std::string Config(const SweepOptions& o, const std::string& model_hash) {
+  std::string config = fmt::format("sweep model={} until={:.17g} plumb={} mujoco={}", model_hash,
+                                   o.until, PLUMB_VERSION, MujocoVersion());
+  if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
+  for (const std::string& s : o.sets) config += " set=" + s;
+  for (const std::string& v : o.vary) config += " vary=" + v;
+  for (const std::string& m : o.metrics) config += " metric=" + m;
+  return config;
 }
+
+// "40 s", "12 min", "3.5 h", "2.1 days".
+std::string FormatDuration(double seconds) {
+  if (seconds < 120) return fmt::format("{:.0f} s", seconds);
+  if (seconds < 7200) return fmt::format("{:.0f} min", seconds / 60);
+  if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
+  return fmt::format("{:.1f} days", seconds / 86400);
+}
+
+// A case as a results-store row: its values as parameters, one metric each (NaN when not
+// measured, with the reason as the problem).
+RolloutResult StoredCase(const SweepSpec& spec, const SweepCase& c) {
+  RolloutResult r;
+  r.index = c.index;
+  for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+    r.params.push_back(spec.axes[a].Value(c.choice[a]).values[0]);
+  }
+  for (const Measurement& m : c.metrics) {
+    r.metrics.push_back(m.ok ? m.value : NAN);
+    if (!m.ok) {
+      r.diverged = r.diverged || m.diverged;
+      r.problem += (r.problem.empty() ? "" : "; ") + m.problem;
+    }
+  }
+  return r;
+}
+
+// The sweep's cost, said before anything runs: cases, runs, steps, and what the output
+// and the store will hold.
+std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec& spec,
+                     long cases, std::size_t row_bytes) {
+  double dt = RunTimestep(model, spec.sets);
+  for (const SweepAxis& axis : spec.axes) {
+    if (axis.path.field != "opt.timestep") continue;
+    for (std::size_t v = 0; v < axis.size(); ++v) dt = std::min(dt, axis.Value(v).values[0]);
+  }
+  double steps = 0;
+  for (const Metric& metric : spec.metrics) {
+    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+    double until = at_time ? metric.time : o.until > 0 ? o.until : DefaultDuration(metric);
+    steps += static_cast<double>(StepsToReach(until, dt));
+  }
+  auto bytes = [](double b) {
+    return b < 1e3   ? fmt::format("{:.0f} B", b)
+           : b < 1e6 ? fmt::format("{:.0f} kB", b / 1e3)
+           : b < 1e9 ? fmt::format("{:.0f} MB", b / 1e6)
+                     : fmt::format("{:.1f} GB", b / 1e9);
+  };
+  auto count = [](double x) {
+    return x < 1e7 ? fmt::format("{:.0f}", x) : fmt::format("{:.3g}", x);
+  };
+  double n = static_cast<double>(cases);
+  std::string line = fmt::format(
+      "sweep of {} case{} x {} metric{}: {} run{}, up to {} steps a case, {} steps in all; about "
+      "{} of {} output",
+      cases, cases == 1 ? "" : "s", spec.metrics.size(), spec.metrics.size() == 1 ? "" : "s",
+      count(n * spec.metrics.size()), n * spec.metrics.size() == 1 ? "" : "s", count(steps),
+      count(steps * n), bytes(n * static_cast<double>(row_bytes)), o.format);
+  // a store row: the case's values and metrics as JSON text, plus SQLite's overhead
+  if (!o.db.empty()) {
+    double row = 60.0 + 24.0 * static_cast<double>(spec.axes.size() + spec.metrics.size());
+    line += fmt::format(" and about {} in '{}'", bytes(n * row), o.db);
+  }
+  return line;
+}
+
+// How a sweep's rows are written: a table, CSV or JSON, one case at a time.
+class SweepWriter {
+ public:
+  SweepWriter(const SweepOptions& o, const SweepSpec& spec) : o_(o), spec_(spec) {}
+
+  std::string Header() {
+    if (o_.format == "json") {
+      nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+      for (const SweepAxis& a : spec_.axes) axes.push_back(a.path.text);
+      return "{\n  \"model\": " + nlohmann::ordered_json(o_.model).dump() +
+             ",\n  \"vary\": " + axes.dump() +
+             ",\n  \"metrics\": " + nlohmann::ordered_json(o_.metrics).dump() +
+             ",\n  \"cases\": [";
+    }
+    if (o_.format == "csv") {
+      std::vector<std::string> header = {"case"};
+      for (const SweepAxis& a : spec_.axes) header.push_back(a.path.text);
+      header.insert(header.end(), o_.metrics.begin(), o_.metrics.end());
+      return CsvHeader(header);
+    }
+    std::string header = fmt::format("{:>6}", "case");
+    for (const SweepAxis& a : spec_.axes) {
+      // a long range's labels are as wide as its ends or a 15-digit interior value
+      std::size_t widest = a.path.text.size();
+      std::size_t n = a.size();
+      for (std::size_t i = 0; i < std::min<std::size_t>(n, 64); ++i) {
+        widest = std::max(widest, a.Label(i).size());
+      }
+      widest = std::max(widest, a.Label(n - 1).size());
+      if (n > 64) widest = std::max<std::size_t>(widest, 17);
+      widths_.push_back(std::max<int>(12, static_cast<int>(widest) + 2));
+      header += fmt::format("{:>{}}", a.path.text, widths_.back());
+    }
+    for (const std::string& m : o_.metrics) {
+      widths_.push_back(std::max<int>(14, static_cast<int>(m.size()) + 2));
+      header += fmt::format("{:>{}}", m, widths_.back());
+    }
+    return header + "\n";
+  }
+
+  std::string Row(const SweepCase& c) {
+    if (o_.format == "json") {
+      nlohmann::ordered_json values, metrics, problems = nlohmann::ordered_json::object();
+      for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+        values[spec_.axes[a].path.text] = spec_.axes[a].Value(c.choice[a]).values[0];
+      }
+      for (std::size_t m = 0; m < c.metrics.size(); ++m) {
+        const Measurement& r = c.metrics[m];
+        metrics[o_.metrics[m]] = r.ok ? nlohmann::ordered_json(r.value) : nullptr;
+        if (!r.ok) problems[o_.metrics[m]] = r.problem;
+      }
+      nlohmann::ordered_json row = {{"case", c.index}, {"values", values}, {"metrics", metrics}};
+      if (!problems.empty()) row["problems"] = problems;
+      return std::string(rows_++ ? ",\n    " : "\n    ") + row.dump();
+    }
+    if (o_.format == "csv") {
+      std::string line = std::to_string(c.index);
+      for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+        line += "," + CsvNumber(spec_.axes[a].Value(c.choice[a]).values[0]);
+      }
+      for (const Measurement& r : c.metrics) line += "," + (r.ok ? CsvNumber(r.value) : "");
+      return line + "\n";
+    }
+    std::string line = fmt::format("{:>6}", c.index);
+    std::size_t w = 0;
+    for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+      line += fmt::format("{:>{}}", spec_.axes[a].Label(c.choice[a]), widths_[w++]);
+    }
+    for (const Measurement& r : c.metrics) {
+      // a run that blew up and a metric that does not apply are different findings
+      line += r.ok         ? fmt::format("{:>{}.6g}", r.value, widths_[w++])
+              : r.diverged ? fmt::format("{:>{}}", "diverged", widths_[w++])
+                           : fmt::format("{:>{}}", "n/a", widths_[w++]);
+    }
+    return line + "\n";
+  }
+
+  std::string Footer() const {
+    if (o_.format == "json") return std::string(rows_ ? "\n  " : "") + "]\n}\n";
+    return "";
+  }
+
+ private:
+  const SweepOptions& o_;
+  const SweepSpec& spec_;
+  std::vector<int> widths_;
+  long rows_ = 0;
+};
+
+// Watches whether each axis changes anything: the cases where every other axis takes its
+// first value are a line along that axis (fewer than the sum of the axes' sizes, so memory
+// stays small however many cases run). An axis along which every metric is bit-identical
+// gets a note with the likely reason, instead of a table that silently shows no effect.
+class EffectWatch {
+ public:
+  explicit EffectWatch(const SweepSpec& spec) : spec_(spec), lines_(spec.axes.size()) {}
+
+  void See(const SweepCase& c) {
+    for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+      bool on_line = true;
+      for (std::size_t b = 0; b < c.choice.size(); ++b) on_line = on_line && (b == a || c.choice[b] == 0);
+      if (!on_line) continue;
+      std::vector<double> values;
+      for (const Measurement& m : c.metrics) values.push_back(m.ok ? m.value : NAN);
+      lines_[a][c.choice[a]] = values;
+    }
+  }
+
+  // One note per axis whose line was seen whole and holds values that changed nothing:
+  // bit-identical metrics for different values.
+  std::vector<std::string> Notes() const {
+    std::vector<std::string> notes;
+    for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+      const SweepAxis& axis = spec_.axes[a];
+      if (axis.size() < 2 || lines_[a].size() != axis.size()) continue;
+      // values grouped by their results (NaN, not measured, is no evidence either way)
+      std::map<std::string, std::vector<std::size_t>> groups;
+      for (const auto& [choice, values] : lines_[a]) {
+        bool measured = std::none_of(values.begin(), values.end(),
+                                     [](double v) { return std::isnan(v); });
+        if (!measured) continue;
+        std::string key(reinterpret_cast<const char*>(values.data()),
+                        values.size() * sizeof(double));
+        groups[key].push_back(choice);
+      }
+      std::vector<std::string> same;
+      for (const auto& [key, choices] : groups) {
+        if (choices.size() < 2) continue;
+        std::vector<std::string> labels;
+        for (std::size_t c : choices) labels.push_back(axis.Label(c));
+        same.push_back(fmt::format("{}", fmt::join(labels, ", ")));
+      }
+      if (same.empty()) continue;
+      std::string what = groups.size() == 1 && same.size() == 1 &&
+                                 lines_[a].size() == groups.begin()->second.size()
+                             ? "changed no metric: every value gave bit-identical results"
+                             : "values that gave bit-identical results: " +
+                                   fmt::format("{}", fmt::join(same, "; "));
+      notes.push_back("--vary '" + axis.text + "' " + what +
+                      " (the other axes at their first value). " + WhyNoEffect(axis.path.field));
+    }
+    return notes;
+  }
+
+ private:
+  static std::string WhyNoEffect(const std::string& field) {
+    if (field == "geom_friction") {
+      return "A geom's friction acts only in its contacts, and MuJoCo gives a contact the "
+             "larger friction of its two geoms (unless geom priority says otherwise), so "
+             "lowering one geom's friction below its partner's changes nothing; vary the other "
+             "geom's friction too, or use geom priority.";
+    }
+    if (field == "geom_solref" || field == "geom_solimp" || field == "geom_solmix") {
+      return "A contact mixes both geoms' solref/solimp by their solmix weights; a geom whose "
+             "weight is 0, or that touches nothing in this run, has no say.";
+    }
+    return "The element may take no part in this run (a geom that touches nothing, a joint "
+           "that does not move, a disabled actuator), or the metrics do not depend on it.";
+  }
+
+  const SweepSpec& spec_;
+  std::vector<std::map<std::size_t, std::vector<double>>> lines_;
+};
 
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.sets);
-  for (const std::string& v : o.vary) spec.axes.push_back(ParseSweepAxis(model, v));
+  for (const std::string& v : o.vary) {
+    spec.axes.push_back(ParseSweepAxis(model, v));
+    for (const std::string& w : spec.axes.back().prototype.warnings) {
+      std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+    }
+    for (const Assignment& a : spec.axes.back().listed) {
+      for (const std::string& w : a.warnings) std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+    }
+  }
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.threads = o.threads;
   spec.until = o.until;
-  long total = CaseCount(spec.axes);
-  ProgressBar progress(total, "cases");
-  spec.progress = [&](long done, long) { progress.Update(done); };
-  std::vector<SweepCase> cases = Sweep(model, spec);
-  progress.Finish();
-  if (!o.db.empty()) Store(o, ctx, spec, cases);
+  ValidateSweepSpec(model, spec);
+  const long total = CaseCount(spec.axes);
 
-  long failed = 0;
-  std::string out;
-  if (o.format == "json") {
-    nlohmann::ordered_json j;
-    j["model"] = o.model;
-    nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-    for (const SweepAxis& a : spec.axes) axes.push_back(a.path.text);
-    j["vary"] = axes;
-    j["metrics"] = o.metrics;
-    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-    for (const SweepCase& c : cases) {
-      nlohmann::ordered_json values, metrics, problems = nlohmann::ordered_json::object();
-      for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-        values[spec.axes[a].path.text] = spec.axes[a].values[c.choice[a]].values[0];
-      }
-      for (std::size_t m = 0; m < c.metrics.size(); ++m) {
-        const Measurement& r = c.metrics[m];
-        metrics[o.metrics[m]] = r.ok ? nlohmann::ordered_json(r.value) : nullptr;
-        if (!r.ok) problems[o.metrics[m]] = r.problem;
-      }
-      nlohmann::ordered_json row = {{"case", c.index}, {"values", values}, {"metrics", metrics}};
-      if (!problems.empty()) row["problems"] = problems;
-      rows.push_back(row);
-    }
-    j["cases"] = rows;
-    out = j.dump(2) + "\n";
-  } else if (o.format == "csv") {
-    std::vector<std::string> header = {"case"};
-    for (const SweepAxis& a : spec.axes) header.push_back(a.path.text);
-    header.insert(header.end(), o.metrics.begin(), o.metrics.end());
-    out = CsvHeader(header);
-    for (const SweepCase& c : cases) {
-      out += std::to_string(c.index);
-      for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-        out += "," + CsvNumber(spec.axes[a].values[c.choice[a]].values[0]);
-      }
-      for (const Measurement& r : c.metrics) out += "," + (r.ok ? CsvNumber(r.value) : "");
-      out += "\n";
-    }
-  } else {
-    std::vector<int> widths;
-    std::string header = fmt::format("{:>6}", "case");
-    for (const SweepAxis& a : spec.axes) {
-      int widest = static_cast<int>(a.path.text.size());
-      for (const std::string& label : a.labels) widest = std::max<int>(widest, label.size());
-      widths.push_back(std::max(12, widest + 2));
-      header += fmt::format("{:>{}}", a.path.text, widths.back());
-    }
-    for (const std::string& m : o.metrics) {
-      widths.push_back(std::max<int>(14, m.size() + 2));
-      header += fmt::format("{:>{}}", m, widths.back());
-    }
-    out = header + "\n";
-    for (const SweepCase& c : cases) {
-      std::string line = fmt::format("{:>6}", c.index);
-      std::size_t w = 0;
-      for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-        line += fmt::format("{:>{}}", spec.axes[a].labels[c.choice[a]], widths[w++]);
-      }
-      for (const Measurement& r : c.metrics) {
-        // a run that blew up and a metric that does not apply are different findings
-        line += r.ok         ? fmt::format("{:>{}.6g}", r.value, widths[w++])
-                : r.diverged ? fmt::format("{:>{}}", "diverged", widths[w++])
-                             : fmt::format("{:>{}}", "n/a", widths[w++]);
-      }
-      out += line + "\n";
-    }
+  // the store: a new run, or the same run continued with --resume
+  std::string model_hash = HashModel(model);
+  RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx, o.model, model_hash);
+  for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
+  info.metrics = o.metrics;
+  info.count = total;
+  StoredRun stored = OpenStoredRun(o.db, o.resume, info);
+
+  SweepWriter writer(o, spec);
+  std::string header = writer.Header();
+  std::size_t row_bytes = o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size())
+                                             : header.size();
+  std::fprintf(stderr, "plumb: %s\n", CostLine(model, o, spec, total, row_bytes).c_str());
+  if (!stored.done.empty()) {
+    std::fprintf(stderr, "plumb: --resume: %zu of %ld cases are stored in '%s'; running the rest\n",
+                 stored.done.size(), total, o.db.c_str());
   }
-  for (const SweepCase& c : cases) {
+
+  ProgressBar progress(total - static_cast<long>(stored.done.size()), "cases");
+  spec.progress = [&](long done, long) { progress.Update(done); };
+  std::string out = header;
+  auto start = std::chrono::steady_clock::now();
+  auto last_write = start;
+  bool told_time = false;
+  long emitted = 0, failed = 0;
+  std::map<std::pair<std::size_t, std::string>, long> problems;  // (metric, reason): cases
+  auto flush = [&] {
+    last_write = std::chrono::steady_clock::now();
+    progress.Clear();
+    std::string text;
+    text.swap(out);
+    WriteStdout(text);
+  };
+  flush();
+  EffectWatch effect(spec);
+  auto emit = [&](const SweepCase& c) {
+    ++emitted;
+    effect.See(c);
+    if (stored.store) stored.store->Add(stored.id, StoredCase(spec, c));
+    out += writer.Row(c);
     for (std::size_t m = 0; m < c.metrics.size(); ++m) {
       if (c.metrics[m].ok) continue;
       ++failed;
+      // each reason once, as it first happens; how often it recurred is counted at the end
+      auto [it, first] = problems.try_emplace({m, c.metrics[m].problem}, 0L);
+      ++it->second;
+      if (!first) continue;
+      progress.Clear();
       std::fprintf(stderr, "plumb: case %ld, %s: %s\n", c.index, o.metrics[m].c_str(),
                    c.metrics[m].problem.c_str());
     }
+    auto now = std::chrono::steady_clock::now();
+    double seconds = std::chrono::duration<double>(now - start).count();
+    long left = total - static_cast<long>(stored.done.size()) - emitted;
+    if (!told_time && seconds > 2 && left > 0) {
+      // a long sweep says how long once it knows, and how to stop it without losing work
+      told_time = true;
+      double eta = seconds / static_cast<double>(emitted) * static_cast<double>(left);
+      if (eta > 60) {
+        progress.Clear();
+        std::fprintf(stderr,
+                     "plumb: at %.3g cases/s the rest takes about %s; Ctrl-C stops it and keeps "
+                     "what finished%s\n",
+                     emitted / seconds, FormatDuration(eta).c_str(),
+                     stored.store ? " (then --resume goes on)" : "");
+      }
+    }
+    if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
+  };
+  try {
+    Sweep(model, spec, stored.done, emit);
+  } catch (const Interrupted& e) {
+    progress.Finish();
+    if (stored.store) stored.store->Commit();
+    try {
+      flush();
+    } catch (const OutputClosed&) {
+    }
+    throw Interrupted(fmt::format("{}; the {} finished cases were printed{}", e.what(), emitted,
+                                  stored.store ? " and stored in '" + o.db +
+                                                     "': repeat the command with --resume to go on"
+                                               : ""));
+  } catch (const OutputClosed&) {
+    progress.Finish();
+    if (stored.store) stored.store->Commit();
+    throw;
   }
-  std::fwrite(out.data(), 1, out.size(), stdout);
+  progress.Finish();
+  out += writer.Footer();
+  flush();
+  if (stored.store) {
+    stored.store->Commit();
+    if (static_cast<long>(stored.store->DoneIndices(stored.id).size()) == total) {
+      stored.store->FinishRun(stored.id);
+    }
+  }
+  for (const std::string& note : effect.Notes()) {
+    std::fprintf(stderr, "plumb: note: %s\n", note.c_str());
+  }
+  for (const auto& [key, cases] : problems) {
+    if (cases < 2) continue;
+    std::fprintf(stderr, "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
+                 o.metrics[key.first].c_str(), cases, key.second.c_str());
+  }
   if (failed > 0) {
     std::fprintf(stderr, "plumb: %ld of %ld measurements could not be made (see above)\n", failed,
-                 total * static_cast<long>(spec.metrics.size()));
+                 emitted * static_cast<long>(spec.metrics.size()));
   }
   return kExitOk;
 }
@@ -181,7 +420,10 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       "      --vary opt.integrator=Euler,RK4 --metric 'period(qpos[hinge])' --threads 2\n"
       "Rows come out in case order (first --vary slowest) and are identical for any --threads.\n"
       "A case that diverged shows 'diverged', one whose metric cannot be measured (e.g. no\n"
-      "crossings for period) 'n/a'; the reason goes to stderr and the sweep goes on.");
+      "crossings for period) 'n/a'; the reason goes to stderr and the sweep goes on.\n"
+      "The cost (cases, steps, output size) is printed before anything runs; rows are printed\n"
+      "as they finish, in memory that does not grow with the number of cases. Ctrl-C keeps\n"
+      "what finished (exit 130); with --db FILE, --resume runs only the cases not yet stored.");
   AddModelOptions(cmd, &o->model, &o->sets, "applied to every case");
   AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--vary", o->vary, "PATH=V1,V2,... or PATH=START:STOP:COUNT (repeatable)")
@@ -200,6 +442,9 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
   cmd->add_option("--db", o->db, "also record the sweep in this SQLite results store");
+  cmd->add_flag("--resume", o->resume,
+                "continue the same sweep in --db: skip cases already stored (a fresh start when "
+                "it holds no sweep)");
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunSweep(*o, ctx); }; });
 }
 

@@ -57,7 +57,10 @@ struct RolloutSpec {
   int threads = 1;
   std::vector<Assignment> sets;  // the nominal scenario
   std::vector<Randomization> randomize;
-  double ctrl_noise = 0;        // as MuJoCo's testspeed: ctrl = centre + noise*radius*(2*Halton-1)
+  // Control noise as MuJoCo's testspeed, a fraction of each ctrlrange: before every step,
+  // ctrl = centre + noise*radius*(2u-1), u uniform and keyed by (seed, rollout, actuator,
+  // step), so each rollout has its own noise, the same for any thread count or shard.
+  double ctrl_noise = 0;
   std::vector<Metric> metrics;  // all measured in the one run of each rollout
   // Which indices to run: those i with i % shard_count == shard_index.
   long shard_index = 0, shard_count = 1;

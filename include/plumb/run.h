@@ -44,12 +44,18 @@ class NullSink : public SampleSink {
   void Sample(const std::vector<double>&) override {}
 };
 
+// The process-wide stop request that every Run watches unless its spec names another flag:
+// a signal handler sets it (lock-free, async-signal-safe) and every long command, however
+// deep its runs are, stops at the next step with Interrupted.
+std::atomic<bool>& StopFlag();
+
 // What to run.
 struct RunSpec {
   double until = 2.0;         // final time in s (>= 0); steps = ceil(until / timestep)
   double every = 0.1;         // sampling interval in s; a whole multiple of the timestep
   std::vector<Path> columns;  // sampled paths, each a single element (see ScalarPaths)
-  // When set and it becomes true (e.g. from a signal handler), Run throws Interrupted.
+  // When it becomes true (e.g. from a signal handler), Run throws Interrupted before the
+  // next step. Unset: the process-wide StopFlag().
   const std::atomic<bool>* stop = nullptr;
   // Called before every mj_step with the step about to be taken (1-based), e.g. to
   // write ctrl; and after every step that passed the divergence checks, e.g. to

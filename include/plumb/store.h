@@ -17,6 +17,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_STORE_H_
 #define PLUMB_INCLUDE_PLUMB_STORE_H_
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -82,6 +83,8 @@ class ResultsStore {
 
   // All results of a run in index order.
   std::vector<RolloutResult> Results(long run);
+  // The same, one at a time, in memory that does not grow with the run.
+  void ForEachResult(long run, const std::function<void(const RolloutResult&)>& visit);
 
   std::size_t batch = 64;
 

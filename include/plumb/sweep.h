@@ -11,6 +11,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_SWEEP_H_
 #define PLUMB_INCLUDE_PLUMB_SWEEP_H_
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -20,12 +21,24 @@
 
 namespace plumb {
 
-// One varied path and its values.
+// One varied path and its values. A list (`V1,V2,...`) is held value by value; a range
+// (`START:STOP:COUNT`) is made on demand, so `=0:1:100000000` costs no memory.
 struct SweepAxis {
-  std::string text;                 // as typed
-  Path path;                        // a single element
-  std::vector<Assignment> values;   // one assignment per value, in order
-  std::vector<std::string> labels;  // each value as typed ("RK4", "0.05")
+  std::string text;  // as typed
+  Path path;         // a single element
+
+  std::size_t size() const;
+  // The i-th value as an assignment of `path`, and as the table shows it ("RK4", "0.05").
+  Assignment Value(std::size_t i) const;
+  std::string Label(std::size_t i) const;
+
+  // a list: one assignment and label per value
+  std::vector<Assignment> listed;
+  std::vector<std::string> listed_labels;
+  // a range: `count` evenly spaced values from `start` to `stop`, both ends as written
+  double start = 0, stop = 0;
+  long count = 0;
+  Assignment prototype;  // path and warnings of the range; values[0] is replaced
 };
 
 // Parses `PATH=V1,V2,...` (numbers or enumeration names) or `PATH=START:STOP:COUNT`
@@ -50,9 +63,34 @@ struct SweepCase {
 };
 
 // Number of cases: the product of the axes' sizes.
+// @throws ValueError when the product passes 2^53 (no sweep can run that many).
 long CaseCount(const std::vector<SweepAxis>& axes);
 
-// Runs every case. Results come back in case order and are bit-identical whatever the
+// Refuses two axes that write the same element (`dof_damping[hinge]` and
+// `dof_damping[0]`): the later one would silently win. @throws ValueError naming both.
+void RequireDistinctAxes(const std::vector<SweepAxis>& axes);
+
+// Which value of each axis case `index` takes (first axis slowest, last fastest).
+std::vector<std::size_t> CaseChoice(const std::vector<SweepAxis>& axes, long index);
+
+// Checks a spec before anything runs: at least one metric, threads >= 1, distinct axes, and
+// every metric time a whole number of steps of every timestep a case uses.
+// @throws ValueError.
+void ValidateSweepSpec(const Model& model, const SweepSpec& spec);
+
+// Runs the cases 0 .. CaseCount-1 that are not in `skip` (sorted; for --resume) and calls
+// `emit` once per case in increasing index order, from the calling thread, as soon as it and
+// every case before it are done: memory does not grow with the number of cases. When `stop`
+// (default: plumb::StopFlag(), see run.h, which runs also watch step by step) becomes true,
+// the cases already finished are emitted and Interrupted is thrown. A range value that
+// fails CheckAssignable (see ParseSweepAxis) is that case's problem. Bit-identical for any
+// thread count. @throws ValueError as ValidateSweepSpec; Interrupted.
+void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& skip,
+           const std::function<void(const SweepCase&)>& emit,
+           const std::atomic<bool>* stop = nullptr);
+
+// Runs every case and returns them all (a small sweep; the streaming Sweep above for large
+// ones). Results come back in case order and are bit-identical whatever the
 // thread count: each case starts from a fresh copy of the nominal model in its worker's
 // own buffer. A diverged case is recorded (ok = false) and the sweep goes on.
 // @throws ValueError for no metric or threads < 1; MujocoError from MuJoCo.

@@ -225,7 +225,7 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
         out.ok = false;
         out.problem = "'" + metric.path.text +
                       "' crossed its mid-range upward fewer than twice in " +
-                      std::to_string(until) + " s; run longer (--until) or it does not oscillate";
+                      FormatNumber(until) + " s; run longer (--until) or it does not oscillate";
         return out;
       }
       out.value = *period;

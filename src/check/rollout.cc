@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "core/mujoco_compat.h"
@@ -140,6 +141,9 @@ struct Probe {
   std::vector<std::vector<double>> t, x;  // period metrics
   double e0 = kNaN, max_kinetic = 0;
 };
+
+// The random key of actuator j's control noise: far above any parameter's key.
+constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
 
 RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, long index,
                      bool energy) {
@@ -309,7 +313,12 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
           centre = 0.5 * (m->actuator_ctrlrange[2 * j + 1] + m->actuator_ctrlrange[2 * j]);
           radius = 0.5 * (m->actuator_ctrlrange[2 * j + 1] - m->actuator_ctrlrange[2 * j]);
         }
-        dd->ctrl[j] = centre + spec.ctrl_noise * radius * (2 * mju_Halton(step - 1, j + 2) - 1);
+        // keyed by (seed, rollout, actuator, step): every rollout has noise of its own,
+        // the same for any thread count, shard or resume
+        double u = Uniform01(spec.seed, static_cast<std::uint64_t>(index),
+                             kCtrlNoiseKey + static_cast<std::uint32_t>(j),
+                             static_cast<std::uint32_t>(step));
+        dd->ctrl[j] = centre + spec.ctrl_noise * radius * (2 * u - 1);
       }
     };
   }
@@ -365,6 +374,18 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1) {
     throw ValueError("--ctrl-noise must be in [0, 1]");
   }
+  // each element drawn once: a second draw of the same element would silently win, and two
+  // columns would carry one name
+  std::map<std::pair<int, long>, const Randomization*> drawn;
+  for (const Randomization& r : spec.randomize) {
+    for (const Path& p : r.paths) {
+      auto [it, fresh] = drawn.try_emplace({p.field_index, p.first}, &r);
+      if (fresh) continue;
+      throw ValueError("--randomize '" + r.text + "' and --randomize '" + it->second->text +
+                       "' both draw " + p.text +
+                       ": the later draw would silently win. Give each element one --randomize.");
+    }
+  }
   // the one timing rule: a metric's time falls on whole steps of every timestep a rollout
   // may use, which a timestep drawn at random cannot promise
   double dt = RunTimestep(model, spec.sets);
@@ -413,25 +434,39 @@ void RolloutPool::Run(const std::vector<long>& indices,
                       const std::function<void(const RolloutResult&)>& emit,
                       const std::atomic<bool>* stop) {
   Impl& p = *impl_;
+  const std::atomic<bool>& stopping = stop ? *stop : StopFlag();
   std::atomic<long> done{0};
+  auto interrupted = [&] {
+    return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
+  };
   const std::size_t chunk = 64 * static_cast<std::size_t>(p.spec.threads);
   std::vector<RolloutResult> results;
+  std::vector<char> finished;
   for (std::size_t first = 0; first < indices.size(); first += chunk) {
-    if (stop && stop->load()) {
-      throw Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
-    }
+    if (stopping.load()) throw interrupted();
     std::size_t n = std::min(chunk, indices.size() - first);
     results.assign(n, RolloutResult{});
+    finished.assign(n, 0);
     p.arena.execute([&] {
       tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
         std::optional<Worker>& w = p.workers.local();
         if (!w) w.emplace(p.model);
-        results[i] = RunOne(p.model, *w, p.spec, indices[first + i], p.energy);
-        long finished = ++done;
-        if (p.spec.progress) p.spec.progress(finished, static_cast<long>(indices.size()));
+        try {
+          results[i] = RunOne(p.model, *w, p.spec, indices[first + i], p.energy);
+        } catch (const Interrupted&) {
+          w.reset();  // abandoned mid-run (plumb::StopFlag): its model copy may hold draws
+          return;
+        }
+        finished[i] = 1;
+        long count = ++done;
+        if (p.spec.progress) p.spec.progress(count, static_cast<long>(indices.size()));
       });
     });
-    for (const RolloutResult& r : results) emit(r);
+    // the rollouts that finished before the first abandoned one are kept
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!finished[i]) throw interrupted();
+      emit(results[i]);
+    }
   }
 }
 

@@ -9,13 +9,20 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <optional>
 
 #include "core/strings.h"
 #include "plumb/error.h"
+#include "plumb/run.h"
 #include "plumb/timing.h"
 
 namespace plumb {
+
+namespace {
+// Ranges up to this many values are checked value by value when parsed.
+constexpr long kCheckedRange = 100000;
+}  // namespace
 
 SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
   std::size_t eq = text.find('=');
@@ -54,30 +61,29 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
       throw ValueError("--vary '" + axis.text +
                        "': START:STOP:COUNT needs two numbers and a whole count >= 1.");
     }
-    for (long i = 0; i < *count; ++i) {
-      // the endpoints exactly as written: start + (stop - start) can round away from stop
-      double v = i == 0            ? *start
-                 : i == *count - 1 ? *stop
-                                   : *start + (*stop - *start) * static_cast<double>(i) /
-                                                  static_cast<double>(*count - 1);
-      // interior points to 15 digits (0.1:2.8:4 gives 1 and 1.9, not 0.99999999999999989);
-      // endpoints as the shortest text that reads back as the number written
-      char buffer[32];
-      std::snprintf(buffer, sizeof(buffer), "%.15g", v);
-      bool endpoint = i == 0 || i == *count - 1;
-      if (endpoint && std::strtod(buffer, nullptr) != v) {
-        std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-      }
-      axis.labels.push_back(buffer);
-    }
-  } else if (range.size() == 1) {
-    axis.labels = Split(values, ',');
-  } else {
-    throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
-  }
-  for (const std::string& label : axis.labels) {
+    axis.start = *start;
+    axis.stop = *stop;
+    axis.count = *count;
+    // the ends carry the parser's warnings (a ctrl beyond ctrlrange) for the values between
+    // them; every value is checked (an integer field takes whole numbers only) while that
+    // is cheap, and a longer range's values are checked as each case starts
     try {
-      axis.values.push_back(ParseAssignment(model, path_text + "=" + label));
+      axis.prototype = ParseAssignment(model, path_text + "=" + axis.Label(0));
+      Assignment last = ParseAssignment(model, path_text + "=" + axis.Label(axis.size() - 1));
+      for (std::string& w : last.warnings) axis.prototype.warnings.push_back(std::move(w));
+      for (long i = 1; i + 1 < std::min(axis.count, kCheckedRange); ++i) {
+        CheckAssignable(axis.path, axis.Value(static_cast<std::size_t>(i)).values[0]);
+      }
+    } catch (const Error& e) {
+      throw as_vary(e);
+    }
+    return axis;
+  }
+  if (range.size() != 1) throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
+  for (const std::string& label : Split(values, ',')) {
+    try {
+      axis.listed.push_back(ParseAssignment(model, path_text + "=" + label));
+      axis.listed_labels.push_back(label);
     } catch (const Error& e) {
       throw as_vary(e);
     }
@@ -85,27 +91,97 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
   return axis;
 }
 
+std::size_t SweepAxis::size() const {
+  return count > 0 ? static_cast<std::size_t>(count) : listed.size();
+}
+
+namespace {
+// The i-th of `count` evenly spaced values from start to stop, the ends exactly as written
+// (start + (stop - start) can round away from stop).
+double RangeValue(double start, double stop, long count, std::size_t i) {
+  long k = static_cast<long>(i);
+  if (k == 0) return start;
+  if (k == count - 1) return stop;
+  return start + (stop - start) * static_cast<double>(k) / static_cast<double>(count - 1);
+}
+}  // namespace
+
+Assignment SweepAxis::Value(std::size_t i) const {
+  if (count == 0) return listed.at(i);
+  Assignment a = prototype;
+  a.values = {RangeValue(start, stop, count, i)};
+  a.text = path.text + "=" + Label(i);
+  return a;
+}
+
+std::string SweepAxis::Label(std::size_t i) const {
+  if (count == 0) return listed_labels.at(i);
+  double v = RangeValue(start, stop, count, i);
+  // interior points to 15 digits (0.1:2.8:4 gives 1 and 1.9, not 0.99999999999999989);
+  // endpoints as the shortest text that reads back as the number written
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", v);
+  bool endpoint = i == 0 || static_cast<long>(i) == count - 1;
+  if (endpoint && std::strtod(buffer, nullptr) != v) {
+    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+  }
+  return buffer;
+}
+
 long CaseCount(const std::vector<SweepAxis>& axes) {
+  constexpr long kMostCases = 1L << 53;
   long n = 1;
-  for (const SweepAxis& a : axes) n *= static_cast<long>(a.values.size());
+  for (const SweepAxis& a : axes) {
+    long size = static_cast<long>(a.size());
+    if (size > 0 && n > kMostCases / size) {
+      throw ValueError("--vary: the product of the axes passes 2^53 cases; no sweep can run that "
+                       "many. Use fewer values, or plumb rollout to sample the space at random.");
+    }
+    n *= size;
+  }
   return n;
 }
 
-std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
+void RequireDistinctAxes(const std::vector<SweepAxis>& axes) {
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    for (std::size_t b = 0; b < a; ++b) {
+      if (axes[a].path.field_index != axes[b].path.field_index ||
+          axes[a].path.first != axes[b].path.first) {
+        continue;
+      }
+      throw ValueError("--vary '" + axes[a].text + "' and --vary '" + axes[b].text +
+                       "' both vary " + axes[b].path.text +
+                       ": the later value would silently win in every case. Give each element "
+                       "one --vary with all its values.");
+    }
+  }
+}
+
+std::vector<std::size_t> CaseChoice(const std::vector<SweepAxis>& axes, long index) {
+  std::vector<std::size_t> choice(axes.size());
+  long rest = index;
+  for (std::size_t a = axes.size(); a-- > 0;) {
+    long n = static_cast<long>(axes[a].size());
+    choice[a] = static_cast<std::size_t>(rest % n);
+    rest /= n;
+  }
+  return choice;
+}
+
+void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
   if (spec.metrics.empty()) throw ValueError("a sweep needs at least one --metric");
   if (spec.threads < 1) throw ValueError("--threads must be at least 1");
-  long total = CaseCount(spec.axes);
-  std::vector<SweepCase> cases(total);
-  double dt = RunTimestep(model, spec.sets);
-
+  RequireDistinctAxes(spec.axes);
+  CaseCount(spec.axes);
   // every case's runs must end on whole steps of its timestep: checked for all cases
   // before any runs, not found in the middle of the sweep
-  std::vector<std::pair<double, std::string>> timesteps = {{dt, "the timestep the run uses"}};
+  std::vector<std::pair<double, std::string>> timesteps = {
+      {RunTimestep(model, spec.sets), "the timestep the run uses"}};
   for (const SweepAxis& axis : spec.axes) {
     if (axis.path.field != "opt.timestep") continue;
     timesteps.clear();
-    for (std::size_t v = 0; v < axis.values.size(); ++v) {
-      timesteps.push_back({axis.values[v].values[0], "--vary '" + axis.text + "'"});
+    for (std::size_t v = 0; v < axis.size(); ++v) {
+      timesteps.push_back({axis.Value(v).values[0], "--vary '" + axis.text + "'"});
     }
   }
   for (const Metric& metric : spec.metrics) {
@@ -115,8 +191,15 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
       RequireWholeSteps(until, step, "--metric '" + metric.text + "'", source);
     }
   }
+}
 
-  // one model copy and one data per worker, made on first use
+void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& skip,
+           const std::function<void(const SweepCase&)>& emit, const std::atomic<bool>* stop) {
+  ValidateSweepSpec(model, spec);
+  const long total = CaseCount(spec.axes);
+  const std::atomic<bool>& stopping = stop ? *stop : StopFlag();
+
+  // one model copy and one data per worker, made on first use and kept for every chunk
   struct Worker {
     Model work;
     Data data;
@@ -125,41 +208,79 @@ std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
   tbb::enumerable_thread_specific<std::optional<Worker>> workers;
   std::atomic<long> done{0};
 
-  auto run_case = [&](long index) {
+  // one case: false when a stop request abandoned it
+  auto run_case = [&](long index, SweepCase* c) {
     std::optional<Worker>& worker = workers.local();
     if (!worker) worker.emplace(model);
-    SweepCase& c = cases[index];
-    c.index = index;
-    // the case's choice of values, last axis fastest
+    c->index = index;
+    c->choice = CaseChoice(spec.axes, index);
     std::vector<Assignment> sets = spec.sets;
-    c.choice.resize(spec.axes.size());
-    long rest = index;
-    for (std::size_t a = spec.axes.size(); a-- > 0;) {
-      std::size_t n = spec.axes[a].values.size();
-      c.choice[a] = static_cast<std::size_t>(rest % static_cast<long>(n));
-      rest /= static_cast<long>(n);
-    }
     for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-      sets.push_back(spec.axes[a].values[c.choice[a]]);
+      sets.push_back(spec.axes[a].Value(c->choice[a]));
     }
-    // a varied timestep is the case's timestep
-    double case_dt = RunTimestep(model, sets);
-    for (const Metric& metric : spec.metrics) {
-      double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
-      c.metrics.push_back(
-          MeasureInPlace(model, worker->work, worker->data, sets, metric, case_dt, until));
+    // a long range's values were not all checked when parsed: a bad one is this case's problem
+    for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+      try {
+        CheckAssignable(sets[spec.sets.size() + a].path, sets[spec.sets.size() + a].values[0]);
+      } catch (const Error& e) {
+        Measurement refused;
+        refused.ok = false;
+        refused.problem = e.what();
+        c->metrics.assign(spec.metrics.size(), refused);
+        return true;
+      }
+    }
+    double case_dt = RunTimestep(model, sets);  // a varied timestep is the case's timestep
+    try {
+      for (const Metric& metric : spec.metrics) {
+        double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
+        c->metrics.push_back(
+            MeasureInPlace(model, worker->work, worker->data, sets, metric, case_dt, until));
+      }
+    } catch (const Interrupted&) {
+      worker.reset();  // abandoned mid-run: its model copy may hold this case's values
+      return false;
     }
     long finished = ++done;
     if (spec.progress) spec.progress(finished, total);
+    return true;
   };
 
+  // the cases not yet done, a chunk at a time: each chunk runs in parallel and is emitted
+  // in order, so rows stream and memory stays flat
   tbb::task_arena arena(spec.threads);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long>(0, total, 1),
-                      [&](const tbb::blocked_range<long>& r) {
-                        for (long i = r.begin(); i != r.end(); ++i) run_case(i);
-                      });
-  });
+  const long chunk_size = 16L * spec.threads;
+  std::vector<SweepCase> cases;
+  std::vector<long> indices;
+  std::unique_ptr<std::atomic<bool>[]> finished(new std::atomic<bool>[chunk_size]);
+  auto interrupted = [&] {
+    return Interrupted("interrupted after " + std::to_string(done.load()) + " of " +
+                       std::to_string(total - static_cast<long>(skip.size())) + " cases");
+  };
+  long next = 0;
+  while (next < total) {
+    if (stopping.load()) throw interrupted();
+    indices.clear();
+    for (; next < total && static_cast<long>(indices.size()) < chunk_size; ++next) {
+      if (!std::binary_search(skip.begin(), skip.end(), next)) indices.push_back(next);
+    }
+    cases.assign(indices.size(), SweepCase{});
+    for (std::size_t i = 0; i < indices.size(); ++i) finished[i] = false;
+    arena.execute([&] {
+      tbb::parallel_for(std::size_t{0}, indices.size(), [&](std::size_t i) {
+        finished[i] = run_case(indices[i], &cases[i]);
+      });
+    });
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      if (!finished[i]) throw interrupted();  // the cases before it were emitted
+      emit(cases[i]);
+    }
+  }
+}
+
+std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {
+  std::vector<SweepCase> cases;
+  Sweep(model, spec, {}, [&](const SweepCase& c) { cases.push_back(c); });
   return cases;
 }
 

@@ -304,6 +304,12 @@ void ResultsStore::Commit() {
 }
 
 std::vector<RolloutResult> ResultsStore::Results(long run) {
+  std::vector<RolloutResult> out;
+  ForEachResult(run, [&](const RolloutResult& r) { out.push_back(r); });
+  return out;
+}
+
+void ResultsStore::ForEachResult(long run, const std::function<void(const RolloutResult&)>& visit) {
   Commit();
   Statement s(impl_->db,
               "SELECT r.idx, c.params, r.metrics, r.diverged, r.diverged_time, r.problem, "
@@ -312,7 +318,6 @@ std::vector<RolloutResult> ResultsStore::Results(long run) {
               "WHERE r.run = ? ORDER BY r.idx",
               impl_->file);
   s.Bind(1, run);
-  std::vector<RolloutResult> out;
   while (s.Step()) {
     RolloutResult x;
     x.index = s.Int(0);
@@ -322,9 +327,8 @@ std::vector<RolloutResult> ResultsStore::Results(long run) {
     x.diverged_time = s.Real(4);
     x.problem = s.Text(5);
     x.warnings = s.Text(6);
-    out.push_back(x);
+    visit(x);
   }
-  return out;
 }
 
 void MergeStores(const std::vector<std::string>& inputs, const std::string& output) {

@@ -316,5 +316,66 @@ TEST_F(RolloutTest, BadSpecsAreRejected) {
   EXPECT_THROW(ParseRandomization(humanoid_, "body_mass[*]"), ValueError);
 }
 
+TEST_F(RolloutTest, CtrlNoiseIsIndependentPerRolloutAndSeed) {
+  // the noise was one Halton sequence shared by every rollout: identical rows for all
+  RolloutSpec spec;
+  spec.count = 3;
+  spec.until = 0.2;
+  spec.seed = 1;
+  spec.ctrl_noise = 0.5;
+  spec.metrics = {ParseMetric(humanoid_, "state@0.2")};
+  std::vector<RolloutResult> a = Collect(humanoid_, spec);
+  ASSERT_EQ(a.size(), 3u);
+  EXPECT_NE(a[0].metrics[0], a[1].metrics[0]);
+  EXPECT_NE(a[1].metrics[0], a[2].metrics[0]);
+  // deterministic: the same seed gives the same rows, any thread count
+  spec.threads = 2;
+  std::vector<RolloutResult> again = Collect(humanoid_, spec);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(BitEqual(a[i].metrics[0], again[i].metrics[0])) << i;
+  }
+  // another seed, other noise
+  spec.seed = 2;
+  std::vector<RolloutResult> other = Collect(humanoid_, spec);
+  EXPECT_NE(a[0].metrics[0], other[0].metrics[0]);
+}
+
+TEST_F(RolloutTest, TheSameElementRandomizedTwiceIsRefused) {
+  // two --randomize of one element gave two columns with one name, the later draw winning
+  RolloutSpec spec;
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[torso]=*U(0.9,1.1)"),
+                    ParseRandomization(humanoid_, "body_mass[*]=*U(0.5,2)")};
+  try {
+    ValidateRolloutSpec(humanoid_, spec);
+    FAIL() << "accepted";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("both draw body_mass[torso]"), std::string::npos)
+        << e.what();
+  }
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[torso]=*U(0.9,1.1)"),
+                    ParseRandomization(humanoid_, "body_ipos[torso][0]=U(0,0.01)")};
+  EXPECT_NO_THROW(ValidateRolloutSpec(humanoid_, spec));
+}
+
+TEST_F(RolloutTest, AStopRequestKeepsTheRolloutsThatFinished) {
+  RolloutSpec spec;
+  spec.count = 200;
+  spec.until = 0.05;
+  spec.metrics = {ParseMetric(humanoid_, "state@0.05")};
+  std::atomic<bool> stop{false};
+  std::vector<long> emitted;
+  EXPECT_THROW(Rollout(
+                   humanoid_, spec,
+                   [&](const RolloutResult& r) {
+                     emitted.push_back(r.index);
+                     if (r.index == 2) stop = true;
+                   },
+                   &stop),
+               Interrupted);
+  ASSERT_GE(emitted.size(), 3u);
+  EXPECT_LT(emitted.size(), 200u);
+  for (std::size_t i = 0; i < emitted.size(); ++i) EXPECT_EQ(emitted[i], static_cast<long>(i));
+}
+
 }  // namespace
 }  // namespace plumb

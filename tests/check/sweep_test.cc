@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 
@@ -16,14 +17,14 @@ using SweepTest = testing::MujocoTest;
 TEST_F(SweepTest, AxesParseListsRangesAndNames) {
   Model model = Model::Load(testing::kPendulum);
   SweepAxis list = ParseSweepAxis(model, "dof_damping[hinge]=0,0.05,1");
-  EXPECT_EQ(list.values.size(), 3u);
-  EXPECT_EQ(list.values[1].values[0], 0.05);
+  EXPECT_EQ(list.size(), 3u);
+  EXPECT_EQ(list.Value(1).values[0], 0.05);
   SweepAxis range = ParseSweepAxis(model, "qpos[hinge]=0.1:2.8:4");
-  ASSERT_EQ(range.values.size(), 4u);
-  EXPECT_DOUBLE_EQ(range.values[0].values[0], 0.1);
-  EXPECT_DOUBLE_EQ(range.values[3].values[0], 2.8);
+  ASSERT_EQ(range.size(), 4u);
+  EXPECT_DOUBLE_EQ(range.Value(0).values[0], 0.1);
+  EXPECT_DOUBLE_EQ(range.Value(3).values[0], 2.8);
   SweepAxis names = ParseSweepAxis(model, "opt.integrator=Euler,RK4");
-  EXPECT_EQ(names.values[1].values[0], mjINT_RK4);
+  EXPECT_EQ(names.Value(1).values[0], mjINT_RK4);
   EXPECT_EQ(CaseCount({list, range, names}), 24);
   EXPECT_THROW(ParseSweepAxis(model, "opt.gravity=1,2"), ValueError);  // 3 elements
   EXPECT_THROW(ParseSweepAxis(model, "qpos[hinge]=1:2"), ValueError);
@@ -46,7 +47,7 @@ TEST_F(SweepTest, CasesComeInOrderAndMatchSingleRuns) {
   // --set 'qpos[hinge]=0.7' --until 2 --every 2 --format csv` prints
   EXPECT_NEAR(cases[2].metrics[0].value, 0.310947692600239, 1e-13);
   Measurement single =
-      Measure(model, {spec.sets[0], spec.axes[0].values[1]}, spec.metrics[0], 0.002, 2);
+      Measure(model, {spec.sets[0], spec.axes[0].Value(1)}, spec.metrics[0], 0.002, 2);
   EXPECT_EQ(cases[2].metrics[0].value, single.value);
 }
 
@@ -95,6 +96,85 @@ TEST_F(SweepTest, DivergedCaseIsRecordedAndTheSweepGoesOn) {
   EXPECT_NEAR(cases[0].metrics[0].value, 0.01, 1e-4);
   EXPECT_FALSE(cases[1].metrics[0].ok);
   EXPECT_NE(cases[1].metrics[0].problem.find("diverged"), std::string::npos);
+}
+
+TEST_F(SweepTest, AHundredMillionValueRangeTakesNoMemory) {
+  // --vary 'x=1:2:100000000' once built 10^8 assignments (2.9 GB in 18 s) before any output
+  Model model = Model::Load(testing::kPendulum);
+  SweepAxis range = ParseSweepAxis(model, "dof_damping[hinge]=1:2:100000000");
+  EXPECT_EQ(range.size(), 100000000u);
+  EXPECT_TRUE(range.listed.empty());
+  EXPECT_EQ(range.Value(0).values[0], 1);
+  EXPECT_EQ(range.Value(99999999).values[0], 2);
+  EXPECT_EQ(range.Label(99999999), "2");
+  EXPECT_NEAR(range.Value(50000000).values[0], 1.5, 1e-8);
+  EXPECT_EQ(CaseCount({range}), 100000000);
+  // the endpoints are checked as they always were
+  EXPECT_THROW(ParseSweepAxis(model, "opt.timestep=-1:2:100000000"), ValueError);
+}
+
+TEST_F(SweepTest, ACaseCountBeyondTwoToThe53IsRefusedNotWrapped) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepAxis big = ParseSweepAxis(model, "dof_damping[hinge]=1:2:999999999");
+  SweepAxis more = ParseSweepAxis(model, "qpos[hinge]=0:1:999999999");
+  EXPECT_THROW(CaseCount({big, more}), ValueError);
+  EXPECT_EQ(CaseCount({big}), 999999999);
+}
+
+TEST_F(SweepTest, TheSameElementVariedTwiceIsRefused) {
+  // two --vary of one element gave two columns with one name, the later silently winning
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec;
+  spec.axes = {ParseSweepAxis(model, "dof_damping[hinge]=0,0.05"),
+               ParseSweepAxis(model, "dof_damping[0]=1,2")};
+  spec.metrics = {ParseMetric(model, "qpos[hinge]@1")};
+  try {
+    ValidateSweepSpec(model, spec);
+    FAIL() << "accepted";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("both vary dof_damping[hinge]"), std::string::npos)
+        << e.what();
+  }
+  spec.axes[1] = ParseSweepAxis(model, "dof_damping[hinge]=1,2");
+  EXPECT_THROW(ValidateSweepSpec(model, spec), ValueError);
+  // different elements of one field are fine
+  spec.axes[1] = ParseSweepAxis(model, "dof_armature[hinge]=0,1");
+  EXPECT_NO_THROW(ValidateSweepSpec(model, spec));
+}
+
+TEST_F(SweepTest, StreamingSkipsStoredCasesAndKeepsFinishedOnStop) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec;
+  spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  spec.axes = {ParseSweepAxis(model, "dof_damping[hinge]=0:1:40")};
+  spec.metrics = {ParseMetric(model, "qpos[hinge]@0.2")};
+  spec.threads = 2;
+  std::vector<SweepCase> all = Sweep(model, spec);
+  ASSERT_EQ(all.size(), 40u);
+  // a resumed sweep runs only what is not stored, in order, with the same numbers
+  std::vector<long> skip = {0, 1, 2, 10, 39};
+  std::vector<long> seen;
+  Sweep(model, spec, skip, [&](const SweepCase& c) {
+    seen.push_back(c.index);
+    EXPECT_EQ(c.metrics[0].value, all[c.index].metrics[0].value) << c.index;
+  });
+  EXPECT_EQ(seen.size(), 35u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  for (long s : skip) EXPECT_EQ(std::count(seen.begin(), seen.end(), s), 0) << s;
+  // a stop request keeps every case emitted before it and throws Interrupted
+  std::atomic<bool> stop{false};
+  std::vector<long> before_stop;
+  EXPECT_THROW(Sweep(
+                   model, spec, {},
+                   [&](const SweepCase& c) {
+                     before_stop.push_back(c.index);
+                     if (c.index == 5) stop = true;
+                   },
+                   &stop),
+               Interrupted);
+  ASSERT_GE(before_stop.size(), 6u);
+  EXPECT_LT(before_stop.size(), 40u);
+  for (std::size_t i = 0; i < before_stop.size(); ++i) EXPECT_EQ(before_stop[i], static_cast<long>(i));
 }
 
 }  // namespace

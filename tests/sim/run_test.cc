@@ -430,5 +430,23 @@ TEST_F(RunTest, RunsAreBitIdentical) {
   }
 }
 
+TEST_F(RunTest, RunsWatchTheProcessWideStopFlag) {
+  // a signal reaches every run however deep in a command it is: verify, audit and converge
+  // used to die silently on SIGINT because only run and rollout passed a stop flag
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  RunSpec spec;
+  spec.until = 1;
+  NullSink sink;
+  StopFlag() = true;
+  EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
+  StopFlag() = false;
+  EXPECT_NO_THROW(plumb::Run(model, data, spec, sink));
+  // a flag of the caller's own takes its place
+  std::atomic<bool> own{true};
+  spec.stop = &own;
+  EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb
