@@ -186,6 +186,38 @@ inline std::string ModelTestName(const ::testing::TestParamInfo<std::string>& in
   return name;
 }
 
+// The lines of `text`, without their newlines.
+inline std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+// The numbers of CSV line `line` (0 = header) of `csv`.
+inline std::vector<double> CsvRow(const std::string& csv, int line) {
+  std::vector<std::string> lines = Lines(csv);
+  std::vector<double> values;
+  if (line < 0 || line >= static_cast<int>(lines.size())) return values;
+  std::istringstream fields(lines[line]);
+  for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
+  return values;
+}
+
+// The numbers of CSV column `column` (0-based) below the header line.
+inline std::vector<double> CsvColumn(const std::string& csv, int column) {
+  std::vector<std::string> lines = Lines(csv);
+  std::vector<double> values;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    std::istringstream cells(lines[i]);
+    std::string cell;
+    for (int c = 0; c <= column && std::getline(cells, cell, ','); ++c) {
+    }
+    values.push_back(std::stod(cell));
+  }
+  return values;
+}
+
 // Output of one command run.
 struct CommandResult {
   int exit_code = -1;

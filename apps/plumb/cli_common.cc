@@ -15,6 +15,7 @@
 #include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/output.h"
 #include "plumb/run.h"
 
 namespace plumb::cli {
@@ -154,23 +155,9 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
   return out;
 }
 
-std::string CsvNumber(double v) {
-  if (std::isnan(v)) return "";
-  char buffer[32];
-  std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
-  return std::string(buffer, r.ptr);
-}
-
-std::string CsvText(const std::string& field) {
-  if (field.find_first_of(",\"\n") == std::string::npos) return field;
-  std::string out = "\"";
-  for (char c : field) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 std::string CsvHeader(const std::vector<std::string>& fields) {
   std::string line;
-  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + CsvText(fields[i]);
+  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + CsvField(fields[i]);
   return line + "\n";
 }
 
@@ -188,7 +175,7 @@ std::string RolloutCsvRow(const RolloutResult& r) {
   for (double v : r.params) out += "," + CsvNumber(v);
   for (double v : r.metrics) out += "," + CsvNumber(v);
   out += r.diverged ? ",1," + CsvNumber(r.diverged_time) : ",0,";
-  return out + "," + CsvText(r.problem) + "\n";
+  return out + "," + CsvField(r.problem) + "\n";
 }
 
 std::vector<std::string> SplitPathList(const std::string& text) {

@@ -70,15 +70,9 @@ Model LoadModel(const std::string& path);
 // Parses every --set assignment against the model.
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
 
-// A number for CSV output: the shortest text that reads back exactly (0.3, not
-// 0.29999999999999999), empty for NaN (not measured).
-std::string CsvNumber(double v);
-
-// A CSV header line (with newline), fields quoted where they hold commas or quotes.
+// A CSV header line (with newline), fields quoted where they hold commas or quotes
+// (CsvField and CsvNumber, plumb/output.h, write the rows).
 std::string CsvHeader(const std::vector<std::string>& fields);
-
-// One CSV field, quoted (RFC 4180) when it holds a comma, quote or newline.
-std::string CsvText(const std::string& field);
 
 // The columns and rows of a rollout in CSV, shared by `plumb rollout` and `plumb results`:
 // rollout, parameters, metrics (empty when unmeasured), diverged (0/1), diverged_at (s,

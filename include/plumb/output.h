@@ -70,6 +70,14 @@ enum class SampleFormat {
   kJsonl,  // one JSON object per sample, keys are path names
 };
 
+// CSV as every plumb command writes it. A number is the shortest text that reads back as
+// exactly `v` (0.3, not 0.29999999999999999; std::to_chars, faster than printf, which matters
+// when every step is a row), and NaN (not measured) is an empty field. A text field is
+// quoted (RFC 4180) when it holds a comma, quote or newline.
+void AppendCsvNumber(std::string* out, double v);
+std::string CsvNumber(double v);
+std::string CsvField(const std::string& text);
+
 // A sink writing rows to `out` (not owned) in `format`. Rows are written as they
 // arrive; nothing is kept in memory. Write errors surface as IoError from End().
 std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out);

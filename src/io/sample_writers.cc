@@ -54,26 +54,6 @@ class TableWriter : public Writer {
   std::string line_;
 };
 
-// RFC 4180 quoting for header names that need it.
-std::string CsvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
-
-// The shortest text that reads back as exactly `v` (0.3, not 0.29999999999999999):
-// std::to_chars without a precision, also faster than printf, which matters when every
-// step is a row.
-void AppendNumber(std::string* out, double v) {
-  char buffer[32];
-  std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
-  out->append(buffer, r.ptr);
-}
-
 class CsvWriter : public Writer {
  public:
   using Writer::Writer;
@@ -89,7 +69,7 @@ class CsvWriter : public Writer {
     line_.clear();
     for (std::size_t c = 0; c < row.size(); ++c) {
       if (c) line_ += ',';
-      AppendNumber(&line_, row[c]);
+      AppendCsvNumber(&line_, row[c]);
     }
     line_ += '\n';
     Put(line_);
@@ -136,7 +116,7 @@ class JsonlWriter : public Writer {
       line_ += keys_[c];
       // JSON has no NaN or Inf
       if (std::isfinite(row[c])) {
-        AppendNumber(&line_, row[c]);
+        AppendCsvNumber(&line_, row[c]);
       } else {
         line_ += "null";
       }
@@ -162,6 +142,29 @@ std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out
       return std::make_unique<JsonlWriter>(out);
   }
   return nullptr;
+}
+
+void AppendCsvNumber(std::string* out, double v) {
+  if (std::isnan(v)) return;
+  char buffer[32];
+  std::to_chars_result r = std::to_chars(buffer, buffer + sizeof(buffer), v);
+  out->append(buffer, r.ptr);
+}
+
+std::string CsvNumber(double v) {
+  std::string out;
+  AppendCsvNumber(&out, v);
+  return out;
+}
+
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
 }
 
 }  // namespace plumb

@@ -15,6 +15,7 @@ namespace plumb {
 namespace {
 
 using testing::CommandResult;
+using testing::Lines;
 using testing::ReadFile;
 using testing::RunPlumb;
 using testing::TempDir;
@@ -44,12 +45,6 @@ CommandResult RunBash(const TempDir& dir, const std::string& script) {
   return testing::RunShell("bash script.sh", dir.path());
 }
 
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) out.push_back(line);
-  return out;
-}
 
 TEST(CliSignalsTest, VerifyAuditAndConvergeStopWithExit130AndSaySo) {
   // they used to die silently: no message, exit by signal

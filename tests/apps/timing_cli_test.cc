@@ -15,6 +15,7 @@ namespace plumb {
 namespace {
 
 using testing::CommandResult;
+using testing::CsvRow;
 using testing::kPendulum;
 using testing::ReadFile;
 using testing::RunPlumb;
@@ -48,16 +49,6 @@ constexpr char kSlowlyUnstable[] = R"(
   </worldbody>
 </mujoco>)";
 
-// The numbers of CSV line `line` (0 = header) of `csv`.
-std::vector<double> CsvRow(const std::string& csv, int line) {
-  std::istringstream in(csv);
-  std::string text;
-  for (int i = 0; i <= line && std::getline(in, text);) ++i;
-  std::vector<double> values;
-  std::istringstream fields(text);
-  for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
-  return values;
-}
 
 TEST(TimingCliTest, EveryIsCheckedAgainstTheTimestepSet) {
   CommandResult r = RunPlumb("run " + kPendulum +

@@ -17,33 +17,19 @@ namespace {
 using testing::CommandResult;
 using testing::kPendulum;
 using testing::RunPlumb;
+using testing::CsvColumn;
 using testing::TempDir;
 using testing::WriteFile;
 
 const std::string kCartpole = testing::kSuite + "/cartpole.xml";
 
-// The numbers of CSV column `column` (0-based) after the header line.
-std::vector<double> Column(const std::string& csv, int column) {
-  std::vector<double> values;
-  std::istringstream lines(csv);
-  std::string line;
-  std::getline(lines, line);  // header
-  while (std::getline(lines, line)) {
-    std::istringstream cells(line);
-    std::string cell;
-    for (int c = 0; c <= column && std::getline(cells, cell, ','); ++c) {
-    }
-    values.push_back(std::stod(cell));
-  }
-  return values;
-}
 
 TEST(ValuesCliTest, EnergyColumnsAreComputedWithoutTheEnergyFlag) {
   CommandResult r = RunPlumb("run " + kPendulum +
                              " --set 'qpos[hinge]=0.7' --columns 'time,energy' --until 0.5 "
                              "--format csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::vector<double> potential = Column(r.out, 1), kinetic = Column(r.out, 2);
+  std::vector<double> potential = CsvColumn(r.out, 1), kinetic = CsvColumn(r.out, 2);
   ASSERT_EQ(potential.size(), 6u);
   // 1 kg, com 0.5 m below the hinge at 1.5 m, tilted 0.7 rad: m g h about z = 0
   EXPECT_NEAR(potential[0], 9.81 * (1.5 - 0.5 * std::cos(0.7)), 1e-3);
@@ -56,7 +42,7 @@ TEST(ValuesCliTest, SweepOnEnergyIsNotZeroWithoutTheFlag) {
                              " --vary 'qpos[hinge]=0.2:0.4:2' --metric 'energy[0]@0.1' "
                              "--format csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (double v : Column(r.out, 2)) EXPECT_GT(v, 5) << r.out;  // m g h, about 10 J
+  for (double v : CsvColumn(r.out, 2)) EXPECT_GT(v, 5) << r.out;  // m g h, about 10 J
 }
 
 TEST(ValuesCliTest, EfcForceBeyondNefcIsRefused) {
@@ -80,8 +66,8 @@ TEST(ValuesCliTest, SettingAFreeJointBlockNeedsAllSevenValues) {
                              " --set 'qpos[root][2]=2' --columns 'qpos[root]' --until 0 "
                              "--format csv");
   ASSERT_EQ(z.exit_code, 0) << z.err;
-  EXPECT_EQ(Column(z.out, 2)[0], 2);
-  EXPECT_EQ(Column(z.out, 3)[0], 1);  // the quaternion kept its w
+  EXPECT_EQ(CsvColumn(z.out, 2)[0], 2);
+  EXPECT_EQ(CsvColumn(z.out, 3)[0], 1);  // the quaternion kept its w
 }
 
 TEST(ValuesCliTest, CtrlBeyondCtrlrangeWarns) {
@@ -110,7 +96,7 @@ TEST(ValuesCliTest, CartpoleHintIsFollowedByMotion) {
                                       "' --columns 'time,qpos[hinge_1]' --until 1 --format csv");
     ASSERT_EQ(followed.exit_code, 0) << followed.err;
     EXPECT_EQ(followed.err.find("hint"), std::string::npos) << followed.err;
-    std::vector<double> pole = Column(followed.out, 1);
+    std::vector<double> pole = CsvColumn(followed.out, 1);
     EXPECT_GT(std::fabs(pole.back() - pole.front()), 0.1) << followed.out;
   }
 }
@@ -138,7 +124,7 @@ TEST(ValuesCliTest, RandomizedMassKeepsTheShapeSoThePeriodStays) {
   }
   ASSERT_GE(period, 0) << header;
   ASSERT_GE(mass, 0) << header;
-  std::vector<double> periods = Column(r.out, period), masses = Column(r.out, mass);
+  std::vector<double> periods = CsvColumn(r.out, period), masses = CsvColumn(r.out, mass);
   ASSERT_EQ(periods.size(), 4u);
   for (std::size_t i = 1; i < periods.size(); ++i) {
     EXPECT_NE(masses[i], masses[0]);

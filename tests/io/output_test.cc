@@ -285,6 +285,19 @@ TEST(CsvNumberTest, ShortestTextThatRoundTrips) {
   }
 }
 
+TEST(CsvNumberTest, OneFormatterForEveryCommand) {
+  // run, sweep, rollout and results each had their own number and field formatting
+  EXPECT_EQ(CsvNumber(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(CsvNumber(0.3), "0.3");
+  EXPECT_EQ(CsvNumber(NAN), "");  // not measured
+  std::string line = "x";
+  AppendCsvNumber(&line, -2.5);
+  EXPECT_EQ(line, "x-2.5");
+  EXPECT_EQ(CsvField("qpos[hinge]"), "qpos[hinge]");
+  EXPECT_EQ(CsvField("geom_friction[a,b]"), "\"geom_friction[a,b]\"");
+  EXPECT_EQ(CsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+}
+
 TEST_F(WriterTest, JsonLinesParse) {
   std::istringstream jsonl(Write(SampleFormat::kJsonl));
   std::string line;
