@@ -10,6 +10,7 @@
 #include <regex>
 #include <set>
 
+#include "check/collision_graph.h"
 #include "core/mujoco_compat.h"
 #include "plumb/describe.h"
 #include "plumb/error.h"
@@ -495,6 +496,9 @@ struct Observed {
   std::string deepest_pair;
   double deepest_late = 0;  // the same over the last part of the run, once impacts are over
   std::string deepest_late_pair;
+  double deepest_m = 0, deepest_soft = 0;  // the deepest contact in m, and its SoftDepth
+  double deepest_late_m = 0;     // that contact's penetration in m
+  double deepest_late_soft = 0;  // and the depth its softness explains (SoftDepth), in m
   int max_iterations = 0;
   long steps_at_limit = 0;
   double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
@@ -840,6 +844,30 @@ constexpr double kRestSpeed = 0.05;
 // when `longest` > duration it goes on, a quarter of `duration` at a time, until the
 // model is at rest or `longest` s have passed. Penetration "late" is over the last
 // piece, once impacts are over.
+// How deep a resting contact sinks by design: MuJoCo's contacts are soft, a spring-damper
+// reference a_ref = -b v - k r with k = 1 / (dmax^2 timeconst^2 dampratio^2) for solref =
+// (timeconst, dampratio), timeconst at least two timesteps (k = -solref[0] / dmax^2 for a
+// direct stiffness), dmax = solimp[1]. Carrying gravity on that spring takes r = |g| / k: 3.5
+// mm for the default solref (0.02, 1), as a Go2 foot at rest shows (3.8 mm). Penetration is
+// judged against the larger of this and solimp's width, not only against the geoms' size: a
+// foot 2 cm across sinking 4 mm is the model's softness, not a fault.
+double SoftDepth(const mjModel* m, const mjContact& c) {
+  double dmax = std::clamp(c.solimp[1], 0.0001, 0.9999);
+  double k;
+  if (c.solref[0] > 0) {
+    double timeconst = c.solref[0];
+    if (compat::ReferenceTimeconstClamped(m)) timeconst = std::max(timeconst, 2 * m->opt.timestep);
+    double dampratio = c.solref[1] > 0 ? c.solref[1] : 1;
+    k = 1 / (dmax * dmax * timeconst * timeconst * dampratio * dampratio);
+  } else {
+    k = -c.solref[0] / (dmax * dmax);
+  }
+  double g = GravityNorm(m);
+  // solimp's width is the depth over which the designer let the impedance ramp up (Menagerie's
+  // Spot feet: 36 mm): sinking within it is the contact working as designed
+  return std::max(k > 0 && g > 0 ? g / k : 0.0, c.solimp[2]);
+}
+
 Observed Observe(const Model& model, const std::vector<Assignment>& sets, const Reference& ref,
                  double duration, const std::function<void(mjData*, double)>& control,
                  const AuditOptions& options, const std::string& label, double longest = 0) {
@@ -880,6 +908,8 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
       double depth = -c.dist / size;
       if (depth > o.deepest) {
         o.deepest = depth;
+        o.deepest_m = -c.dist;
+        o.deepest_soft = SoftDepth(m, c);
         o.deepest_pair = Elem(work, mjOBJ_GEOM, c.geom1, "geom") + " / " +
                          Elem(work, mjOBJ_GEOM, c.geom2, "geom");
       }
@@ -887,6 +917,8 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
         o.deepest_late = depth;
         o.deepest_late_pair = Elem(work, mjOBJ_GEOM, c.geom1, "geom") + " / " +
                               Elem(work, mjOBJ_GEOM, c.geom2, "geom");
+        o.deepest_late_m = -c.dist;
+        o.deepest_late_soft = SoftDepth(m, c);
       }
     }
   };
@@ -899,6 +931,7 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
     }
     o.deepest_late = 0;  // only the last piece counts
     o.deepest_late_pair.clear();
+    o.deepest_late_m = o.deepest_late_soft = 0;
     Append(&o.result, Run(work, data, spec, sink));
     if (o.result.diverged) break;
   }
@@ -948,77 +981,67 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
   return o;
 }
 
-// Which top-level subtrees can come to rest on something held by the world: a geom of
-// one can collide with a geom of a subtree without a free joint (a mechanism attached to
-// the world, or the world itself), or with a geom of another free subtree that can, and
-// so on. Indexed by body.
-std::vector<bool> GroundedBodies(const mjModel* m) {
-  // a node per top-level subtree (its root body; the world is 0); two nodes touch when
-  // some contype of one meets some conaffinity of the other
-  auto node = [m](int body) { return m->body_rootid[body]; };
-  auto free = [m](int root) {
-    return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
-  };
-  std::vector<int> contype(m->nbody, 0), conaffinity(m->nbody, 0);
-  for (int g = 0; g < m->ngeom; ++g) {
-    int n = node(m->geom_bodyid[g]);
-    contype[n] |= m->geom_contype[g];
-    conaffinity[n] |= m->geom_conaffinity[g];
-  }
-  std::vector<std::vector<int>> touches(m->nbody);
-  for (int a = 0; a < m->nbody; ++a) {
-    for (int b = a + 1; b < m->nbody; ++b) {
-      if ((contype[a] & conaffinity[b]) || (contype[b] & conaffinity[a])) {
-        touches[a].push_back(b);
-        touches[b].push_back(a);
-      }
-    }
-  }
-  for (int p = 0; p < m->npair; ++p) {
-    int a = node(m->geom_bodyid[m->pair_geom1[p]]), b = node(m->geom_bodyid[m->pair_geom2[p]]);
-    touches[a].push_back(b);
-    touches[b].push_back(a);
-  }
-  std::vector<bool> grounded(m->nbody, false);
-  std::vector<int> queue;
-  for (int b = 0; b < m->nbody; ++b) {
-    if (node(b) == b && !free(b)) {
-      grounded[b] = true;
-      queue.push_back(b);
-    }
-  }
-  while (!queue.empty()) {
-    int a = queue.back();
-    queue.pop_back();
-    for (int b : touches[a]) {
-      if (!grounded[b]) {
-        grounded[b] = true;
-        queue.push_back(b);
-      }
-    }
-  }
-  std::vector<bool> out(m->nbody);
-  for (int b = 0; b < m->nbody; ++b) out[b] = grounded[node(b)];
-  return out;
-}
-
 void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out) {
   const mjModel* m = model.get();
   const char* L = "contact";
+  CollisionGraph graph = MakeCollisionGraph(m);
+  // per body: whether it can collide at all, and with what (visual-only geoms beside
+  // separate collision geoms, as in the Menagerie, are normal)
+  for (int b = 1; b < m->nbody; ++b) {
+    std::vector<std::string> names;
+    for (int p : graph.partners[b]) {
+      names.push_back(p == 0 ? std::string("the world") : Elem(model, mjOBJ_BODY, p, "body"));
+    }
+    std::string with =
+        names.empty() ? (graph.collides[b] ? "nothing: its contype/conaffinity meet no other geom's"
+                                           : "nothing: visual geoms only, or no geoms")
+        : names.size() <= 4
+            ? fmt::format("{}", fmt::join(names, ", "))
+            : fmt::format("{}, ... ({} bodies)", fmt::join(names.begin(), names.begin() + 3, ", "),
+                          names.size());
+    out->push_back(Make(L, "contact.collides_with", Elem(model, mjOBJ_BODY, b, "body"),
+                        "collides with " + with, "", CheckStatus::kPass,
+                        "which bodies this body's geoms can touch (contype/conaffinity, <pair>, "
+                        "<exclude>, parent-child filter)"));
+  }
   // a free body that can touch nothing static, directly or through other bodies, falls
   // forever (under gravity; <flag gravity="disable"/> means nothing falls)
-  std::vector<bool> grounded = GroundedBodies(m);
   for (int b = 1; b < m->nbody && GravityNorm(m) > 0; ++b) {
     if (m->body_parentid[b] != 0 || m->body_jntnum[b] == 0 ||
-        m->jnt_type[m->body_jntadr[b]] != mjJNT_FREE || grounded[b]) {
+        m->jnt_type[m->body_jntadr[b]] != mjJNT_FREE) {
       continue;
     }
-    out->push_back(Make(L, "contact.free_fall", Elem(model, mjOBJ_BODY, b, "body"),
-                        "none of its geoms can reach a static geom through collisions",
-                        "a collision chain to the world", CheckStatus::kFail,
-                        "a free body under gravity that collides with nothing static falls "
-                        "forever: give one of its geoms contype/conaffinity that match the "
-                        "floor's, or add a <contact><pair>"));
+    if (!graph.grounded[b]) {
+      // a robot description with no floor is meant to be included by a scene: a warning that
+      // says so; a model with a floor that this body cannot reach is wrong
+      bool fragment = !graph.static_collider;
+      out->push_back(Make(
+          L, "contact.free_fall", Elem(model, mjOBJ_BODY, b, "body"),
+          fragment ? "nothing static in the model can collide (no floor)"
+                   : "none of its geoms can reach a static geom through collisions",
+          "a collision chain to the world", fragment ? CheckStatus::kWarn : CheckStatus::kFail,
+          fragment ? "a free body under gravity with no floor falls forever: if this file is a "
+                     "robot description that a scene includes (as Menagerie's robot.xml and "
+                     "scene.xml), audit the scene; else add a floor"
+                   : "a free body under gravity that collides with nothing static falls "
+                     "forever: give one of its geoms contype/conaffinity that match the "
+                     "floor's, or add a <contact><pair>"));
+      continue;
+    }
+    // resting on the ground only through a much lighter free body: its contacts carry a
+    // weight far beyond their own, the ill-conditioned case of MuJoCo's soft contacts
+    int s = graph.support[b];
+    double mass = m->body_subtreemass[b];
+    if (s > 0 && graph.support_mass[b] > 0 && mass > 10 * graph.support_mass[b]) {
+      out->push_back(Make(
+          L, "contact.heavy_on_light", Elem(model, mjOBJ_BODY, b, "body"),
+          fmt::format("{:.3g} kg reaches the ground only through {} ({:.3g} kg)", mass,
+                      Elem(model, mjOBJ_BODY, s, "body"), graph.support_mass[b]),
+          "<= 10 x the lightest body on its way to the ground", CheckStatus::kWarn,
+          "a heavy body that can rest only on a much lighter one loads that body's contacts "
+          "far beyond its own weight: let the heavy body's geoms collide with the floor, or "
+          "check the lighter body's mass"));
+    }
   }
   if (settle.result.diverged) {
     out->push_back(Make(L, "contact.settle", "", "the settle run diverged", "", CheckStatus::kFail,
@@ -1031,20 +1054,36 @@ void ContactLayer(const Model& model, const Observed& settle, std::vector<Findin
   // judged at rest, once impacts are over (the last quarter-second piece of the settle);
   // the peak during impacts alone is a warning, and so is a deep contact in a model
   // still moving when the settle budget ran out
+  // at rest, a contact deeper than a tenth of the smaller geom is judged against the depth
+  // its softness explains (SoftDepth): only a contact beyond 3x that is a warning, beyond 10x
+  // (and half the geom) a failure
   double late = settle.deepest_late;
-  CheckStatus status = late > 0.5 && at_rest                ? CheckStatus::kFail
-                       : late > 0.1 || settle.deepest > 0.5 ? CheckStatus::kWarn
-                                                            : CheckStatus::kPass;
+  double soft = settle.deepest_late_soft;
+  double excess = soft > 0 ? settle.deepest_late_m / soft : INFINITY;
+  double impact_excess =
+      settle.deepest_soft > 0 ? settle.deepest_m / settle.deepest_soft : INFINITY;
+  CheckStatus status = late > 0.5 && at_rest && excess > 10 ? CheckStatus::kFail
+                       : (late > 0.1 && excess > 3) || (settle.deepest > 0.5 && impact_excess > 10)
+                           ? CheckStatus::kWarn
+                           : CheckStatus::kPass;
   std::string measured =
       fmt::format("{:.3g} of the smaller geom's size at the end, {:.3g} at the worst impact", late,
                   settle.deepest);
+  if (settle.deepest_late_m > 0 && soft > 0) {
+    measured += fmt::format("; {:.3g} mm deep at the end, {:.2g}x the {:.3g} mm its solref/solimp "
+                            "soften it by",
+                            1e3 * settle.deepest_late_m, excess, 1e3 * soft);
+  }
   if (!at_rest) {
     measured += fmt::format("; did not settle in {:g} s (max |qvel| {:.3g} at the end)",
                             settle.duration, settle.max_speed_end);
   }
   out->push_back(Make(
       L, "contact.penetration", late > 0.1 ? settle.deepest_late_pair : settle.deepest_pair,
-      measured, "<= 0.1 at the end (FAIL > 0.5 at rest); <= 0.5 at impacts", status,
+      measured,
+      "<= 0.1 of the geom or <= 3x the soft-contact depth at the end (FAIL > 0.5 and > 10x at "
+      "rest); <= 0.5 of the geom or <= 10x the soft depth at impacts",
+      status,
       status == CheckStatus::kPass
           ? fmt::format("deepest contact penetration during a {:g} s settle", settle.duration)
       : at_rest ? "geoms sink deep into each other: stiffen solref (smaller time constant, at "

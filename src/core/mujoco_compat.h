@@ -305,6 +305,16 @@ inline std::pair<long, long> ActuatorOutputs(const mjModel* m, int i) {
 }
 
 // Solver iterations used by the last step (summed over islands on 3.x).
+// Whether MuJoCo raises a solref time constant to two timesteps: the refsafe flag of 2.x
+// (on unless disabled); 3.x removed the flag and always does.
+inline bool ReferenceTimeconstClamped(const mjModel* m) {
+  if constexpr (kMujoco3) {
+    return true;
+  } else {
+    return !(m->opt.disableflags & (1 << 11));  // mjDSBL_REFSAFE, gone from 3.x headers
+  }
+}
+
 inline int SolverIterations(const mjData* d) {
 #if mjVERSION_HEADER >= 300
   int total = 0;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <filesystem>
 
 #include "fixture.h"
@@ -53,6 +55,86 @@ TEST_F(AuditTest, CollisionlessFreeBodyFallsForever) {
   EXPECT_EQ(f->element_type, "body");
   EXPECT_EQ(f->element_name, "ghost");
   EXPECT_EQ(f->element_id, 1);
+}
+
+TEST_F(AuditTest, ARobotWithoutAFloorWarnsNotFails) {
+  // every Menagerie robot.xml failed contact.free_fall: it has no floor because scene.xml,
+  // which includes it, adds one
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <body name="base" pos="0 0 1"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1"/></body>
+    </worldbody></mujoco>)");
+  const Finding* f = Find(r, "contact.free_fall", "'base'");
+  ASSERT_NE(f, nullptr) << Failures(r);
+  EXPECT_EQ(f->status, CheckStatus::kWarn);
+  EXPECT_NE(f->measured.find("no floor"), std::string::npos) << f->measured;
+  EXPECT_NE(f->fix.find("audit the scene"), std::string::npos) << f->fix;
+}
+
+TEST_F(AuditTest, AHeavyBodyRestingOnlyOnALightOneIsAFinding) {
+  // a 50 kg box can touch only a 0.1 kg plate (bit 2), which alone touches the floor (bit 1)
+  const char* xml = R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="plate" pos="0 0 0.05"><freejoint/>
+        <geom type="box" size="0.3 0.3 0.02" mass="%s" contype="3" conaffinity="3"/></body>
+      <body name="crate" pos="0 0 0.3"><freejoint/>
+        <geom type="box" size="0.2 0.2 0.2" mass="%s" contype="2" conaffinity="2"/></body>
+    </worldbody></mujoco>)";
+  char text[1024];
+  std::snprintf(text, sizeof(text), xml, "0.1", "50");
+  AuditReport heavy = AuditXml(text);
+  const Finding* f = Find(heavy, "contact.heavy_on_light", "'crate'");
+  ASSERT_NE(f, nullptr) << Failures(heavy);
+  EXPECT_EQ(f->status, CheckStatus::kWarn);
+  EXPECT_NE(f->measured.find("body 'plate'"), std::string::npos) << f->measured;
+  EXPECT_EQ(Find(heavy, "contact.free_fall"), nullptr);
+  // the other way round is how things rest: no finding
+  std::snprintf(text, sizeof(text), xml, "50", "0.1");
+  EXPECT_EQ(Find(AuditXml(text), "contact.heavy_on_light"), nullptr);
+}
+
+TEST_F(AuditTest, EveryBodySaysWhatItCanCollideWith) {
+  // visual-only geoms beside collision geoms, as in the Menagerie, are normal: no finding
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="torso" pos="0 0 0.5"><freejoint/>
+        <geom type="box" size="0.1 0.1 0.1" contype="0" conaffinity="0" group="2"/>
+        <geom type="box" size="0.1 0.1 0.1" group="3"/>
+        <body name="antenna" pos="0 0 0.2"><joint type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 0.1" size="0.01" contype="0" conaffinity="0"/>
+        </body></body>
+    </worldbody></mujoco>)");
+  const Finding* torso = Find(r, "contact.collides_with", "'torso'");
+  ASSERT_NE(torso, nullptr);
+  EXPECT_EQ(torso->status, CheckStatus::kPass);
+  EXPECT_EQ(torso->measured, "collides with the world");
+  const Finding* antenna = Find(r, "contact.collides_with", "'antenna'");
+  ASSERT_NE(antenna, nullptr);
+  EXPECT_EQ(antenna->status, CheckStatus::kPass);
+  EXPECT_NE(antenna->measured.find("visual geoms only"), std::string::npos) << antenna->measured;
+}
+
+TEST_F(AuditTest, PenetrationIsJudgedAgainstTheSoftContactDepth) {
+  // a 2 cm ball rests 3.5 mm deep with the default solref (0.02, 1): a sixth of its size, but
+  // exactly the softness MuJoCo's contact model gives it; it was a WARN
+  AuditReport rest = AuditXml(R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="ball" pos="0 0 0.0102"><freejoint/>
+        <geom name="foot" type="sphere" size="0.01" mass="1"/></body>
+    </worldbody></mujoco>)");
+  const Finding* f = Find(rest, "contact.penetration");
+  ASSERT_NE(f, nullptr) << Failures(rest);
+  EXPECT_EQ(f->status, CheckStatus::kPass) << f->measured;
+  EXPECT_NE(f->measured.find("mm its solref/solimp soften it by"), std::string::npos) << f->measured;
+  // a hard drop at a coarse step sinks far beyond that softness: still a finding
+  AuditReport drop = AuditXml(R"(<mujoco><option timestep="0.01"/><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="ball" pos="0 0 5"><freejoint/>
+        <geom name="foot" type="sphere" size="0.01" mass="1"/></body>
+    </worldbody></mujoco>)");
+  const Finding* g = Find(drop, "contact.penetration");
+  ASSERT_NE(g, nullptr) << Failures(drop);
+  EXPECT_NE(g->status, CheckStatus::kPass) << g->measured;
 }
 
 TEST_F(AuditTest, FreeBodiesTouchingOnlyEachOtherStillFall) {
