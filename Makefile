@@ -15,11 +15,14 @@ endif
 # the other legs of the tested version matrix
 MATRIX     ?= 3.11.0 debian
 JOBS       ?= $(shell nproc)
+# the robot corpus (scripts/fetch-robots.sh): tested on the default engine; CORPUS=off leaves
+# it out (offline with an empty cache)
+CORPUS     ?= on
 PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 PLUMB      := $(BUILD)/plumb
 
-.PHONY: all deps build demo test test-release test-asan test-matrix bench install format clean
+.PHONY: all deps corpus build demo test test-release test-asan test-matrix bench install format clean
 
 all: build
 
@@ -37,8 +40,21 @@ demo: build
 
 test: test-release test-asan
 
-test-release: build
-	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+ifeq ($(CORPUS)$(MUJOCO),on$(DEFAULT_MUJOCO))
+CORPUS_DEP := corpus
+CTEST_ENV  := PLUMB_REQUIRE_CORPUS=1
+CTEST_ARGS :=
+else
+CORPUS_DEP :=
+CTEST_ENV  :=
+CTEST_ARGS := -LE corpus
+endif
+
+corpus:
+	@scripts/fetch-robots.sh
+
+test-release: build $(CORPUS_DEP)
+	@cd $(BUILD) && $(CTEST_ENV) ctest --output-on-failure -j $(JOBS) $(CTEST_ARGS)
 
 # the whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 test-asan: deps

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -127,13 +129,46 @@ int RunDiff(const DiffOptions& o) {
       changes.push_back(one);
     }
     j["changes"] = changes;
+    ordered_json compiler = ordered_json::array();
+    for (const SnapshotChange& c : diff.compiler) {
+      compiler.push_back({{"path", c.path},
+                          {"old", ordered_json::parse(c.old_value)},
+                          {"new", ordered_json::parse(c.new_value)},
+                          {"kind", c.kind},
+                          {"what", c.what}});
+    }
+    j["compiler_changes"] = compiler;
     out = j.dump(2) + "\n";
   } else {
     for (const std::string& n : diff.notes) out += "note: " + n + "\n";
+    if (!diff.compiler.empty()) {
+      out += fmt::format(
+          "note: {} value(s) that MuJoCo's compiler derives from mesh files (fitted geom size, "
+          "frame, bounds) came out differently under {} than under {}; the model did not "
+          "change them (plumb diff --format json lists them):\n",
+          diff.compiler.size(), MujocoVersion(), diff.snapshot_mujoco_version);
+      for (std::size_t i = 0; i < diff.compiler.size() && i < 3; ++i) {
+        out += "  " + diff.compiler[i].what + "\n";
+      }
+      if (diff.compiler.size() > 3) out += fmt::format("  ... and {} more\n", diff.compiler.size() - 3);
+    }
     for (const SnapshotChange& c : diff.changes) out += c.what + "\n";
     out += diff.changed()
                ? fmt::format("{} change(s) beyond tol {:g}\n", diff.changes.size(), o.tol)
                : fmt::format("identical to {} within tol {:g}\n", o.snapshot, o.tol);
+    if (diff.snapshot_mujoco_version != MujocoVersion()) {
+      // the question of an upgrade, answered in one line
+      bool trajectory = std::any_of(diff.changes.begin(), diff.changes.end(),
+                                    [](const SnapshotChange& c) { return c.kind == "trajectory"; });
+      out += diff.changed()
+                 ? fmt::format("upgrade {} -> {}: behaviour changed ({}); see the changes above\n",
+                               diff.snapshot_mujoco_version, MujocoVersion(),
+                               trajectory ? "the golden trajectory departs"
+                                          : "structure or parameters differ")
+                 : fmt::format("upgrade {} -> {}: same structure and parameters, trajectory "
+                               "within cross-version round-off (tol {:g})\n",
+                               diff.snapshot_mujoco_version, MujocoVersion(), o.tol);
+    }
   }
   std::fwrite(out.data(), 1, out.size(), stdout);
   if (diff.diverged) return kExitDiverged;

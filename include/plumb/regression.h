@@ -39,7 +39,8 @@ struct SnapshotChange {
   bool beyond_tol = true;
   // What changed, for machines: `kind` is "structure" (sizes, element types, parents,
   // id shifts), "parameter" (a numeric field of an element), "option" (opt.*), "added"
-  // or "removed" (an element), "trajectory" (the golden trajectory) or "set" (a --set
+  // or "removed" (an element), "trajectory" (the golden trajectory), "compiler" (see
+  // SnapshotDiff::compiler) or "set" (a --set
   // recorded in the snapshot that the current model refuses). `path` names it in
   // plumb's words ("dof_damping[hinge]", "opt.timestep", "body[gripper]",
   // "trajectory.qpos[0]"); `old_value` and `new_value` are JSON texts (a number, a
@@ -53,6 +54,11 @@ struct SnapshotChange {
 
 struct SnapshotDiff {
   std::vector<SnapshotChange> changes;  // only changes beyond tolerance are listed
+  // Under another MuJoCo release than the snapshot's: values its compiler derives from mesh
+  // files (kind "compiler": a mesh geom's fitted size, pos, quat, aabb, rbound, and the
+  // dof_length scales computed from body sizes) that it
+  // derived differently. Listed apart: they say the release changed, not the model.
+  std::vector<SnapshotChange> compiler;
   std::vector<std::string> notes;       // e.g. a different MuJoCo version wrote the snapshot
   std::vector<std::string> sets;        // the --set values the snapshot recorded, reapplied
   std::string snapshot_plumb_version;   // the versions that wrote the snapshot

@@ -10,6 +10,8 @@
 #include "plumb/error.h"
 #include "plumb/run.h"
 
+#include <set>
+
 namespace plumb {
 
 using nlohmann::ordered_json;
@@ -538,6 +540,12 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
                          after["mujoco_version"].get<std::string>() +
                          ": trajectories differ in the last bits across versions");
   }
+  const bool other_version = before["mujoco_version"] != after["mujoco_version"];
+  // what MuJoCo's compiler derives from a mesh geom's vertices (its fitted primitive's size,
+  // frame and bounding box; and from them each dof's length scale): releases fit them
+  // differently from the same mesh file
+  static const std::set<std::string> kMeshDerived = {"geom_size", "geom_aabb", "geom_pos",
+                                                     "geom_quat", "geom_rbound"};
   const ordered_json none;
   for (const auto& [key, value] : after["sizes"].items()) {
     auto old = before["sizes"].find(key);
@@ -586,8 +594,20 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
           // what an element is and where it hangs is structure; its numbers are parameters
           bool structural = value.is_string() ||
                             (field.size() > 5 && field.compare(field.size() - 5, 5, "_type") == 0);
-          change(structural ? "structure" : "parameter", field + "[" + name + "]", was[field],
-                 value, field + "[" + name + "]: " + Show(was[field]) + " → " + Show(value));
+          std::string path = field + "[" + name + "]";
+          std::string what = path + ": " + Show(was[field]) + " → " + Show(value);
+          bool mesh_derived = section == "geom" && fields.value("geom_type", "") == "mesh" &&
+                              kMeshDerived.count(field);
+          // a dof's length scale comes from the size of the bodies it moves
+          bool size_derived = section == "dof" && field == "dof_length";
+          if (other_version && (mesh_derived || size_derived)) {
+            // the same mesh, fitted by another release's compiler: not the user's change
+            change("compiler", path, was[field], value, what);
+            diff.compiler.push_back(diff.changes.back());
+            diff.changes.pop_back();
+            continue;
+          }
+          change(structural ? "structure" : "parameter", path, was[field], value, what);
         }
       }
     }
