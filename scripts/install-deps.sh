@@ -35,7 +35,7 @@ packages=(
   libmujoco-dev libmujoco-samples
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libtbb-dev libcpptoml-dev
+  libsqlite3-dev libtbb-dev libtomlplusplus-dev
   libopenmpi-dev openmpi-bin
   valgrind sqlite3 python3-pip
 )

@@ -1,8 +1,9 @@
 // Behaviour scenarios for plumb audit: JSON or TOML files with a start state, control
 // schedules and assertions on paths over time windows.
 
-#include <cpptoml.h>
 #include <fmt/format.h>
+
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,28 +21,26 @@ namespace {
 
 using nlohmann::json;
 
-// TOML -> JSON, so both formats share one reader.
-json ToJson(const std::shared_ptr<cpptoml::base>& node) {
-  if (node->is_table()) {
+// TOML -> JSON, so both formats share one reader (dates and times, which no scenario entry
+// takes, become their TOML text and are refused by the entry's type check).
+json ToJson(const toml::node& node) {
+  if (const toml::table* table = node.as_table()) {
     json j = json::object();
-    for (const auto& [key, value] : *node->as_table()) j[key] = ToJson(value);
+    for (const auto& [key, value] : *table) j[std::string(key.str())] = ToJson(value);
     return j;
   }
-  if (node->is_table_array()) {
+  if (const toml::array* array = node.as_array()) {
     json j = json::array();
-    for (const auto& table : *node->as_table_array()) j.push_back(ToJson(table));
+    for (const toml::node& value : *array) j.push_back(ToJson(value));
     return j;
   }
-  if (node->is_array()) {
-    json j = json::array();
-    for (const auto& value : *node->as_array()) j.push_back(ToJson(value));
-    return j;
-  }
-  if (auto v = node->as<double>()) return v->get();
-  if (auto v = node->as<int64_t>()) return v->get();
-  if (auto v = node->as<bool>()) return v->get();
-  if (auto v = node->as<std::string>()) return v->get();
-  return nullptr;
+  if (auto v = node.value_exact<double>()) return *v;
+  if (auto v = node.value_exact<int64_t>()) return *v;
+  if (auto v = node.value_exact<bool>()) return *v;
+  if (auto v = node.value_exact<std::string>()) return *v;
+  std::ostringstream text;
+  node.visit([&](const auto& n) { text << n; });
+  return text.str();
 }
 
 std::string_view Trim(std::string_view s) {
@@ -133,7 +132,7 @@ Assertion ParseAssertion(const Model& model, const std::string& text) {
 namespace {
 
 // Where an entry of a scenario file is, for messages: "stand.toml:12 (controls[1].type)"
-// for TOML (the line found by scanning the text: cpptoml keeps no positions), "stand.json
+// for TOML (the line found by scanning the text, as for a key in a table array), "stand.json
 // at /controls/1/type" (a JSON pointer) for JSON.
 class Locator {
  public:
@@ -406,12 +405,15 @@ Scenario LoadScenario(const Model& model, const std::string& file) {
   bool toml = file.size() > 5 && file.substr(file.size() - 5) == ".toml";
   try {
     if (toml) {
-      std::istringstream stream(text.str());
-      cpptoml::parser parser(stream);
-      j = ToJson(parser.parse());
+      j = ToJson(toml::parse(text.str(), file));
     } else {
       j = json::parse(text.str());
     }
+  } catch (const toml::parse_error& e) {
+    // toml++ knows where: the line and column of the first problem
+    throw ValueError(fmt::format("scenario '{}' is not valid TOML: line {}, column {}: {}", file,
+                                 e.source().begin.line, e.source().begin.column,
+                                 e.description()));
   } catch (const std::exception& e) {
     throw ValueError("scenario '" + file + "' is not valid " + (toml ? "TOML" : "JSON") + ": " +
                      e.what());

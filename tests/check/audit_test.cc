@@ -491,6 +491,16 @@ TEST_F(AuditTest, BadScenariosNameTheFileAndEntry) {
   }
   WriteFile(dir.File("b.toml"), "duration = \n");
   EXPECT_THROW(LoadScenario(model, dir.File("b.toml")), ValueError);
+  // a TOML syntax error names its line and column (toml++ keeps positions)
+  WriteFile(dir.File("e.toml"), "name = \"x\"\nduration = 1.0\nassertions = [\n");
+  try {
+    LoadScenario(model, dir.File("e.toml"));
+    FAIL();
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("e.toml' is not valid TOML: line 3, column"),
+              std::string::npos)
+        << e.what();
+  }
   WriteFile(dir.File("c.json"), R"({"assertions": ["qpos[shoulder] ~ 1"]})");
   EXPECT_THROW(LoadScenario(model, dir.File("c.json")), ValueError);
   WriteFile(dir.File("d.json"), R"({"durations": 1})");
