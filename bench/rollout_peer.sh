@@ -10,7 +10,8 @@
 #
 # Usage: bench/rollout_peer.sh [BUILD_DIR] [MODEL ...]
 #   default models: the humanoid and the Unitree Go2 of the robot corpus
-#   env: COUNT (64), NSTEP (1000), REPEAT (3)
+#   env: COUNT (64), NSTEP (1000), REPEAT (3), INSTRUCTIONS (1: also count instructions
+#        of both rollout loops with callgrind, 4 rollouts each)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build=${1:-$here/build}; shift || true
@@ -60,3 +61,23 @@ print(f"| {name} | {threads} | {count} x {nstep} | {rate:,.0f} | {peer['steps_pe
 PY
   done
 done
+
+# Instruction counts (valgrind's callgrind), repeatable whatever the machine is doing: the
+# rollout loop of each tool (plumb's RunOne, the peer's rollout call) on the same work.
+if [[ "${INSTRUCTIONS:-1}" == 1 ]] && command -v valgrind >/dev/null; then
+  echo
+  echo "| model | rollouts x steps | plumb instructions (rollouts) | mujoco.rollout instructions | ratio (peer / plumb) |"
+  echo "|---|---|---|---|---|"
+  for model in "${models[@]}"; do
+    dt=$(python3 -c "import re,sys; m=re.search(r'<option[^>]*timestep=\"([^\"]+)\"', open(sys.argv[1]).read()); print(m.group(1) if m else '0.002')" "$model")
+    until=$(python3 -c "print(repr($nstep * $dt))")
+    valgrind --tool=callgrind --callgrind-out-file="$work/plumb.cg" "$plumb" rollout "$model" \
+      --count 4 --until "$until" --metric "state@$until" --format csv >/dev/null 2>&1
+    valgrind --tool=callgrind --callgrind-out-file="$work/peer.cg" "$work/venv/bin/python" \
+      "$here/bench/rollout_peer.py" "$model" 4 "$nstep" 1 1 >/dev/null 2>&1
+    mine=$(callgrind_annotate --inclusive=yes "$work/plumb.cg" 2>/dev/null | awk '/RunOne/ {gsub(",", "", $1); print $1; exit}')
+    peer=$(callgrind_annotate --inclusive=yes "$work/peer.cg" 2>/dev/null | awk '/_rollout\./ {gsub(",", "", $1); print $1; exit}')
+    python3 -c "import sys; a, b = int(sys.argv[1]), int(sys.argv[2]); print(f'| {sys.argv[3]} | 4 x $nstep | {a:,} | {b:,} | {b / a:.4f} |')" \
+      "$mine" "$peer" "$(basename "$(dirname "$model")")/$(basename "$model")"
+  done
+fi

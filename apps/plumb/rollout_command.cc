@@ -125,7 +125,9 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   }
   StoredRun stored;
   try {
-    std::string model_hash = HashModel(model);
+    // the compiled model's hash names the run in the store; hashing a big mesh model costs
+    // a tenth of a second, so only when there is a store
+    std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
     RunInfo info = NewRunInfo("rollout", Config(o, model_hash), ctx, o.model, model_hash);
     info.parameters = params;
     info.metrics = o.metrics;

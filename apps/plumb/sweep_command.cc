@@ -209,8 +209,13 @@ class EffectWatch {
  public:
   explicit EffectWatch(const SweepSpec& spec) : spec_(spec), lines_(spec.axes.size()) {}
 
+  // Axes with more values than this are not watched: their line would cost memory that grows
+  // with the sweep (a range of a million values is not a question of "no effect").
+  static constexpr std::size_t kMostWatched = 4096;
+
   void See(const SweepCase& c) {
     for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+      if (spec_.axes[a].size() > kMostWatched) continue;
       bool on_line = true;
       for (std::size_t b = 0; b < c.choice.size(); ++b) on_line = on_line && (b == a || c.choice[b] == 0);
       if (!on_line) continue;
@@ -296,7 +301,9 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   const long total = CaseCount(spec.axes);
 
   // the store: a new run, or the same run continued with --resume
-  std::string model_hash = HashModel(model);
+  // the compiled model's hash names the run in the store; hashing a big mesh model costs
+  // a tenth of a second, so only when there is a store
+  std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
   RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx, o.model, model_hash);
   for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
   info.metrics = o.metrics;

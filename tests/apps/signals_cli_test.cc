@@ -2,6 +2,7 @@
 // keep what finished and stop when their reader goes away.
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -165,6 +166,33 @@ TEST(CliSignalsTest, AHugeSweepSaysItsCostAndStreamsInFlatMemory) {
   std::string err = ReadFile(dir.File("err.txt"));
   EXPECT_NE(err.find("sweep of 100000000 cases x 1 metric"), std::string::npos) << err;
   EXPECT_NE(err.find("GB of csv output"), std::string::npos) << err;
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+#define PLUMB_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PLUMB_UNDER_ASAN 1
+#endif
+#endif
+
+TEST(CliSignalsTest, SweepMemoryDoesNotGrowWithTheNumberOfCases) {
+  // a one-axis sweep kept every case for its no-effect note: 250 MB for a million cases
+#ifdef PLUMB_UNDER_ASAN
+  GTEST_SKIP() << "resident memory under AddressSanitizer says nothing about plumb's";
+#else
+  auto peak_kb = [](long cases) {
+    std::string sweep = kCli + "sweep " + testing::kPendulum +
+                        " --vary 'dof_damping[hinge]=0:1:" + std::to_string(cases) +
+                        "' --metric 'qpos[hinge]@0.002' --format csv >/dev/null 2>&1";
+    EXPECT_EQ(testing::RunShell(sweep).exit_code, 0);
+    rusage usage{};
+    getrusage(RUSAGE_CHILDREN, &usage);  // the largest child so far
+    return usage.ru_maxrss;
+  };
+  long small = peak_kb(2000), large = peak_kb(200000);
+  EXPECT_LT(large, small * 3 / 2) << small << " KB for 2000 cases, " << large << " KB for 200000";
+#endif
 }
 
 TEST(CliSignalsTest, SlurmVariablesAreNamedWhenTheyPickNoTask) {
