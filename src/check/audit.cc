@@ -11,6 +11,7 @@
 #include <set>
 
 #include "check/collision_graph.h"
+#include "core/geometry.h"
 #include "core/mujoco_compat.h"
 #include "plumb/describe.h"
 #include "plumb/error.h"
@@ -67,22 +68,9 @@ double GravityNorm(const mjModel* m) {
 // Moving bodies: those not welded to the world.
 bool Moves(const mjModel* m, int b) { return b > 0 && m->body_weldid[b] != 0; }
 
+// Volume of geom g (PrimitiveVolume), NaN when it is not a primitive.
 double GeomVolume(const mjModel* m, int g) {
-  const mjtNum* s = m->geom_size + 3 * g;
-  switch (m->geom_type[g]) {
-    case mjGEOM_SPHERE:
-      return 4.0 / 3 * M_PI * s[0] * s[0] * s[0];
-    case mjGEOM_CAPSULE:
-      return M_PI * s[0] * s[0] * 2 * s[1] + 4.0 / 3 * M_PI * std::pow(s[0], 3);
-    case mjGEOM_CYLINDER:
-      return M_PI * s[0] * s[0] * 2 * s[1];
-    case mjGEOM_BOX:
-      return 8 * s[0] * s[1] * s[2];
-    case mjGEOM_ELLIPSOID:
-      return 4.0 / 3 * M_PI * s[0] * s[1] * s[2];
-    default:
-      return -1;  // planes, meshes, height fields: no volume we can trust here
-  }
+  return PrimitiveVolume(m->geom_type[g], m->geom_size + 3 * g);
 }
 
 // The reference pose: the keyframe the user named (--keyframe), else keyframe "home" or
@@ -254,7 +242,7 @@ void StructureLayer(const Model& model, std::vector<Finding>* out) {
 std::pair<double, double> GeomSpread(const mjModel* m, int b, const mjtNum* com) {
   double lo = INFINITY, hi = 0;
   for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
-    if (GeomVolume(m, g) < 0) return {-1, -1};
+    if (std::isnan(GeomVolume(m, g))) return {-1, -1};
     const mjtNum* s = m->geom_size + 3 * g;
     // mean squared distance of a uniform solid from its centre
     double within = 0;
@@ -400,8 +388,8 @@ void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
     bool all_primitive = m->body_geomnum[b] > 0;
     for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
       double v = GeomVolume(m, g);
-      if (v < 0) all_primitive = false;
-      volume += std::max(0.0, v);
+      if (std::isnan(v)) all_primitive = false;
+      if (!std::isnan(v)) volume += v;
     }
     if (all_primitive && volume > 0 && mass > 0) {
       double density = mass / volume;
@@ -1139,15 +1127,6 @@ void ContactLayer(const Model& model, const Observed& settle, std::vector<Findin
 
 // ---- behaviour ------------------------------------------------------------------------
 
-// The i-th element of the Halton sequence in `base`, in [0, 1).
-double Halton(long i, int base) {
-  double f = 1, r = 0;
-  for (long n = i + 1; n > 0; n /= base) {
-    f /= base;
-    r += f * (n % base);
-  }
-  return r;
-}
 
 // A run is bounded when its total energy stays within `allowed_rise` x max(1 J, |E0|)
 // above where it started: a passive run has no energy source, a driven one does.
@@ -1185,7 +1164,7 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, con
       long k = static_cast<long>(t / 0.1);
       static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37};
       for (int i = 0; i < m->nu; ++i) {
-        double h = Halton(k, kPrimes[i % 12]) * 2 - 1;
+        double h = mju_Halton(static_cast<int>(k + 1), kPrimes[i % 12]) * 2 - 1;
         double lo = m->actuator_ctrllimited[i] ? m->actuator_ctrlrange[2 * i] : -1;
         double hi = m->actuator_ctrllimited[i] ? m->actuator_ctrlrange[2 * i + 1] : 1;
         double target = 0.5 * (lo + hi) + 0.5 * (hi - lo) * 0.5 * h;

@@ -13,11 +13,6 @@
 namespace plumb {
 namespace {
 
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
-  while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
-  return s;
-}
 
 // Extracts X from "name(X)", or returns false.
 bool Call(std::string_view text, std::string_view name, std::string_view* inner) {

@@ -43,11 +43,6 @@ json ToJson(const toml::node& node) {
   return text.str();
 }
 
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 double Number(const json& j, const std::string& key, double fallback, const std::string& where) {
   if (!j.contains(key)) return fallback;

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 
+#include "core/geometry.h"
 #include "core/mujoco_compat.h"
 #include "plumb/analytic.h"
 #include "plumb/converge.h"
@@ -758,23 +759,6 @@ CheckResult ExerciseMoon(const Scenario& s, const PendulumParams& p, int dof, do
   return r;
 }
 
-// Volume of a primitive geom from its compiled size, m^3, or NaN.
-double Volume(int type, const mjtNum* size) {
-  switch (type) {
-    case mjGEOM_SPHERE:
-      return 4.0 / 3 * M_PI * std::pow(size[0], 3);
-    case mjGEOM_CAPSULE:
-      return M_PI * size[0] * size[0] * 2 * size[1] + 4.0 / 3 * M_PI * std::pow(size[0], 3);
-    case mjGEOM_CYLINDER:
-      return M_PI * size[0] * size[0] * 2 * size[1];
-    case mjGEOM_BOX:
-      return 8 * size[0] * size[1] * size[2];
-    case mjGEOM_ELLIPSOID:
-      return 4.0 / 3 * M_PI * size[0] * size[1] * size[2];
-    default:
-      return kNaN;
-  }
-}
 
 const char* GeomTypeName(int type) {
   switch (type) {
@@ -802,7 +786,7 @@ CheckResult ExerciseDensity(const Model& model, const PendulumParams& p) {
     return Skip(r.id, r.title, "the swinging body has no primitive geom to give a density");
   }
   const mjtNum* size = m->geom_size + 3 * geom;
-  double volume = Volume(m->geom_type[geom], size);
+  double volume = PrimitiveVolume(m->geom_type[geom], size);
   // the same geom, given density 1000 kg/m^3 instead of a mass, compiled by MuJoCo
   Model variant = Model::FromXmlString(
       fmt::format("<mujoco><worldbody><body><freejoint/><geom type=\"{}\" size=\"{:.17g} "

@@ -21,6 +21,9 @@ std::optional<double> ParseNumber(std::string_view text);
 // Parses a non-negative integer index ("3"); nullopt for anything else.
 std::optional<long> ParseIndex(std::string_view text);
 
+// `s` without leading and trailing white space (space, tab, newline, ...).
+std::string_view Trim(std::string_view s);
+
 // The shortest text that reads back as `value` to 6 significant digits ("%g").
 std::string FormatNumber(double value);
 

@@ -52,5 +52,14 @@ TEST(StringsTest, ClosestNamesOnlyPlausibleTypos) {
   EXPECT_EQ(Closest("--column", options), std::vector<std::string>{"--columns"});
 }
 
+TEST(StringsTest, TrimTakesEveryKindOfWhiteSpace) {
+  // three copies trimmed differently: spaces only in metrics and rollouts, all white space in
+  // scenarios; one rule now
+  EXPECT_EQ(Trim("  qpos[hinge]\t"), "qpos[hinge]");
+  EXPECT_EQ(Trim("\n U(0.9, 1.1) \r\n"), "U(0.9, 1.1)");
+  EXPECT_EQ(Trim("   "), "");
+  EXPECT_EQ(Trim(""), "");
+}
+
 }  // namespace
 }  // namespace plumb
