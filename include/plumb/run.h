@@ -46,7 +46,8 @@ class NullSink : public SampleSink {
 
 // The process-wide stop request that every Run watches unless its spec names another flag:
 // a signal handler sets it (lock-free, async-signal-safe) and every long command, however
-// deep its runs are, stops at the next step with Interrupted.
+// deep its runs are, stops at the next step with Interrupted. It stays set: a program that
+// goes on after handling the stop sets it back to false.
 std::atomic<bool>& StopFlag();
 
 // What to run.
