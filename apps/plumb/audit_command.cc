@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/audit.h"
+#include "plumb/output.h"
 #include "summary.h"
 
 namespace plumb::cli {
@@ -72,9 +73,11 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   options.sets = ParseAssignments(model, o.sets);
   options.keyframe = o.keyframe;
   if (!o.scenario.empty()) options.scenario = LoadScenario(model, o.scenario);
-  options.repro_dir =
+  std::string repro_dir =
       o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
-  options.argv = ctx.argv;
+  options.keep_diverged = [&](const Model& work, const RunResult& run, const std::string& what) {
+    return WriteRepro(work, run, ctx.argv, repro_dir, what);
+  };
   AuditReport report = Audit(model, options);
   std::string text = o.format == "json" ? Json(report) : Table(report, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);

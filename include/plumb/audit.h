@@ -13,6 +13,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_AUDIT_H_
 #define PLUMB_INCLUDE_PLUMB_AUDIT_H_
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
+#include "plumb/scenario.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -38,48 +40,6 @@ struct Finding {
   std::string fix;  // what to do about it (or what the row shows, for PASS)
 };
 
-// A control schedule for one actuator in a scenario: u(t) in ctrl units.
-struct ControlSchedule {
-  std::string actuator;  // actuator name
-  int id = -1;
-  std::string type;                                // constant, step, ramp, sine
-  double value = 0;                                // constant: u; step: u after `at`; sine: offset
-  double before = 0;                               // step: u before `at`; ramp: u at `start`
-  double at = 0;                                   // step: switch time, s
-  double start = 0, end = 0, to = 0;               // ramp: from `before` at start to `to` at end
-  double amplitude = 0, frequency = 0, phase = 0;  // sine, Hz and rad
-  double At(double t) const;
-};
-
-// An assertion on paths over a time window, e.g. "xpos[torso][2] > 0.8 during [0, 2]"
-// or "maxabs(qvel[*]) < 50".
-struct Assertion {
-  std::string text;
-  std::string reduce;       // "" (every sample), maxabs, min, max, final
-  std::vector<Path> paths;  // every path must satisfy it ('*' expanded)
-  std::string op;           // <, <=, >, >=
-  double bound = 0;
-  double from = 0, to = -1;  // window in s; to < 0 means the end of the run
-};
-
-// A user's behaviour scenario (JSON or TOML; see README "Scenarios").
-struct Scenario {
-  std::string file;
-  std::string name;
-  double duration = 2;              // s
-  int keyframe = -1;                // keyframe to start from, -1: qpos0
-  std::vector<Assignment> initial;  // state / parameter assignments after the keyframe
-  std::vector<ControlSchedule> controls;
-  std::vector<Assertion> assertions;
-};
-
-// Parses one assertion. @throws ValueError / PathError quoting it.
-Assertion ParseAssertion(const Model& model, const std::string& text);
-
-// Reads a scenario from a .json or .toml file. @throws ValueError naming the file and
-// the entry at fault, IoError when it cannot be read.
-Scenario LoadScenario(const Model& model, const std::string& file);
-
 struct AuditOptions {
   std::vector<Assignment> sets;  // applied before everything
   // The keyframe of the reference pose, by name (--keyframe); empty: keyframe "home" or
@@ -87,14 +47,18 @@ struct AuditOptions {
   // where that scenario starts.
   std::string keyframe;
   std::optional<Scenario> scenario;
-  std::string repro_dir;          // where a diverged run's repro goes ("" = none)
-  std::vector<std::string> argv;  // the command line, for the repro folder
+  // Called with each audit run that diverged: the model as it ran (--set applied), the run
+  // and what it was ("the audit run that diverged: passive settle"). It returns where it
+  // kept the run ("" for nowhere), which the findings quote; the app writes repro folders
+  // here (plumb::WriteRepro), the audit itself writes nothing.
+  std::function<std::string(const Model& model, const RunResult& run, const std::string& what)>
+      keep_diverged;
 };
 
 struct AuditReport {
   std::string model;
   std::vector<Finding> findings;
-  std::vector<std::string> repro_folders;  // written for diverged runs
+  std::vector<std::string> repro_folders;  // what keep_diverged returned, in run order
   int Count(CheckStatus status) const;
 };
 

@@ -32,6 +32,17 @@ int FindKeyframe(const Model& model, const std::string& name);
 // @throws ValueError as FindKeyframe does.
 std::vector<Assignment> KeyframeAssignments(const Model& model, const std::string& name);
 
+// The pose a check judges a model in when no run is asked for (audit's layers, snapshot's
+// reference state): the keyframe the user named, else the model's keyframe "home", else
+// its keyframe "test", else qpos0. One definition for every command.
+struct ReferencePose {
+  int keyframe = -1;        // -1: qpos0
+  std::string description;  // "keyframe 'stand' (--keyframe)", "keyframe 'home'", "qpos0"
+};
+
+// @throws ValueError as FindKeyframe does, for an unknown `named`.
+ReferencePose FindReferencePose(const Model& model, const std::string& named = "");
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_KEYFRAME_H_

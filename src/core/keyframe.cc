@@ -54,4 +54,23 @@ std::vector<Assignment> KeyframeAssignments(const Model& model, const std::strin
   return out;
 }
 
+ReferencePose FindReferencePose(const Model& model, const std::string& named) {
+  ReferencePose pose;
+  if (!named.empty()) {
+    pose.keyframe = FindKeyframe(model, named);
+    pose.description = "keyframe '" + named + "' (--keyframe)";
+    return pose;
+  }
+  for (const char* name : {"home", "test"}) {
+    int k = mj_name2id(model.get(), mjOBJ_KEY, name);
+    if (k >= 0) {
+      pose.keyframe = k;
+      pose.description = std::string("keyframe '") + name + "'";
+      return pose;
+    }
+  }
+  pose.description = "qpos0";
+  return pose;
+}
+
 }  // namespace plumb

@@ -1,4 +1,5 @@
 #include "plumb/audit.h"
+#include "plumb/output.h"
 
 #include <gtest/gtest.h>
 
@@ -375,7 +376,12 @@ TEST_F(AuditTest, RadiansWrittenWhereMjcfExpectsDegreesAreFlagged) {
 TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
   TempDir dir;
   AuditOptions options;
-  options.repro_dir = dir.File("repro");
+  std::vector<std::string> kept;
+  options.keep_diverged = [&](const Model& work, const RunResult& run, const std::string& what) {
+    kept.push_back(what);
+    EXPECT_TRUE(run.diverged);
+    return WriteRepro(work, run, {"plumb", "audit"}, dir.File("repro"), what);
+  };
   AuditReport r = AuditXml(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody>
       <body name="mass"><joint name="spring" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
         <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)",
@@ -388,6 +394,28 @@ TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
   EXPECT_NE(f->fix.find("smaller timestep"), std::string::npos) << f->fix;
   ASSERT_FALSE(r.repro_folders.empty());
   EXPECT_TRUE(std::filesystem::exists(r.repro_folders[0] + "/model.mjb"));
+  ASSERT_FALSE(kept.empty());
+  EXPECT_NE(kept[0].find("the audit run that diverged"), std::string::npos) << kept[0];
+  EXPECT_NE(f->fix.find("Repro folder: " + r.repro_folders[0]), std::string::npos) << f->fix;
+}
+
+// The check layer writes nothing: without keep_diverged a diverged run is reported, and no
+// folder appears.
+TEST_F(AuditTest, ADivergedRunIsReportedWithoutWritingAnything) {
+  TempDir dir;
+  auto before = std::filesystem::current_path();
+  std::filesystem::current_path(dir.path());
+  AuditReport r = AuditXml(R"(<mujoco><option timestep="0.01" gravity="0 0 0"/><worldbody>
+      <body name="mass"><joint name="spring" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
+        <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)",
+                           {});
+  std::filesystem::current_path(before);
+  const Finding* f = Find(r, "behaviour.passive_settle");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->measured, "diverged");
+  EXPECT_TRUE(r.repro_folders.empty());
+  EXPECT_EQ(f->fix.find("Repro folder"), std::string::npos) << f->fix;
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
 TEST_F(AuditTest, HumanoidHasNoFailure) {
@@ -601,7 +629,7 @@ actuator = "servo"
 type = "step"
 valu = 0.5
 )");
-  EXPECT_NE(toml.find("bad.toml:7 (controls[0].valu)"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("bad.toml:7:1 (controls[0].valu)"), std::string::npos) << toml;
   EXPECT_NE(toml.find("did you mean: value"), std::string::npos) << toml;
   std::string window = ScenarioError(model, dir, "w.toml", R"(duration = 1.0
 assertions = [
@@ -609,7 +637,7 @@ assertions = [
   "qpos[shoulder] > 0 during [0.5, 3]",
 ]
 )");
-  EXPECT_NE(window.find("w.toml:4 (assertions[1])"), std::string::npos) << window;
+  EXPECT_NE(window.find("w.toml:4:3 (assertions[1])"), std::string::npos) << window;
   EXPECT_NE(window.find("raise duration"), std::string::npos) << window;
   std::string key = ScenarioError(model, dir, "k.json", R"({"keyframe": 0})");
   EXPECT_NE(key.find("k.json at /keyframe"), std::string::npos) << key;
@@ -627,12 +655,12 @@ assertions = [
 TEST_F(AuditTest, AssertionsParse) {
   Model model = Model::FromXmlString(kArm, "arm.xml");
   Assertion a = ParseAssertion(model, "xpos[upper][2] >= 0.5 during [0.5, 1]");
-  EXPECT_EQ(a.op, ">=");
+  EXPECT_EQ(a.op, Comparison::kGreaterEqual);
   EXPECT_EQ(a.bound, 0.5);
   EXPECT_EQ(a.from, 0.5);
   EXPECT_EQ(a.to, 1);
   Assertion b = ParseAssertion(model, "maxabs(qvel[*]) < 50");
-  EXPECT_EQ(b.reduce, "maxabs");
+  EXPECT_EQ(b.reduce, Reduction::kMaxAbs);
   EXPECT_EQ(b.paths.size(), 1u);
   EXPECT_LT(b.to, 0);
   EXPECT_THROW(ParseAssertion(model, "qvel[*] < fast"), ValueError);

@@ -1,0 +1,340 @@
+// Audit layer 3, actuators: force bounds, a servo's targets against its joint's range,
+// whether each actuator can hold its limb against gravity, and a step response.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "check/audit_layers.h"
+#include "core/mujoco_compat.h"
+#include "plumb/describe.h"
+#include "plumb/timing.h"
+
+namespace plumb::audit {
+namespace {
+
+constexpr const char* L = "actuator";
+
+// The force interval [lo, hi] actuator u can produce; infinite where nothing bounds it.
+std::pair<double, double> ForceRange(const mjModel* m, int u) {
+  double lo = -INFINITY, hi = INFINITY;
+  if (m->actuator_forcelimited[u]) {
+    lo = m->actuator_forcerange[2 * u];
+    hi = m->actuator_forcerange[2 * u + 1];
+  }
+  const mjtNum* gain = m->actuator_gainprm + mjNGAIN * u;
+  if (m->actuator_gaintype[u] == mjGAIN_MUSCLE) {
+    // a muscle only pulls, at most its peak force F0 (gainprm[2], which mj_setConst
+    // derives from scale) times the larger of the force-velocity and passive factors;
+    // its control is implicitly 0..1
+    double f0 = std::fabs(gain[2]);
+    if (f0 > 0) {
+      lo = std::max(lo, -f0 * (gain[8] + gain[7]));
+      hi = std::min(hi, 0.0);
+    }
+  } else if (m->actuator_ctrllimited[u] && m->actuator_gaintype[u] == mjGAIN_FIXED &&
+             m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
+    // a fixed-gain, bias-free actuator: force = gain * ctrl
+    double a = gain[0] * m->actuator_ctrlrange[2 * u],
+           b = gain[0] * m->actuator_ctrlrange[2 * u + 1];
+    lo = std::max(lo, std::min(a, b));
+    hi = std::min(hi, std::max(a, b));
+  }
+  return {lo, hi};
+}
+
+// What kind of response a ctrl step gives.
+enum class ActuatorKind { kPositionServo, kVelocityServo, kMotor, kOther };
+
+ActuatorKind KindOf(const mjModel* m, int u) {
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  bool fixed = m->actuator_gaintype[u] == mjGAIN_FIXED;
+  if (fixed && m->actuator_biastype[u] == mjBIAS_AFFINE && bias[1] != 0) {
+    return ActuatorKind::kPositionServo;
+  }
+  if (fixed && m->actuator_biastype[u] == mjBIAS_AFFINE && bias[2] != 0) {
+    return ActuatorKind::kVelocityServo;
+  }
+  if (fixed && m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
+    return ActuatorKind::kMotor;
+  }
+  return ActuatorKind::kOther;
+}
+
+struct StepResponse {
+  Observed run;
+  std::string measured;  // in words
+  bool moved = false;
+};
+
+// The ctrl step: from `before` to `after`, and what it is measured in.
+struct CtrlStep {
+  ActuatorKind kind;
+  double before = 0, after = 0;
+  double length0 = 0;  // the actuator length before the step
+  double Quantity(const mjData* d, int u) const {
+    switch (kind) {
+      case ActuatorKind::kPositionServo:
+        return d->actuator_length[u];
+      case ActuatorKind::kVelocityServo:
+        return d->actuator_velocity[u];
+      default:
+        return d->actuator_force[u];
+    }
+  }
+};
+
+// Resets `data` to the reference pose with every ctrl at its middle and chooses the step of
+// actuator u: 10% of its range (0.1 when unlimited), servos from where they are.
+CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& sets,
+                     const ReferencePose& ref, int u) {
+  const mjModel* m = work.get();
+  mj_resetData(m, data.get());
+  StartAt(work, data, ref, sets);
+  CtrlStep step{KindOf(m, u)};
+  bool limited = m->actuator_ctrllimited[u] || m->actuator_gaintype[u] == mjGAIN_MUSCLE;
+  double lo = m->actuator_ctrllimited[u] ? m->actuator_ctrlrange[2 * u] : 0;
+  double hi = m->actuator_ctrllimited[u]                 ? m->actuator_ctrlrange[2 * u + 1]
+              : m->actuator_gaintype[u] == mjGAIN_MUSCLE ? 1
+                                                         : 0;
+  for (int i = 0; i < m->nu; ++i) {
+    data->ctrl[i] = m->actuator_ctrllimited[i]
+                        ? 0.5 * (m->actuator_ctrlrange[2 * i] + m->actuator_ctrlrange[2 * i + 1])
+                        : 0;
+  }
+  data.Forward();
+  double size = limited ? 0.1 * (hi - lo) : 0.1;
+  step.length0 = data->actuator_length[u];
+  step.before = data->ctrl[u];
+  if (step.kind == ActuatorKind::kPositionServo) step.before = step.length0;  // hold where it is
+  if (step.kind == ActuatorKind::kVelocityServo) step.before = 0;
+  step.after = step.before + size;
+  if (limited && step.after > hi) step.after = step.before - size;  // stay inside ctrlrange
+  data->ctrl[u] = step.before;
+  data.Forward();
+  return step;
+}
+
+// A motor has no setpoint: how far and how fast the step moved the actuator.
+std::string DescribeMotor(const mjModel* m, int u, const CtrlStep& step, double moved,
+                          double max_speed, double duration) {
+  // the actuator length is gear x the joint (tendon) position
+  double gear = m->actuator_gear[6 * u];
+  std::string unit = ActuatorPositionUnit(m, u);
+  std::string by = gear == 1 ? fmt::format("{:.3g} {}", moved, unit)
+                             : fmt::format("{:.3g} (gear {:g} x {:.3g} {} at the joint)", moved,
+                                           gear, moved / gear, unit);
+  return fmt::format(
+      "no setpoint (motor): ctrl {:.3g} -> {:.3g} moves the actuator length by {} in {:g} s "
+      "(peak speed {:.3g} {}/s{})",
+      step.before, step.after, by, duration, max_speed / std::fabs(gear), unit,
+      gear == 1 ? "" : " at the joint");
+}
+
+// Servos reach for their setpoint: rise time to 63%, overshoot, steady-state error. Other
+// actuators' force settles where it settles: how fast it follows. "" when nothing changed.
+std::string DescribeResponse(const mjModel* m, int u, const CtrlStep& step,
+                             const std::vector<double>& t, const std::vector<double>& y, double y0,
+                             double duration) {
+  bool servo = step.kind != ActuatorKind::kOther;
+  double goal = servo ? step.after : y.back();
+  double change = goal - y0;
+  if (std::fabs(change) < 1e-12) return "";
+  double rise = NAN, peak = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    double share = (y[i] - y0) / change;
+    if (std::isnan(rise) && share >= 0.63) rise = t[i] - t.front() + m->opt.timestep;
+    peak = std::max(peak, share);
+  }
+  std::string rise_text =
+      std::isfinite(rise) ? fmt::format("{:.3g} s", rise) : fmt::format("> {:g} s", duration);
+  if (servo) {
+    return fmt::format(
+        "{} servo: rise {}, overshoot {:.1f}%, steady-state error {:.1f}% after {:g} s",
+        step.kind == ActuatorKind::kPositionServo ? "position" : "velocity", rise_text,
+        100 * std::max(0.0, peak - 1), 100 * std::fabs(goal - y.back()) / std::fabs(change),
+        duration);
+  }
+  return fmt::format("no setpoint ({}): force {:.3g} -> {:.3g}, rise {}",
+                     m->actuator_gaintype[u] == mjGAIN_MUSCLE ? "muscle" : "actuator", y0,
+                     y.back(), rise_text);
+}
+
+// A step of ctrl by 10% of its range (0.1 when unlimited) from the reference pose,
+// gravity and contacts off so only the actuator acts, every other ctrl at its middle.
+// `work` is a copy of the model with gravity and contacts off, `data` its data (reused
+// from one actuator to the next: a big model's mjData costs more to make than to step).
+StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>& sets,
+                         const ReferencePose& ref, int u, double duration,
+                         const AuditOptions& options, const std::string& element) {
+  StepResponse out;
+  const mjModel* m = work.get();
+  CtrlStep step = PrepareStep(work, data, sets, ref, u);
+  double y0 = step.Quantity(data.get(), u);
+  std::vector<double> t, y;
+  double max_speed = 0;
+  RunSpec spec;
+  spec.until = duration;
+  spec.every = m->opt.timestep;
+  spec.before_step = [&](mjData* d, long) { d->ctrl[u] = step.after; };
+  spec.after_step = [&](const mjData* d, long) {
+    t.push_back(d->time);
+    y.push_back(step.Quantity(d, u));
+    max_speed = std::max(max_speed, std::fabs(d->actuator_velocity[u]));
+  };
+  NullSink sink;
+  out.run.label = "step response of " + element;
+  out.run.duration = duration;
+  out.run.result = Run(work, data, spec, sink);
+  TakeMujocoWarnings();  // counted in the run's result, reported in the warnings layer
+  out.run.repro = KeepDiverged(work, out.run.result, options, out.run.label);
+  if (out.run.result.diverged || y.size() < 2) return out;
+  if (step.kind == ActuatorKind::kMotor) {
+    double moved = data->actuator_length[u] - step.length0;
+    out.moved = std::fabs(moved) > 1e-9 || max_speed > 1e-9;
+    out.measured = DescribeMotor(m, u, step, moved, max_speed, duration);
+    return out;
+  }
+  out.measured = DescribeResponse(m, u, step, t, y, y0, duration);
+  out.moved = !out.measured.empty();
+  return out;
+}
+
+// At most this many actuators get a step response (evenly spaced when there are more).
+constexpr int kStepActuators = 12;
+
+// An actuator nothing bounds: a real motor saturates.
+void Limits(const mjModel* m, int u, const Element& element, std::vector<Finding>* out) {
+  auto [flo, fhi] = ForceRange(m, u);
+  if (std::isfinite(flo) && std::isfinite(fhi)) return;
+  out->push_back(Make(L, "actuator.limits", element,
+                      fmt::format("ctrl {}, force {}, gear {:g}",
+                                  m->actuator_ctrllimited[u] ? "limited" : "unlimited",
+                                  m->actuator_forcelimited[u] ? "limited" : "unlimited",
+                                  m->actuator_gear[6 * u]),
+                      "a force bound", CheckStatus::kWarn,
+                      "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
+                      "from the motor's datasheet, torque = gear x force"));
+}
+
+// A position servo's targets (ctrl / gear, in joint units) should lie within reach.
+void TargetRange(const mjModel* m, int u, const Element& element, std::vector<Finding>* out) {
+  int trn = m->actuator_trntype[u];
+  int joint = m->actuator_trnid[2 * u];
+  double gear = m->actuator_gear[6 * u];
+  bool joint_trn = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT;
+  if (KindOf(m, u) != ActuatorKind::kPositionServo || !joint_trn || !m->jnt_limited[joint] ||
+      !m->actuator_ctrllimited[u] || gear == 0) {
+    return;
+  }
+  double lo = m->actuator_ctrlrange[2 * u] / gear, hi = m->actuator_ctrlrange[2 * u + 1] / gear;
+  double jlo = m->jnt_range[2 * joint], jhi = m->jnt_range[2 * joint + 1];
+  double margin = 0.5 * (jhi - jlo);
+  if (std::min(lo, hi) >= jlo - margin && std::max(lo, hi) <= jhi + margin) return;
+  out->push_back(Make(L, "actuator.target_range", element,
+                      fmt::format("targets [{:.4g}, {:.4g}] vs joint range [{:.4g}, {:.4g}]", lo,
+                                  hi, jlo, jhi),
+                      "within the joint range", CheckStatus::kWarn,
+                      "the servo asks for positions its joint can never reach: make "
+                      "ctrlrange match the joint range (and check the compiler's angle "
+                      "units)"));
+}
+
+// Whether actuator u on a hinge or slide can hold its limb against gravity at the reference
+// pose: the actuator adds gear * force to its dof, enough when the needed generalized force
+// (qfrc_bias at qvel = 0) lies within gear * [flo, fhi], sign included. False when the row
+// does not apply or is not listed.
+bool Holding(const Model& model, const Data& data, int u, const Element& element, bool listed,
+             std::vector<Finding>* out) {
+  const mjModel* m = model.get();
+  int trn = m->actuator_trntype[u];
+  int joint = m->actuator_trnid[2 * u];
+  bool joint_trn = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT;
+  if (!joint_trn || (m->jnt_type[joint] != mjJNT_HINGE && m->jnt_type[joint] != mjJNT_SLIDE)) {
+    return false;
+  }
+  double gear = m->actuator_gear[6 * u];
+  auto [flo, fhi] = ForceRange(m, u);
+  double need = data->qfrc_bias[m->jnt_dofadr[joint]];
+  double tlo = std::min(gear * flo, gear * fhi), thi = std::max(gear * flo, gear * fhi);
+  if (gear == 0) tlo = thi = 0;
+  double bound = need >= 0 ? thi : tlo;
+  if (!std::isfinite(bound)) return false;
+  if (!listed) return true;
+  bool weak = need > thi || need < tlo;
+  out->push_back(Make(L, "actuator.holding", element,
+                      fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo,
+                                  thi, need, Elem(model, mjOBJ_JOINT, joint, "joint")),
+                      fmt::format("{} {:.4g}", need >= 0 ? ">=" : "<=", need),
+                      weak ? CheckStatus::kWarn : CheckStatus::kPass,
+                      weak ? "it cannot hold its limb against gravity at the reference pose (in "
+                             "this direction): raise the gear or the force/ctrl range on that "
+                             "side, or lighten the limb"
+                           : "gear x force range covers the gravity torque at the reference "
+                             "pose"));
+  return true;
+}
+
+// Step responses of up to kStepActuators actuators, within one dof-step budget for all.
+void StepResponses(const Model& original, const Model& model, const std::vector<Assignment>& sets,
+                   const ReferencePose& ref, const AuditOptions& options,
+                   std::vector<Observed>* runs, std::vector<Finding>* out) {
+  const mjModel* m = model.get();
+  int count = std::min(compat::ActuatorCount(m), kStepActuators);
+  double duration = Duration(m, 1.0, kDofStepBudget / count);
+  Model work = original.Clone();
+  work.get_mutable()->opt.disableflags |= mjDSBL_GRAVITY | mjDSBL_CONTACT;
+  Data step_data(work);
+  for (int i = 0; i < count; ++i) {
+    int u = static_cast<int>(static_cast<long>(i) * compat::ActuatorCount(m) / count);
+    Element element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, element.text);
+    runs->push_back(r.run);
+    if (r.run.result.diverged) {
+      out->push_back(Make(L, "actuator.step_response", element, "diverged", "stays finite",
+                          CheckStatus::kFail, DivergedFix(r.run)));
+    } else if (!r.moved) {
+      out->push_back(Make(L, "actuator.step_response", element, "no response", "",
+                          CheckStatus::kWarn,
+                          fmt::format("a step in ctrl moved nothing in {:g} s (gravity and "
+                                      "contacts off): check the transmission, gain and ctrl "
+                                      "range",
+                                      duration)));
+    } else {
+      out->push_back(Make(L, "actuator.step_response", element, r.measured, "",
+                          CheckStatus::kPass,
+                          "a step of 10% of ctrlrange from the reference pose, gravity and "
+                          "contacts off"));
+    }
+  }
+  ListedNote(L, "actuator.step_response", "actuators", compat::ActuatorCount(m), out, count);
+}
+
+}  // namespace
+
+void ActuatorLayer(const Model& original, const Model& model, Data& data,
+                   const std::vector<Assignment>& sets, const ReferencePose& ref,
+                   const AuditOptions& options, std::vector<Observed>* runs,
+                   std::vector<Finding>* out) {
+  const mjModel* m = model.get();
+  if (compat::ActuatorCount(m) == 0) {
+    out->push_back(Make(L, "actuator.none", "", "no actuators", "", CheckStatus::kSkip,
+                        "a passive model: nothing to check in this layer"));
+    return;
+  }
+  // the generalized force each joint needs to hold the reference pose (qvel = 0)
+  mju_zero(data->qvel, m->nv);
+  data.Forward();
+  int holding_rows = 0;
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
+    Element element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    Limits(m, u, element, out);
+    TargetRange(m, u, element, out);
+    if (Holding(model, data, u, element, holding_rows < kMaxListed, out)) ++holding_rows;
+  }
+  ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
+  StepResponses(original, model, sets, ref, options, runs, out);
+}
+
+}  // namespace plumb::audit

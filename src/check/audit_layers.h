@@ -1,0 +1,126 @@
+// What the audit's layers share (src/check/audit_*.cc): how a finding names an element,
+// the reference pose, and the observed runs that the actuator, contact and behaviour layers
+// judge. Private to the check layer.
+
+#ifndef PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+#define PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plumb/audit.h"
+#include "plumb/keyframe.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/run.h"
+
+namespace plumb::audit {
+
+// Per-element rows are listed for up to this many elements; beyond, a summary row.
+constexpr int kMaxListed = 60;
+
+// Cost budget of one audit run, in dof-steps (steps x max(nv, 30)): about a second of
+// compute on a laptop core, so each run of a big model is shortened, never skipped.
+constexpr double kDofStepBudget = 4e5;
+
+// Max |qvel| below which a model counts as at rest.
+constexpr double kRestSpeed = 0.05;
+
+// One element as a finding names it: text "body 'hand' (id 3)" (or "body #3" when unnamed),
+// and its parts.
+struct Element {
+  std::string text;
+  std::string type;  // the noun: "body", "joint", "actuator", ...
+  std::string name;  // "" when unnamed
+  int id = -1;
+};
+
+Element ElementOf(const Model& model, int obj, int id, const char* noun);
+
+// ElementOf(...).text, for rows that name several elements.
+std::string Elem(const Model& model, int obj, int id, const char* noun);
+
+// A finding about one element (its parts filled in).
+Finding Make(const char* layer, std::string check, const Element& element, std::string measured,
+             std::string threshold, CheckStatus status, std::string fix);
+
+// A finding about the whole model ("") or several elements (free text).
+Finding Make(const char* layer, std::string check, std::string element, std::string measured,
+             std::string threshold, CheckStatus status, std::string fix);
+
+// When a check has more rows than `shown`, one row saying how many were listed.
+void ListedNote(const char* layer, const char* check, const char* noun, int total,
+                std::vector<Finding>* out, int shown = kMaxListed);
+
+// |gravity|, 0 when <flag gravity="disable"/> switches it off.
+double GravityNorm(const mjModel* m);
+
+// Moving bodies: those not welded to the world.
+bool Moves(const mjModel* m, int b);
+
+// Volume of geom g (PrimitiveVolume), NaN when it is not a primitive.
+double GeomVolume(const mjModel* m, int g);
+
+// Resets `data` to the reference pose `ref` with `sets` applied (state assignments win over the keyframe).
+void StartAt(Model& model, Data& data, const ReferencePose& ref, const std::vector<Assignment>& sets);
+
+// One audit run and what the layers read from it.
+struct Observed {
+  std::string label;  // "passive settle", "step response of actuator 'elbow' (id 3)"
+  RunResult result;
+  double duration = 0;
+  double deepest = 0;  // deepest penetration relative to the smaller geom size
+  std::string deepest_pair;
+  double deepest_late = 0;  // the same over the last part of the run, once impacts are over
+  std::string deepest_late_pair;
+  double deepest_m = 0, deepest_soft = 0;  // the deepest contact in m, and its SoftDepth
+  double deepest_late_m = 0;     // that contact's penetration in m
+  double deepest_late_soft = 0;  // and the depth its softness explains (SoftDepth), in m
+  int max_iterations = 0;
+  long steps_at_limit = 0;
+  double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
+  double max_speed_end = 0;    // max |qvel| at the end
+  double support_ratio = NAN;  // contact normal force / weight at the end
+  double max_slip = 0;         // tangential speed at contacts at the end
+  std::string slip_pair;
+  std::string repro;  // where AuditOptions::keep_diverged kept it ("" when not)
+};
+
+// `wanted` s of simulated time, shortened for big models to the dof-step budget (at
+// least 20 steps), as a whole number of timesteps.
+double Duration(const mjModel* m, double wanted, double budget = kDofStepBudget);
+
+// Hands a diverged run to options.keep_diverged; returns where it was kept ("" when the
+// run did not diverge or nobody keeps it).
+std::string KeepDiverged(const Model& work, const RunResult& run, const AuditOptions& options,
+                         const std::string& label);
+
+// What to do about a diverged audit run, after MuJoCo's reason.
+std::string DivergedFix(const Observed& o);
+
+// Runs `model` after `sets` from `ref` under `control` for `duration` s in four pieces;
+// when `longest` > duration it goes on, a quarter of `duration` at a time, until the
+// model is at rest or `longest` s have passed. Penetration "late" is over the last
+// piece, once impacts are over.
+Observed Observe(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
+                 double duration, const std::function<void(mjData*, double)>& control,
+                 const AuditOptions& options, const std::string& label, double longest = 0);
+
+// The layers, in the order the audit runs them; each appends its findings to `out` and
+// the runs it made to `runs`.
+void StructureLayer(const Model& model, std::vector<Finding>* out);
+void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out);
+void ActuatorLayer(const Model& original, const Model& model, Data& data,
+                   const std::vector<Assignment>& sets, const ReferencePose& ref,
+                   const AuditOptions& options, std::vector<Observed>* runs,
+                   std::vector<Finding>* out);
+void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out);
+void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
+                    const Observed& settle, const AuditOptions& options,
+                    std::vector<Observed>* runs, std::vector<Finding>* out);
+
+}  // namespace plumb::audit
+
+#endif  // PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
