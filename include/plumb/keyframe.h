@@ -43,6 +43,12 @@ struct ReferencePose {
 // @throws ValueError as FindKeyframe does, for an unknown `named`.
 ReferencePose FindReferencePose(const Model& model, const std::string& named = "");
 
+// Puts `data` at `pose` with `sets` applied: the assignments (parameters and state) in order,
+// then the keyframe's state, then the state assignments again, so that the user's --set wins
+// over the keyframe.
+void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
+                 const std::vector<Assignment>& sets);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_KEYFRAME_H_

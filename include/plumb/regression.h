@@ -24,7 +24,7 @@ inline constexpr int kSnapshotSteps = 100;
 // The snapshot of `model` after `sets`, as pretty JSON (2-space indent, keys in a fixed
 // order, doubles printed to round-trip exactly). The text of each of `sets` is recorded
 // ("sets": ["qpos[hinge]=0.7"]) so that DiffSnapshot applies them again. The golden trajectory
-// starts at the reference pose (keyframe "home" if present, else qpos0) and drives every
+// starts at the reference pose (FindReferencePose: keyframe "home", else "test", else qpos0) and drives every
 // ctrl-limited actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
 // unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each.
 // Every element records its id (ids are not compared one by one: a shift is one change).

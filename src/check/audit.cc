@@ -48,7 +48,7 @@ AuditReport Audit(const Model& model, const AuditOptions& options) {
   Model nominal = model.Clone();
   Data data(nominal);
   ReferencePose ref = FindReferencePose(nominal, options.keyframe);
-  audit::StartAt(nominal, data, ref, options.sets);
+  StartAtPose(nominal, data, ref, options.sets);
   TakeMujocoWarnings();
 
   std::vector<audit::Observed> runs;

@@ -91,7 +91,7 @@ CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& set
                      const ReferencePose& ref, int u) {
   const mjModel* m = work.get();
   mj_resetData(m, data.get());
-  StartAt(work, data, ref, sets);
+  StartAtPose(work, data, ref, sets);
   CtrlStep step{KindOf(m, u)};
   bool limited = m->actuator_ctrllimited[u] || m->actuator_gaintype[u] == mjGAIN_MUSCLE;
   double lo = m->actuator_ctrllimited[u] ? m->actuator_ctrlrange[2 * u] : 0;

@@ -78,7 +78,7 @@ void RunScenario(const Model& model, const std::vector<Assignment>& sets,
   AssertionTally tally(sc.assertions);
   Model work = model.Clone();
   Data data(work);
-  StartAt(work, data, start, all);
+  StartAtPose(work, data, start, all);
   RunSpec spec;
   spec.until = StepsToReach(sc.duration, m->opt.timestep) * m->opt.timestep;
   spec.every = m->opt.timestep;

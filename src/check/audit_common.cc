@@ -67,19 +67,6 @@ double GeomVolume(const mjModel* m, int g) {
   return PrimitiveVolume(m->geom_type[g], m->geom_size + 3 * g);
 }
 
-void StartAt(Model& model, Data& data, const ReferencePose& ref,
-             const std::vector<Assignment>& sets) {
-  ApplyAssignments(model, data, sets);
-  if (ref.keyframe >= 0) {
-    mj_resetDataKeyframe(model.get(), data.get(), ref.keyframe);
-    // the user's state assignments win over the keyframe
-    for (const Assignment& a : sets) {
-      if (a.path.role != Role::kParameter) WriteValues(model, data, a.path, a.values);
-    }
-    data.Forward();
-  }
-}
-
 double Duration(const mjModel* m, double wanted, double budget) {
   double steps = std::max(20.0, std::min(wanted / m->opt.timestep,
                                          budget / std::max(30.0, static_cast<double>(m->nv))));

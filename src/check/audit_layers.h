@@ -63,9 +63,6 @@ bool Moves(const mjModel* m, int b);
 // Volume of geom g (PrimitiveVolume), NaN when it is not a primitive.
 double GeomVolume(const mjModel* m, int g);
 
-// Resets `data` to the reference pose `ref` with `sets` applied (state assignments win over the keyframe).
-void StartAt(Model& model, Data& data, const ReferencePose& ref, const std::vector<Assignment>& sets);
-
 // One audit run and what the layers read from it.
 struct Observed {
   std::string label;  // "passive settle", "step response of actuator 'elbow' (id 3)"

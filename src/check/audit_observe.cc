@@ -159,7 +159,7 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
   work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
   const mjModel* m = work.get();
   Data data(work);
-  StartAt(work, data, ref, sets);
+  StartAtPose(work, data, ref, sets);
   o.energy0 = data->energy[0] + data->energy[1];
   long piece_steps = std::max(1L, std::lround(duration / m->opt.timestep / 4));
   long min_pieces = 4,

@@ -8,6 +8,7 @@
 #include "core/mujoco_compat.h"
 #include "core/version.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 #include "plumb/run.h"
 
 #include <set>
@@ -179,16 +180,10 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
                         std::string* diverged) {
   Model work = model.Clone();
   Data data(work);
-  ApplyAssignments(work, data, sets);
+  // the reference pose every command shares: keyframe home, else test, else qpos0
+  ReferencePose pose = FindReferencePose(work);
+  StartAtPose(work, data, pose, sets);
   const mjModel* m = work.get();
-  int key = mj_name2id(m, mjOBJ_KEY, "home");
-  if (key >= 0) {
-    mj_resetDataKeyframe(m, data.get(), key);
-    for (const Assignment& a : sets) {
-      if (a.path.role != Role::kParameter) WriteValues(work, data, a.path, a.values);
-    }
-    data.Forward();
-  }
   ordered_json qpos = ordered_json::array(), qvel = qpos, act = qpos;
   RunSpec spec;
   spec.until = kSnapshotSteps * m->opt.timestep;
@@ -214,7 +209,7 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
   TakeMujocoWarnings();
   if (r.diverged) *diverged = r.divergence->reason;
   return {{"steps", kSnapshotSteps},
-          {"start", key >= 0 ? "keyframe home" : "qpos0"},
+          {"start", pose.keyframe >= 0 ? "keyframe " + work.Name(mjOBJ_KEY, pose.keyframe) : "qpos0"},
           {"controls",
            "ctrl = centre + 0.5*radius*sin(2*pi*t*(1 + 0.37*i)) for ctrl-limited "
            "actuators, 0 otherwise"},

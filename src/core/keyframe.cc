@@ -73,4 +73,15 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named) {
   return pose;
 }
 
+void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
+                 const std::vector<Assignment>& sets) {
+  ApplyAssignments(model, data, sets);
+  if (pose.keyframe < 0) return;
+  mj_resetDataKeyframe(model.get(), data.get(), pose.keyframe);
+  for (const Assignment& a : sets) {
+    if (a.path.role != Role::kParameter) WriteValues(model, data, a.path, a.values);
+  }
+  data.Forward();
+}
+
 }  // namespace plumb

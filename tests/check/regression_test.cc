@@ -41,6 +41,22 @@ TEST_F(RegressionTest, SnapshotRecordsWhatARegressionShouldNotice) {
   EXPECT_EQ(j["trajectory"]["qpos"].size(), static_cast<std::size_t>(kSnapshotSteps));
 }
 
+// The golden trajectory starts at the reference pose every command shares (keyframe "home",
+// else "test", else qpos0), as audit's layers do.
+TEST_F(RegressionTest, TheTrajectoryStartsAtTheSharedReferencePose) {
+  Model test = Model::FromXmlString(R"(<mujoco><option gravity="0 0 0"/><worldbody><body>
+      <joint name="s" type="slide"/>
+      <geom type="box" size="0.1 0.1 0.1" mass="1"/></body></worldbody>
+      <keyframe><key name="test" qpos="1"/></keyframe></mujoco>)",
+                                    "test.xml");
+  nlohmann::json j = nlohmann::json::parse(MakeSnapshot(test, {}));
+  EXPECT_EQ(j["trajectory"]["start"], "keyframe test");
+  // no gravity, no force: it stays at 1
+  EXPECT_EQ(j["trajectory"]["qpos"][0][0], 1.0);
+  nlohmann::json pendulum = nlohmann::json::parse(snapshot_);
+  EXPECT_EQ(pendulum["trajectory"]["start"], "qpos0");
+}
+
 TEST_F(RegressionTest, ChangedDampingIsNamedInMujocosWords) {
   SnapshotDiff d = DiffSnapshot(snapshot_, pendulum_,
                                 {ParseAssignment(pendulum_, "dof_damping[hinge]=0.1")}, 1e-6);

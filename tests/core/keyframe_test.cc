@@ -27,6 +27,35 @@ TEST_F(KeyframeTest, AssignmentsMatchMjResetDataKeyframe) {
   }
 }
 
+// One reference pose for every command: the named keyframe, else "home", else "test", else
+// qpos0; and the user's state assignments win over the keyframe's.
+TEST_F(KeyframeTest, TheReferencePoseIsNamedThenHomeThenTestThenQpos0) {
+  Model keyed = Model::FromXmlString(testing::kKeyed, "keyed.xml");
+  ReferencePose home = FindReferencePose(keyed);
+  EXPECT_EQ(home.keyframe, FindKeyframe(keyed, "home"));
+  EXPECT_EQ(home.description, "keyframe 'home'");
+  ReferencePose away = FindReferencePose(keyed, "away");
+  EXPECT_EQ(away.keyframe, FindKeyframe(keyed, "away"));
+  EXPECT_EQ(away.description, "keyframe 'away' (--keyframe)");
+  EXPECT_THROW(FindReferencePose(keyed, "nowhere"), ValueError);
+  const char* test_only = R"(<mujoco><worldbody><body><joint name="s" type="slide"/>
+      <geom type="box" size="0.1 0.1 0.1"/></body></worldbody>
+      <keyframe><key name="other" qpos="2"/><key name="test" qpos="1"/></keyframe></mujoco>)";
+  Model test = Model::FromXmlString(test_only, "test.xml");
+  EXPECT_EQ(FindReferencePose(test).keyframe, 1);
+  Model none = Model::FromXmlString(R"(<mujoco><worldbody><body><joint type="slide"/>
+      <geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>)", "none.xml");
+  EXPECT_EQ(FindReferencePose(none).keyframe, -1);
+  EXPECT_EQ(FindReferencePose(none).description, "qpos0");
+  // the keyframe first, then the user's state on top; parameters stay applied
+  Data data(test);
+  StartAtPose(test, data, FindReferencePose(test),
+              {ParseAssignment(test, "dof_damping[s]=3"), ParseAssignment(test, "qvel[s]=0.5")});
+  EXPECT_EQ(data->qpos[0], 1);
+  EXPECT_EQ(data->qvel[0], 0.5);
+  EXPECT_EQ(test->dof_damping[0], 3);
+}
+
 TEST_F(KeyframeTest, SetAppliesOnTop) {
   Model model = Model::FromXmlString(testing::kKeyed, "keyed.xml");
   Data data(model);
