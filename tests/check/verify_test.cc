@@ -103,6 +103,30 @@ TEST_F(VerifyTest, AtRestPendulumSkipsWhatNeedsASwing) {
   EXPECT_EQ(Find(report, "analytic.period").status, CheckStatus::kSkip);
 }
 
+// Every check appears once, in the protocol's order, for a pendulum and for any other model
+// (whose pendulum rows are SKIPs that say why).
+TEST_F(VerifyTest, EveryCheckIsOneRowInProtocolOrder) {
+  const std::vector<std::string> order = {
+      "load",           "determinism",     "warnings",
+      "convergence",    "energy",          "analytic.period",
+      "analytic.model_settings", "analytic.damping", "experiment.A",
+      "experiment.B",   "experiment.C",    "exercise.moon_gravity",
+      "exercise.density", "exercise.radians"};
+  for (const VerifyReport& report :
+       {VerifyPendulum({"qpos[hinge]=0.7"}), Verify(Model::Load(testing::kHumanoid), {})}) {
+    std::vector<std::string> ids;
+    for (const CheckResult& c : report.checks) {
+      ids.push_back(c.id);
+      EXPECT_FALSE(c.title.empty()) << c.id;
+    }
+    EXPECT_EQ(ids, order);
+  }
+  VerifyReport humanoid = Verify(Model::Load(testing::kHumanoid), {});
+  EXPECT_NE(Find(humanoid, "experiment.B").detail.find("not a single hinge pendulum"),
+            std::string::npos)
+      << Find(humanoid, "experiment.B").detail;
+}
+
 TEST_F(VerifyTest, HumanoidHasNoFailure) {
   VerifyReport report = Verify(Model::Load(testing::kHumanoid), {});
   EXPECT_FALSE(report.failed()) << Failures(report);
