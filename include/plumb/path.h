@@ -26,6 +26,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "plumb/model.h"
@@ -114,6 +115,29 @@ Assignment ParseAssignment(const Model& model, std::string_view text);
 // type, and within what MuJoCo accepts (see ParseAssignment). For values computed at run
 // time, such as randomized draws.
 void CheckAssignable(const Path& path, double value);
+
+// The two halves of PATH=VALUE text: the path and the value, split at the first '='.
+// @throws ValueError naming `option` ("--set", "--vary", "--randomize") and quoting `text`
+//         with `example` when there is no '='.
+std::pair<std::string_view, std::string_view> SplitAssignment(std::string_view text,
+                                                              const char* option,
+                                                              const char* example);
+
+// Whether writing `path` changes a model array (body_mass, dof_damping, ...; not an option
+// such as opt.timestep), after which the constants mj_setConst derives must be recomputed.
+bool ChangesModelArrays(const Path& path);
+
+// Writes the parameter edits among `assignments` (mjModel, mjOption) to the model, in their
+// order with body_inertia last, so that a given inertia overrides the rescaling that a new
+// body_mass implies (see WriteValues). Returns whether a model array changed
+// (ChangesModelArrays): the caller then runs mj_setConst. Rollout workers call this
+// directly (they restore parameters between rollouts); every other run goes through
+// ApplyAssignments. @throws ValueError / PathError as WriteValues does.
+bool WriteParameters(Model& model, Data& data, const std::vector<Assignment>& assignments);
+
+// Writes the state and input edits among `assignments` in their order (no reset, no
+// mj_forward). @throws ValueError / PathError as WriteValues does.
+void WriteState(Model& model, Data& data, const std::vector<Assignment>& assignments);
 
 // Applies assignments in the order a run needs them: parameter edits to the model
 // first (body_inertia last, so a given inertia overrides the rescaling that a new

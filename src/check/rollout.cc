@@ -90,15 +90,12 @@ Distribution ParseDistribution(std::string_view raw) {
 }
 
 Randomization ParseRandomization(const Model& model, std::string_view text) {
-  std::size_t eq = text.find('=');
-  if (eq == std::string_view::npos) {
-    throw ValueError("--randomize '" + std::string(text) +
-                     "': expected PATH=DIST, e.g. 'body_mass[*]=*U(0.9,1.1)'.");
-  }
+  auto [path_text, dist_text] =
+      SplitAssignment(text, "--randomize", "PATH=DIST, e.g. 'body_mass[*]=*U(0.9,1.1)'");
   Randomization r;
   r.text = std::string(text);
-  r.dist = ParseDistribution(text.substr(eq + 1));
-  for (const Path& p : ExpandPath(model, text.substr(0, eq))) {
+  r.dist = ParseDistribution(dist_text);
+  for (const Path& p : ExpandPath(model, path_text)) {
     if (!p.writable) {
       ParseAssignment(model, p.text + "=0");  // throws the reason it cannot be set
     }
@@ -148,12 +145,7 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   mjData* d = w.data.get();
 
   // parameters: the user's, then this rollout's draws from the nominal values
-  bool arrays_changed = false;
-  for (const Assignment& a : spec.sets) {
-    if (a.path.role != Role::kParameter) continue;
-    WriteValues(w.work, w.data, a.path, a.values);
-    arrays_changed = arrays_changed || a.path.field.rfind("opt.", 0) != 0;
-  }
+  bool arrays_changed = WriteParameters(w.work, w.data, spec.sets);
   // every element has its own random key, its position in the expanded list
   auto draw = [&](const Distribution& dist, std::uint32_t key, double nominal_value) {
     double u = Uniform01(spec.seed, static_cast<std::uint64_t>(index), key, 0);
@@ -201,7 +193,7 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
     for (const Path& p : r.paths) {
       if (p.role == Role::kParameter) {
         WriteValues(w.work, w.data, p, {out.params[key]});
-        arrays_changed = arrays_changed || p.field.rfind("opt.", 0) != 0;
+        arrays_changed = arrays_changed || ChangesModelArrays(p);
       }
       ++key;
     }
@@ -209,9 +201,7 @@ RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, l
   if (arrays_changed) mj_setConst(m, d);
   if (energy) m->opt.enableflags |= mjENBL_ENERGY;
   compat::ResetState(m, d);
-  for (const Assignment& a : spec.sets) {
-    if (a.path.role != Role::kParameter) WriteValues(w.work, w.data, a.path, a.values);
-  }
+  WriteState(w.work, w.data, spec.sets);
   // state draws start from the state the user set
   key = 0;
   for (const Randomization& r : spec.randomize) {

@@ -25,15 +25,13 @@ constexpr long kCheckedRange = 100000;
 }  // namespace
 
 SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
-  std::size_t eq = text.find('=');
-  if (eq == std::string_view::npos) {
-    throw ValueError("--vary '" + std::string(text) +
-                     "': expected PATH=V1,V2,... or PATH=START:STOP:COUNT, e.g. "
-                     "dof_damping[hinge]=0,0.05,1 or qpos[hinge]=0.1:2.8:10.");
-  }
+  auto [path_view, values_view] =
+      SplitAssignment(text, "--vary",
+                      "PATH=V1,V2,... or PATH=START:STOP:COUNT, e.g. "
+                      "dof_damping[hinge]=0,0.05,1 or qpos[hinge]=0.1:2.8:10");
   SweepAxis axis;
   axis.text = std::string(text);
-  std::string path_text(text.substr(0, eq));
+  std::string path_text(path_view);
   // errors from the path and value parsers speak of --set; here the user wrote --vary
   auto as_vary = [&](const Error& e) {
     std::string message = e.what();
@@ -51,7 +49,7 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
                      std::to_string(axis.path.count) + " elements; vary one, e.g. " +
                      axis.path.text + "[0].");
   }
-  std::string values(text.substr(eq + 1));
+  std::string values(values_view);
   std::vector<std::string> range = Split(values, ':');
   if (range.size() == 3) {
     std::optional<double> start = ParseNumber(range[0]), stop = ParseNumber(range[1]);

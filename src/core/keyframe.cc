@@ -78,9 +78,7 @@ void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
   ApplyAssignments(model, data, sets);
   if (pose.keyframe < 0) return;
   mj_resetDataKeyframe(model.get(), data.get(), pose.keyframe);
-  for (const Assignment& a : sets) {
-    if (a.path.role != Role::kParameter) WriteValues(model, data, a.path, a.values);
-  }
+  WriteState(model, data, sets);
   data.Forward();
 }
 

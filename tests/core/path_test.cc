@@ -82,6 +82,42 @@ TEST_F(PathTest, ReadsWhatMujocoHolds) {
   EXPECT_EQ(ResolvePath(robot_, "mocap_pos[mocap][0]").first, 0);
 }
 
+// One rule for PATH=VALUE text, for --set, --vary and --randomize.
+TEST_F(PathTest, AssignmentTextSplitsAtTheFirstEquals) {
+  auto [path, value] = SplitAssignment("qpos[hinge]=0.7", "--set", "PATH=VALUE");
+  EXPECT_EQ(path, "qpos[hinge]");
+  EXPECT_EQ(value, "0.7");
+  auto [p2, v2] = SplitAssignment("body_mass[*]=*U(0.9,1.1)", "--randomize", "PATH=DIST");
+  EXPECT_EQ(p2, "body_mass[*]");
+  EXPECT_EQ(v2, "*U(0.9,1.1)");
+  try {
+    SplitAssignment("qpos[hinge]", "--vary", "PATH=V1,V2");
+    ADD_FAILURE() << "no error";
+  } catch (const ValueError& e) {
+    EXPECT_EQ(std::string(e.what()), "--vary 'qpos[hinge]': expected PATH=V1,V2.");
+  }
+}
+
+// Parameters are written in order with body_inertia last; only model arrays (not options)
+// ask for mj_setConst; state is written apart.
+TEST_F(PathTest, ParametersAreWrittenInertiaLastAndSayWhenConstantsAreStale) {
+  Model model = Model::Load(kPendulum);
+  Data data(model);
+  EXPECT_TRUE(ChangesModelArrays(ResolvePath(model, "body_mass[link]")));
+  EXPECT_FALSE(ChangesModelArrays(ResolvePath(model, "opt.timestep")));
+  std::vector<Assignment> sets = {ParseAssignment(model, "body_inertia[link]=1,2,2"),
+                                  ParseAssignment(model, "body_mass[link]=2"),
+                                  ParseAssignment(model, "qpos[hinge]=0.3")};
+  EXPECT_TRUE(WriteParameters(model, data, sets));
+  // the given inertia wins over the rescaling the new mass implies
+  EXPECT_EQ(model->body_inertia[3], 1);
+  EXPECT_EQ(model->body_mass[1], 2);
+  EXPECT_EQ(data->qpos[0], 0);  // state untouched
+  WriteState(model, data, sets);
+  EXPECT_EQ(data->qpos[0], 0.3);
+  EXPECT_FALSE(WriteParameters(model, data, {ParseAssignment(model, "opt.timestep=0.001")}));
+}
+
 TEST_F(PathTest, ModelParametersUseTheSameGrammar) {
   EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "dof_damping[elbow]")), 0.1);
   EXPECT_EQ(ReadValue(robot_, data_, ResolvePath(robot_, "body_mass[torso]")), 10);
