@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <optional>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/output.h"

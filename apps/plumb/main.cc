@@ -4,7 +4,7 @@
 #include <exception>
 
 #include "cli_common.h"
-#include "core/version.h"
+#include "plumb/version.h"
 #include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/model.h"

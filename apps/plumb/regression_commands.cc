@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "cli_common.h"
-#include "core/file_kind.h"
+#include "plumb/file_kind.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/regression.h"

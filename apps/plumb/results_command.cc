@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/store.h"
 

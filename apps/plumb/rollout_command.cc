@@ -15,8 +15,8 @@
 #endif
 
 #include "cli_common.h"
-#include "core/strings.h"
-#include "core/version.h"
+#include "plumb/strings.h"
+#include "plumb/version.h"
 #include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/output.h"

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "core/strings.h"
-#include "core/version.h"
+#include "plumb/strings.h"
+#include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 

@@ -6,7 +6,7 @@
 #include <cctype>
 #include <map>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 
 namespace plumb::cli {
 namespace {

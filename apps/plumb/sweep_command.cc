@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "core/version.h"
+#include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/store.h"

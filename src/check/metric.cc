@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/analytic.h"
 #include "plumb/error.h"
 #include "plumb/run.h"

@@ -6,7 +6,7 @@
 
 #include "core/fields.h"
 #include "core/mujoco_compat.h"
-#include "core/version.h"
+#include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/run.h"

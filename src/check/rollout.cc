@@ -14,7 +14,7 @@
 #include <optional>
 
 #include "core/mujoco_compat.h"
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/analytic.h"
 #include "plumb/error.h"
 #include "plumb/random.h"

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string_view>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 
 namespace plumb {

@@ -16,7 +16,7 @@
 #include <sstream>
 #include <utility>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/scenario.h"
 

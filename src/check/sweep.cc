@@ -12,7 +12,7 @@
 #include <memory>
 #include <optional>
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
 #include "plumb/timing.h"

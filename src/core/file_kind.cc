@@ -1,4 +1,4 @@
-#include "core/file_kind.h"
+#include "plumb/file_kind.h"
 
 #include <algorithm>
 #include <cstring>

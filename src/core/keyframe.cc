@@ -1,6 +1,6 @@
 #include "plumb/keyframe.h"
 
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 
 namespace plumb {

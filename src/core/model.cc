@@ -15,10 +15,10 @@
 #include <mutex>
 #include <sstream>
 
-#include "core/file_kind.h"
+#include "plumb/file_kind.h"
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 
 namespace plumb {

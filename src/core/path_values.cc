@@ -10,7 +10,7 @@
 
 #include "core/fields.h"
 #include "core/path_internal.h"
-#include "core/strings.h"
+#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/path.h"
 

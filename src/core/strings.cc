@@ -1,4 +1,4 @@
-#include "core/strings.h"
+#include "plumb/strings.h"
 
 #include <algorithm>
 #include <cctype>

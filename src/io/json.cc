@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/version.h"
+#include "plumb/version.h"
 #include "plumb/output.h"
 
 namespace plumb {

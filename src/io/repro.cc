@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/version.h"
+#include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
 

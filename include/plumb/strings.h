@@ -1,8 +1,8 @@
-// Small string helpers shared by the core: joining, strict number parsing, and
-// "did you mean" suggestions.
+// Text helpers plumb uses everywhere and its users may too: joining and splitting, strict
+// number parsing, printing that round-trips, and "did you mean" suggestions.
 
-#ifndef PLUMB_SRC_CORE_STRINGS_H_
-#define PLUMB_SRC_CORE_STRINGS_H_
+#ifndef PLUMB_INCLUDE_PLUMB_STRINGS_H_
+#define PLUMB_INCLUDE_PLUMB_STRINGS_H_
 
 #include <optional>
 #include <string>
@@ -49,4 +49,4 @@ std::vector<std::string> Closest(std::string_view word, const std::vector<std::s
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CORE_STRINGS_H_
+#endif  // PLUMB_INCLUDE_PLUMB_STRINGS_H_

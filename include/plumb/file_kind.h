@@ -2,8 +2,8 @@
 // file is named for what it is (empty, binary, a snapshot, an MJCF model) instead of
 // passing MuJoCo's XML parser error through.
 
-#ifndef PLUMB_SRC_CORE_FILE_KIND_H_
-#define PLUMB_SRC_CORE_FILE_KIND_H_
+#ifndef PLUMB_INCLUDE_PLUMB_FILE_KIND_H_
+#define PLUMB_INCLUDE_PLUMB_FILE_KIND_H_
 
 #include <string>
 
@@ -33,4 +33,4 @@ void CheckModelText(const std::string& path, const std::string& text);
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CORE_FILE_KIND_H_
+#endif  // PLUMB_INCLUDE_PLUMB_FILE_KIND_H_
