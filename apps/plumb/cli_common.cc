@@ -10,6 +10,7 @@
 #include <cstring>
 #include <csignal>
 #include <cstdio>
+#include <new>
 #include <optional>
 
 #include "plumb/strings.h"
@@ -110,7 +111,7 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return out;
 }
 
-int ReportError(const std::exception& error) {
+int ReportError(const std::exception& error, const std::vector<std::string>& argv) {
   // the reader of stdout went away (`plumb rollout ... | head`): what finished was kept, and
   // there is nobody to tell; the shell's code for a process ended by SIGPIPE
   if (dynamic_cast<const OutputClosed*>(&error)) return kExitOutputClosed;
@@ -118,16 +119,28 @@ int ReportError(const std::exception& error) {
     std::fprintf(stderr, "plumb: stopped by a signal: %s\n", stop->what());
     return kExitInterrupted;
   }
+  if (dynamic_cast<const MujocoError*>(&error)) {
+    std::fprintf(stderr, "plumb: error: MuJoCo stopped with a fatal error: %s\n", error.what());
+    return kExitMujocoError;
+  }
+  if (!dynamic_cast<const Error*>(&error)) {
+    // not an error plumb reports by design: a bug, memory exhausted, data that cannot be
+    std::string command = argv.empty() ? "plumb" : ShellQuote(argv[0]);
+    for (std::size_t i = 1; i < argv.size() && i < 3; ++i) command += " " + ShellQuote(argv[i]);
+    bool memory = dynamic_cast<const std::bad_alloc*>(&error) != nullptr;
+    std::fprintf(stderr,
+                 "plumb: internal error: %s (in '%s%s'). %s\n",
+                 memory ? "out of memory" : error.what(), command.c_str(),
+                 argv.size() > 3 ? " ..." : "",
+                 memory ? "Give plumb more memory, or fewer threads, cases or samples."
+                        : "This is a bug in plumb: please report it with the command line "
+                          "and the model.");
+    return kExitInternal;
+  }
   std::fprintf(stderr, "plumb: error: %s\n", error.what());
   if (const auto* load = dynamic_cast<const LoadError*>(&error)) {
     if (!load->hint().empty()) std::fprintf(stderr, "plumb: %s\n", load->hint().c_str());
-    return kExitBadInput;
   }
-  if (dynamic_cast<const PathError*>(&error) || dynamic_cast<const ValueError*>(&error) ||
-      dynamic_cast<const IoError*>(&error)) {
-    return kExitBadInput;
-  }
-  if (dynamic_cast<const MujocoError*>(&error)) return kExitDiverged;
   return kExitBadInput;
 }
 

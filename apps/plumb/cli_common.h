@@ -25,6 +25,8 @@ enum ExitCode : int {
   kExitCheckFailed = 1,  // a check failed
   kExitBadInput = 2,     // bad input or usage: missing file, XML error, unknown path, ...
   kExitDiverged = 3,     // the simulation diverged (a repro folder was written)
+  kExitMujocoError = 4,  // MuJoCo stopped with a fatal error (mju_error), not a divergence
+  kExitInternal = 70,    // an internal error: a plumb bug, out of memory (sysexits' EX_SOFTWARE)
   kExitInterrupted = 130,     // SIGINT/SIGTERM: what finished was kept
   kExitOutputClosed = 141,    // stdout was closed by its reader (as a SIGPIPE death)
 };
@@ -61,8 +63,9 @@ void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
                                          const std::vector<std::string>& sets);
 
-// Maps an exception to its exit code after printing it on stderr as one paragraph.
-int ReportError(const std::exception& error);
+// Maps an exception to its exit code after printing it on stderr as one paragraph. `argv`
+// (the command line) gives an internal error its context.
+int ReportError(const std::exception& error, const std::vector<std::string>& argv = {});
 
 // Loads a model, printing MuJoCo's compile warnings on stderr.
 Model LoadModel(const std::string& path);

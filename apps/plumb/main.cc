@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
            "\n  plugin libraries:        " + (plugins.empty() ? "none" : plugins);
   });
   app.footer(
-      "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged.\n"
+      "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged,\n"
+      "4 MuJoCo fatal error, 70 internal error, 130 interrupted, 141 stdout closed.\n"
       "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
   SetupVerifyCommand(app, ctx);
   SetupAuditCommand(app, ctx);
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
   try {
     return ctx.action ? ctx.action() : kExitBadInput;
   } catch (const std::exception& e) {
-    int code = ReportError(e);
+    int code = ReportError(e, ctx.argv);
     MpiAbortOnError(code);  // other ranks may be waiting for this one
     return code;
   }

@@ -52,10 +52,18 @@ std::string Pack(const std::vector<RolloutResult>& results) {
 std::vector<RolloutResult> Unpack(const std::string& in) {
   std::vector<RolloutResult> out;
   std::size_t at = 0;
-  while (at + sizeof(std::uint64_t) <= in.size()) {
+  while (at < in.size()) {
     std::uint64_t n;
+    if (in.size() - at < sizeof(n)) {
+      throw Error("MPI: a results message ends inside a length prefix (" +
+                  std::to_string(in.size() - at) + " bytes left)");
+    }
     std::memcpy(&n, in.data() + at, sizeof(n));
     at += sizeof(n);
+    if (n > in.size() - at) {
+      throw Error("MPI: a results message announces " + std::to_string(n) + " bytes where " +
+                  std::to_string(in.size() - at) + " are left");
+    }
     out.push_back(DecodeResult(in.substr(at, n)));
     at += n;
   }
@@ -124,6 +132,10 @@ void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<l
       MPI_Status status;
       std::string work = Receive(0, MPI_ANY_TAG, &status);
       if (status.MPI_TAG == kTagStop) return;
+      if (work.size() % sizeof(long) != 0) {
+        throw Error("MPI: a work message of " + std::to_string(work.size()) +
+                    " bytes is not a whole number of rollout indices");
+      }
       std::vector<long> chunk(work.size() / sizeof(long));
       std::memcpy(chunk.data(), work.data(), chunk.size() * sizeof(long));
       results.clear();

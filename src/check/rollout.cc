@@ -441,6 +441,11 @@ void RolloutPool::Run(const std::vector<long>& indices,
         } catch (const Interrupted&) {
           w.reset();  // abandoned mid-run (plumb::StopFlag): its model copy may hold draws
           return;
+        } catch (...) {
+          // a MuJoCo error (or any other) left the copy mid-run with this rollout's draws:
+          // the next rollout on this thread gets a fresh copy of the nominal model
+          w.reset();
+          throw;
         }
         finished[i] = 1;
         long count = ++done;
@@ -509,15 +514,27 @@ RolloutResult DecodeResult(const std::string& in) {
   r.index = Get<std::int64_t>(in, &at);
   r.diverged = Get<std::int64_t>(in, &at) != 0;
   r.diverged_time = Get<double>(in, &at);
-  r.params.resize(Get<std::int64_t>(in, &at));
+  // every count is checked against the bytes left before anything is allocated for it
+  auto count = [&](std::size_t element) {
+    std::int64_t n = Get<std::int64_t>(in, &at);
+    if (n < 0 || static_cast<std::uint64_t>(n) > (in.size() - at) / element) {
+      throw ValueError("a rollout result message is damaged: it announces " + std::to_string(n) +
+                       " entries where " + std::to_string(in.size() - at) + " bytes are left");
+    }
+    return static_cast<std::size_t>(n);
+  };
+  r.params.resize(count(sizeof(double)));
   for (double& v : r.params) v = Get<double>(in, &at);
-  r.metrics.resize(Get<std::int64_t>(in, &at));
+  r.metrics.resize(count(sizeof(double)));
   for (double& v : r.metrics) v = Get<double>(in, &at);
   for (std::string* text : {&r.problem, &r.warnings}) {
-    std::size_t n = Get<std::int64_t>(in, &at);
-    if (at + n > in.size()) throw ValueError("a rollout result message is truncated");
+    std::size_t n = count(1);
     *text = in.substr(at, n);
     at += n;
+  }
+  if (at != in.size()) {
+    throw ValueError("a rollout result message is damaged: " + std::to_string(in.size() - at) +
+                     " bytes follow its end");
   }
   return r;
 }

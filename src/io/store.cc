@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -47,23 +48,24 @@ class Statement {
     }
   }
   ~Statement() { sqlite3_finalize(s_); }
-  Statement& Bind(int i, long v) {
-    sqlite3_bind_int64(s_, i, v);
-    return *this;
-  }
-  Statement& Bind(int i, double v) {
-    sqlite3_bind_double(s_, i, v);
-    return *this;
-  }
+  Statement& Bind(int i, long v) { return Check(sqlite3_bind_int64(s_, i, v)); }
+  Statement& Bind(int i, double v) { return Check(sqlite3_bind_double(s_, i, v)); }
   Statement& Bind(int i, const std::string& v) {
-    sqlite3_bind_text(s_, i, v.c_str(), -1, SQLITE_TRANSIENT);
-    return *this;
+    return Check(sqlite3_bind_text(s_, i, v.c_str(), static_cast<int>(v.size()),
+                                   SQLITE_TRANSIENT));
   }
   bool Step() {
     int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
     throw IoError("results store '" + file_ + "': " + sqlite3_errmsg(sqlite3_db_handle(s_)));
+  }
+  // A bind that failed (out of memory, a value too big) stops the write with SQLite's reason.
+  Statement& Check(int rc) {
+    if (rc != SQLITE_OK) {
+      throw IoError("results store '" + file_ + "': " + sqlite3_errstr(rc));
+    }
+    return *this;
   }
   void Reset() {
     sqlite3_reset(s_);
@@ -193,9 +195,14 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
 
 ResultsStore::~ResultsStore() {
   if (!impl_->db) return;
+  // a destructor cannot throw: a commit that fails here is said on stderr, never dropped in
+  // silence (callers commit explicitly first, where a failure is an error they report)
+  std::size_t pending = impl_->queue.size();
   try {
     Commit();
-  } catch (...) {
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "plumb: error: %zu result(s) could not be written to '%s': %s\n",
+                 pending, impl_->file.c_str(), e.what());
   }
   sqlite3_close(impl_->db);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
@@ -109,7 +110,8 @@ class PreStep {
 
   // The accelerations MuJoCo computes at the kept state (on a scratch mjData).
   std::vector<double> Accelerations() const {
-    mjData* d = mj_makeData(m_);
+    std::unique_ptr<mjData, void (*)(mjData*)> scratch(mj_makeData(m_), mj_deleteData);
+    mjData* d = scratch.get();
     if (!d) return {};
     d->time = state_.time;
     Paste(state_.qpos, d->qpos);
@@ -122,9 +124,7 @@ class PreStep {
     Paste(mocap_pos_, d->mocap_pos);
     Paste(mocap_quat_, d->mocap_quat);
     mj_forward(m_, d);
-    std::vector<double> qacc(d->qacc, d->qacc + m_->nv);
-    mj_deleteData(d);
-    return qacc;
+    return std::vector<double>(d->qacc, d->qacc + m_->nv);
   }
 
  private:
@@ -206,6 +206,132 @@ std::atomic<bool>& StopFlag() {
   return flag;
 }
 
+namespace {
+
+// Calls the sink's End once on every path out of a run: explicitly at the end (where a
+// failure to finish is the run's error), else when the run leaves by an exception.
+class SinkGuard {
+ public:
+  explicit SinkGuard(SampleSink& sink) : sink_(sink) {}
+  ~SinkGuard() {
+    if (ended_) return;
+    try {
+      sink_.End();
+    } catch (...) {
+      // already leaving with the exception that stopped the run: that one is reported
+    }
+  }
+  void End() {
+    ended_ = true;
+    sink_.End();
+  }
+
+ private:
+  SampleSink& sink_;
+  bool ended_ = false;
+};
+
+// Which MuJoCo warnings appeared, when each kind first did, and whether a state check
+// (BADQPOS, BADQVEL, BADQACC, BADCTRL) reset the data in the last step.
+class WarningWatch {
+ public:
+  WarningWatch(const mjData* d, double start_time)
+      : first_step_(mjNWARNING, 0), first_time_(mjNWARNING, start_time) {
+    for (int i = 0; i < mjNWARNING; ++i) seen_[i] = d->warning[i].number;
+  }
+
+  // After step `step`, which started at `step_time`: the kind of the state check that
+  // fired in it, or -1.
+  int Update(const mjData* d, long step, double step_time) {
+    int reset_kind = -1;
+    for (const compat::EnumName& w : compat::kWarnings) {
+      if (d->warning[w.value].number == seen_[w.value]) continue;
+      if (seen_[w.value] == 0) {
+        first_step_[w.value] = step;
+        first_time_[w.value] = step_time;  // MuJoCo's "Time =": the step's start
+      }
+      seen_[w.value] = d->warning[w.value].number;
+      if (IsStateCheck(w.value) && reset_kind < 0) reset_kind = w.value;
+    }
+    return reset_kind;
+  }
+
+  std::vector<WarningSummary> Summaries(const mjData* d) const {
+    std::vector<WarningSummary> out;
+    for (const compat::EnumName& w : compat::kWarnings) {
+      const mjWarningStat& stat = d->warning[w.value];
+      if (stat.number == 0) continue;
+      out.push_back({w.name, stat.number, first_step_[w.value], first_time_[w.value],
+                     mju_warningText(w.value, stat.lastinfo)});
+    }
+    return out;
+  }
+
+ private:
+  int seen_[mjNWARNING];
+  std::vector<long> first_step_;
+  std::vector<double> first_time_;
+};
+
+// MuJoCo found the state step `step` started from bad (a state check of `kind`) and reset
+// the data to qpos0 in the middle of the step. Returns the reason; fills in `divergence`.
+std::string MujocoReset(const Model& model, const mjData* d, int kind, long step,
+                        const PreStep& before, Divergence* divergence) {
+  const mjModel* m = model.get();
+  const char* name = "";
+  for (const compat::EnumName& w : compat::kWarnings) {
+    if (w.value == kind) name = w.name;
+  }
+  int index = d->warning[kind].lastinfo;
+  divergence->reset_by_mujoco = true;
+  divergence->element = ElementLabel(model, CheckedArray(kind), index);
+  divergence->bad = before.state();
+  // the state it found bad is the one step `step` started from: step - 1, as its time
+  divergence->bad.step = step - 1;
+  divergence->bad.qacc = before.Accelerations();
+  std::string value;
+  if (kind == mjWARN_BADQACC && index >= 0 && index < m->nv &&
+      static_cast<int>(divergence->bad.qacc.size()) == m->nv) {
+    value = Format(" = %g", divergence->bad.qacc[index]);
+  }
+  divergence->bad.note =
+      std::string("MuJoCo's state check (") + name + ") found " + divergence->element + value +
+      " bad at this state and reset the data to qpos0 in the middle of the step; qpos, "
+      "qvel, act and ctrl are the state it found bad, qacc the accelerations recomputed "
+      "from it.";
+  return std::string("MuJoCo's state check fired (") + name + "): " + divergence->element +
+         value +
+         " is NaN, Inf or beyond 1e10. MuJoCo reset the state to qpos0 and would carry on "
+         "as if nothing happened; plumb stops here.";
+}
+
+// Our own checks catch a state that went bad in step `step` (ending at `time`), before
+// MuJoCo's next check. Returns the reason ("" when the state is sound).
+std::string BadState(const Model& model, const mjData* d, long step, double time,
+                     Divergence* divergence) {
+  const mjModel* m = model.get();
+  struct Checked {
+    const char* name;
+    const mjtNum* values;
+    int n;
+  } checks[] = {{"qpos", d->qpos, static_cast<int>(m->nq)},
+                {"qvel", d->qvel, static_cast<int>(m->nv)},
+                {"act", d->act, static_cast<int>(m->na)},
+                {"qacc", d->qacc, static_cast<int>(m->nv)}};
+  for (const Checked& c : checks) {
+    int bad = FirstBad(c.values, c.n);
+    if (bad < 0) continue;
+    divergence->element = ElementLabel(model, c.name, bad);
+    divergence->bad = Snapshot(m, d, step);
+    divergence->bad.time = time;
+    return divergence->element + " = " + Format("%g", c.values[bad]) +
+           " is NaN, Inf or beyond 1e10";
+  }
+  return "";
+}
+
+}  // namespace
+
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink) {
   const mjModel* m = model.get();
   mjData* d = data.get();
@@ -236,18 +362,14 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   };
 
   RunResult result;
-  int seen[mjNWARNING];
-  for (int i = 0; i < mjNWARNING; ++i) seen[i] = d->warning[i].number;
-  std::vector<long> first_step(mjNWARNING, 0);
-  std::vector<double> first_time(mjNWARNING, start_time);
+  WarningWatch warnings(d, start_time);
   PreStep before(m, d);
-
   sink.Begin(spec.columns);
+  SinkGuard finish(sink);
   sample(0);
   result.samples = 1;
   for (long step = 1; step <= schedule.steps; ++step) {
     if (stop->load(std::memory_order_relaxed)) {
-      sink.End();
       throw Interrupted("interrupted at t = " + Format("%g s", time_at(step - 1)) + " (step " +
                         std::to_string(step - 1) + " of " + std::to_string(schedule.steps) + ")");
     }
@@ -255,69 +377,11 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     before.Keep(d, step - 1, time_at(step - 1));
     data.Step();
     result.steps = step;
-
-    // warnings: note when each kind first appears; MuJoCo's state checks mean it reset
-    int reset_kind = -1;
-    for (const compat::EnumName& w : compat::kWarnings) {
-      if (d->warning[w.value].number == seen[w.value]) continue;
-      if (seen[w.value] == 0) {
-        first_step[w.value] = step;
-        first_time[w.value] = time_at(step - 1);  // MuJoCo's "Time =": the step's start
-      }
-      seen[w.value] = d->warning[w.value].number;
-      if (IsStateCheck(w.value) && reset_kind < 0) reset_kind = w.value;
-    }
-    std::string reason;
+    int reset_kind = warnings.Update(d, step, time_at(step - 1));
     Divergence divergence;
-    if (reset_kind >= 0) {
-      // MuJoCo found the state the step started from bad and reset the data to qpos0
-      const char* name = "";
-      for (const compat::EnumName& w : compat::kWarnings) {
-        if (w.value == reset_kind) name = w.name;
-      }
-      int index = d->warning[reset_kind].lastinfo;
-      divergence.reset_by_mujoco = true;
-      divergence.element = ElementLabel(model, CheckedArray(reset_kind), index);
-      divergence.bad = before.state();
-      // the state it found bad is the one step `step` started from: step - 1, as its time
-      divergence.bad.step = step - 1;
-      divergence.bad.qacc = before.Accelerations();
-      std::string value;
-      if (reset_kind == mjWARN_BADQACC && index >= 0 && index < m->nv &&
-          static_cast<int>(divergence.bad.qacc.size()) == m->nv) {
-        value = Format(" = %g", divergence.bad.qacc[index]);
-      }
-      divergence.bad.note =
-          std::string("MuJoCo's state check (") + name + ") found " + divergence.element + value +
-          " bad at this state and reset the data to qpos0 in the middle of the step; qpos, "
-          "qvel, act and ctrl are the state it found bad, qacc the accelerations recomputed "
-          "from it.";
-      reason = std::string("MuJoCo's state check fired (") + name + "): " + divergence.element +
-               value +
-               " is NaN, Inf or beyond 1e10. MuJoCo reset the state to qpos0 and would carry on "
-               "as if nothing happened; plumb stops here.";
-    } else {
-      // our own checks catch a state that went bad in this step, before MuJoCo's next check
-      struct Checked {
-        const char* name;
-        const mjtNum* values;
-        int n;
-      } checks[] = {{"qpos", d->qpos, static_cast<int>(m->nq)},
-                    {"qvel", d->qvel, static_cast<int>(m->nv)},
-                    {"act", d->act, static_cast<int>(m->na)},
-                    {"qacc", d->qacc, static_cast<int>(m->nv)}};
-      for (const Checked& c : checks) {
-        int bad = FirstBad(c.values, c.n);
-        if (bad >= 0) {
-          divergence.element = ElementLabel(model, c.name, bad);
-          reason = divergence.element + " = " + Format("%g", c.values[bad]) +
-                   " is NaN, Inf or beyond 1e10";
-          divergence.bad = Snapshot(m, d, step);
-          divergence.bad.time = time_at(step);
-          break;
-        }
-      }
-    }
+    std::string reason = reset_kind >= 0
+                             ? MujocoReset(model, d, reset_kind, step, before, &divergence)
+                             : BadState(model, d, step, time_at(step), &divergence);
     if (!reason.empty()) {
       result.diverged = true;
       divergence.reason = "the simulation diverged at t = " + Format("%g s", time_at(step - 1)) +
@@ -327,21 +391,14 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
       result.divergence = std::move(divergence);
       break;
     }
-
     if (spec.after_step) spec.after_step(d, step);
     if (step % schedule.stride == 0) {
       sample(step);
       ++result.samples;
     }
   }
-  sink.End();
-
-  for (const compat::EnumName& w : compat::kWarnings) {
-    const mjWarningStat& stat = d->warning[w.value];
-    if (stat.number == 0) continue;
-    result.warnings.push_back({w.name, stat.number, first_step[w.value], first_time[w.value],
-                               mju_warningText(w.value, stat.lastinfo)});
-  }
+  finish.End();
+  result.warnings = warnings.Summaries(d);
   return result;
 }
 

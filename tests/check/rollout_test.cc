@@ -303,6 +303,31 @@ TEST_F(RolloutTest, WarningsAreRecordedPerRollout) {
   EXPECT_EQ(DecodeResult(EncodeResult(r[0])).warnings, r[0].warnings);
 }
 
+// A damaged message (as MPI carries them) is refused before anything is allocated for it:
+// truncated, a count beyond the bytes left, a negative count, bytes after the end.
+TEST_F(RolloutTest, DamagedResultMessagesAreRefused) {
+  RolloutResult r;
+  r.index = 7;
+  r.params = {1, 2};
+  r.metrics = {3};
+  r.problem = "p";
+  std::string bytes = EncodeResult(r);
+  RolloutResult back = DecodeResult(bytes);
+  EXPECT_EQ(back.index, 7);
+  EXPECT_EQ(back.params, r.params);
+  EXPECT_EQ(back.metrics, r.metrics);
+  EXPECT_EQ(back.problem, "p");
+  EXPECT_THROW(DecodeResult(bytes.substr(0, bytes.size() - 1)), ValueError);
+  EXPECT_THROW(DecodeResult(bytes + "x"), ValueError);
+  std::string huge = bytes;
+  std::int64_t n = std::int64_t{1} << 60;  // the params count, after index, diverged, time
+  std::memcpy(huge.data() + 24, &n, sizeof(n));
+  EXPECT_THROW(DecodeResult(huge), ValueError);
+  n = -1;
+  std::memcpy(huge.data() + 24, &n, sizeof(n));
+  EXPECT_THROW(DecodeResult(huge), ValueError);
+}
+
 TEST_F(RolloutTest, BadSpecsAreRejected) {
   RolloutSpec spec;
   spec.shard_count = 2;

@@ -54,6 +54,38 @@ TEST_F(RunTest, ReproducesTheChaptersPrintedLines) {
   EXPECT_TRUE(result.warnings.empty());
 }
 
+// A run finishes its sink on every path: the end, a divergence, a stop request, and an
+// exception from a step callback or MuJoCo.
+TEST_F(RunTest, TheSinkIsFinishedOnEveryPath) {
+  Model model = Model::Load(kPendulum);
+  {
+    Data data(model);
+    RecordingSink sink;
+    RunSpec spec = PendulumSpec(model, 0.1);
+    spec.before_step = [](mjData*, long step) {
+      if (step == 3) throw ValueError("a controller failed");
+    };
+    EXPECT_THROW(plumb::Run(model, data, spec, sink), ValueError);
+    EXPECT_TRUE(sink.ended);
+    EXPECT_EQ(sink.rows.size(), 1u);
+  }
+  {
+    Data data(model);
+    RecordingSink sink;
+    std::atomic<bool> stop{true};
+    RunSpec spec = PendulumSpec(model, 0.1);
+    spec.stop = &stop;
+    EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
+    EXPECT_TRUE(sink.ended);
+  }
+  {
+    Data data(model);
+    RecordingSink sink;
+    EXPECT_FALSE(plumb::Run(model, data, PendulumSpec(model, 0.1), sink).diverged);
+    EXPECT_TRUE(sink.ended);
+  }
+}
+
 TEST_F(RunTest, SampleTimesAreExactStepMultiples) {
   Model model = Model::Load(kPendulum);
   Data data(model);
