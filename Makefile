@@ -8,9 +8,11 @@ DEFAULT_MUJOCO := 4.0.1
 ifeq ($(MUJOCO),$(DEFAULT_MUJOCO))
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
+TSAN_BUILD ?= build-tsan
 else
 BUILD      ?= build-mujoco-$(MUJOCO)
 ASAN_BUILD ?= build-asan-mujoco-$(MUJOCO)
+TSAN_BUILD ?= build-tsan-mujoco-$(MUJOCO)
 endif
 # the other legs of the tested version matrix
 MATRIX     ?= 3.11.0 debian
@@ -22,7 +24,7 @@ PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 PLUMB      := $(BUILD)/plumb
 
-.PHONY: all deps corpus build demo test test-release test-asan test-matrix bench install format clean
+.PHONY: all deps corpus build demo test test-release test-asan test-tsan test-matrix bench install format clean
 
 all: build
 
@@ -64,6 +66,18 @@ test-asan: deps
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)
 
+# the threaded code (sweep's and rollout's worker pools, the stop flag, the CLI's streaming
+# writers) under ThreadSanitizer; tests/tsan.supp names what TSan cannot see into (oneTBB's
+# own synchronisation, not built with TSan)
+TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test plumb_cli
+TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest)\.
+test-tsan: deps
+	@cmake -S . -B $(TSAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
+	  -DPLUMB_SANITIZE=thread -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)
+	@cd $(TSAN_BUILD) && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/tsan.supp" \
+	  ctest --output-on-failure -j $(JOBS) -R '$(TSAN_TESTS)'
+
 # the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2)
 test-matrix:
 	@for v in $(MATRIX); do \
@@ -84,4 +98,4 @@ format:
 	@clang-format -i $$(git ls-files '*.h' '*.cc')
 
 clean:
-	@rm -rf build build-asan build-mujoco-* build-asan-mujoco-*
+	@rm -rf build build-asan build-tsan build-mujoco-* build-asan-mujoco-* build-tsan-mujoco-*

@@ -104,9 +104,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
   AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
   cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
-  cmd->add_option("--format", o->format, "table or json")
-      ->check(CLI::IsMember({"table", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "json"});
   AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");

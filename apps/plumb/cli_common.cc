@@ -111,6 +111,17 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return out;
 }
 
+void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::string>& choices,
+                     const std::string& help) {
+  std::string listed;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    listed += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+  }
+  cmd->add_option("--format", *format, help.empty() ? listed : help)
+      ->check(CLI::IsMember(choices))
+      ->capture_default_str();
+}
+
 int ReportError(const std::exception& error, const std::vector<std::string>& argv) {
   // the reader of stdout went away (`plumb rollout ... | head`): what finished was kept, and
   // there is nobody to tell; the shell's code for a process ended by SIGPIPE

@@ -53,6 +53,11 @@ struct Context {
 void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
                      const std::string& when);
 
+// --format, one of `choices` (the first is the default the options struct holds); `help`
+// explains them, else they are listed ("table or json").
+void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::string>& choices,
+                     const std::string& help = "");
+
 // --keyframe NAME: start from the model's keyframe NAME (as mj_resetDataKeyframe), with
 // every --set applied on top. Commands read it with StartAssignments.
 void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);

@@ -156,9 +156,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       ->capture_default_str();
   cmd->add_option("--until", o->until,
                   "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
-  cmd->add_option("--format", o->format, "table or json")
-      ->check(CLI::IsMember({"table", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "json"});
   cmd->callback([o, &ctx] { ctx.action = [o] { return RunConverge(*o); }; });
 }
 

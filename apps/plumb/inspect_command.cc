@@ -156,9 +156,7 @@ void SetupInspectCommand(CLI::App& app, Context& ctx) {
       "  plumb inspect models/pendulum.xml --format json\n"
       "  plumb inspect models/pendulum.xml --set 'body_mass[link]=2'");
   AddModelOptions(cmd, &o->model, &o->sets, "applied before inspecting");
-  cmd->add_option("--format", o->format, "table or json")
-      ->check(CLI::IsMember({"table", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "json"});
   cmd->callback([o, &ctx] { ctx.action = [o] { return RunInspect(*o); }; });
 }
 

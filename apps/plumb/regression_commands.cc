@@ -202,10 +202,8 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
   diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
   AddModelOptions(diff, &d->model, &d->sets, "before comparing");
   diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
-  diff->add_option("--format", d->format,
-                   "table (in words) or json (header, then changes as {path, old, new, kind})")
-      ->check(CLI::IsMember({"table", "json"}))
-      ->capture_default_str();
+  AddFormatOption(diff, &d->format, {"table", "json"},
+                  "table (in words) or json (header, then changes as {path, old, new, kind})");
   diff->callback([d, &ctx] { ctx.action = [d] { return RunDiff(*d); }; });
 }
 

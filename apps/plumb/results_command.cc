@@ -116,9 +116,7 @@ void SetupResultsCommands(CLI::App& app, Context& ctx) {
   results->add_option(
       "--run", o->run,
       "only this run id (default: every run; CSV needs runs with the same columns)");
-  results->add_option("--format", o->format, "csv or json")
-      ->check(CLI::IsMember({"csv", "json"}))
-      ->capture_default_str();
+  AddFormatOption(results, &o->format, {"csv", "json"});
   results->callback([o, &ctx] { ctx.action = [o] { return RunResults(*o); }; });
 
   auto inputs = std::make_shared<std::vector<std::string>>();

@@ -21,6 +21,7 @@
 #include "plumb/error.h"
 #include "plumb/output.h"
 #include "plumb/rollout.h"
+#include "plumb/hash.h"
 #include "plumb/store.h"
 #include "run_store.h"
 #include "summary.h"
@@ -361,9 +362,7 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
                   "PATH@T, maxabs(PATH), period(PATH), energy_drift or state@T (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--shard", o->shard, "I/N: run the I-th of N disjoint slices");
-  cmd->add_option("--format", o->format, "table, csv or json")
-      ->check(CLI::IsMember({"table", "csv", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "csv", "json"});
   cmd->add_option("--db", o->db, "record runs, cases and results in this SQLite file");
   cmd->add_flag("--resume", o->resume,
                 "continue the same run in --db: skip rollouts already stored");

@@ -149,9 +149,8 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--columns", o->columns,
                   "comma-separated paths to sample instead of the defaults ('*' expands rows, "
                   "e.g. 'qpos[*]')");
-  cmd->add_option("--format", o->format, "table (5 decimals), csv (full precision) or jsonl")
-      ->check(CLI::IsMember({"table", "csv", "jsonl"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "csv", "jsonl"},
+                  "table (5 decimals), csv (full precision) or jsonl");
   cmd->add_option("-o,--output", o->output,
                   "write samples to FILE (atomically: complete or not at all; a FIFO or device is "
                   "written directly, a symlink is followed; '-' is stdout)");

@@ -14,6 +14,7 @@
 #include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/output.h"
+#include "plumb/hash.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"
 #include "plumb/timing.h"
@@ -445,9 +446,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       ->check(CLI::Range(1, 1024));
   cmd->add_option("--until", o->until,
                   "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
-  cmd->add_option("--format", o->format, "table, csv or json")
-      ->check(CLI::IsMember({"table", "csv", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "csv", "json"});
   cmd->add_option("--db", o->db, "also record the sweep in this SQLite results store");
   cmd->add_flag("--resume", o->resume,
                 "continue the same sweep in --db: skip cases already stored (a fresh start when "

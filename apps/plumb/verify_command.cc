@@ -99,9 +99,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
       "Exit codes: 0 nothing failed, 1 a check failed, 2 bad input.");
   AddModelOptions(cmd, &o->model, &o->sets, "for the nominal scenario");
   AddKeyframeOption(cmd, &o->keyframe);
-  cmd->add_option("--format", o->format, "table or json")
-      ->check(CLI::IsMember({"table", "json"}))
-      ->capture_default_str();
+  AddFormatOption(cmd, &o->format, {"table", "json"});
   AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--tol", o->tol,
                   "relative tolerance: convergence error and energy drift, of the metric's scale")

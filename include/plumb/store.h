@@ -41,13 +41,6 @@ struct RunInfo {
   long count = 0;
 };
 
-// Hex FNV-1a 64-bit hash of a file's bytes. @throws IoError.
-std::string HashFile(const std::string& path);
-
-// Hex FNV-1a 64-bit hash of the compiled model as mj_saveModel writes it: changes when
-// any included file changes, not when only comments or formatting do.
-std::string HashModel(const Model& model);
-
 // SQLite application_id of a plumb results store ("plmb").
 inline constexpr int kStoreApplicationId = 0x706c6d62;
 

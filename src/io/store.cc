@@ -85,35 +85,6 @@ class Statement {
 
 }  // namespace
 
-std::string HashFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError("cannot read '" + path + "' to hash it");
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  char buffer[65536];
-  while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0) {
-    for (std::streamsize i = 0; i < in.gcount(); ++i) {
-      h ^= static_cast<unsigned char>(buffer[i]);
-      h *= 0x100000001b3ULL;
-    }
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
-
-std::string HashModel(const Model& model) {
-  const mjModel* m = model.get();
-  std::vector<unsigned char> buffer(static_cast<std::size_t>(mj_sizeModel(m)));
-  mj_saveModel(m, nullptr, buffer.data(), static_cast<int>(buffer.size()));
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : buffer) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
 
 struct ResultsStore::Impl {
   sqlite3* db = nullptr;
@@ -338,6 +309,32 @@ void ResultsStore::ForEachResult(long run, const std::function<void(const Rollou
   }
 }
 
+namespace {
+
+// A run an input says is finished must hold every index: a hole there means the store was
+// edited or damaged, and a merge would pass the hole on as a complete run.
+void RequireCompleteIfFinished(ResultsStore& in, const RunInfo& run, const std::string& input) {
+  if (run.finished.empty()) return;
+  std::vector<long> done = in.DoneIndices(run.id);
+  if (static_cast<long>(done.size()) == run.count) return;
+  std::vector<std::string> missing;
+  std::size_t k = 0;
+  for (long i = 0; i < run.count && missing.size() < 6; ++i) {
+    while (k < done.size() && done[k] < i) ++k;
+    if (k < done.size() && done[k] == i) continue;
+    missing.push_back(std::to_string(i));
+  }
+  throw ValueError(fmt::format(
+      "merge: '{}' says run {} is complete, but it holds {} of its {} rollouts (missing: {}{}); "
+      "the store was edited or damaged. Run the rollouts again with --resume on that store "
+      "before merging.",
+      input, run.id, done.size(), run.count, fmt::join(missing, ", "),
+      static_cast<long>(done.size()) + static_cast<long>(missing.size()) < run.count ? ", ..."
+                                                                                      : ""));
+}
+
+}  // namespace
+
 void MergeStores(const std::vector<std::string>& inputs, const std::string& output) {
   if (std::filesystem::exists(output)) {
     throw IoError("merge: '" + output + "' exists already; give a new file name.");
@@ -356,6 +353,7 @@ void MergeStores(const std::vector<std::string>& inputs, const std::string& outp
       if (!std::filesystem::exists(input)) throw IoError("merge: no such store '" + input + "'.");
       ResultsStore in(input, ResultsStore::Mode::kReadOnly);
       for (const RunInfo& run : in.Runs()) {
+        RequireCompleteIfFinished(in, run, input);
         auto [it, fresh] = by_config.emplace(run.config, 0);
         if (fresh) {
           RunInfo copy = run;

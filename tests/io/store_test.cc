@@ -1,0 +1,116 @@
+// The results store and merge at API level: rows in and out, resume, shards merged into one
+// run, and the merges that must fail (disagreeing shards, a "complete" run with holes).
+
+#include "plumb/hash.h"
+#include "plumb/store.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using testing::TempDir;
+
+RolloutResult Result(long index, double metric) {
+  RolloutResult r;
+  r.index = index;
+  r.params = {0.5 * index};
+  r.metrics = {metric, NAN};
+  return r;
+}
+
+RunInfo Info(long count) {
+  RunInfo info;
+  info.kind = "rollout";
+  info.config = "seed 1; count " + std::to_string(count);
+  info.command = "plumb rollout ...";
+  info.parameters = {"dof_damping[hinge]"};
+  info.metrics = {"qpos[hinge]@1", "period(qpos[hinge])"};
+  info.count = count;
+  return info;
+}
+
+// Writes a store at `path` with the results of `indices` for a run of `count`.
+void WriteStore(const std::string& path, long count, const std::vector<long>& indices,
+                bool finish, double offset = 0) {
+  ResultsStore store(path);
+  long run = store.BeginRun(Info(count));
+  for (long i : indices) store.Add(run, Result(i, i + offset));
+  store.Commit();
+  if (finish) store.FinishRun(run);
+}
+
+TEST(StoreTest, HashesAreFnv1a64) {
+  TempDir dir;
+  testing::WriteFile(dir.File("empty"), "");
+  testing::WriteFile(dir.File("a"), "a");
+  EXPECT_EQ(HashFile(dir.File("empty")), "cbf29ce484222325");
+  EXPECT_EQ(HashFile(dir.File("a")), "af63dc4c8601ec8c");
+  Model model = Model::Load(testing::kPendulum);
+  EXPECT_EQ(HashModel(model), HashModel(Model::Load(testing::kPendulum)));
+  EXPECT_EQ(HashModel(model).size(), 16u);
+}
+
+TEST(StoreTest, RowsComeBackInIndexOrderWithNaNsAndResumeSeesThem) {
+  TempDir dir;
+  std::string path = dir.File("r.sqlite");
+  WriteStore(path, 5, {3, 0, 1}, false);
+  ResultsStore store(path, ResultsStore::Mode::kReadOnly);
+  std::vector<RunInfo> runs = store.Runs();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_TRUE(runs[0].finished.empty());
+  EXPECT_EQ(runs[0].metrics, Info(5).metrics);
+  EXPECT_EQ(store.DoneIndices(runs[0].id), (std::vector<long>{0, 1, 3}));
+  std::vector<RolloutResult> rows = store.Results(runs[0].id);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2].index, 3);
+  EXPECT_EQ(rows[2].params, (std::vector<double>{1.5}));
+  EXPECT_EQ(rows[2].metrics[0], 3);
+  EXPECT_TRUE(std::isnan(rows[2].metrics[1]));
+  ASSERT_TRUE(store.FindRun(Info(5).config).has_value());
+  EXPECT_FALSE(store.FindRun("another config").has_value());
+}
+
+TEST(StoreTest, ShardsMergeIntoOneFinishedRun) {
+  TempDir dir;
+  WriteStore(dir.File("a.sqlite"), 4, {0, 2}, false);
+  WriteStore(dir.File("b.sqlite"), 4, {1, 3}, false);
+  MergeStores({dir.File("a.sqlite"), dir.File("b.sqlite")}, dir.File("all.sqlite"));
+  ResultsStore all(dir.File("all.sqlite"), ResultsStore::Mode::kReadOnly);
+  std::vector<RunInfo> runs = all.Runs();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_FALSE(runs[0].finished.empty());
+  EXPECT_EQ(all.DoneIndices(runs[0].id), (std::vector<long>{0, 1, 2, 3}));
+  // a partial merge (one shard so far) is an unfinished run that --resume completes
+  MergeStores({dir.File("a.sqlite")}, dir.File("part.sqlite"));
+  ResultsStore part(dir.File("part.sqlite"), ResultsStore::Mode::kReadOnly);
+  EXPECT_TRUE(part.Runs()[0].finished.empty());
+}
+
+TEST(StoreTest, MergesThatWouldLieFailAndLeaveNothing) {
+  TempDir dir;
+  WriteStore(dir.File("a.sqlite"), 4, {0, 1}, false);
+  WriteStore(dir.File("other.sqlite"), 4, {1, 2}, false, /*offset=*/0.5);
+  EXPECT_THROW(MergeStores({dir.File("a.sqlite"), dir.File("other.sqlite")}, dir.File("x.sqlite")),
+               ValueError);
+  EXPECT_FALSE(std::filesystem::exists(dir.File("x.sqlite")));
+  // a run its store calls complete, with holes: refused, naming what is missing
+  WriteStore(dir.File("holes.sqlite"), 4, {0, 3}, /*finish=*/true);
+  try {
+    MergeStores({dir.File("holes.sqlite")}, dir.File("y.sqlite"));
+    ADD_FAILURE() << "merged a run with holes";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing: 1, 2"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.File("y.sqlite")));
+  EXPECT_THROW(MergeStores({dir.File("a.sqlite")}, dir.File("a.sqlite")), IoError);
+}
+
+}  // namespace
+}  // namespace plumb
