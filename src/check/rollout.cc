@@ -1,9 +1,6 @@
 #include "plumb/rollout.h"
 
 #include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -13,6 +10,7 @@
 #include <map>
 #include <optional>
 
+#include "check/worker_pool.h"
 #include "core/mujoco_compat.h"
 #include "plumb/strings.h"
 #include "plumb/analytic.h"
@@ -120,13 +118,6 @@ std::size_t ParameterCount(const RolloutSpec& spec) {
   return n;
 }
 
-// One worker: a model copy and a data, reused for every rollout it runs.
-struct Worker {
-  Model work;
-  Data data;
-  explicit Worker(const Model& nominal) : work(nominal.Clone()), data(work) {}
-};
-
 // Everything measured during one run.
 struct Probe {
   std::vector<double> values;             // per metric
@@ -137,7 +128,7 @@ struct Probe {
 // The random key of actuator j's control noise: far above any parameter's key.
 constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
 
-RolloutResult RunOne(const Model& nominal, Worker& w, const RolloutSpec& spec, long index,
+RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index,
                      bool energy) {
   RolloutResult out;
   out.index = index;
@@ -404,10 +395,9 @@ struct RolloutPool::Impl {
   const Model& model;
   const RolloutSpec& spec;
   bool energy;
-  tbb::enumerable_thread_specific<std::optional<Worker>> workers;
-  tbb::task_arena arena;
+  WorkerPool pool;
   Impl(const Model& m, const RolloutSpec& s)
-      : model(m), spec(s), energy(NeedsEnergy(s)), arena(s.threads) {}
+      : model(m), spec(s), energy(NeedsEnergy(s)), pool(m, s.threads) {}
 };
 
 RolloutPool::RolloutPool(const Model& model, const RolloutSpec& spec)
@@ -419,45 +409,31 @@ void RolloutPool::Run(const std::vector<long>& indices,
                       const std::function<void(const RolloutResult&)>& emit,
                       const std::atomic<bool>* stop) {
   Impl& p = *impl_;
-  const std::atomic<bool>& stopping = stop ? *stop : StopFlag();
   std::atomic<long> done{0};
+  WorkerPool::Job<RolloutResult> job = [&](WorkerPool::Worker& w, long index,
+                                           RolloutResult* result) {
+    try {
+      *result = RunOne(p.model, w, p.spec, index, p.energy);
+    } catch (const Interrupted&) {
+      return false;  // abandoned mid-run (plumb::StopFlag)
+    }
+    long count = ++done;
+    if (p.spec.progress) p.spec.progress(count, static_cast<long>(indices.size()));
+    return true;
+  };
+  const std::size_t chunk = 64 * static_cast<std::size_t>(p.spec.threads);
+  std::size_t first = 0;
+  auto next_chunk = [&](std::vector<long>* out) {
+    std::size_t n = std::min(chunk, indices.size() - first);
+    out->assign(indices.begin() + first, indices.begin() + first + n);
+    first += n;
+    return n > 0;
+  };
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
   };
-  const std::size_t chunk = 64 * static_cast<std::size_t>(p.spec.threads);
-  std::vector<RolloutResult> results;
-  std::vector<char> finished;
-  for (std::size_t first = 0; first < indices.size(); first += chunk) {
-    if (stopping.load()) throw interrupted();
-    std::size_t n = std::min(chunk, indices.size() - first);
-    results.assign(n, RolloutResult{});
-    finished.assign(n, 0);
-    p.arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        std::optional<Worker>& w = p.workers.local();
-        if (!w) w.emplace(p.model);
-        try {
-          results[i] = RunOne(p.model, *w, p.spec, indices[first + i], p.energy);
-        } catch (const Interrupted&) {
-          w.reset();  // abandoned mid-run (plumb::StopFlag): its model copy may hold draws
-          return;
-        } catch (...) {
-          // a MuJoCo error (or any other) left the copy mid-run with this rollout's draws:
-          // the next rollout on this thread gets a fresh copy of the nominal model
-          w.reset();
-          throw;
-        }
-        finished[i] = 1;
-        long count = ++done;
-        if (p.spec.progress) p.spec.progress(count, static_cast<long>(indices.size()));
-      });
-    });
-    // the rollouts that finished before the first abandoned one are kept
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!finished[i]) throw interrupted();
-      emit(results[i]);
-    }
-  }
+  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop ? *stop : StopFlag(),
+                               interrupted);
 }
 
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,

@@ -1,9 +1,8 @@
 #include "plumb/sweep.h"
 
+#include "check/worker_pool.h"
+
 #include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -12,6 +11,7 @@
 #include <memory>
 #include <optional>
 
+#include "check/worker_pool.h"
 #include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
@@ -197,19 +197,10 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
   const long total = CaseCount(spec.axes);
   const std::atomic<bool>& stopping = stop ? *stop : StopFlag();
 
-  // one model copy and one data per worker, made on first use and kept for every chunk
-  struct Worker {
-    Model work;
-    Data data;
-    explicit Worker(const Model& nominal) : work(nominal.Clone()), data(work) {}
-  };
-  tbb::enumerable_thread_specific<std::optional<Worker>> workers;
   std::atomic<long> done{0};
-
   // one case: false when a stop request abandoned it
-  auto run_case = [&](long index, SweepCase* c) {
-    std::optional<Worker>& worker = workers.local();
-    if (!worker) worker.emplace(model);
+  WorkerPool::Job<SweepCase> run_case = [&](WorkerPool::Worker& worker, long index,
+                                            SweepCase* c) {
     c->index = index;
     c->choice = CaseChoice(spec.axes, index);
     std::vector<Assignment> sets = spec.sets;
@@ -233,47 +224,31 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
       for (const Metric& metric : spec.metrics) {
         double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
         c->metrics.push_back(
-            MeasureInPlace(model, worker->work, worker->data, sets, metric, case_dt, until));
+            MeasureInPlace(model, worker.work, worker.data, sets, metric, case_dt, until));
       }
     } catch (const Interrupted&) {
-      worker.reset();  // abandoned mid-run: its model copy may hold this case's values
-      return false;
+      return false;  // abandoned mid-run
     }
     long finished = ++done;
     if (spec.progress) spec.progress(finished, total);
     return true;
   };
-
-  // the cases not yet done, a chunk at a time: each chunk runs in parallel and is emitted
-  // in order, so rows stream and memory stays flat
-  tbb::task_arena arena(spec.threads);
+  // the cases not yet done, a chunk at a time (16 per thread), emitted in order
   const long chunk_size = 16L * spec.threads;
-  std::vector<SweepCase> cases;
-  std::vector<long> indices;
-  std::unique_ptr<std::atomic<bool>[]> finished(new std::atomic<bool>[chunk_size]);
+  long next = 0;
+  auto next_chunk = [&](std::vector<long>* indices) {
+    for (; next < total && static_cast<long>(indices->size()) < chunk_size; ++next) {
+      if (!std::binary_search(skip.begin(), skip.end(), next)) indices->push_back(next);
+    }
+    return !indices->empty();
+  };
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " of " +
                        std::to_string(total - static_cast<long>(skip.size())) + " cases");
   };
-  long next = 0;
-  while (next < total) {
-    if (stopping.load()) throw interrupted();
-    indices.clear();
-    for (; next < total && static_cast<long>(indices.size()) < chunk_size; ++next) {
-      if (!std::binary_search(skip.begin(), skip.end(), next)) indices.push_back(next);
-    }
-    cases.assign(indices.size(), SweepCase{});
-    for (std::size_t i = 0; i < indices.size(); ++i) finished[i] = false;
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, indices.size(), [&](std::size_t i) {
-        finished[i] = run_case(indices[i], &cases[i]);
-      });
-    });
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-      if (!finished[i]) throw interrupted();  // the cases before it were emitted
-      emit(cases[i]);
-    }
-  }
+  WorkerPool pool(model, spec.threads);
+  pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit,
+                         stopping, interrupted);
 }
 
 std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {

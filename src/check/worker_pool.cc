@@ -1,0 +1,95 @@
+#include "check/worker_pool.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace plumb {
+namespace {
+
+// One job on the worker of the thread that runs it: the worker is made on first use, and
+// dropped when the job is abandoned (its copy may hold the job's edits) or throws (a MuJoCo
+// error left it mid-job), so the next job on that thread starts from the nominal model.
+void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
+            const std::function<bool(WorkerPool::Worker&, std::size_t)>& run, std::size_t i,
+            std::vector<char>* finished) {
+  if (!worker) worker.emplace(nominal);
+  bool done;
+  try {
+    done = run(*worker, i);
+  } catch (...) {
+    worker.reset();
+    throw;
+  }
+  if (!done) worker.reset();
+  (*finished)[i] = done ? 1 : 0;
+}
+
+}  // namespace
+
+struct WorkerPool::Impl {
+  const Model& nominal;
+  int threads;
+  tbb::task_arena arena;
+  tbb::enumerable_thread_specific<std::optional<Worker>> workers;
+  std::vector<std::optional<Worker>> slots;  // ThreadSanitizer builds: one per std::thread
+  Impl(const Model& m, int n) : nominal(m), threads(n), arena(n), slots(n) {}
+};
+
+WorkerPool::WorkerPool(const Model& nominal, int threads)
+    : impl_(std::make_unique<Impl>(nominal, threads)) {}
+
+WorkerPool::~WorkerPool() = default;
+
+int WorkerPool::threads() const { return impl_->threads; }
+
+#if !defined(__SANITIZE_THREAD__)
+
+void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
+                          std::vector<char>* finished) {
+  Impl& p = *impl_;
+  p.arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      RunJob(p.nominal, p.workers.local(), run, i, finished);
+    });
+  });
+}
+
+#else
+
+// ThreadSanitizer builds (make test-tsan) run each chunk on std::threads, which TSan follows,
+// instead of the TBB arena: Debian's oneTBB is not built with TSan, so the fork and join
+// inside libtbb are invisible to it and every job would be reported as racing with the
+// thread that set it up. The jobs, their workers and everything they share are the same.
+void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
+                          std::vector<char>* finished) {
+  Impl& p = *impl_;
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto thread_body = [&](int slot) {
+    for (std::size_t i; (i = next++) < n;) {
+      try {
+        RunJob(p.nominal, p.slots[slot], run, i, finished);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;  // no further jobs
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int slot = 1; slot < p.threads; ++slot) threads.emplace_back(thread_body, slot);
+  thread_body(0);
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+#endif
+
+}  // namespace plumb

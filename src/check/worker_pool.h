@@ -1,0 +1,82 @@
+// The one worker pool of sweep and rollout: a TBB arena of `threads`, and per thread a copy
+// of the nominal model with its data, made on first use and kept for every job that thread
+// runs. Jobs run a chunk at a time and their results are handed on in job order, so output
+// streams in order and memory stays flat, and a stop request keeps what finished before it.
+
+#ifndef PLUMB_SRC_CHECK_WORKER_POOL_H_
+#define PLUMB_SRC_CHECK_WORKER_POOL_H_
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "plumb/error.h"
+#include "plumb/model.h"
+
+namespace plumb {
+
+class WorkerPool {
+ public:
+  // What each thread works with: its own copy of the nominal model and a data for it.
+  struct Worker {
+    Model work;
+    Data data;
+    explicit Worker(const Model& nominal) : work(nominal.Clone()), data(work) {}
+  };
+
+  // A job runs `index` on `worker`, writing its result; it returns false when a stop request
+  // abandoned it. An abandoned job's worker (its model copy may hold the job's edits) is
+  // replaced, and so is the worker of a job that throws; the exception then leaves Stream.
+  template <typename Result>
+  using Job = std::function<bool(Worker& worker, long index, Result* result)>;
+
+  WorkerPool(const Model& nominal, int threads);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  int threads() const;
+
+  // Runs the jobs `next_chunk` hands out (it fills the vector it is given with the next up to
+  // `chunk` indices, and returns false when there are none left), each chunk in parallel, and passes their results
+  // to `emit` in index order. Between chunks it looks at `stop`: when set, or when a job was
+  // abandoned, it throws what `interrupted` makes, after emitting every result before the
+  // first unfinished job.
+  template <typename Result>
+  void Stream(std::size_t chunk, const std::function<bool(std::vector<long>*)>& next_chunk,
+              const Job<Result>& job, const std::function<void(const Result&)>& emit,
+              const std::atomic<bool>& stop, const std::function<Interrupted()>& interrupted) {
+    std::vector<long> indices;
+    std::vector<Result> results;
+    std::vector<char> finished;
+    while (true) {
+      if (stop.load()) throw interrupted();
+      indices.clear();
+      indices.reserve(chunk);
+      if (!next_chunk(&indices) || indices.empty()) return;
+      results.assign(indices.size(), Result{});
+      finished.assign(indices.size(), 0);
+      RunChunk(indices.size(), [&](Worker& worker, std::size_t i) {
+        return job(worker, indices[i], &results[i]);
+      }, &finished);
+      for (std::size_t i = 0; i < indices.size(); ++i) {
+        if (!finished[i]) throw interrupted();  // the results before it were emitted
+        emit(results[i]);
+      }
+    }
+  }
+
+ private:
+  // Runs run(worker, i) for i in [0, n) on the arena; finished[i] says which returned true.
+  void RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
+                std::vector<char>* finished);
+
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_CHECK_WORKER_POOL_H_
