@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 
+#include "check/metric_probe.h"
 #include "check/worker_pool.h"
 #include "core/mujoco_compat.h"
 #include "plumb/strings.h"
@@ -118,12 +119,6 @@ std::size_t ParameterCount(const RolloutSpec& spec) {
   return n;
 }
 
-// Everything measured during one run.
-struct Probe {
-  std::vector<double> values;             // per metric
-  std::vector<std::vector<double>> t, x;  // period metrics
-  double e0 = kNaN, max_kinetic = 0;
-};
 
 // The random key of actuator j's control noise: far above any parameter's key.
 constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
@@ -215,68 +210,7 @@ RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutS
 
   // the run, probing every step
   double dt = m->opt.timestep;
-  Probe probe;
-  probe.values.assign(spec.metrics.size(), kNaN);
-  probe.t.resize(spec.metrics.size());
-  probe.x.resize(spec.metrics.size());
-  // after mj_step, xpos, sensordata and energy still describe the state before the step:
-  // they are recomputed (without touching the trajectory) at the steps a metric reads them
-  std::vector<char> reads_derived(spec.metrics.size());
-  std::vector<long> read_step(spec.metrics.size(), -1);  // -1: every step
-  for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
-    const Metric& metric = spec.metrics[k];
-    reads_derived[k] = metric.kind == MetricKind::kEnergyDrift ||
-                       (metric.kind != MetricKind::kStateAt && metric.path.role == Role::kDerived);
-    if (metric.kind == MetricKind::kValueAt) read_step[k] = std::lround(metric.time / dt);
-  }
-  DerivedRefresher refresh(m);
-  auto observe = [&](const mjData* dd, long step) {
-    if (step > 0) {
-      for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
-        if (reads_derived[k] && (read_step[k] < 0 || read_step[k] == step)) {
-          refresh(d);
-          break;
-        }
-      }
-    }
-    for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
-      const Metric& metric = spec.metrics[k];
-      switch (metric.kind) {
-        case MetricKind::kValueAt:
-          if (step == std::lround(metric.time / dt)) {
-            probe.values[k] = ReadValue(w.work, w.data, metric.path);
-          }
-          break;
-        case MetricKind::kStateAt:
-          if (step == std::lround(metric.time / dt)) {
-            double norm = 0;
-            for (int i = 0; i < m->nq; ++i) norm += dd->qpos[i] * dd->qpos[i];
-            for (int i = 0; i < m->nv; ++i) norm += dd->qvel[i] * dd->qvel[i];
-            for (int i = 0; i < m->na; ++i) norm += dd->act[i] * dd->act[i];
-            probe.values[k] = std::sqrt(norm);
-          }
-          break;
-        case MetricKind::kMaxAbs: {
-          double v = std::fabs(ReadValue(w.work, w.data, metric.path));
-          probe.values[k] = std::isnan(probe.values[k]) ? v : std::max(probe.values[k], v);
-          break;
-        }
-        case MetricKind::kPeriod:
-          probe.t[k].push_back(dd->time);
-          probe.x[k].push_back(ReadValue(w.work, w.data, metric.path));
-          break;
-        case MetricKind::kEnergyDrift: {
-          double e = dd->energy[0] + dd->energy[1];
-          if (step == 0) probe.e0 = e;
-          probe.max_kinetic = std::max(probe.max_kinetic, dd->energy[1]);
-          double scale =
-              probe.max_kinetic > 0 ? probe.max_kinetic : std::max(1.0, std::fabs(probe.e0));
-          probe.values[k] = (e - probe.e0) / scale;
-          break;
-        }
-      }
-    }
-  };
+  MetricProbe probe(w.work, spec.metrics, /*scales=*/false);
   RunSpec run;
   run.until = spec.until;
   run.every = static_cast<double>(std::max(1L, StepsToReach(spec.until, dt))) *
@@ -298,8 +232,8 @@ RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutS
       }
     };
   }
-  run.after_step = observe;
-  observe(d, 0);
+  run.after_step = [&](const mjData*, long step) { probe.Observe(w.data, step); };
+  probe.Observe(w.data, 0);
   NullSink sink;
   RunResult result = Run(w.work, w.data, run, sink);
   TakeMujocoWarnings();
@@ -315,14 +249,8 @@ RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutS
     out.metrics.assign(spec.metrics.size(), kNaN);
   } else {
     for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
-      if (spec.metrics[k].kind == MetricKind::kPeriod && !probe.x[k].empty()) {
-        auto [lo, hi] = std::minmax_element(probe.x[k].begin(), probe.x[k].end());
-        std::optional<double> period =
-            PeriodFromCrossings(probe.t[k], probe.x[k], 0.5 * (*lo + *hi));
-        probe.values[k] = period ? *period : kNaN;
-      }
+      out.metrics.push_back(probe.Result(k, spec.until).value);  // NaN when unmeasurable
     }
-    out.metrics = probe.values;
   }
   restore();
   return out;
