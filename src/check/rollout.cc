@@ -123,137 +123,189 @@ std::size_t ParameterCount(const RolloutSpec& spec) {
 // The random key of actuator j's control noise: far above any parameter's key.
 constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
 
-RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index,
-                     bool energy) {
-  RolloutResult out;
-  out.index = index;
-  mjModel* m = w.work.get_mutable();
-  mjData* d = w.data.get();
+// One rollout on a worker: its draws, its run, its metrics; the worker's model is put back
+// to the nominal one afterwards.
+class OneRollout {
+ public:
+  OneRollout(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index)
+      : nominal_(nominal),
+        w_(w),
+        spec_(spec),
+        index_(index),
+        // a drawn body_mass rescales its body's inertia (WriteValues): kept to be put back
+        inertia_(w.work->body_inertia, w.work->body_inertia + 3 * w.work->nbody) {
+    out_.index = index;
+    out_.params.assign(ParameterCount(spec), kNaN);
+  }
 
-  // parameters: the user's, then this rollout's draws from the nominal values
-  bool arrays_changed = WriteParameters(w.work, w.data, spec.sets);
-  // every element has its own random key, its position in the expanded list
-  auto draw = [&](const Distribution& dist, std::uint32_t key, double nominal_value) {
-    double u = Uniform01(spec.seed, static_cast<std::uint64_t>(index), key, 0);
-    double z = StandardNormal(spec.seed, static_cast<std::uint64_t>(index), key, 1);
+  RolloutResult Run(bool energy) {
+    mjModel* m = w_.work.get_mutable();
+    // parameters: the user's, then this rollout's draws from the nominal values
+    bool arrays_changed = WriteParameters(w_.work, w_.data, spec_.sets);
+    if (const Randomization* bad = DrawParameters()) return Refuse(*bad);  // nothing written
+    arrays_changed = WriteParameterDraws() || arrays_changed;
+    if (arrays_changed) mj_setConst(m, w_.data.get());
+    if (energy) m->opt.enableflags |= mjENBL_ENERGY;
+    compat::ResetState(m, w_.data.get());
+    WriteState(w_.work, w_.data, spec_.sets);
+    // state draws start from the state the user set
+    if (const Randomization* bad = DrawState()) {
+      Restore();
+      return Refuse(*bad);
+    }
+    w_.data.Forward();
+    Simulate();
+    Restore();
+    return out_;
+  }
+
+ private:
+  // Every element has its own random key, its position in the expanded list.
+  double Draw(const Distribution& dist, std::uint32_t key, double nominal_value) const {
+    double u = Uniform01(spec_.seed, static_cast<std::uint64_t>(index_), key, 0);
+    double z = StandardNormal(spec_.seed, static_cast<std::uint64_t>(index_), key, 1);
     return dist.Apply(nominal_value, u, z);
-  };
-  // a drawn body_mass rescales its body's inertia (WriteValues): kept to be put back exactly
-  std::vector<mjtNum> inertia(m->body_inertia, m->body_inertia + 3 * m->nbody);
-  // restores what this rollout changed, so the next starts from the nominal model
-  auto restore = [&] {
-    for (const Randomization& r : spec.randomize) {
-      for (const Path& p : r.paths) {
-        if (p.role == Role::kParameter)
-          WriteValues(w.work, w.data, p, {ReadValue(nominal, w.data, p)});
-      }
-    }
-    m->opt.enableflags = nominal->opt.enableflags;
-    std::copy(inertia.begin(), inertia.end(), m->body_inertia);
-  };
-  // a draw MuJoCo cannot take (a negative mass from N(mu, sigma), a fraction for an
-  // integer field) is this rollout's problem, recorded; the batch goes on
-  auto refuse = [&](const Randomization& r, const Error& e) {
-    out.problem = fmt::format("rollout {}: --randomize '{}' drew a value MuJoCo cannot take: {}",
-                              index, r.text, e.what());
-    out.metrics.assign(spec.metrics.size(), kNaN);
-    return out;
-  };
-  std::uint32_t key = 0;
-  out.params.assign(ParameterCount(spec), kNaN);
-  for (const Randomization& r : spec.randomize) {
-    for (const Path& p : r.paths) {
-      if (p.role == Role::kParameter) {
-        out.params[key] = draw(r.dist, key, ReadValue(nominal, w.data, p));
-        try {
-          CheckAssignable(p, out.params[key]);
-        } catch (const Error& e) {
-          return refuse(r, e);  // nothing written yet
-        }
-      }
-      ++key;
-    }
   }
-  key = 0;
-  for (const Randomization& r : spec.randomize) {
-    for (const Path& p : r.paths) {
-      if (p.role == Role::kParameter) {
-        WriteValues(w.work, w.data, p, {out.params[key]});
-        arrays_changed = arrays_changed || ChangesModelArrays(p);
-      }
-      ++key;
-    }
-  }
-  if (arrays_changed) mj_setConst(m, d);
-  if (energy) m->opt.enableflags |= mjENBL_ENERGY;
-  compat::ResetState(m, d);
-  WriteState(w.work, w.data, spec.sets);
-  // state draws start from the state the user set
-  key = 0;
-  for (const Randomization& r : spec.randomize) {
-    for (const Path& p : r.paths) {
-      if (p.role != Role::kParameter) {
-        double v = draw(r.dist, key, ReadValue(w.work, w.data, p));
-        out.params[key] = v;
-        try {
-          CheckAssignable(p, v);
-        } catch (const Error& e) {
-          restore();
-          return refuse(r, e);
-        }
-        WriteValues(w.work, w.data, p, {v});
-      }
-      ++key;
-    }
-  }
-  w.data.Forward();
 
-  // the run, probing every step
-  double dt = m->opt.timestep;
-  MetricProbe probe(w.work, spec.metrics, /*scales=*/false);
-  RunSpec run;
-  run.until = spec.until;
-  run.every = static_cast<double>(std::max(1L, StepsToReach(spec.until, dt))) *
-              dt;  // metrics probe every step
-  if (spec.ctrl_noise > 0) {
-    run.before_step = [&](mjData* dd, long step) {
-      for (int j = 0; j < m->nu; ++j) {
-        double centre = 0, radius = 1;
-        if (m->actuator_ctrllimited[j]) {
-          centre = 0.5 * (m->actuator_ctrlrange[2 * j + 1] + m->actuator_ctrlrange[2 * j]);
-          radius = 0.5 * (m->actuator_ctrlrange[2 * j + 1] - m->actuator_ctrlrange[2 * j]);
-        }
-        // keyed by (seed, rollout, actuator, step): every rollout has noise of its own,
-        // the same for any thread count, shard or resume
-        double u = Uniform01(spec.seed, static_cast<std::uint64_t>(index),
-                             kCtrlNoiseKey + static_cast<std::uint32_t>(j),
-                             static_cast<std::uint32_t>(step));
-        dd->ctrl[j] = centre + spec.ctrl_noise * radius * (2 * u - 1);
-      }
-    };
-  }
-  run.after_step = [&](const mjData*, long step) { probe.Observe(w.data, step); };
-  probe.Observe(w.data, 0);
-  NullSink sink;
-  RunResult result = Run(w.work, w.data, run, sink);
-  TakeMujocoWarnings();
-  for (const WarningSummary& warning : result.warnings) {
-    out.warnings += (out.warnings.empty() ? "" : "; ") + warning.kind + " x" +
-                    std::to_string(warning.count) + " (t = " + std::to_string(warning.first_time) +
-                    " s)";
-  }
-  if (result.diverged) {
-    out.diverged = true;
-    out.diverged_time = result.divergence->bad.time;
-    out.problem = result.divergence->reason;
-    out.metrics.assign(spec.metrics.size(), kNaN);
-  } else {
-    for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
-      out.metrics.push_back(probe.Result(k, spec.until).value);  // NaN when unmeasurable
+  // Calls visit(randomization, path, key) for every randomized element.
+  template <typename Visit>
+  void ForEachElement(Visit visit) const {
+    std::uint32_t key = 0;
+    for (const Randomization& r : spec_.randomize) {
+      for (const Path& p : r.paths) visit(r, p, key++);
     }
   }
-  restore();
-  return out;
+
+  // Draws every parameter element from its nominal value; the randomization whose draw
+  // MuJoCo cannot take, or null.
+  const Randomization* DrawParameters() {
+    const Randomization* bad = nullptr;
+    ForEachElement([&](const Randomization& r, const Path& p, std::uint32_t key) {
+      if (bad || p.role != Role::kParameter) return;
+      out_.params[key] = Draw(r.dist, key, ReadValue(nominal_, w_.data, p));
+      if (!Assignable(p, out_.params[key])) bad = &r;
+    });
+    return bad;
+  }
+
+  // Writes the parameter draws; whether a model array changed.
+  bool WriteParameterDraws() {
+    bool arrays_changed = false;
+    ForEachElement([&](const Randomization&, const Path& p, std::uint32_t key) {
+      if (p.role != Role::kParameter) return;
+      WriteValues(w_.work, w_.data, p, {out_.params[key]});
+      arrays_changed = arrays_changed || ChangesModelArrays(p);
+    });
+    return arrays_changed;
+  }
+
+  // Draws and writes every state element; the randomization that failed, or null.
+  const Randomization* DrawState() {
+    const Randomization* bad = nullptr;
+    ForEachElement([&](const Randomization& r, const Path& p, std::uint32_t key) {
+      if (bad || p.role == Role::kParameter) return;
+      double v = Draw(r.dist, key, ReadValue(w_.work, w_.data, p));
+      out_.params[key] = v;
+      if (!Assignable(p, v)) {
+        bad = &r;
+        return;
+      }
+      WriteValues(w_.work, w_.data, p, {v});
+    });
+    return bad;
+  }
+
+  bool Assignable(const Path& p, double v) {
+    try {
+      CheckAssignable(p, v);
+      return true;
+    } catch (const Error& e) {
+      refusal_ = e.what();
+      return false;
+    }
+  }
+
+  // A draw MuJoCo cannot take (a negative mass from N(mu, sigma), a fraction for an integer
+  // field) is this rollout's problem, recorded; the batch goes on.
+  RolloutResult Refuse(const Randomization& r) {
+    out_.problem = fmt::format("rollout {}: --randomize '{}' drew a value MuJoCo cannot take: {}",
+                               index_, r.text, refusal_);
+    out_.metrics.assign(spec_.metrics.size(), kNaN);
+    return out_;
+  }
+
+  // Restores what this rollout changed, so the next starts from the nominal model.
+  void Restore() {
+    ForEachElement([&](const Randomization&, const Path& p, std::uint32_t) {
+      if (p.role == Role::kParameter) {
+        WriteValues(w_.work, w_.data, p, {ReadValue(nominal_, w_.data, p)});
+      }
+    });
+    mjModel* m = w_.work.get_mutable();
+    m->opt.enableflags = nominal_->opt.enableflags;
+    std::copy(inertia_.begin(), inertia_.end(), m->body_inertia);
+  }
+
+  // Control noise keyed by (seed, rollout, actuator, step): every rollout has noise of its
+  // own, the same for any thread count, shard or resume.
+  void CtrlNoise(mjData* d, long step) const {
+    const mjModel* m = w_.work.get();
+    for (int j = 0; j < m->nu; ++j) {
+      double centre = 0, radius = 1;
+      if (m->actuator_ctrllimited[j]) {
+        centre = 0.5 * (m->actuator_ctrlrange[2 * j + 1] + m->actuator_ctrlrange[2 * j]);
+        radius = 0.5 * (m->actuator_ctrlrange[2 * j + 1] - m->actuator_ctrlrange[2 * j]);
+      }
+      double u = Uniform01(spec_.seed, static_cast<std::uint64_t>(index_),
+                           kCtrlNoiseKey + static_cast<std::uint32_t>(j),
+                           static_cast<std::uint32_t>(step));
+      d->ctrl[j] = centre + spec_.ctrl_noise * radius * (2 * u - 1);
+    }
+  }
+
+  // The run, probing every step, and what it gave.
+  void Simulate() {
+    double dt = w_.work->opt.timestep;
+    MetricProbe probe(w_.work, spec_.metrics, /*scales=*/false);
+    RunSpec run;
+    run.until = spec_.until;
+    // one sample at the end: the probe reads every step
+    run.every = static_cast<double>(std::max(1L, StepsToReach(spec_.until, dt))) * dt;
+    if (spec_.ctrl_noise > 0) run.before_step = [&](mjData* d, long step) { CtrlNoise(d, step); };
+    run.after_step = [&](const mjData*, long step) { probe.Observe(w_.data, step); };
+    probe.Observe(w_.data, 0);
+    NullSink sink;
+    RunResult result = plumb::Run(w_.work, w_.data, run, sink);
+    TakeMujocoWarnings();
+    for (const WarningSummary& warning : result.warnings) {
+      out_.warnings += (out_.warnings.empty() ? "" : "; ") + warning.kind + " x" +
+                       std::to_string(warning.count) +
+                       " (t = " + std::to_string(warning.first_time) + " s)";
+    }
+    if (result.diverged) {
+      out_.diverged = true;
+      out_.diverged_time = result.divergence->bad.time;
+      out_.problem = result.divergence->reason;
+      out_.metrics.assign(spec_.metrics.size(), kNaN);
+      return;
+    }
+    for (std::size_t k = 0; k < spec_.metrics.size(); ++k) {
+      out_.metrics.push_back(probe.Result(k, spec_.until).value);  // NaN when unmeasurable
+    }
+  }
+
+  const Model& nominal_;
+  WorkerPool::Worker& w_;
+  const RolloutSpec& spec_;
+  long index_;
+  std::vector<mjtNum> inertia_;
+  RolloutResult out_;
+  std::string refusal_;  // why the last draw was refused
+};
+
+RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec,
+                     long index, bool energy) {
+  return OneRollout(nominal, w, spec, index).Run(energy);
 }
 
 }  // namespace
