@@ -100,8 +100,7 @@ void ParseShard(const std::string& text, RolloutSpec* spec) {
   spec->shard_count = *n;
 }
 
-int RunRollout(const RolloutOptions& o, const Context& ctx) {
-  Model model = LoadModel(o.model);
+RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
   RolloutSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.sets);
   for (const std::string& r : o.randomize) spec.randomize.push_back(ParseRandomization(model, r));
@@ -112,18 +111,14 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   spec.seed = o.seed;
   spec.ctrl_noise = o.ctrl_noise;
   ParseShard(o.shard, &spec);
-  std::vector<std::string> params = ParameterNames(spec);
-
-  // the results store: a new run, or the same run continued with --resume
-  if (o.resume && o.db.empty()) throw ValueError("--resume needs --db FILE");
   ValidateRolloutSpec(model, spec);
-  // under MPI, ranks other than 0 only compute what rank 0 hands them, once rank 0 has
-  // set up the store (an error there must not leave them waiting)
-  if (MpiActive() && MpiRank() != 0) {
-    if (!MpiGo(true)) return kExitBadInput;  // rank 0 reports the error
-    MpiRollout(model, spec, {}, nullptr);
-    return kExitOk;
-  }
+  return spec;
+}
+
+// The results store: a new run, or the same run continued with --resume. Under MPI the
+// other ranks wait for rank 0 to get this far (an error here must not leave them waiting).
+StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Model& model,
+                           const std::vector<std::string>& params) {
   StoredRun stored;
   try {
     // the compiled model's hash names the run in the store; hashing a big mesh model costs
@@ -134,68 +129,151 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     info.metrics = o.metrics;
     info.count = o.count;
     stored = OpenStoredRun(o.db, o.resume, info);
-    spec.skip = stored.done;
   } catch (...) {
     MpiGo(false);
     throw;
   }
   MpiGo(true);
-  std::unique_ptr<ResultsStore>& store = stored.store;
-  const long run_id = stored.id;
-  // from here on an error on rank 0 stops every rank (see main)
+  return stored;
+}
 
-  long total = 0;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
-    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
-  }
-  ProgressBar progress(total, "rollouts");
-  spec.progress = [&](long done, long) { progress.Update(done); };
-
-  // header
-  std::vector<std::string> columns = RolloutCsvColumns(params, o.metrics);
-  if (o.format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
-  // rows reach stdout as they finish, in order (at most ten writes a second), so
-  // `plumb rollout ... | head -2` stops the batch early (exit 141, see WriteStdout)
-  std::string out;
-  auto last_write = std::chrono::steady_clock::now();
-  auto flush = [&] {
-    last_write = std::chrono::steady_clock::now();
-    if (out.empty()) return;
-    progress.Clear();
-    std::string text;
-    text.swap(out);
-    WriteStdout(text);
-  };
-  std::vector<int> widths;
-  if (o.format == "csv") {
-    out += CsvHeader(columns);
-  } else if (o.format == "json") {
-    out += "[\n";
-  } else {
-    for (const std::string& c : columns) {
-      widths.push_back(std::max<int>(10, static_cast<int>(c.size()) + 2));
-      out += fmt::format("{:>{}}", c, widths.back());
-    }
-    out += "\n";
-  }
-  flush();
-
-  // a resumed run's summary covers every row of its shard, stored before or run now
-  std::vector<Summary> summaries(spec.metrics.size());
-  long diverged = 0, emitted = 0, resumed = 0;
-  if (store && !spec.skip.empty()) {
-    store->ForEachResult(run_id, [&](const RolloutResult& r) {
-      if (r.index % spec.shard_count != spec.shard_index) return;
-      ++resumed;
-      diverged += r.diverged;
-      for (std::size_t k = 0; k < r.metrics.size() && k < summaries.size(); ++k) {
-        summaries[k].Add(r.metrics[k]);
+// The rows as table, CSV or JSON, reaching stdout as they finish, in order (at most ten
+// writes a second), so `plumb rollout ... | head -2` stops the batch early (exit 141, see
+// WriteStdout).
+class RolloutWriter {
+ public:
+  RolloutWriter(const std::string& format, const std::vector<std::string>& params,
+                const std::vector<std::string>& metrics, ProgressBar& progress)
+      : format_(format), params_(params), metrics_(metrics), progress_(progress) {
+    std::vector<std::string> columns = RolloutCsvColumns(params, metrics);
+    if (format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
+    if (format == "csv") {
+      out_ += CsvHeader(columns);
+    } else if (format == "json") {
+      out_ += "[\n";
+    } else {
+      for (const std::string& c : columns) {
+        widths_.push_back(std::max<int>(10, static_cast<int>(c.size()) + 2));
+        out_ += fmt::format("{:>{}}", c, widths_.back());
       }
-    });
+      out_ += "\n";
+    }
+    Flush();
   }
-  auto start = std::chrono::steady_clock::now();
-  // the indices of this shard that are not stored yet, `limit` at a time: memory does
-  // not grow with --count
+
+  void Row(const RolloutResult& r) {
+    ++rows_;
+    if (format_ == "csv") {
+      out_ += RolloutCsvRow(r);
+    } else if (format_ == "json") {
+      out_ += (rows_ > 1 ? ",\n  " : "  ") + JsonRow(r).dump();
+    } else {
+      TableRow(r);
+    }
+    if (out_.size() > (1 << 16) ||
+        std::chrono::steady_clock::now() - last_write_ > std::chrono::milliseconds(100)) {
+      Flush();
+    }
+  }
+
+  void Finish() {
+    if (format_ == "json") out_ += "\n]\n";
+    Flush();
+  }
+
+  void Flush() {
+    last_write_ = std::chrono::steady_clock::now();
+    if (out_.empty()) return;
+    progress_.Clear();
+    std::string text;
+    text.swap(out_);
+    WriteStdout(text);
+  }
+
+ private:
+  nlohmann::ordered_json JsonRow(const RolloutResult& r) const {
+    nlohmann::ordered_json row;
+    row["rollout"] = r.index;
+    nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
+    for (std::size_t k = 0; k < r.params.size(); ++k) p[params_[k]] = r.params[k];
+    for (std::size_t k = 0; k < r.metrics.size(); ++k) {
+      m[metrics_[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
+                                                : nlohmann::ordered_json(r.metrics[k]);
+    }
+    row["params"] = p;
+    row["metrics"] = m;
+    row["diverged"] = r.diverged;
+    if (r.diverged) row["diverged_time"] = r.diverged_time;
+    if (!r.problem.empty()) row["problem"] = r.problem;
+    return row;
+  }
+
+  void TableRow(const RolloutResult& r) {
+    std::size_t w = 0;
+    out_ += fmt::format("{:>{}}", r.index, widths_[w++]);
+    for (double v : r.params) out_ += fmt::format("{:>{}.6g}", v, widths_[w++]);
+    for (double v : r.metrics) {
+      out_ += std::isnan(v) ? fmt::format("{:>{}}", "-", widths_[w++])
+                            : fmt::format("{:>{}.6g}", v, widths_[w++]);
+    }
+    out_ += fmt::format("{:>{}}\n", r.diverged ? "yes" : "no", widths_[w++]);
+    if (!r.problem.empty() && !r.diverged) {
+      progress_.Clear();
+      std::fprintf(stderr, "plumb: %s\n", r.problem.c_str());
+    }
+  }
+
+  const std::string& format_;
+  const std::vector<std::string>& params_;
+  const std::vector<std::string>& metrics_;
+  ProgressBar& progress_;
+  std::vector<int> widths_;
+  std::string out_;
+  long rows_ = 0;
+  std::chrono::steady_clock::time_point last_write_ = std::chrono::steady_clock::now();
+};
+
+// What the summary says: every row of the shard, stored before a --resume or run now.
+struct RolloutTally {
+  std::vector<Summary> summaries;
+  long diverged = 0, run_now = 0, resumed = 0;
+
+  void Add(const RolloutResult& r) {
+    diverged += r.diverged;
+    for (std::size_t k = 0; k < r.metrics.size() && k < summaries.size(); ++k) {
+      summaries[k].Add(r.metrics[k]);
+    }
+  }
+
+  std::string Text(const std::vector<std::string>& metrics, double seconds) const {
+    long all = run_now + resumed;
+    std::string summary = fmt::format(
+        "\n{} rollouts{}, {} diverged ({:.1f}%), {:.1f} rollouts/s\n", all,
+        resumed ? fmt::format(" ({} stored before this --resume, {} run now)", resumed, run_now)
+                : "",
+        diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? run_now / seconds : 0.0);
+    for (std::size_t k = 0; k < summaries.size(); ++k) {
+      const Summary& s = summaries[k];
+      if (s.count() == 0) {
+        // no value to summarise: no mean, and no +-inf from empty minima and maxima
+        summary +=
+            fmt::format("{}: n 0, no value measured ({} missing)\n", metrics[k], s.missing());
+        continue;
+      }
+      summary += fmt::format(
+          "{}: n {} mean {:.6g} std {:.6g} min {:.6g} q05 {:.6g} median {:.6g} q95 {:.6g} max "
+          "{:.6g}{}\n",
+          metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(),
+          s.max(), s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
+    }
+    return summary;
+  }
+};
+
+// Runs the shard's rollouts not stored yet, `1 << 16` indices at a time (memory does not
+// grow with --count), on MPI ranks or this process's worker pool.
+void RunShard(const Model& model, const RolloutSpec& spec, long total, ProgressBar& progress,
+              const std::function<void(const RolloutResult&)>& emit) {
   long next_index = spec.shard_index;
   auto next_indices = [&](std::size_t limit) {
     std::vector<long> chunk;
@@ -206,117 +284,69 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     }
     return chunk;
   };
-  auto run = [&](const std::function<void(const RolloutResult&)>& emit) {
-    if (MpiActive()) {
-      // rank 0 hands the list out in small chunks; it holds the whole list (8 bytes each)
-      MpiRollout(model, spec, next_indices(static_cast<std::size_t>(total)), emit);
-      return;
-    }
-    RolloutSpec chunked = spec;
-    long done_before = 0;
-    chunked.progress = [&](long done, long) { progress.Update(done_before + done); };
-    RolloutPool pool(model, chunked);  // worker models made once for all chunks
-    for (std::vector<long> chunk = next_indices(1 << 16); !chunk.empty();
-         chunk = next_indices(1 << 16)) {
-      pool.Run(chunk, emit, &StopRequested());
-      done_before += static_cast<long>(chunk.size());
+  if (MpiActive()) {
+    // rank 0 hands the list out in small chunks; it holds the whole list (8 bytes each)
+    MpiRollout(model, spec, next_indices(static_cast<std::size_t>(total)), emit);
+    return;
+  }
+  RolloutSpec chunked = spec;
+  long done_before = 0;
+  chunked.progress = [&](long done, long) { progress.Update(done_before + done); };
+  RolloutPool pool(model, chunked);  // worker models made once for all chunks
+  for (std::vector<long> chunk = next_indices(1 << 16); !chunk.empty();
+       chunk = next_indices(1 << 16)) {
+    pool.Run(chunk, emit, &StopRequested());
+    done_before += static_cast<long>(chunk.size());
 #ifdef __GLIBC__
-      malloc_trim(0);  // hand freed pages back: resident memory stays flat as --count grows
+    malloc_trim(0);  // hand freed pages back: resident memory stays flat as --count grows
 #endif
-    }
-  };
-  auto emit = [&](const RolloutResult& r) {
-    ++emitted;
-    diverged += r.diverged;
-    if (store) store->Add(run_id, r);
-    for (std::size_t k = 0; k < r.metrics.size(); ++k) summaries[k].Add(r.metrics[k]);
-    if (o.format == "csv") {
-      out += RolloutCsvRow(r);
-    } else if (o.format == "json") {
-      nlohmann::ordered_json row;
-      row["rollout"] = r.index;
-      nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
-      for (std::size_t k = 0; k < r.params.size(); ++k) p[params[k]] = r.params[k];
-      for (std::size_t k = 0; k < r.metrics.size(); ++k) {
-        m[o.metrics[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
-                                                   : nlohmann::ordered_json(r.metrics[k]);
-      }
-      row["params"] = p;
-      row["metrics"] = m;
-      row["diverged"] = r.diverged;
-      if (r.diverged) row["diverged_time"] = r.diverged_time;
-      if (!r.problem.empty()) row["problem"] = r.problem;
-      out += (emitted > 1 ? ",\n  " : "  ") + row.dump();
-    } else {
-      std::size_t w = 0;
-      out += fmt::format("{:>{}}", r.index, widths[w++]);
-      for (double v : r.params) out += fmt::format("{:>{}.6g}", v, widths[w++]);
-      for (double v : r.metrics) {
-        out += std::isnan(v) ? fmt::format("{:>{}}", "-", widths[w++])
-                             : fmt::format("{:>{}.6g}", v, widths[w++]);
-      }
-      out += fmt::format("{:>{}}\n", r.diverged ? "yes" : "no", widths[w++]);
-      if (!r.problem.empty() && !r.diverged) {
-        progress.Clear();
-        std::fprintf(stderr, "plumb: %s\n", r.problem.c_str());
-      }
-    }
-    if (out.size() > (1 << 16) ||
-        std::chrono::steady_clock::now() - last_write > std::chrono::milliseconds(100)) {
-      flush();
-    }
-  };
-  try {
-    run(emit);
-  } catch (const Interrupted& e) {
-    // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
-    progress.Finish();
-    if (store) store->Commit();
-    try {
-      flush();
-    } catch (const OutputClosed&) {
-    }
-    throw Interrupted(fmt::format("{}; {} rollouts finished{}", e.what(), emitted,
-                                  store ? " and are stored in '" + o.db +
-                                              "': repeat the command with --resume to go on"
-                                        : ""));
-  } catch (const OutputClosed&) {
-    // the reader has gone: keep what finished, stop quietly
-    progress.Finish();
-    if (store) store->Commit();
-    throw;
   }
-  if (o.format == "json") out += "\n]\n";
-  flush();
-  progress.Finish();
-  if (store) {
-    store->Commit();
-    if (static_cast<long>(store->DoneIndices(run_id).size()) == spec.count)
-      store->FinishRun(run_id);
-  }
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
-  // the human summary: after the table, or on stderr when stdout carries data
-  long all = emitted + resumed;
-  std::string summary = fmt::format(
-      "\n{} rollouts{}, {} diverged ({:.1f}%), {:.1f} rollouts/s\n", all,
-      resumed ? fmt::format(" ({} stored before this --resume, {} run now)", resumed, emitted)
-              : "",
-      diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? emitted / seconds : 0.0);
-  for (std::size_t k = 0; k < summaries.size(); ++k) {
-    const Summary& s = summaries[k];
-    if (s.count() == 0) {
-      // no value to summarise: no mean, and no +-inf from empty minima and maxima
-      summary +=
-          fmt::format("{}: n 0, no value measured ({} missing)\n", o.metrics[k], s.missing());
-      continue;
-    }
-    summary += fmt::format(
-        "{}: n {} mean {:.6g} std {:.6g} min {:.6g} q05 {:.6g} median {:.6g} q95 {:.6g} max "
-        "{:.6g}{}\n",
-        o.metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(), s.max(),
-        s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
+int RunRollout(const RolloutOptions& o, const Context& ctx) {
+  Model model = LoadModel(o.model);
+  RolloutSpec spec = MakeSpec(o, model);
+  std::vector<std::string> params = ParameterNames(spec);
+  // under MPI, ranks other than 0 only compute what rank 0 hands them
+  if (MpiActive() && MpiRank() != 0) {
+    if (!MpiGo(true)) return kExitBadInput;  // rank 0 reports the error
+    MpiRollout(model, spec, {}, nullptr);
+    return kExitOk;
   }
+  StoredRun stored = OpenRolloutStore(o, ctx, model, params);
+  spec.skip = stored.done;
+  // from here on an error on rank 0 stops every rank (see main)
+  long total = 0;
+  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
+    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
+  }
+  ProgressBar progress(total, "rollouts");
+  RolloutWriter writer(o.format, params, o.metrics, progress);
+  RolloutTally tally;
+  tally.summaries.resize(spec.metrics.size());
+  if (stored.store && !spec.skip.empty()) {
+    stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
+      if (r.index % spec.shard_count != spec.shard_index) return;
+      ++tally.resumed;
+      tally.Add(r);
+    });
+  }
+  auto start = std::chrono::steady_clock::now();
+  auto emit = [&](const RolloutResult& r) {
+    ++tally.run_now;
+    tally.Add(r);
+    if (stored.store) stored.store->Add(stored.id, r);
+    writer.Row(r);
+  };
+  KeepFinishedOnStop([&] { RunShard(model, spec, total, progress, emit); }, progress, stored,
+                     [&] { writer.Flush(); },
+                     [&] { return fmt::format("{} rollouts finished", tally.run_now); }, o.db);
+  writer.Finish();
+  progress.Finish();
+  CompleteStoredRun(stored, spec.count);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // the human summary: after the table, or on stderr when stdout carries data
+  std::string summary = tally.Text(o.metrics, seconds);
   if (o.format == "table") {
     WriteStdout(summary);
   } else {

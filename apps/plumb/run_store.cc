@@ -79,4 +79,37 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
   return out;
 }
 
+void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress,
+                        StoredRun& stored, const std::function<void()>& flush,
+                        const std::function<std::string()>& finished, const std::string& db) {
+  try {
+    work();
+  } catch (const Interrupted& e) {
+    // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
+    progress.Finish();
+    if (stored.store) stored.store->Commit();
+    try {
+      flush();
+    } catch (const OutputClosed&) {
+    }
+    throw Interrupted(fmt::format("{}; {}{}", e.what(), finished(),
+                                  stored.store ? " and stored in '" + db +
+                                                     "': repeat the command with --resume to go on"
+                                               : ""));
+  } catch (const OutputClosed&) {
+    // the reader has gone: keep what finished, stop quietly
+    progress.Finish();
+    if (stored.store) stored.store->Commit();
+    throw;
+  }
+}
+
+void CompleteStoredRun(StoredRun& stored, long total) {
+  if (!stored.store) return;
+  stored.store->Commit();
+  if (static_cast<long>(stored.store->DoneIndices(stored.id).size()) == total) {
+    stored.store->FinishRun(stored.id);
+  }
+}
+
 }  // namespace plumb::cli

@@ -5,6 +5,7 @@
 #ifndef PLUMB_APPS_PLUMB_RUN_STORE_H_
 #define PLUMB_APPS_PLUMB_RUN_STORE_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,18 @@ RunInfo NewRunInfo(const std::string& kind, const std::string& config, const Con
 //   kind, the refusal names every option that differs and the stored command.
 // @throws ValueError; IoError from the store.
 StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info);
+
+// Runs a batch's `work`, keeping what finished when it stops early. On a stop request
+// (Interrupted) the progress line is closed, the store committed, the rows not yet printed
+// written (unless stdout is gone), and the stop is reported again with `finished` ("12
+// rollouts finished") and, with a store, how to go on (--resume). On a closed stdout
+// (OutputClosed) the store is committed and the batch ends quietly (exit 141).
+void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress,
+                        StoredRun& stored, const std::function<void()>& flush,
+                        const std::function<std::string()>& finished, const std::string& db);
+
+// Commits the store and marks the run finished when it holds all `total` indices.
+void CompleteStoredRun(StoredRun& stored, long total);
 
 }  // namespace plumb::cli
 

@@ -372,33 +372,13 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     }
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
-  try {
-    Sweep(model, spec, stored.done, emit);
-  } catch (const Interrupted& e) {
-    progress.Finish();
-    if (stored.store) stored.store->Commit();
-    try {
-      flush();
-    } catch (const OutputClosed&) {
-    }
-    throw Interrupted(fmt::format("{}; the {} finished cases were printed{}", e.what(), emitted,
-                                  stored.store ? " and stored in '" + o.db +
-                                                     "': repeat the command with --resume to go on"
-                                               : ""));
-  } catch (const OutputClosed&) {
-    progress.Finish();
-    if (stored.store) stored.store->Commit();
-    throw;
-  }
+  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit); }, progress, stored, flush,
+                     [&] { return fmt::format("the {} finished cases were printed", emitted); },
+                     o.db);
   progress.Finish();
   out += writer.Footer();
   flush();
-  if (stored.store) {
-    stored.store->Commit();
-    if (static_cast<long>(stored.store->DoneIndices(stored.id).size()) == total) {
-      stored.store->FinishRun(stored.id);
-    }
-  }
+  CompleteStoredRun(stored, total);
   for (const std::string& note : effect.Notes()) {
     std::fprintf(stderr, "plumb: note: %s\n", note.c_str());
   }
