@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "plumb/output.h"
+#include "plumb/sample_writer.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
 

@@ -8,7 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/audit.h"
-#include "plumb/output.h"
+#include "plumb/repro.h"
 #include "summary.h"
 
 namespace plumb::cli {

@@ -16,7 +16,7 @@
 #include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
-#include "plumb/output.h"
+#include "plumb/sample_writer.h"
 #include "plumb/run.h"
 
 namespace plumb::cli {

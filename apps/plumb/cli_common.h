@@ -79,7 +79,7 @@ Model LoadModel(const std::string& path);
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
 
 // A CSV header line (with newline), fields quoted where they hold commas or quotes
-// (CsvField and CsvNumber, plumb/output.h, write the rows).
+// (CsvField and CsvNumber, plumb/sample_writer.h, write the rows).
 std::string CsvHeader(const std::vector<std::string>& fields);
 
 // The columns and rows of a rollout in CSV, shared by `plumb rollout` and `plumb results`:

@@ -9,7 +9,6 @@
 #include "cli_common.h"
 #include "plumb/converge.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
 #include "plumb/timing.h"
 
 namespace plumb::cli {

@@ -6,7 +6,7 @@
 
 #include "cli_common.h"
 #include "plumb/describe.h"
-#include "plumb/output.h"
+#include "plumb/json_output.h"
 
 namespace plumb::cli {
 namespace {

@@ -13,7 +13,7 @@
 #include "cli_common.h"
 #include "plumb/file_kind.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/atomic_file.h"
 #include "plumb/regression.h"
 
 namespace plumb::cli {

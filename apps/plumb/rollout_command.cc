@@ -19,7 +19,6 @@
 #include "plumb/version.h"
 #include "mpi.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
 #include "plumb/rollout.h"
 #include "plumb/hash.h"
 #include "plumb/store.h"

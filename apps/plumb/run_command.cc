@@ -9,8 +9,11 @@
 
 #include "cli_common.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/atomic_file.h"
+#include "plumb/sample_writer.h"
+#include "plumb/repro.h"
 #include "plumb/run.h"
+#include "plumb/start_hints.h"
 #include "plumb/timing.h"
 
 namespace plumb::cli {

@@ -8,7 +8,6 @@
 #include "plumb/strings.h"
 #include "plumb/version.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
 
 namespace plumb::cli {
 

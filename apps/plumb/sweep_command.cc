@@ -13,7 +13,7 @@
 #include "cli_common.h"
 #include "plumb/version.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/sample_writer.h"
 #include "plumb/hash.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"

@@ -89,8 +89,8 @@ struct StateSnapshot {
   std::string note;  // what this state is, when it needs saying (empty otherwise)
 };
 
-// Copies the state of `data` at `step`.
-StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step);
+// Copies the state `data` holds, labelled as the state after `step` steps.
+StateSnapshot Snapshot(const Model& model, const Data& data, long step);
 
 // One kind of MuJoCo warning raised during a run.
 struct WarningSummary {
@@ -144,8 +144,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
 // model, so calling it every step does not allocate.
 class DerivedRefresher {
  public:
-  explicit DerivedRefresher(const mjModel* m);
-  void operator()(mjData* d);
+  explicit DerivedRefresher(const Model& model);
+  void operator()(Data& data);
 
  private:
   const mjModel* m_;
@@ -155,12 +155,6 @@ class DerivedRefresher {
 // One-off form of DerivedRefresher.
 void RefreshDerived(const Model& model, Data& data);
 
-// The chapter's common-error table, for the state a run is about to start from: one
-// line of advice per problem found (empty when nothing looks wrong). Today: a system
-// at rest in equilibrium with nothing driving it will not move; the advice names a
-// --set that plumb tried and found to make it accelerate (so following it never
-// repeats the hint), or a velocity when no offset does.
-std::vector<std::string> StartHints(const Model& model, const Data& data);
 
 }  // namespace plumb
 

@@ -47,6 +47,9 @@ std::string DidYouMean(std::string_view word, const std::vector<std::string>& ca
 // close, so that a command-line typo is answered with one name, not a list of guesses.
 std::vector<std::string> Closest(std::string_view word, const std::vector<std::string>& candidates);
 
+// Quotes `arg` for a POSIX shell when it needs it: a b -> 'a b', it's -> 'it'\''s'.
+std::string ShellQuote(const std::string& arg);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_STRINGS_H_

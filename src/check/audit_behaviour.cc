@@ -87,9 +87,9 @@ void RunScenario(const Model& model, const std::vector<Assignment>& sets,
   };
   data.Forward();
   tally.Sample(work, data, data->time);
-  DerivedRefresher refresh(work.get());
+  DerivedRefresher refresh(work);
   spec.after_step = [&](const mjData* d, long) {
-    refresh(data.get());
+    refresh(data);
     tally.Sample(work, data, d->time);
   };
   NullSink sink;

@@ -26,7 +26,7 @@ MetricProbe::MetricProbe(const Model& work, const std::vector<Metric>& metrics, 
       dt_(work->opt.timestep),
       read_step_(metrics.size(), -1),
       tracks_(metrics.size()),
-      refresh_(work.get()) {
+      refresh_(work) {
   for (std::size_t k = 0; k < metrics.size(); ++k) {
     const Metric& metric = metrics[k];
     if (metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt) {
@@ -46,7 +46,7 @@ void MetricProbe::Observe(Data& data, long step) {
   // them (without touching the trajectory) when a metric reads one now
   for (const Metric& metric : metrics_) {
     if (ReadsDerived(metric) && Reads(metric, step)) {
-      refresh_(data.get());
+      refresh_(data);
       break;
     }
   }

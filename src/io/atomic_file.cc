@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/atomic_file.h"
 
 namespace plumb {
 

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plumb/version.h"
-#include "plumb/output.h"
+#include "plumb/json_output.h"
 
 namespace plumb {
 

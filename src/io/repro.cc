@@ -9,7 +9,9 @@
 
 #include "plumb/version.h"
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/repro.h"
+#include "plumb/json_output.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 
@@ -23,22 +25,6 @@ void WriteText(const fs::path& path, const std::string& text) {
   if (!out) throw IoError("cannot write '" + path.string() + "': " + std::strerror(errno));
 }
 }  // namespace
-
-std::string ShellQuote(const std::string& arg) {
-  if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                            "0123456789_-+=/.,:@%") == std::string::npos) {
-    return arg;
-  }
-  std::string out = "'";
-  for (char c : arg) {
-    if (c == '\'') {
-      out += "'\\''";
-    } else {
-      out += c;
-    }
-  }
-  return out + "'";
-}
 
 std::string WriteRepro(const Model& model, const RunResult& result,
                        const std::vector<std::string>& argv, const std::string& dir,

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "plumb/error.h"
-#include "plumb/output.h"
+#include "plumb/sample_writer.h"
 
 namespace plumb {
 namespace {

@@ -65,7 +65,9 @@ Schedule MakeSchedule(double timestep, double until, double every) {
   return schedule;
 }
 
-StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step) {
+namespace {
+
+StateSnapshot SnapshotOf(const mjModel* m, const mjData* d, long step) {
   StateSnapshot s;
   s.step = step;
   s.time = d->time;
@@ -76,6 +78,12 @@ StateSnapshot Snapshot(const mjModel* m, const mjData* d, long step) {
   return s;
 }
 
+}  // namespace
+
+StateSnapshot Snapshot(const Model& model, const Data& data, long step) {
+  return SnapshotOf(model.get(), data.get(), step);
+}
+
 namespace {
 
 // Everything a step starts from: the state, its inputs and the solver's warm start.
@@ -84,7 +92,7 @@ class PreStep {
  public:
   PreStep(const mjModel* m, const mjData* d)
       : m_(m),
-        state_(Snapshot(m, d, 0)),
+        state_(SnapshotOf(m, d, 0)),
         warmstart_(d->qacc_warmstart, d->qacc_warmstart + m->nv),
         qfrc_(d->qfrc_applied, d->qfrc_applied + m->nv),
         xfrc_(d->xfrc_applied, d->xfrc_applied + 6 * m->nbody),
@@ -178,13 +186,15 @@ const char* CheckedArray(int warning) {
 
 }  // namespace
 
-DerivedRefresher::DerivedRefresher(const mjModel* m) : m_(m), qpos_(m->nq), warmstart_(m->nv) {}
+DerivedRefresher::DerivedRefresher(const Model& model)
+    : m_(model.get()), qpos_(model->nq), warmstart_(model->nv) {}
 
 // MuJoCo 2.x's mj_forward renormalises quaternions in qpos and rewrites the solver's warm
 // start, which would change the last bits of the trajectory: both are put back, and the
 // warnings it raises again are not counted twice. What mj_forward skips without a flag
 // or sensor asking for it (energy, cacc, cfrc_ext, ...) is computed too.
-void DerivedRefresher::operator()(mjData* d) {
+void DerivedRefresher::operator()(Data& data) {
+  mjData* d = data.get();
   mjWarningStat warnings[mjNWARNING];
   std::copy(d->warning, d->warning + mjNWARNING, warnings);
   std::copy(d->qpos, d->qpos + m_->nq, qpos_.begin());
@@ -197,8 +207,8 @@ void DerivedRefresher::operator()(mjData* d) {
 }
 
 void RefreshDerived(const Model& model, Data& data) {
-  DerivedRefresher refresh(model.get());
-  refresh(data.get());
+  DerivedRefresher refresh(model);
+  refresh(data);
 }
 
 std::atomic<bool>& StopFlag() {
@@ -322,7 +332,7 @@ std::string BadState(const Model& model, const mjData* d, long step, double time
     int bad = FirstBad(c.values, c.n);
     if (bad < 0) continue;
     divergence->element = ElementLabel(model, c.name, bad);
-    divergence->bad = Snapshot(m, d, step);
+    divergence->bad = SnapshotOf(m, d, step);
     divergence->bad.time = time;
     return divergence->element + " = " + Format("%g", c.values[bad]) +
            " is NaN, Inf or beyond 1e10";
@@ -346,14 +356,14 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     derived = derived || spec.columns[c].role == Role::kDerived;
   }
   std::vector<double> row(spec.columns.size());
-  DerivedRefresher forward(m);
+  DerivedRefresher forward(model);
   double start_time = d->time;
   auto time_at = [&](long step) {
     return start_time + static_cast<double>(step) * m->opt.timestep;
   };
   auto sample = [&](long step) {
     // after mj_step, derived quantities still describe the state before the step
-    if (derived) forward(d);
+    if (derived) forward(data);
     double t = time_at(step);
     for (std::size_t c = 0; c < row.size(); ++c) {
       row[c] = is_time[c] ? t : ReadValue(model, data, spec.columns[c]);
@@ -400,85 +410,6 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   finish.End();
   result.warnings = warnings.Summaries(d);
   return result;
-}
-
-namespace {
-
-// A --set that takes the model out of the equilibrium `data` holds, found by trying
-// it: the first hinge or slide coordinate whose offset (0.7 rad, 0.1 m, kept inside the
-// joint's range) makes some |qacc| exceed 1e-3, so following the advice always moves
-// the model (a slider under a balanced pole does not, the pole's hinge does). When no
-// offset does (no gravity, no springs), a velocity.
-std::string EquilibriumBreaker(const Model& model, const Data& data) {
-  const mjModel* m = model.get();
-  Data probe = data.Clone();
-  auto label = [&](int j, int adr) {
-    std::string name = model.Name(mjOBJ_JOINT, j);
-    return name.empty() ? std::to_string(adr) : name;
-  };
-  int first_joint = -1;
-  for (int j = 0; j < m->njnt; ++j) {
-    int type = m->jnt_type[j];
-    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
-    if (first_joint < 0) first_joint = j;
-    int adr = m->jnt_qposadr[j];
-    double now = data->qpos[adr];
-    double value = now + (type == mjJNT_HINGE ? 0.7 : 0.1);
-    if (m->jnt_limited[j]) {
-      const mjtNum* range = m->jnt_range + 2 * j;
-      if (value > range[1]) {
-        value = range[1] > now ? now + 0.5 * (range[1] - now) : now - 0.5 * (now - range[0]);
-      }
-    }
-    if (value == now) continue;
-    mj_copyData(probe.get(), m, data.get());
-    probe->qpos[adr] = value;
-    mj_forward(m, probe.get());
-    double largest = 0;
-    for (int i = 0; i < m->nv; ++i) largest = std::max(largest, std::fabs(probe->qacc[i]));
-    if (largest > 1e-3) {
-      char text[64];
-      std::snprintf(text, sizeof(text), "%.6g", value);
-      return "Start it away from equilibrium, e.g. --set 'qpos[" + label(j, adr) + "]=" + text +
-             "' (plumb tried it: it gives |qacc| up to " + Format("%.3g", largest) + ").";
-    }
-  }
-  // a velocity of the first joint's first dof (an element, also of a free or ball joint)
-  int j = first_joint >= 0 ? first_joint : 0;
-  std::string dof = label(j, m->jnt_dofadr[j]);
-  bool block = m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL;
-  if (block && !model.Name(mjOBJ_JOINT, j).empty()) dof += "][0";
-  return "No single offset of a hinge or slide makes it accelerate (no gravity or springs "
-         "act on it): give it a velocity instead, e.g. --set 'qvel[" +
-         dof + "]=1'.";
-}
-
-}  // namespace
-
-std::vector<std::string> StartHints(const Model& model, const Data& data) {
-  const mjModel* m = model.get();
-  const mjData* d = data.get();
-  std::vector<std::string> hints;
-  if (m->nv == 0) return hints;
-  auto all_below = [](const mjtNum* v, int n, double limit) {
-    for (int i = 0; i < n; ++i) {
-      if (!(std::fabs(v[i]) <= limit)) return false;
-    }
-    return true;
-  };
-  bool at_rest = all_below(d->qvel, m->nv, 0.0);
-  bool in_equilibrium = all_below(d->qacc, m->nv, 1e-9);
-  bool undriven = all_below(d->ctrl, m->nu, 0.0) && all_below(d->qfrc_applied, m->nv, 0.0) &&
-                  all_below(d->xfrc_applied, 6 * m->nbody, 0.0) &&
-                  all_below(d->qfrc_actuator, m->nv, 0.0);
-  if (at_rest && in_equilibrium && undriven) {
-    hints.push_back(
-        "hint: the model starts at rest in equilibrium (qvel = 0, |qacc| < 1e-9) and nothing "
-        "drives it (no control, no applied force): it will not move, and every sample will "
-        "repeat the initial state. " +
-        EquilibriumBreaker(model, data));
-  }
-  return hints;
 }
 
 }  // namespace plumb

@@ -1,5 +1,5 @@
 #include "plumb/audit.h"
-#include "plumb/output.h"
+#include "plumb/repro.h"
 
 #include <gtest/gtest.h>
 

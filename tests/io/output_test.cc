@@ -1,4 +1,7 @@
-#include "plumb/output.h"
+#include "plumb/atomic_file.h"
+#include "plumb/sample_writer.h"
+#include "plumb/repro.h"
+#include "plumb/strings.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -322,8 +325,8 @@ TEST(ReproTest, FolderHoldsEverythingToReproduce) {
   result.diverged = true;
   result.divergence = Divergence();
   result.divergence->reason = "the simulation diverged at t = 1 s";
-  result.divergence->last_good = Snapshot(model.get(), data.get(), 4);
-  result.divergence->bad = Snapshot(model.get(), data.get(), 5);
+  result.divergence->last_good = Snapshot(model, data, 4);
+  result.divergence->bad = Snapshot(model, data, 5);
   result.divergence->bad.qpos[0] = NAN;
   std::string written = WriteRepro(
       model, result, {"plumb", "run", "m.xml", "--set", "qpos[hinge]=1"}, dir.File("repro"));

@@ -6,6 +6,7 @@
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/start_hints.h"
 
 namespace plumb {
 namespace {

@@ -1,16 +1,11 @@
-// Writing results: atomic files, run samples as table/CSV/JSON lines, JSON documents,
-// and the repro folder of a diverged run.
+// Output files that appear complete or not at all (a command's -o).
 
-#ifndef PLUMB_INCLUDE_PLUMB_OUTPUT_H_
-#define PLUMB_INCLUDE_PLUMB_OUTPUT_H_
+#ifndef PLUMB_INCLUDE_PLUMB_ATOMIC_FILE_H_
+#define PLUMB_INCLUDE_PLUMB_ATOMIC_FILE_H_
 
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <vector>
-
-#include "plumb/describe.h"
-#include "plumb/run.h"
 
 namespace plumb {
 
@@ -63,46 +58,6 @@ class AtomicFile {
   bool committed_ = false;
 };
 
-// Output formats of sampled rows.
-enum class SampleFormat {
-  kTable,  // fixed-width columns, 5 decimals: the chapter's printout
-  kCsv,    // header of path names, then the shortest text that reads back exactly
-  kJsonl,  // one JSON object per sample, keys are path names
-};
-
-// CSV as every plumb command writes it. A number is the shortest text that reads back as
-// exactly `v` (0.3, not 0.29999999999999999; std::to_chars, faster than printf, which matters
-// when every step is a row), and NaN (not measured) is an empty field. A text field is
-// quoted (RFC 4180) when it holds a comma, quote or newline.
-void AppendCsvNumber(std::string* out, double v);
-std::string CsvNumber(double v);
-std::string CsvField(const std::string& text);
-
-// A sink writing rows to `out` (not owned) in `format`. Rows are written as they
-// arrive; nothing is kept in memory. Write errors surface as IoError from End().
-std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out);
-
-// JSON documents (pretty-printed, 2-space indent, ending in a newline).
-std::string DescriptionToJson(const ModelDescription& description, const std::string& mujoco);
-std::string StateToJson(const StateSnapshot& state);
-std::string WarningsToJson(const std::vector<WarningSummary>& warnings);
-
-// Writes a repro folder for a diverged run and returns its path: model.xml (as saved by
-// mj_saveLastXML, when the model came from XML), model.mjb (the exact compiled model,
-// edits included), last_good.json and bad.json (time, qpos, qvel, act, ctrl),
-// warnings.json, command.txt and README.txt. command.txt holds comment lines (the
-// directory it ran in, and `note` when not empty, e.g. which of a command's runs
-// diverged), then the exact command line, shell-quoted, as the last line: `sh command.txt`
-// in that directory runs it again.
-// The folder is `dir`, or `dir-2`, `dir-3`, ... when that exists; it is assembled under
-// a temporary name and renamed, so it is complete or absent. @throws IoError.
-std::string WriteRepro(const Model& model, const RunResult& result,
-                       const std::vector<std::string>& argv, const std::string& dir,
-                       const std::string& note = "");
-
-// Quotes `arg` for a POSIX shell when it needs it.
-std::string ShellQuote(const std::string& arg);
-
 }  // namespace plumb
 
-#endif  // PLUMB_INCLUDE_PLUMB_OUTPUT_H_
+#endif  // PLUMB_INCLUDE_PLUMB_ATOMIC_FILE_H_
