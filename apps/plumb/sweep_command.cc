@@ -282,8 +282,7 @@ class EffectWatch {
   std::vector<std::map<std::size_t, std::vector<double>>> lines_;
 };
 
-int RunSweep(const SweepOptions& o, const Context& ctx) {
-  Model model = LoadModel(o.model);
+SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   SweepSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.sets);
   for (const std::string& v : o.vary) {
@@ -298,19 +297,80 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.threads = o.threads;
   spec.until = o.until;
-  ValidateSweepSpec(model, spec);
-  const long total = CaseCount(spec.axes);
+  ValidateSweepSpec(model, spec);  // before the store and the cost line
+  return spec;
+}
 
-  // the store: a new run, or the same run continued with --resume
-  // the compiled model's hash names the run in the store; hashing a big mesh model costs
-  // a tenth of a second, so only when there is a store
+// The store: a new run, or the same run continued with --resume. The compiled model's hash
+// names the run; hashing a big mesh model costs a tenth of a second, so only with a store.
+StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
+                         const SweepSpec& spec, long total) {
   std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
   RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx, o.model, model_hash);
   for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
   info.metrics = o.metrics;
   info.count = total;
-  StoredRun stored = OpenStoredRun(o.db, o.resume, info);
+  return OpenStoredRun(o.db, o.resume, info);
+}
 
+// Measurements that could not be made: each reason said once, as it first happens, and how
+// often it recurred at the end.
+class SweepProblems {
+ public:
+  SweepProblems(const std::vector<std::string>& metrics, ProgressBar& progress)
+      : metrics_(metrics), progress_(progress) {}
+
+  void See(const SweepCase& c) {
+    for (std::size_t m = 0; m < c.metrics.size(); ++m) {
+      if (c.metrics[m].ok) continue;
+      ++failed_;
+      auto [it, first] = problems_.try_emplace({m, c.metrics[m].problem}, 0L);
+      ++it->second;
+      if (!first) continue;
+      progress_.Clear();
+      std::fprintf(stderr, "plumb: case %ld, %s: %s\n", c.index, metrics_[m].c_str(),
+                   c.metrics[m].problem.c_str());
+    }
+  }
+
+  void Report(long measurements) const {
+    for (const auto& [key, cases] : problems_) {
+      if (cases < 2) continue;
+      std::fprintf(stderr,
+                   "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
+                   metrics_[key.first].c_str(), cases, key.second.c_str());
+    }
+    if (failed_ > 0) {
+      std::fprintf(stderr, "plumb: %ld of %ld measurements could not be made (see above)\n",
+                   failed_, measurements);
+    }
+  }
+
+ private:
+  const std::vector<std::string>& metrics_;
+  ProgressBar& progress_;
+  long failed_ = 0;
+  std::map<std::pair<std::size_t, std::string>, long> problems_;  // (metric, reason): cases
+};
+
+// A long sweep says how long once it knows (after 2 s), and how to stop it without losing
+// work.
+void EtaNote(double seconds, long emitted, long left, bool stored, ProgressBar& progress) {
+  double eta = seconds / static_cast<double>(emitted) * static_cast<double>(left);
+  if (eta <= 60) return;
+  progress.Clear();
+  std::fprintf(stderr,
+               "plumb: at %.3g cases/s the rest takes about %s; Ctrl-C stops it and keeps "
+               "what finished%s\n",
+               emitted / seconds, FormatDuration(eta).c_str(),
+               stored ? " (then --resume goes on)" : "");
+}
+
+int RunSweep(const SweepOptions& o, const Context& ctx) {
+  Model model = LoadModel(o.model);
+  SweepSpec spec = MakeSweepSpec(o, model);
+  const long total = CaseCount(spec.axes);
+  StoredRun stored = OpenSweepStore(o, ctx, model, spec, total);
   SweepWriter writer(o, spec);
   std::string header = writer.Header();
   std::size_t row_bytes = o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size())
@@ -320,15 +380,12 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: --resume: %zu of %ld cases are stored in '%s'; running the rest\n",
                  stored.done.size(), total, o.db.c_str());
   }
-
   ProgressBar progress(total - static_cast<long>(stored.done.size()), "cases");
   spec.progress = [&](long done, long) { progress.Update(done); };
+  // rows reach stdout as they finish, in order, at most ten writes a second
   std::string out = header;
   auto start = std::chrono::steady_clock::now();
   auto last_write = start;
-  bool told_time = false;
-  long emitted = 0, failed = 0;
-  std::map<std::pair<std::size_t, std::string>, long> problems;  // (metric, reason): cases
   auto flush = [&] {
     last_write = std::chrono::steady_clock::now();
     progress.Clear();
@@ -338,37 +395,21 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   };
   flush();
   EffectWatch effect(spec);
+  SweepProblems problems(o.metrics, progress);
+  bool told_time = false;
+  long emitted = 0;
   auto emit = [&](const SweepCase& c) {
     ++emitted;
     effect.See(c);
     if (stored.store) stored.store->Add(stored.id, StoredCase(spec, c));
     out += writer.Row(c);
-    for (std::size_t m = 0; m < c.metrics.size(); ++m) {
-      if (c.metrics[m].ok) continue;
-      ++failed;
-      // each reason once, as it first happens; how often it recurred is counted at the end
-      auto [it, first] = problems.try_emplace({m, c.metrics[m].problem}, 0L);
-      ++it->second;
-      if (!first) continue;
-      progress.Clear();
-      std::fprintf(stderr, "plumb: case %ld, %s: %s\n", c.index, o.metrics[m].c_str(),
-                   c.metrics[m].problem.c_str());
-    }
+    problems.See(c);
     auto now = std::chrono::steady_clock::now();
     double seconds = std::chrono::duration<double>(now - start).count();
     long left = total - static_cast<long>(stored.done.size()) - emitted;
     if (!told_time && seconds > 2 && left > 0) {
-      // a long sweep says how long once it knows, and how to stop it without losing work
       told_time = true;
-      double eta = seconds / static_cast<double>(emitted) * static_cast<double>(left);
-      if (eta > 60) {
-        progress.Clear();
-        std::fprintf(stderr,
-                     "plumb: at %.3g cases/s the rest takes about %s; Ctrl-C stops it and keeps "
-                     "what finished%s\n",
-                     emitted / seconds, FormatDuration(eta).c_str(),
-                     stored.store ? " (then --resume goes on)" : "");
-      }
+      EtaNote(seconds, emitted, left, stored.store != nullptr, progress);
     }
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
@@ -382,15 +423,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   for (const std::string& note : effect.Notes()) {
     std::fprintf(stderr, "plumb: note: %s\n", note.c_str());
   }
-  for (const auto& [key, cases] : problems) {
-    if (cases < 2) continue;
-    std::fprintf(stderr, "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
-                 o.metrics[key.first].c_str(), cases, key.second.c_str());
-  }
-  if (failed > 0) {
-    std::fprintf(stderr, "plumb: %ld of %ld measurements could not be made (see above)\n", failed,
-                 emitted * static_cast<long>(spec.metrics.size()));
-  }
+  problems.Report(emitted * static_cast<long>(spec.metrics.size()));
   return kExitOk;
 }
 
