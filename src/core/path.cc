@@ -313,9 +313,8 @@ Parsed Parse(std::string_view text) {
   return parsed;
 }
 
-// Resolves one parsed path whose row index is not `*`.
-Path ResolveParsed(const Model& model, std::string_view text, const Parsed& parsed) {
-  const mjModel* m = model.get();
+// The field a parsed path names, when it can be read as numbers at a sample.
+const FieldInfo& ReadableField(std::string_view text, const Parsed& parsed) {
   const FieldInfo* field = FindField(parsed.field);
   if (!field) {
     throw PathError("unknown field '" + parsed.field + "' in path '" + std::string(text) +
@@ -334,108 +333,119 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
                       "): it would read as 0, a stale or a wrong value.");
     }
   }
-  Access access = AccessOf(*field);
-  Path path;
-  path.field = field->name;
-  path.role = access.role;
-  path.writable = access.writable;
-  path.field_index = static_cast<int>(field - Fields().data());
+  return *field;
+}
 
-  long rows = field->rows(m);
-  long cols = field->cols(m);
-  path.first = 0;
-  path.count = rows * cols;
-  std::string canonical = field->name;
-  if (parsed.indices.empty()) {
-    path.text = canonical;
-    if (path.count == 0) {
-      throw PathError("path '" + std::string(text) + "' is empty in this model (" +
-                      field->row_kind + " = 0).");
-    }
-    return path;
+// Options and scalars: a single index selects an element of the vector.
+void SelectVectorElement(std::string_view text, const FieldInfo& field, const std::string& index,
+                         Path* path) {
+  std::optional<long> k = ParseIndex(index);
+  if (!k) {
+    throw PathError("path '" + std::string(text) + "': '" + field.name +
+                    "' is indexed by number (0.." + std::to_string(path->count - 1) + ").");
   }
+  if (*k >= path->count) {
+    throw PathError("path '" + std::string(text) + "': index " + index + " is out of bounds; '" +
+                    field.name + "' has " + std::to_string(path->count) + " element(s).");
+  }
+  path->first = *k;
+  path->count = 1;
+  path->text = field.name + "[" + index + "]";
+}
 
-  // first index: a row by number, or by the name of the object owning the rows
-  const std::string& row = parsed.indices[0];
-  long row_first = 0, row_count = 1;
-  if (field->row_kind.empty()) {
-    // options and scalars: a single index selects an element of the vector
-    if (parsed.indices.size() > 1) {
-      throw PathError("path '" + std::string(text) + "': '" + field->name +
-                      "' takes a single index.");
-    }
-    std::optional<long> k = ParseIndex(row);
-    if (!k) {
-      throw PathError("path '" + std::string(text) + "': '" + field->name +
-                      "' is indexed by number (0.." + std::to_string(path.count - 1) + ").");
-    }
-    if (*k >= path.count) {
-      throw PathError("path '" + std::string(text) + "': index " + row + " is out of bounds; '" +
-                      field->name + "' has " + std::to_string(path.count) + " element(s).");
-    }
-    path.first = *k;
-    path.count = 1;
-    path.text = canonical + "[" + row + "]";
-    return path;
-  }
-  const RowKind* kind = FindRowKind(field->row_kind);
+// The rows {first, count} the first index selects: a row by number, or by the name (or
+// "#id", how '*' names unnamed objects) of the object owning the rows.
+std::pair<long, long> SelectRows(const Model& model, std::string_view text, const FieldInfo& field,
+                                 const std::string& row) {
+  const mjModel* m = model.get();
+  long rows = field.rows(m);
   if (std::optional<long> index = ParseIndex(row)) {
     if (*index >= rows) {
       throw PathError("path '" + std::string(text) + "': row " + row + " is out of bounds; '" +
-                      field->name + "' has " + std::to_string(rows) + " row(s) (" +
-                      field->row_kind + " = " + std::to_string(rows) + ").");
+                      field.name + "' has " + std::to_string(rows) + " row(s) (" +
+                      field.row_kind + " = " + std::to_string(rows) + ").");
     }
-    row_first = *index;
-  } else {
-    if (!kind) {
-      throw PathError("path '" + std::string(text) + "': the rows of '" + field->name +
-                      "' (counted by " + field->row_kind +
-                      ") have no names; use a number from 0 to " + std::to_string(rows - 1) + ".");
-    }
-    // "#3": the object with id 3 (how '*' names unnamed objects), else a name
-    std::optional<long> by_id =
-        row.size() > 1 && row[0] == '#' ? ParseIndex(row.substr(1)) : std::nullopt;
-    int id = by_id && *by_id < ObjectCount(m, kind->obj) ? static_cast<int>(*by_id)
-                                                         : mj_name2id(m, kind->obj, row.c_str());
-    if (id < 0) {
-      std::vector<std::string> names = NamesOf(model, kind->obj, ObjectCount(m, kind->obj));
-      std::string listing = names.empty()
-                                ? std::string(" This model has no named ") + kind->noun + "."
-                                : " " + DidYouMean(row, names);
-      throw PathError("path '" + std::string(text) + "': no " + kind->noun + " named '" + row +
-                      "' (the rows of '" + field->name + "' are " + kind->noun + "s)." + listing);
-    }
-    auto [first, count] = RowsOf(m, *kind, id);
-    if (count == 0) {
-      throw PathError("path '" + std::string(text) + "': " + kind->noun + " '" + row +
-                      "' has no row in '" + field->name +
-                      "' (for example, an actuator without "
-                      "activation has no act, a body that is not mocap has no mocap_pos).");
-    }
-    row_first = first;
-    row_count = count;
+    return {*index, 1};
   }
+  const RowKind* kind = FindRowKind(field.row_kind);
+  if (!kind) {
+    throw PathError("path '" + std::string(text) + "': the rows of '" + field.name +
+                    "' (counted by " + field.row_kind +
+                    ") have no names; use a number from 0 to " + std::to_string(rows - 1) + ".");
+  }
+  std::optional<long> by_id =
+      row.size() > 1 && row[0] == '#' ? ParseIndex(row.substr(1)) : std::nullopt;
+  int id = by_id && *by_id < ObjectCount(m, kind->obj) ? static_cast<int>(*by_id)
+                                                       : mj_name2id(m, kind->obj, row.c_str());
+  if (id < 0) {
+    std::vector<std::string> names = NamesOf(model, kind->obj, ObjectCount(m, kind->obj));
+    std::string listing = names.empty()
+                              ? std::string(" This model has no named ") + kind->noun + "."
+                              : " " + DidYouMean(row, names);
+    throw PathError("path '" + std::string(text) + "': no " + kind->noun + " named '" + row +
+                    "' (the rows of '" + field.name + "' are " + kind->noun + "s)." + listing);
+  }
+  auto [first, count] = RowsOf(m, *kind, id);
+  if (count == 0) {
+    throw PathError("path '" + std::string(text) + "': " + kind->noun + " '" + row +
+                    "' has no row in '" + field.name +
+                    "' (for example, an actuator without "
+                    "activation has no act, a body that is not mocap has no mocap_pos).");
+  }
+  return {first, count};
+}
+
+// The second index: an element within the row block `path` holds.
+void SelectElement(std::string_view text, const std::string& index, Path* path) {
+  std::optional<long> k = ParseIndex(index);
+  if (!k) {
+    throw PathError("path '" + std::string(text) + "': the element index '" + index +
+                    "' must be a number from 0 to " + std::to_string(path->count - 1) + ".");
+  }
+  if (*k >= path->count) {
+    throw PathError("path '" + std::string(text) + "': element " + index +
+                    " is out of bounds; '" + path->text + "' has " +
+                    std::to_string(path->count) + " element(s).");
+  }
+  path->first += *k;
+  path->count = 1;
+  path->text += "[" + index + "]";
+}
+
+// Resolves one parsed path whose row index is not `*`.
+Path ResolveParsed(const Model& model, std::string_view text, const Parsed& parsed) {
+  const mjModel* m = model.get();
+  const FieldInfo& field = ReadableField(text, parsed);
+  Access access = AccessOf(field);
+  Path path;
+  path.field = field.name;
+  path.role = access.role;
+  path.writable = access.writable;
+  path.field_index = static_cast<int>(&field - Fields().data());
+  long cols = field.cols(m);
+  path.first = 0;
+  path.count = field.rows(m) * cols;
+  path.text = field.name;
+  if (parsed.indices.empty()) {
+    if (path.count == 0) {
+      throw PathError("path '" + std::string(text) + "' is empty in this model (" +
+                      field.row_kind + " = 0).");
+    }
+    return path;
+  }
+  if (field.row_kind.empty()) {
+    if (parsed.indices.size() > 1) {
+      throw PathError("path '" + std::string(text) + "': '" + field.name +
+                      "' takes a single index.");
+    }
+    SelectVectorElement(text, field, parsed.indices[0], &path);
+    return path;
+  }
+  auto [row_first, row_count] = SelectRows(model, text, field, parsed.indices[0]);
   path.first = row_first * cols;
   path.count = row_count * cols;
-  canonical += "[" + row + "]";
-
-  // second index: an element within the row block
-  if (parsed.indices.size() == 2) {
-    std::optional<long> k = ParseIndex(parsed.indices[1]);
-    if (!k) {
-      throw PathError("path '" + std::string(text) + "': the element index '" + parsed.indices[1] +
-                      "' must be a number from 0 to " + std::to_string(path.count - 1) + ".");
-    }
-    if (*k >= path.count) {
-      throw PathError("path '" + std::string(text) + "': element " + parsed.indices[1] +
-                      " is out of bounds; '" + canonical + "' has " + std::to_string(path.count) +
-                      " element(s).");
-    }
-    path.first += *k;
-    path.count = 1;
-    canonical += "[" + parsed.indices[1] + "]";
-  }
-  path.text = canonical;
+  path.text += "[" + parsed.indices[0] + "]";
+  if (parsed.indices.size() == 2) SelectElement(text, parsed.indices[1], &path);
   return path;
 }
 
