@@ -96,6 +96,83 @@ int MaxContacts(const Model& model, const std::vector<Assignment>& sets, double 
 
 double ExpectedOrder(int integrator) { return integrator == mjINT_RK4 ? 4.0 : 1.0; }
 
+namespace {
+
+// Successive differences of the levels' values (norms for state vectors).
+std::vector<double> Differences(const Metric& metric, const std::vector<Measurement>& measured) {
+  std::vector<double> diffs;
+  for (std::size_t i = 0; i + 1 < measured.size(); ++i) {
+    double diff = 0;
+    if (metric.kind == MetricKind::kStateAt) {
+      for (std::size_t j = 0; j < measured[i].state.size(); ++j) {
+        double e = measured[i].state[j] - measured[i + 1].state[j];
+        diff += e * e;
+      }
+      diff = std::sqrt(diff);
+    } else {
+      diff = std::fabs(measured[i].value - measured[i + 1].value);
+    }
+    diffs.push_back(diff);
+  }
+  return diffs;
+}
+
+// Estimated errors: against the extrapolated value, for state vectors the tail of the
+// differences; a level whose difference is round-off has no error to show.
+void LevelErrors(const Metric& metric, const std::vector<double>& diffs, ConvergenceResult* out) {
+  std::size_t last = out->levels.size() - 1;
+  for (std::size_t i = 0; i < out->levels.size(); ++i) {
+    ConvergenceLevel& level = out->levels[i];
+    level.error = kNaN;
+    if (!out->estimate.resolved) continue;
+    double p = out->estimate.order;
+    if (out->estimate.noise_from >= 0) {
+      // the finest levels agree to round-off: coarser levels' errors are their distance to
+      // the finest value; the rest are in the noise
+      if (static_cast<int>(i) < out->estimate.noise_from) {
+        level.error = metric.kind == MetricKind::kStateAt
+                          ? diffs[i] / (1 - std::pow(2.0, -p))
+                          : std::fabs(level.value - out->estimate.extrapolated);
+      }
+    } else if (i == last) {
+      // nothing finer to compare with: Richardson's estimate, labelled as such
+      level.error = diffs.back() / (std::pow(2.0, p) - 1);
+      level.error_is_richardson = true;
+    } else if (metric.kind == MetricKind::kStateAt) {
+      level.error = diffs[i] / (1 - std::pow(2.0, -p));
+    } else {
+      level.error = std::fabs(level.value - out->estimate.extrapolated);
+    }
+  }
+}
+
+// Recommends only a tested level: the coarsest whose error meets the tolerance, or whose
+// differences to every finer level are round-off or within the tolerance.
+void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* out) {
+  std::size_t last = out->levels.size() - 1;
+  double target = tol * out->scale;
+  std::vector<char> settled(out->levels.size(), 0);
+  settled[last] = out->levels[last - 1].roundoff;  // the finest pair agrees to round-off
+  for (std::size_t i = diffs.size(); i-- > 0;) {
+    settled[i] = (diffs[i] <= target || out->levels[i].roundoff) &&
+                 (i + 1 >= diffs.size() || settled[i + 1]);
+  }
+  for (std::size_t i = 0; i < out->levels.size(); ++i) {
+    const ConvergenceLevel& level = out->levels[i];
+    if (std::isfinite(level.error) ? level.error <= target : settled[i] != 0) {
+      out->recommended_dt = level.dt;
+      break;
+    }
+  }
+  if (!out->estimate.resolved && out->recommended_dt > 0) {
+    out->estimate.note +=
+        "; the recommended dt is the coarsest level whose differences to all finer levels "
+        "are within the tolerance";
+  }
+}
+
+}  // namespace
+
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol,
                            double until) {
@@ -126,23 +203,9 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   out.max_contacts = MaxContacts(model, sets, dt0, at_time ? metric.time : until);
   out.caveat = ContactCaveat(out.max_contacts);
 
-  // successive differences (norms for state vectors) and local orders
-  std::vector<double> values, diffs;
-  for (std::size_t i = 0; i < measured.size(); ++i) {
-    values.push_back(measured[i].value);
-    if (i + 1 == measured.size()) break;
-    double diff = 0;
-    if (metric.kind == MetricKind::kStateAt) {
-      for (std::size_t j = 0; j < measured[i].state.size(); ++j) {
-        double e = measured[i].state[j] - measured[i + 1].state[j];
-        diff += e * e;
-      }
-      diff = std::sqrt(diff);
-    } else {
-      diff = std::fabs(measured[i].value - measured[i + 1].value);
-    }
-    diffs.push_back(diff);
-  }
+  std::vector<double> values;
+  for (const Measurement& m : measured) values.push_back(m.value);
+  std::vector<double> diffs = Differences(metric, measured);
   // round-off: a few ulps of the scale per step, accumulating like a random walk
   double steps = static_cast<double>(std::max(1L, measured.back().steps));
   double noise = 4 * std::numeric_limits<double>::epsilon() * out.scale * std::sqrt(steps);
@@ -164,54 +227,8 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     for (ConvergenceLevel& level : out.levels) level.error = kNaN;
     return out;
   }
-
-  // estimated errors: against the extrapolated value, for state vectors the tail of the
-  // differences; a level whose difference is round-off has no error to show
-  std::size_t last = out.levels.size() - 1;
-  for (std::size_t i = 0; i < out.levels.size(); ++i) {
-    ConvergenceLevel& level = out.levels[i];
-    level.error = kNaN;
-    if (!out.estimate.resolved) continue;
-    double p = out.estimate.order;
-    if (out.estimate.noise_from >= 0) {
-      // the finest levels agree to round-off: coarser levels' errors are their distance to
-      // the finest value; the rest are in the noise
-      if (static_cast<int>(i) < out.estimate.noise_from) {
-        level.error = metric.kind == MetricKind::kStateAt
-                          ? diffs[i] / (1 - std::pow(2.0, -p))
-                          : std::fabs(level.value - out.estimate.extrapolated);
-      }
-    } else if (i == last) {
-      // nothing finer to compare with: Richardson's estimate, labelled as such
-      level.error = diffs.back() / (std::pow(2.0, p) - 1);
-      level.error_is_richardson = true;
-    } else if (metric.kind == MetricKind::kStateAt) {
-      level.error = diffs[i] / (1 - std::pow(2.0, -p));
-    } else {
-      level.error = std::fabs(level.value - out.estimate.extrapolated);
-    }
-  }
-  // recommend only a tested level: the coarsest whose error meets the tolerance, or
-  // whose differences to every finer level are round-off or within the tolerance
-  double target = tol * out.scale;
-  std::vector<char> settled(out.levels.size(), 0);
-  settled[last] = out.levels[last - 1].roundoff;  // the finest pair agrees to round-off
-  for (std::size_t i = diffs.size(); i-- > 0;) {
-    settled[i] =
-        (diffs[i] <= target || out.levels[i].roundoff) && (i + 1 >= diffs.size() || settled[i + 1]);
-  }
-  for (std::size_t i = 0; i < out.levels.size(); ++i) {
-    const ConvergenceLevel& level = out.levels[i];
-    if (std::isfinite(level.error) ? level.error <= target : settled[i] != 0) {
-      out.recommended_dt = level.dt;
-      break;
-    }
-  }
-  if (!out.estimate.resolved && out.recommended_dt > 0) {
-    out.estimate.note +=
-        "; the recommended dt is the coarsest level whose differences to all finer levels "
-        "are within the tolerance";
-  }
+  LevelErrors(metric, diffs, &out);
+  Recommend(diffs, tol, &out);
   return out;
 }
 
