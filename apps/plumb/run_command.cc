@@ -32,13 +32,9 @@ struct RunOptions {
   std::string repro;
 };
 
-int RunRun(const RunOptions& o, const Context& ctx) {
-  Model model = LoadModel(o.model);
-  Data data(model);
-  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
-
-  // the timestep the run uses is the one --set chooses; the default sampling adapts to it
-  double dt = RunTimestep(model, sets);
+// The schedule and columns of the run: the timestep --set chooses decides the default
+// sampling; --columns expands '*' into scalar columns.
+RunSpec MakeRunSpec(const RunOptions& o, const Model& model, double dt) {
   RunSpec spec;
   spec.until = o.until;
   spec.every = o.every;
@@ -49,35 +45,22 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   }
   if (o.columns.empty()) {
     spec.columns = DefaultColumns(model);
-  } else {
-    for (const std::string& text : SplitPathList(o.columns)) {
-      try {
-        for (const Path& p : ExpandPath(model, text)) {
-          for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
-        }
-      } catch (const PathError& e) {
-        throw PathError(std::string("--columns: ") + e.what());
+    return spec;
+  }
+  for (const std::string& text : SplitPathList(o.columns)) {
+    try {
+      for (const Path& p : ExpandPath(model, text)) {
+        for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
       }
+    } catch (const PathError& e) {
+      throw PathError(std::string("--columns: ") + e.what());
     }
   }
-  // validate the schedule before any output file appears
-  MakeSchedule(dt, spec.until, spec.every);
-  ApplyAssignments(model, data, sets);
+  return spec;
+}
 
-  SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
-                        : o.format == "jsonl" ? SampleFormat::kJsonl
-                                              : SampleFormat::kTable;
-  std::optional<AtomicFile> file;
-  if (!o.output.empty()) file.emplace(o.output);
-  std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
-
-  for (const std::string& hint : StartHints(model, data)) {
-    std::fprintf(stderr, "plumb: %s\n", hint.c_str());
-  }
-  spec.stop = &StopRequested();
-  RunResult result = Run(model, data, spec, *writer);
-
-  // every warning reaches the user: the per-kind summary, then any other message
+// Every warning reaches the user: the per-kind summary, then any other message.
+void ReportWarnings(const RunResult& result) {
   std::vector<std::string> summarised;
   for (const WarningSummary& w : result.warnings) {
     std::fprintf(stderr,
@@ -96,32 +79,61 @@ int RunRun(const RunOptions& o, const Context& ctx) {
       std::fprintf(stderr, "plumb: warning: MuJoCo: %s\n", message.c_str());
     }
   }
-  if (result.diverged) {
-    // the divergence is the news: say it first, then where the repro went
+}
+
+// The divergence is the news: say it first, then where the repro went and what became of
+// the output.
+void ReportDivergence(const RunOptions& o, const Context& ctx, const Model& model,
+                      const RunResult& result, const std::optional<AtomicFile>& file) {
+  std::fprintf(stderr,
+               "plumb: error: %s\n"
+               "plumb: hint: a timestep that is too large or a mass/inertia that is far off "
+               "makes a simulation blow up: halve opt.timestep (--set opt.timestep=...) and "
+               "check the compiler's warnings.\n",
+               result.divergence->reason.c_str());
+  std::string dir =
+      o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
+  try {
+    std::string written = WriteRepro(model, result, ctx.argv, dir);
     std::fprintf(stderr,
-                 "plumb: error: %s\n"
-                 "plumb: hint: a timestep that is too large or a mass/inertia that is far off "
-                 "makes a simulation blow up: halve opt.timestep (--set opt.timestep=...) and "
-                 "check the compiler's warnings.\n",
-                 result.divergence->reason.c_str());
-    std::string dir =
-        o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
-    try {
-      std::string written = WriteRepro(model, result, ctx.argv, dir);
-      std::fprintf(stderr,
-                   "plumb: repro folder: %s/ (model, last good and bad state, command line)\n",
-                   written.c_str());
-    } catch (const IoError& e) {
-      std::fprintf(stderr, "plumb: warning: no repro folder: %s (choose one with --repro DIR)\n",
-                   e.what());
-    }
-    if (file && file->direct()) {
-      // a FIFO or device cannot be left untouched: it has the samples up to the divergence
-      std::fprintf(stderr, "plumb: %s received the samples up to the divergence\n",
-                   file->path() == "-" ? "standard output" : file->path().c_str());
-    } else if (file) {
-      std::fprintf(stderr, "plumb: no output file was written\n");
-    }
+                 "plumb: repro folder: %s/ (model, last good and bad state, command line)\n",
+                 written.c_str());
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "plumb: warning: no repro folder: %s (choose one with --repro DIR)\n",
+                 e.what());
+  }
+  if (file && file->direct()) {
+    // a FIFO or device cannot be left untouched: it has the samples up to the divergence
+    std::fprintf(stderr, "plumb: %s received the samples up to the divergence\n",
+                 file->path() == "-" ? "standard output" : file->path().c_str());
+  } else if (file) {
+    std::fprintf(stderr, "plumb: no output file was written\n");
+  }
+}
+
+int RunRun(const RunOptions& o, const Context& ctx) {
+  Model model = LoadModel(o.model);
+  Data data(model);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
+  double dt = RunTimestep(model, sets);
+  RunSpec spec = MakeRunSpec(o, model, dt);
+  // validate the schedule before any output file appears
+  MakeSchedule(dt, spec.until, spec.every);
+  ApplyAssignments(model, data, sets);
+  SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
+                        : o.format == "jsonl" ? SampleFormat::kJsonl
+                                              : SampleFormat::kTable;
+  std::optional<AtomicFile> file;
+  if (!o.output.empty()) file.emplace(o.output);
+  std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
+  for (const std::string& hint : StartHints(model, data)) {
+    std::fprintf(stderr, "plumb: %s\n", hint.c_str());
+  }
+  spec.stop = &StopRequested();
+  RunResult result = Run(model, data, spec, *writer);
+  ReportWarnings(result);
+  if (result.diverged) {
+    ReportDivergence(o, ctx, model, result, file);
     return kExitDiverged;
   }
   if (file) file->Commit();
