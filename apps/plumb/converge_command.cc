@@ -33,6 +33,76 @@ nlohmann::ordered_json Number(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
+// The result as a JSON document.
+std::string ConvergeJson(const ConvergenceResult& r, const ConvergeOptions& o, double expected) {
+  nlohmann::ordered_json j;
+  j["metric"] = r.metric;
+  j["model"] = o.model;
+  j["integrator_expected_order"] = expected;
+  nlohmann::ordered_json levels = nlohmann::ordered_json::array();
+  for (const ConvergenceLevel& l : r.levels) {
+    levels.push_back({{"dt", l.dt},
+                      {"value", Number(l.value)},
+                      {"diff", Number(l.diff)},
+                      {"order", Number(l.order)},
+                      {"error", Number(l.error)},
+                      {"error_is_richardson", l.error_is_richardson},
+                      {"roundoff", l.roundoff}});
+  }
+  j["levels"] = levels;
+  j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
+  j["order_resolved"] = r.estimate.resolved;
+  j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
+  j["scale"] = r.scale;
+  j["tol"] = r.tol;
+  j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+  j["contacts"] = r.max_contacts;
+  j["caveat"] =
+      r.caveat.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.caveat);
+  j["note"] = r.ok ? r.estimate.note : r.problem;
+  return j.dump(2) + "\n";
+}
+
+// The result as the table a person reads: the levels, then the verdict.
+std::string ConvergeTable(const ConvergenceResult& r, const ConvergeOptions& o, double until,
+                          double expected) {
+  std::string out = fmt::format("metric {} on {}, over {:g} s\n\n", r.metric, o.model, until);
+  out += fmt::format("{:>12} {:>22} {:>12} {:>8} {:>12}\n", "dt [s]", "value", "diff", "order",
+                     "est. error");
+  auto num = [](double v, const char* spec) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
+  };
+  for (const ConvergenceLevel& l : r.levels) {
+    out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}{}\n", l.dt, num(l.value, "{:.15g}"),
+                       num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"),
+                       l.roundoff ? "  (diff is round-off)" : "",
+                       l.error_is_richardson ? "  (Richardson estimate: no finer level)" : "");
+  }
+  out += "\n";
+  if (!r.ok) {
+    out += (r.diverged ? "diverged " : "cannot measure ") + r.problem + "\n";
+  } else {
+    out += r.estimate.resolved
+               ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
+                             r.estimate.order, expected)
+               : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
+    bool measured = r.estimate.extrapolated == r.levels.back().value;
+    out += fmt::format("value           {:.15g} ({}: {})\n", r.estimate.extrapolated,
+                       measured ? "measured at the finest level" : "an estimate",
+                       r.estimate.note);
+    out += r.recommended_dt > 0
+               ? fmt::format(
+                     "recommended dt  {:g} s: the largest tested level with estimated error "
+                     "below tol {:g} x scale {:.3g}\n",
+                     r.recommended_dt, r.tol, r.scale)
+               : std::string(
+                     "recommended dt  none (no tested level is shown to meet the tolerance; "
+                     "try a smaller --dt or more --halvings)\n");
+    if (!r.caveat.empty()) out += "caveat          " + r.caveat + "\n";
+  }
+  return out;
+}
+
 int RunConverge(const ConvergeOptions& o) {
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
@@ -63,71 +133,9 @@ int RunConverge(const ConvergeOptions& o) {
                     o.metric, r.problem));
   }
 
-  if (o.format == "json") {
-    nlohmann::ordered_json j;
-    j["metric"] = r.metric;
-    j["model"] = o.model;
-    j["integrator_expected_order"] = expected;
-    nlohmann::ordered_json levels = nlohmann::ordered_json::array();
-    for (const ConvergenceLevel& l : r.levels) {
-      levels.push_back({{"dt", l.dt},
-                        {"value", Number(l.value)},
-                        {"diff", Number(l.diff)},
-                        {"order", Number(l.order)},
-                        {"error", Number(l.error)},
-                        {"error_is_richardson", l.error_is_richardson},
-                        {"roundoff", l.roundoff}});
-    }
-    j["levels"] = levels;
-    j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
-    j["order_resolved"] = r.estimate.resolved;
-    j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
-    j["scale"] = r.scale;
-    j["tol"] = r.tol;
-    j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
-    j["contacts"] = r.max_contacts;
-    j["caveat"] =
-        r.caveat.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.caveat);
-    j["note"] = r.ok ? r.estimate.note : r.problem;
-    std::string text = j.dump(2) + "\n";
-    std::fwrite(text.data(), 1, text.size(), stdout);
-  } else {
-    std::string out = fmt::format("metric {} on {}, over {:g} s\n\n", r.metric, o.model, until);
-    out += fmt::format("{:>12} {:>22} {:>12} {:>8} {:>12}\n", "dt [s]", "value", "diff", "order",
-                       "est. error");
-    auto num = [](double v, const char* spec) {
-      return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("-");
-    };
-    for (const ConvergenceLevel& l : r.levels) {
-      out += fmt::format("{:>12g} {:>22} {:>12} {:>8} {:>12}{}{}\n", l.dt, num(l.value, "{:.15g}"),
-                         num(l.diff, "{:.3e}"), num(l.order, "{:.2f}"), num(l.error, "{:.3e}"),
-                         l.roundoff ? "  (diff is round-off)" : "",
-                         l.error_is_richardson ? "  (Richardson estimate: no finer level)" : "");
-    }
-    out += "\n";
-    if (!r.ok) {
-      out += (r.diverged ? "diverged " : "cannot measure ") + r.problem + "\n";
-    } else {
-      out += r.estimate.resolved
-                 ? fmt::format("observed order  {:.2f} (the integrator's is {:g})\n",
-                               r.estimate.order, expected)
-                 : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
-      bool measured = r.estimate.extrapolated == r.levels.back().value;
-      out += fmt::format("value           {:.15g} ({}: {})\n", r.estimate.extrapolated,
-                         measured ? "measured at the finest level" : "an estimate",
-                         r.estimate.note);
-      out += r.recommended_dt > 0
-                 ? fmt::format(
-                       "recommended dt  {:g} s: the largest tested level with estimated error "
-                       "below tol {:g} x scale {:.3g}\n",
-                       r.recommended_dt, r.tol, r.scale)
-                 : std::string(
-                       "recommended dt  none (no tested level is shown to meet the tolerance; "
-                       "try a smaller --dt or more --halvings)\n");
-      if (!r.caveat.empty()) out += "caveat          " + r.caveat + "\n";
-    }
-    std::fwrite(out.data(), 1, out.size(), stdout);
-  }
+  std::string text =
+      o.format == "json" ? ConvergeJson(r, o, expected) : ConvergeTable(r, o, until, expected);
+  std::fwrite(text.data(), 1, text.size(), stdout);
   return r.ok ? kExitOk : kExitDiverged;
 }
 

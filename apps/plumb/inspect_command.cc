@@ -39,6 +39,8 @@ std::string Vec(const std::array<double, 3>& v) {
   return fmt::format("{:.6g} {:.6g} {:.6g}", v[0], v[1], v[2]);
 }
 
+// Long by design (about 90 lines): one block per section of `plumb inspect`, top to bottom
+// as it prints; the sections share the table's widths and nothing else.
 std::string Table(const ModelDescription& d) {
   std::string out;
   auto line = [&](const std::string& s) { out += s + "\n"; };

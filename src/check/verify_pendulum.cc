@@ -74,10 +74,7 @@ std::vector<Assignment> Exact(const VerifyScenario& s, int dof, double theta) {
 }  // namespace
 
 CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  double theta0 = ctx.theta0;
-  int dof = ctx.dof;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6) return Skip(r.id, r.title, "the pendulum starts at rest at equilibrium");
   if (amplitude >= M_PI - 1e-6) return Skip(r.id, r.title, "it starts over the top: no swing");
@@ -102,10 +99,7 @@ CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r) {
 }
 
 CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  double theta0 = ctx.theta0;
-  double tol = ctx.tol;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6 || amplitude >= M_PI - 1e-6) {
     return Skip(r.id, r.title, "no swing to time from this initial angle");
@@ -140,9 +134,7 @@ CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r) {
 }
 
 CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  double theta0 = ctx.theta0;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   DampingAnalysis damping = AnalyseDamping(p.inertia, p.stiffness, p.damping);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6) return Skip(r.id, r.title, "the pendulum starts at rest at equilibrium");
@@ -178,9 +170,7 @@ CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r) {
 // ---- the chapter's three experiments ----------------------------------------------------
 
 CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  int dof = ctx.dof;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double t0 = SmallAnglePeriod(p);
   std::vector<std::string> parts;
   double previous = 0, worst = 0;
@@ -209,11 +199,7 @@ CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r) {
 }
 
 CheckResult ExperimentDamping(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  int dof = ctx.dof;
-  double theta0 = ctx.theta0;
-  double tol = ctx.tol;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double theta = ExperimentStart(theta0, p);
   std::vector<std::string> parts;
   std::vector<double> losses;
@@ -260,11 +246,7 @@ CheckResult ExperimentDamping(const VerifyContext& ctx, CheckResult r) {
 }
 
 CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  int dof = ctx.dof;
-  double theta0 = ctx.theta0;
-  double tol = ctx.tol;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double theta = ExperimentStart(theta0, p);
   std::vector<Assignment> start = {s.Set(fmt::format("qpos[{}]={:.17g}", dof, theta)),
                                    s.Set(fmt::format("qvel[{}]=0", dof))};
@@ -307,10 +289,7 @@ CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r) {
 // ---- the chapter's exercises -------------------------------------------------------------
 
 CheckResult ExerciseMoon(const VerifyContext& ctx, CheckResult r) {
-  const VerifyScenario& s = ctx.s;
-  const PendulumParams& p = *ctx.pendulum;
-  int dof = ctx.dof;
-  double theta0 = ctx.theta0;
+  const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6 || amplitude >= M_PI - 1e-6) amplitude = 0.7;
   double theta = p.equilibrium + amplitude;

@@ -95,6 +95,19 @@ struct VerifyContext {
   double theta0 = 0;  // its start angle
 };
 
+// What the pendulum checks read from the context, in one line:
+//   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
+struct PendulumCase {
+  const VerifyScenario& s;
+  const PendulumParams& p;
+  int dof;
+  double theta0;
+  double tol;
+};
+inline PendulumCase Pendulum(const VerifyContext& ctx) {
+  return {ctx.s, *ctx.pendulum, ctx.dof, ctx.theta0, ctx.tol};
+}
+
 // Each check fills in `r` (its id and title already set, from the table in verify.cc).
 using CheckFunction = CheckResult (*)(const VerifyContext& ctx, CheckResult r);
 

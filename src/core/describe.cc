@@ -78,6 +78,9 @@ std::string ActuatorPositionUnit(const mjModel* m, int actuator) {
   return "m, rad";
 }
 
+// Long by design (about 130 lines): one block per section of the description, in the order
+// `plumb inspect` prints them; each block is a few lines of copying, and splitting them would
+// scatter the one list a reader checks against the output.
 ModelDescription Describe(const Model& model) {
   const mjModel* m = model.get();
   ModelDescription out;

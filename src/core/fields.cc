@@ -38,6 +38,8 @@ struct ArenaRows {
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #pragma GCC diagnostic ignored "-Winvalid-offsetof"
 
+// Long by design (about 100 lines): one X-macro expansion per mjModel/mjData/mjOption table
+// of mujoco/mjxmacro.h, in MuJoCo's order; each block registers one table.
 std::vector<FieldInfo> BuildFields() {
   std::vector<FieldInfo> f;
 

@@ -21,6 +21,8 @@ ordered_json StateJson(const StateSnapshot& s) {
 }
 }  // namespace
 
+// Long by design (about 90 lines): one JSON member per field of ModelDescription, in the
+// order of the struct, so the document and the struct can be read side by side.
 std::string DescriptionToJson(const ModelDescription& d, const std::string& mujoco) {
   ordered_json j;
   j["model"] = d.file;
