@@ -13,9 +13,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "plumb/sample_writer.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
+#include "plumb/sample_writer.h"
 
 namespace {
 

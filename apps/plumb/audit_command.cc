@@ -90,9 +90,9 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
 
 void SetupAuditCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<AuditCommandOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "audit", "Accept a model in five layers: structure, inertia, actuator, contact, behaviour");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "audit",
+      "Accept a model in five layers: structure, inertia, actuator, contact, behaviour",
       "Examples:\n"
       "  plumb audit /usr/share/mujoco/model/humanoid/humanoid.xml\n"
       "  plumb audit robot.xml --scenario stand.toml --strict --format json\n"

@@ -4,20 +4,20 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstring>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <new>
 #include <optional>
 
-#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
-#include "plumb/sample_writer.h"
 #include "plumb/run.h"
+#include "plumb/sample_writer.h"
+#include "plumb/strings.h"
 
 namespace plumb::cli {
 
@@ -111,6 +111,13 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return out;
 }
 
+CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
+                     const std::string& footer) {
+  CLI::App* cmd = app.add_subcommand(name, description);
+  cmd->footer(footer);
+  return cmd;
+}
+
 void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::string>& choices,
                      const std::string& help) {
   std::string listed;
@@ -139,8 +146,7 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
     std::string command = argv.empty() ? "plumb" : ShellQuote(argv[0]);
     for (std::size_t i = 1; i < argv.size() && i < 3; ++i) command += " " + ShellQuote(argv[i]);
     bool memory = dynamic_cast<const std::bad_alloc*>(&error) != nullptr;
-    std::fprintf(stderr,
-                 "plumb: internal error: %s (in '%s%s'). %s\n",
+    std::fprintf(stderr, "plumb: internal error: %s (in '%s%s'). %s\n",
                  memory ? "out of memory" : error.what(), command.c_str(),
                  argv.size() > 3 ? " ..." : "",
                  memory ? "Give plumb more memory, or fewer threads, cases or samples."

@@ -21,14 +21,14 @@ namespace plumb::cli {
 
 // Documented exit codes (README, `plumb --help`).
 enum ExitCode : int {
-  kExitOk = 0,           // success
-  kExitCheckFailed = 1,  // a check failed
-  kExitBadInput = 2,     // bad input or usage: missing file, XML error, unknown path, ...
-  kExitDiverged = 3,     // the simulation diverged (a repro folder was written)
-  kExitMujocoError = 4,  // MuJoCo stopped with a fatal error (mju_error), not a divergence
-  kExitInternal = 70,    // an internal error: a plumb bug, out of memory (sysexits' EX_SOFTWARE)
-  kExitInterrupted = 130,     // SIGINT/SIGTERM: what finished was kept
-  kExitOutputClosed = 141,    // stdout was closed by its reader (as a SIGPIPE death)
+  kExitOk = 0,              // success
+  kExitCheckFailed = 1,     // a check failed
+  kExitBadInput = 2,        // bad input or usage: missing file, XML error, unknown path, ...
+  kExitDiverged = 3,        // the simulation diverged (a repro folder was written)
+  kExitMujocoError = 4,     // MuJoCo stopped with a fatal error (mju_error), not a divergence
+  kExitInternal = 70,       // an internal error: a plumb bug, out of memory (sysexits' EX_SOFTWARE)
+  kExitInterrupted = 130,   // SIGINT/SIGTERM: what finished was kept
+  kExitOutputClosed = 141,  // stdout was closed by its reader (as a SIGPIPE death)
 };
 
 // Thrown by WriteStdout when the reader of stdout has gone (EPIPE).
@@ -52,6 +52,11 @@ struct Context {
 // PATH=VALUE (one value per occurrence), with `when` saying when the assignments apply.
 void AddModelOptions(CLI::App* cmd, std::string* model, std::vector<std::string>* sets,
                      const std::string& when);
+
+// Adds subcommand `name` with its one-line `description` and the `footer` its --help ends
+// with (examples, exit codes).
+CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,
+                     const std::string& footer);
 
 // --format, one of `choices` (the first is the default the options struct holds); `help`
 // explains them, else they are listed ("table or json").

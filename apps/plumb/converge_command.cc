@@ -88,8 +88,7 @@ std::string ConvergeTable(const ConvergenceResult& r, const ConvergeOptions& o, 
                : fmt::format("observed order  unresolved (the integrator's is {:g})\n", expected);
     bool measured = r.estimate.extrapolated == r.levels.back().value;
     out += fmt::format("value           {:.15g} ({}: {})\n", r.estimate.extrapolated,
-                       measured ? "measured at the finest level" : "an estimate",
-                       r.estimate.note);
+                       measured ? "measured at the finest level" : "an estimate", r.estimate.note);
     out += r.recommended_dt > 0
                ? fmt::format(
                      "recommended dt  {:g} s: the largest tested level with estimated error "
@@ -143,9 +142,8 @@ int RunConverge(const ConvergeOptions& o) {
 
 void SetupConvergeCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<ConvergeOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "converge", "Run a metric at dt, dt/2, dt/4, ...: observed order, extrapolation, advice");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "converge", "Run a metric at dt, dt/2, dt/4, ...: observed order, extrapolation, advice",
       "Examples:\n"
       "  plumb converge models/pendulum.xml --set 'qpos[hinge]=0.7' --metric 'qpos[hinge]@2'\n"
       "  plumb converge models/pendulum.xml --set 'qpos[hinge]=0.7' --set opt.integrator=RK4 \\\n"

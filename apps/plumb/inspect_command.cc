@@ -150,9 +150,8 @@ int RunInspect(const InspectOptions& o) {
 
 void SetupInspectCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<InspectOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "inspect", "Print a model's sizes, options, bodies, joints, actuators and sensors");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "inspect", "Print a model's sizes, options, bodies, joints, actuators and sensors",
       "Examples:\n"
       "  plumb inspect models/pendulum.xml\n"
       "  plumb inspect models/pendulum.xml --format json\n"

@@ -4,10 +4,10 @@
 #include <exception>
 
 #include "cli_common.h"
-#include "plumb/version.h"
 #include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
+#include "plumb/version.h"
 
 int main(int argc, char** argv) {
   using namespace plumb::cli;

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,9 +10,9 @@
 #include <sstream>
 
 #include "cli_common.h"
-#include "plumb/file_kind.h"
-#include "plumb/error.h"
 #include "plumb/atomic_file.h"
+#include "plumb/error.h"
+#include "plumb/file_kind.h"
 #include "plumb/regression.h"
 
 namespace plumb::cli {
@@ -150,7 +149,8 @@ int RunDiff(const DiffOptions& o) {
       for (std::size_t i = 0; i < diff.compiler.size() && i < 3; ++i) {
         out += "  " + diff.compiler[i].what + "\n";
       }
-      if (diff.compiler.size() > 3) out += fmt::format("  ... and {} more\n", diff.compiler.size() - 3);
+      if (diff.compiler.size() > 3)
+        out += fmt::format("  ... and {} more\n", diff.compiler.size() - 3);
     }
     for (const SnapshotChange& c : diff.changes) out += c.what + "\n";
     out += diff.changed()
@@ -165,9 +165,10 @@ int RunDiff(const DiffOptions& o) {
                                diff.snapshot_mujoco_version, MujocoVersion(),
                                trajectory ? "the golden trajectory departs"
                                           : "structure or parameters differ")
-                 : fmt::format("upgrade {} -> {}: same structure and parameters, trajectory "
-                               "within cross-version round-off (tol {:g})\n",
-                               diff.snapshot_mujoco_version, MujocoVersion(), o.tol);
+                 : fmt::format(
+                       "upgrade {} -> {}: same structure and parameters, trajectory "
+                       "within cross-version round-off (tol {:g})\n",
+                       diff.snapshot_mujoco_version, MujocoVersion(), o.tol);
     }
   }
   std::fwrite(out.data(), 1, out.size(), stdout);
@@ -179,9 +180,8 @@ int RunDiff(const DiffOptions& o) {
 
 void SetupRegressionCommands(CLI::App& app, Context& ctx) {
   auto s = std::make_shared<SnapshotOptions>();
-  CLI::App* snapshot = app.add_subcommand(
-      "snapshot", "Record a model's structure, inertia, actuators and a golden trajectory");
-  snapshot->footer(
+  CLI::App* snapshot = AddCommand(
+      app, "snapshot", "Record a model's structure, inertia, actuators and a golden trajectory",
       "Example:\n  plumb snapshot robot.xml -o robot.snap.json    # commit it with the model\n"
       "The --set values are recorded in the snapshot; plumb diff applies them again.\n"
       "Exit codes: 0 written, 2 bad input, 3 the golden trajectory diverges (nothing is\n"
@@ -192,13 +192,13 @@ void SetupRegressionCommands(CLI::App& app, Context& ctx) {
   snapshot->callback([s, &ctx] { ctx.action = [s] { return RunSnapshot(*s); }; });
 
   auto d = std::make_shared<DiffOptions>();
-  CLI::App* diff = app.add_subcommand("diff", "Compare a model with its snapshot, in words");
-  diff->footer(
-      "Example:\n  plumb diff robot.snap.json robot.xml --tol 1e-6\n"
-      "Prints each change (dof_damping[hinge]: 0.05 → 0.1, body added: gripper,\n"
-      "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
-      "1 changed, 2 bad input, 3 the golden trajectory diverges.\n"
-      "The model is simulated with the snapshot's own --set values, then diff's --set.");
+  CLI::App* diff =
+      AddCommand(app, "diff", "Compare a model with its snapshot, in words",
+                 "Example:\n  plumb diff robot.snap.json robot.xml --tol 1e-6\n"
+                 "Prints each change (dof_damping[hinge]: 0.05 → 0.1, body added: gripper,\n"
+                 "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
+                 "1 changed, 2 bad input, 3 the golden trajectory diverges.\n"
+                 "The model is simulated with the snapshot's own --set values, then diff's --set.");
   diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
   AddModelOptions(diff, &d->model, &d->sets, "before comparing");
   diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();

@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/store.h"
+#include "plumb/strings.h"
 
 namespace plumb::cli {
 namespace {
@@ -107,8 +107,8 @@ int RunResults(const ResultsOptions& o) {
 
 void SetupResultsCommands(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<ResultsOptions>();
-  CLI::App* results = app.add_subcommand("results", "Export a results store as CSV or JSON");
-  results->footer(
+  CLI::App* results = AddCommand(
+      app, "results", "Export a results store as CSV or JSON",
       "Example:\n  plumb results rollouts.sqlite --format csv > rollouts.csv\n"
       "CSV is one table with a run column: one header, every row the same width. Runs whose\n"
       "parameters or metrics differ are exported one at a time with --run N, or all with JSON.");
@@ -121,10 +121,10 @@ void SetupResultsCommands(CLI::App& app, Context& ctx) {
 
   auto inputs = std::make_shared<std::vector<std::string>>();
   auto output = std::make_shared<std::string>();
-  CLI::App* merge = app.add_subcommand("merge", "Join results stores (e.g. shards) into one");
-  merge->footer(
-      "Example:\n  plumb merge shard0.sqlite shard1.sqlite -o all.sqlite\n"
-      "Runs with the same configuration become one; the output must not exist yet.");
+  CLI::App* merge =
+      AddCommand(app, "merge", "Join results stores (e.g. shards) into one",
+                 "Example:\n  plumb merge shard0.sqlite shard1.sqlite -o all.sqlite\n"
+                 "Runs with the same configuration become one; the output must not exist yet.");
   merge->add_option("inputs", *inputs, "stores to join")->required();
   merge->add_option("-o,--output", *output, "the new store")->required();
   merge->callback([inputs, output, &ctx] {

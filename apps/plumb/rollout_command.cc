@@ -15,13 +15,13 @@
 #endif
 
 #include "cli_common.h"
-#include "plumb/strings.h"
-#include "plumb/version.h"
 #include "mpi.h"
 #include "plumb/error.h"
-#include "plumb/rollout.h"
 #include "plumb/hash.h"
+#include "plumb/rollout.h"
 #include "plumb/store.h"
+#include "plumb/strings.h"
+#include "plumb/version.h"
 #include "run_store.h"
 #include "summary.h"
 
@@ -262,8 +262,8 @@ struct RolloutTally {
       summary += fmt::format(
           "{}: n {} mean {:.6g} std {:.6g} min {:.6g} q05 {:.6g} median {:.6g} q95 {:.6g} max "
           "{:.6g}{}\n",
-          metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(),
-          s.max(), s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
+          metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(), s.max(),
+          s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
     }
     return summary;
   }
@@ -358,9 +358,8 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
 
 void SetupRolloutCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<RolloutOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "rollout", "Many runs with randomized parameters, deterministic for any thread count");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "rollout", "Many runs with randomized parameters, deterministic for any thread count",
       "Examples:\n"
       "  plumb rollout humanoid.xml --count 1000 --until 1 --threads 2 --seed 7 \\\n"
       "      --randomize 'body_mass[*]=*U(0.9,1.1)' --randomize 'geom_friction[*][0]=U(0.5,1.2)' "

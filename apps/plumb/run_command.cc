@@ -8,11 +8,11 @@
 #include <optional>
 
 #include "cli_common.h"
-#include "plumb/error.h"
 #include "plumb/atomic_file.h"
-#include "plumb/sample_writer.h"
+#include "plumb/error.h"
 #include "plumb/repro.h"
 #include "plumb/run.h"
+#include "plumb/sample_writer.h"
 #include "plumb/start_hints.h"
 #include "plumb/timing.h"
 
@@ -144,8 +144,8 @@ int RunRun(const RunOptions& o, const Context& ctx) {
 
 void SetupRunCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<RunOptions>();
-  CLI::App* cmd = app.add_subcommand("run", "Step a model with mj_step and sample paths over time");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "run", "Step a model with mj_step and sample paths over time",
       "Examples:\n"
       "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1\n"
       "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --format csv -o traj.csv\n"
@@ -154,7 +154,8 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       "Paths: qpos[joint], qvel[joint], ctrl[actuator], xpos[body][2], sensordata[sensor],\n"
       "  opt.timestep, opt.gravity, dof_damping[joint], body_mass[body], ... (any mjModel\n"
       "  or mjData array by name). Angles are radians.\n"
-      "Exit codes: 0 ok, 2 bad input, 3 diverged (a repro folder is written).");
+      "Exit codes: 0 ok, 2 bad input, 3 diverged (a repro folder is written), 4 MuJoCo fatal\n"
+      "error; plumb --help lists every code.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--until", o->until, "final time in seconds")->capture_default_str();

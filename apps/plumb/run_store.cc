@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "plumb/error.h"
 #include "plumb/strings.h"
 #include "plumb/version.h"
-#include "plumb/error.h"
 
 namespace plumb::cli {
 
@@ -78,8 +78,8 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
   return out;
 }
 
-void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress,
-                        StoredRun& stored, const std::function<void()>& flush,
+void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress, StoredRun& stored,
+                        const std::function<void()>& flush,
                         const std::function<std::string()>& finished, const std::string& db) {
   try {
     work();
@@ -91,10 +91,10 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
       flush();
     } catch (const OutputClosed&) {
     }
-    throw Interrupted(fmt::format("{}; {}{}", e.what(), finished(),
-                                  stored.store ? " and stored in '" + db +
-                                                     "': repeat the command with --resume to go on"
-                                               : ""));
+    throw Interrupted(fmt::format(
+        "{}; {}{}", e.what(), finished(),
+        stored.store ? " and stored in '" + db + "': repeat the command with --resume to go on"
+                     : ""));
   } catch (const OutputClosed&) {
     // the reader has gone: keep what finished, stop quietly
     progress.Finish();

@@ -41,8 +41,8 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
 // written (unless stdout is gone), and the stop is reported again with `finished` ("12
 // rollouts finished") and, with a store, how to go on (--resume). On a closed stdout
 // (OutputClosed) the store is committed and the batch ends quietly (exit 141).
-void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress,
-                        StoredRun& stored, const std::function<void()>& flush,
+void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress, StoredRun& stored,
+                        const std::function<void()>& flush,
                         const std::function<std::string()>& finished, const std::string& db);
 
 // Commits the store and marks the run finished when it holds all `total` indices.

@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "plumb/version.h"
 #include "plumb/error.h"
-#include "plumb/sample_writer.h"
 #include "plumb/hash.h"
+#include "plumb/sample_writer.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"
 #include "plumb/timing.h"
+#include "plumb/version.h"
 #include "run_store.h"
 
 namespace plumb::cli {
@@ -76,8 +76,8 @@ RolloutResult StoredCase(const SweepSpec& spec, const SweepCase& c) {
 
 // The sweep's cost, said before anything runs: cases, runs, steps, and what the output
 // and the store will hold.
-std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec& spec,
-                     long cases, std::size_t row_bytes) {
+std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec& spec, long cases,
+                     std::size_t row_bytes) {
   double dt = RunTimestep(model, spec.sets);
   for (const SweepAxis& axis : spec.axes) {
     if (axis.path.field != "opt.timestep") continue;
@@ -124,8 +124,7 @@ class SweepWriter {
       for (const SweepAxis& a : spec_.axes) axes.push_back(a.path.text);
       return "{\n  \"model\": " + nlohmann::ordered_json(o_.model).dump() +
              ",\n  \"vary\": " + axes.dump() +
-             ",\n  \"metrics\": " + nlohmann::ordered_json(o_.metrics).dump() +
-             ",\n  \"cases\": [";
+             ",\n  \"metrics\": " + nlohmann::ordered_json(o_.metrics).dump() + ",\n  \"cases\": [";
     }
     if (o_.format == "csv") {
       std::vector<std::string> header = {"case"};
@@ -218,7 +217,8 @@ class EffectWatch {
     for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
       if (spec_.axes[a].size() > kMostWatched) continue;
       bool on_line = true;
-      for (std::size_t b = 0; b < c.choice.size(); ++b) on_line = on_line && (b == a || c.choice[b] == 0);
+      for (std::size_t b = 0; b < c.choice.size(); ++b)
+        on_line = on_line && (b == a || c.choice[b] == 0);
       if (!on_line) continue;
       std::vector<double> values;
       for (const Measurement& m : c.metrics) values.push_back(m.ok ? m.value : NAN);
@@ -236,8 +236,8 @@ class EffectWatch {
       // values grouped by their results (NaN, not measured, is no evidence either way)
       std::map<std::string, std::vector<std::size_t>> groups;
       for (const auto& [choice, values] : lines_[a]) {
-        bool measured = std::none_of(values.begin(), values.end(),
-                                     [](double v) { return std::isnan(v); });
+        bool measured =
+            std::none_of(values.begin(), values.end(), [](double v) { return std::isnan(v); });
         if (!measured) continue;
         std::string key(reinterpret_cast<const char*>(values.data()),
                         values.size() * sizeof(double));
@@ -291,7 +291,8 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
       std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
     }
     for (const Assignment& a : spec.axes.back().listed) {
-      for (const std::string& w : a.warnings) std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+      for (const std::string& w : a.warnings)
+        std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
     }
   }
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
@@ -336,8 +337,7 @@ class SweepProblems {
   void Report(long measurements) const {
     for (const auto& [key, cases] : problems_) {
       if (cases < 2) continue;
-      std::fprintf(stderr,
-                   "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
+      std::fprintf(stderr, "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
                    metrics_[key.first].c_str(), cases, key.second.c_str());
     }
     if (failed_ > 0) {
@@ -373,8 +373,8 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   StoredRun stored = OpenSweepStore(o, ctx, model, spec, total);
   SweepWriter writer(o, spec);
   std::string header = writer.Header();
-  std::size_t row_bytes = o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size())
-                                             : header.size();
+  std::size_t row_bytes =
+      o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size()) : header.size();
   std::fprintf(stderr, "plumb: %s\n", CostLine(model, o, spec, total, row_bytes).c_str());
   if (!stored.done.empty()) {
     std::fprintf(stderr, "plumb: --resume: %zu of %ld cases are stored in '%s'; running the rest\n",
@@ -431,9 +431,8 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
 
 void SetupSweepCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<SweepOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "sweep", "Measure metrics over the Cartesian product of varied parameters, in parallel");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "sweep", "Measure metrics over the Cartesian product of varied parameters, in parallel",
       "Examples:\n"
       "  plumb sweep models/pendulum.xml --set 'qpos[hinge]=0.7' \\\n"
       "      --vary 'dof_damping[hinge]=0,0.05,1' --metric 'qpos[hinge]@2' --metric energy_drift\n"

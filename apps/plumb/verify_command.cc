@@ -88,9 +88,9 @@ int RunVerify(const VerifyCommandOptions& o) {
 
 void SetupVerifyCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<VerifyCommandOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "verify", "Check that a model's numbers are credible: convergence, energy, analytic physics");
-  cmd->footer(
+  CLI::App* cmd = AddCommand(
+      app, "verify",
+      "Check that a model's numbers are credible: convergence, energy, analytic physics",
       "Examples:\n"
       "  plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7'\n"
       "  plumb verify /usr/share/mujoco/model/humanoid/humanoid.xml --format json\n"

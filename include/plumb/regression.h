@@ -24,12 +24,12 @@ inline constexpr int kSnapshotSteps = 100;
 // The snapshot of `model` after `sets`, as pretty JSON (2-space indent, keys in a fixed
 // order, doubles printed to round-trip exactly). The text of each of `sets` is recorded
 // ("sets": ["qpos[hinge]=0.7"]) so that DiffSnapshot applies them again. The golden trajectory
-// starts at the reference pose (FindReferencePose: keyframe "home", else "test", else qpos0) and drives every
-// ctrl-limited actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i)) (0 for
-// unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each.
-// Every element records its id (ids are not compared one by one: a shift is one change).
-// A diverging trajectory is recorded up to the step before and `divergence` (when given)
-// receives the reason; it is left empty otherwise. @throws MujocoError.
+// starts at the reference pose (FindReferencePose: keyframe "home", else "test", else qpos0) and
+// drives every ctrl-limited actuator i with ctrl = centre + 0.5 * radius * sin(2*pi*t*(1 + 0.37*i))
+// (0 for unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each. Every
+// element records its id (ids are not compared one by one: a shift is one change). A diverging
+// trajectory is recorded up to the step before and `divergence` (when given) receives the reason;
+// it is left empty otherwise. @throws MujocoError.
 std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets,
                          std::string* divergence = nullptr);
 
@@ -59,9 +59,9 @@ struct SnapshotDiff {
   // dof_length scales computed from body sizes) that it
   // derived differently. Listed apart: they say the release changed, not the model.
   std::vector<SnapshotChange> compiler;
-  std::vector<std::string> notes;       // e.g. a different MuJoCo version wrote the snapshot
-  std::vector<std::string> sets;        // the --set values the snapshot recorded, reapplied
-  std::string snapshot_plumb_version;   // the versions that wrote the snapshot
+  std::vector<std::string> notes;      // e.g. a different MuJoCo version wrote the snapshot
+  std::vector<std::string> sets;       // the --set values the snapshot recorded, reapplied
+  std::string snapshot_plumb_version;  // the versions that wrote the snapshot
   std::string snapshot_mujoco_version;
   bool diverged = false;  // the current model's trajectory diverged
   bool changed() const { return !changes.empty(); }

@@ -155,7 +155,6 @@ class DerivedRefresher {
 // One-off form of DerivedRefresher.
 void RefreshDerived(const Model& model, Data& data);
 
-
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_RUN_H_

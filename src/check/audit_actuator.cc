@@ -157,8 +157,8 @@ std::string DescribeResponse(const mjModel* m, int u, const CtrlStep& step,
         duration);
   }
   return fmt::format("no setpoint ({}): force {:.3g} -> {:.3g}, rise {}",
-                     m->actuator_gaintype[u] == mjGAIN_MUSCLE ? "muscle" : "actuator", y0,
-                     y.back(), rise_text);
+                     m->actuator_gaintype[u] == mjGAIN_MUSCLE ? "muscle" : "actuator", y0, y.back(),
+                     rise_text);
 }
 
 // A step of ctrl by 10% of its range (0.1 when unlimited) from the reference pose,
@@ -208,14 +208,14 @@ constexpr int kStepActuators = 12;
 void Limits(const mjModel* m, int u, const Element& element, std::vector<Finding>* out) {
   auto [flo, fhi] = ForceRange(m, u);
   if (std::isfinite(flo) && std::isfinite(fhi)) return;
-  out->push_back(Make(L, "actuator.limits", element,
-                      fmt::format("ctrl {}, force {}, gear {:g}",
-                                  m->actuator_ctrllimited[u] ? "limited" : "unlimited",
-                                  m->actuator_forcelimited[u] ? "limited" : "unlimited",
-                                  m->actuator_gear[6 * u]),
-                      "a force bound", CheckStatus::kWarn,
-                      "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
-                      "from the motor's datasheet, torque = gear x force"));
+  out->push_back(Make(
+      L, "actuator.limits", element,
+      fmt::format("ctrl {}, force {}, gear {:g}",
+                  m->actuator_ctrllimited[u] ? "limited" : "unlimited",
+                  m->actuator_forcelimited[u] ? "limited" : "unlimited", m->actuator_gear[6 * u]),
+      "a force bound", CheckStatus::kWarn,
+      "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
+      "from the motor's datasheet, torque = gear x force"));
 }
 
 // A position servo's targets (ctrl / gear, in joint units) should lie within reach.
@@ -232,13 +232,13 @@ void TargetRange(const mjModel* m, int u, const Element& element, std::vector<Fi
   double jlo = m->jnt_range[2 * joint], jhi = m->jnt_range[2 * joint + 1];
   double margin = 0.5 * (jhi - jlo);
   if (std::min(lo, hi) >= jlo - margin && std::max(lo, hi) <= jhi + margin) return;
-  out->push_back(Make(L, "actuator.target_range", element,
-                      fmt::format("targets [{:.4g}, {:.4g}] vs joint range [{:.4g}, {:.4g}]", lo,
-                                  hi, jlo, jhi),
-                      "within the joint range", CheckStatus::kWarn,
-                      "the servo asks for positions its joint can never reach: make "
-                      "ctrlrange match the joint range (and check the compiler's angle "
-                      "units)"));
+  out->push_back(Make(
+      L, "actuator.target_range", element,
+      fmt::format("targets [{:.4g}, {:.4g}] vs joint range [{:.4g}, {:.4g}]", lo, hi, jlo, jhi),
+      "within the joint range", CheckStatus::kWarn,
+      "the servo asks for positions its joint can never reach: make "
+      "ctrlrange match the joint range (and check the compiler's angle "
+      "units)"));
 }
 
 // Whether actuator u on a hinge or slide can hold its limb against gravity at the reference
@@ -264,8 +264,8 @@ bool Holding(const Model& model, const Data& data, int u, const Element& element
   if (!listed) return true;
   bool weak = need > thi || need < tlo;
   out->push_back(Make(L, "actuator.holding", element,
-                      fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo,
-                                  thi, need, Elem(model, mjOBJ_JOINT, joint, "joint")),
+                      fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo, thi,
+                                  need, Elem(model, mjOBJ_JOINT, joint, "joint")),
                       fmt::format("{} {:.4g}", need >= 0 ? ">=" : "<=", need),
                       weak ? CheckStatus::kWarn : CheckStatus::kPass,
                       weak ? "it cannot hold its limb against gravity at the reference pose (in "
@@ -302,8 +302,7 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
                                       "range",
                                       duration)));
     } else {
-      out->push_back(Make(L, "actuator.step_response", element, r.measured, "",
-                          CheckStatus::kPass,
+      out->push_back(Make(L, "actuator.step_response", element, r.measured, "", CheckStatus::kPass,
                           "a step of 10% of ctrlrange from the reference pose, gravity and "
                           "contacts off"));
     }

@@ -39,9 +39,9 @@ Finding RunFinding(const char* check, const std::string& what, const Observed& o
 
 // Smoothed Halton noise within half of each ctrlrange, as MuJoCo's testspeed and
 // Menagerie's tests drive a model.
-void ControlNoise(const Model& model, const std::vector<Assignment>& sets,
-                  const ReferencePose& ref, const AuditOptions& options,
-                  std::vector<Observed>* runs, std::vector<Finding>* out) {
+void ControlNoise(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
+                  const AuditOptions& options, std::vector<Observed>* runs,
+                  std::vector<Finding>* out) {
   const mjModel* m = model.get();
   auto control = [m](mjData* d, double t) {
     long k = static_cast<long>(t / 0.1);
@@ -63,9 +63,9 @@ void ControlNoise(const Model& model, const std::vector<Assignment>& sets,
 // The user's scenario: from its keyframe (else the reference pose) with --set and then its
 // initial assignments, under its control schedules; every assertion judged on every one
 // of its paths at every step.
-void RunScenario(const Model& model, const std::vector<Assignment>& sets,
-                 const ReferencePose& ref, const Scenario& sc, const AuditOptions& options,
-                 std::vector<Observed>* runs, std::vector<Finding>* out) {
+void RunScenario(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
+                 const Scenario& sc, const AuditOptions& options, std::vector<Observed>* runs,
+                 std::vector<Finding>* out) {
   const mjModel* m = model.get();
   ReferencePose start = ref;
   if (sc.keyframe >= 0) {

@@ -27,8 +27,8 @@ std::string Elem(const Model& model, int obj, int id, const char* noun) {
 
 Finding Make(const char* layer, std::string check, const Element& element, std::string measured,
              std::string threshold, CheckStatus status, std::string fix) {
-  Finding f = Make(layer, std::move(check), element.text, std::move(measured),
-                   std::move(threshold), status, std::move(fix));
+  Finding f = Make(layer, std::move(check), element.text, std::move(measured), std::move(threshold),
+                   status, std::move(fix));
   f.element_type = element.type;
   f.element_name = element.name;
   f.element_id = element.id;

@@ -71,14 +71,14 @@ void Grounding(const Model& model, const CollisionGraph& graph, std::vector<Find
     int s = graph.support[b];
     double mass = m->body_subtreemass[b];
     if (s > 0 && graph.support_mass[b] > 0 && mass > 10 * graph.support_mass[b]) {
-      out->push_back(Make(
-          L, "contact.heavy_on_light", ElementOf(model, mjOBJ_BODY, b, "body"),
-          fmt::format("{:.3g} kg reaches the ground only through {} ({:.3g} kg)", mass,
-                      Elem(model, mjOBJ_BODY, s, "body"), graph.support_mass[b]),
-          "<= 10 x the lightest body on its way to the ground", CheckStatus::kWarn,
-          "a heavy body that can rest only on a much lighter one loads that body's contacts "
-          "far beyond its own weight: let the heavy body's geoms collide with the floor, or "
-          "check the lighter body's mass"));
+      out->push_back(
+          Make(L, "contact.heavy_on_light", ElementOf(model, mjOBJ_BODY, b, "body"),
+               fmt::format("{:.3g} kg reaches the ground only through {} ({:.3g} kg)", mass,
+                           Elem(model, mjOBJ_BODY, s, "body"), graph.support_mass[b]),
+               "<= 10 x the lightest body on its way to the ground", CheckStatus::kWarn,
+               "a heavy body that can rest only on a much lighter one loads that body's contacts "
+               "far beyond its own weight: let the heavy body's geoms collide with the floor, or "
+               "check the lighter body's mass"));
     }
   }
 }
@@ -103,9 +103,10 @@ void Penetration(const Observed& settle, std::vector<Finding>* out) {
       fmt::format("{:.3g} of the smaller geom's size at the end, {:.3g} at the worst impact", late,
                   settle.deepest);
   if (settle.deepest_late_m > 0 && soft > 0) {
-    measured += fmt::format("; {:.3g} mm deep at the end, {:.2g}x the {:.3g} mm its solref/solimp "
-                            "soften it by",
-                            1e3 * settle.deepest_late_m, excess, 1e3 * soft);
+    measured += fmt::format(
+        "; {:.3g} mm deep at the end, {:.2g}x the {:.3g} mm its solref/solimp "
+        "soften it by",
+        1e3 * settle.deepest_late_m, excess, 1e3 * soft);
   }
   if (!at_rest) {
     measured += fmt::format("; did not settle in {:g} s (max |qvel| {:.3g} at the end)",

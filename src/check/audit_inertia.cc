@@ -155,8 +155,8 @@ void Principal(const BodyInertia& body, std::vector<Finding>* out) {
 
 // Tiny weld groups and extreme ratios between a group and the group it hangs from make the
 // mass matrix ill-conditioned.
-void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& groups,
-               double total, std::vector<Finding>* out) {
+void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& groups, double total,
+               std::vector<Finding>* out) {
   const mjModel* m = model.get();
   int b = body.b;
   if (m->body_weldid[b] != b) return;
@@ -221,18 +221,18 @@ void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<F
   bool low = implied < lo;
   std::string range =
       lo < hi ? fmt::format("{:.3g} .. {:.3g} m", lo, hi) : fmt::format("{:.3g} m", lo);
-  out->push_back(Make(
-      L, "inertia.size", body.element,
-      fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg puts the mass "
-                  "{:.3g} m (rms) from the com; its geoms, filled uniformly: {}",
-                  I[0], I[1], I[2], body.mass, implied, range),
-      fmt::format("within x{:g} of {}", kSpreadWarn, range),
-      factor > kSpreadFail ? CheckStatus::kFail : CheckStatus::kWarn,
-      fmt::format("the inertia is {:.3g} times too {} for this mass and size: was the mass "
-                  "changed without the inertia (it scales with the mass at fixed shape), or "
-                  "<inertial diaginertia> given in other units? Omit <inertial> to let the "
-                  "compiler derive both from the geoms",
-                  factor * factor, low ? "small" : "large")));
+  out->push_back(
+      Make(L, "inertia.size", body.element,
+           fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg puts the mass "
+                       "{:.3g} m (rms) from the com; its geoms, filled uniformly: {}",
+                       I[0], I[1], I[2], body.mass, implied, range),
+           fmt::format("within x{:g} of {}", kSpreadWarn, range),
+           factor > kSpreadFail ? CheckStatus::kFail : CheckStatus::kWarn,
+           fmt::format("the inertia is {:.3g} times too {} for this mass and size: was the mass "
+                       "changed without the inertia (it scales with the mass at fixed shape), or "
+                       "<inertial diaginertia> given in other units? Omit <inertial> to let the "
+                       "compiler derive both from the geoms",
+                       factor * factor, low ? "small" : "large")));
 }
 
 // A centre of mass far outside the body's geoms.

@@ -73,8 +73,8 @@ struct Observed {
   double deepest_late = 0;  // the same over the last part of the run, once impacts are over
   std::string deepest_late_pair;
   double deepest_m = 0, deepest_soft = 0;  // the deepest contact in m, and its SoftDepth
-  double deepest_late_m = 0;     // that contact's penetration in m
-  double deepest_late_soft = 0;  // and the depth its softness explains (SoftDepth), in m
+  double deepest_late_m = 0;               // that contact's penetration in m
+  double deepest_late_soft = 0;            // and the depth its softness explains (SoftDepth), in m
   int max_iterations = 0;
   long steps_at_limit = 0;
   double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
@@ -114,8 +114,8 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const AuditOptions& options, std::vector<Observed>* runs,
                    std::vector<Finding>* out);
 void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out);
-void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
-                    const Observed& settle, const AuditOptions& options,
+void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
+                    const ReferencePose& ref, const Observed& settle, const AuditOptions& options,
                     std::vector<Observed>* runs, std::vector<Finding>* out);
 
 }  // namespace plumb::audit

@@ -70,7 +70,8 @@ double SoftDepth(const mjModel* m, const mjContact& c) {
 }
 
 std::string GeomPair(const Model& model, const mjContact& c) {
-  return Elem(model, mjOBJ_GEOM, c.geom1, "geom") + " / " + Elem(model, mjOBJ_GEOM, c.geom2, "geom");
+  return Elem(model, mjOBJ_GEOM, c.geom1, "geom") + " / " +
+         Elem(model, mjOBJ_GEOM, c.geom2, "geom");
 }
 
 // After each step: energy, solver effort and the deepest contacts so far.

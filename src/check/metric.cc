@@ -1,20 +1,18 @@
 #include "plumb/metric.h"
 
-#include "check/metric_probe.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "plumb/strings.h"
+#include "check/metric_probe.h"
 #include "plumb/analytic.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
+#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
 namespace {
-
 
 // Extracts X from "name(X)", or returns false.
 bool Call(std::string_view text, std::string_view name, std::string_view* inner) {

@@ -110,8 +110,8 @@ Measurement MetricProbe::Result(std::size_t k, double until) const {
   // largest distance from the start; independent of the coordinate's offset, so a pendulum
   // swinging about q = 100 is judged like one swinging about 0; a signal that does not move
   // falls back to its magnitude
-  double moved = metric.kind == MetricKind::kStateAt ? track.excursion
-                                                      : 0.5 * (track.high - track.low);
+  double moved =
+      metric.kind == MetricKind::kStateAt ? track.excursion : 0.5 * (track.high - track.low);
   out.scale = std::max(moved > 0 ? moved : track.maxabs, 1e-300);
   switch (metric.kind) {
     case MetricKind::kValueAt:
@@ -138,8 +138,8 @@ Measurement MetricProbe::Result(std::size_t k, double until) const {
         out.ok = false;
         out.value = kNaN;
         out.problem = "'" + metric.path.text +
-                      "' crossed its mid-range upward fewer than twice in " +
-                      FormatNumber(until) + " s; run longer (--until) or it does not oscillate";
+                      "' crossed its mid-range upward fewer than twice in " + FormatNumber(until) +
+                      " s; run longer (--until) or it does not oscillate";
         return out;
       }
       out.value = *period;

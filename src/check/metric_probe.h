@@ -31,7 +31,7 @@ class MetricProbe {
 
  private:
   struct Track {
-    std::vector<double> t, x;  // period: every sample
+    std::vector<double> t, x;         // period: every sample
     std::vector<double> first, last;  // state@T: the start and the state at T
     double value = 0;                 // value@T, maxabs
     double low = 0, high = 0, maxabs = 0, excursion = 0;

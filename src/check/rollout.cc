@@ -13,11 +13,11 @@
 #include "check/metric_probe.h"
 #include "check/worker_pool.h"
 #include "core/mujoco_compat.h"
-#include "plumb/strings.h"
 #include "plumb/analytic.h"
 #include "plumb/error.h"
 #include "plumb/random.h"
 #include "plumb/run.h"
+#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -118,7 +118,6 @@ std::size_t ParameterCount(const RolloutSpec& spec) {
   for (const Randomization& r : spec.randomize) n += r.paths.size();
   return n;
 }
-
 
 // The random key of actuator j's control noise: far above any parameter's key.
 constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;

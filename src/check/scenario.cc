@@ -8,8 +8,8 @@
 #include <optional>
 #include <string_view>
 
-#include "plumb/strings.h"
 #include "plumb/error.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 

@@ -3,7 +3,6 @@
 // toml++'s source positions), file and JSON pointer for JSON.
 
 #include <fmt/format.h>
-
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -11,14 +10,14 @@
 #include <fstream>
 #include <functional>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <utility>
 
-#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/scenario.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {
@@ -81,8 +80,7 @@ class Locator {
     for (std::string p = pointer; !p.empty(); p = p.substr(0, p.rfind('/'))) {
       auto found = toml_->find(p);
       if (found != toml_->end()) {
-        return fmt::format("{}:{}:{} ({})", file_, found->second.line, found->second.column,
-                           entry);
+        return fmt::format("{}:{}:{} ({})", file_, found->second.line, found->second.column, entry);
       }
     }
     return file_ + " (" + entry + ")";
@@ -191,8 +189,8 @@ ControlShape ReadShape(const json& c, const std::string& where) {
   if (!c.contains("type")) return ControlShape::kConstant;
   if (!c["type"].is_string()) Bad(where, "must be a string");
   std::string type = c["type"].get<std::string>();
-  for (ControlShape shape : {ControlShape::kConstant, ControlShape::kStep, ControlShape::kRamp,
-                             ControlShape::kSine}) {
+  for (ControlShape shape :
+       {ControlShape::kConstant, ControlShape::kStep, ControlShape::kRamp, ControlShape::kSine}) {
     if (type == ControlShapeName(shape)) return shape;
   }
   Bad(where, "type '" + type + "' is not one of constant, step, ramp, sine");
@@ -201,7 +199,8 @@ ControlShape ReadShape(const json& c, const std::string& where) {
 // controls[index]: {actuator, type, and the entries of its type}.
 ControlSchedule ReadControl(const Model& model, const json& c, int index, const Locator& at) {
   auto where = [&](const std::string& key) { return at.At("controls", index, key); };
-  if (!c.is_object()) Bad(where(""), "a control is a table with actuator and type, got " + c.dump());
+  if (!c.is_object())
+    Bad(where(""), "a control is a table with actuator and type, got " + c.dump());
   ControlSchedule s;
   if (!c.contains("actuator") || !c["actuator"].is_string()) {
     Bad(where("actuator"), "give the actuator's name as a string");
@@ -229,7 +228,8 @@ ControlSchedule ReadControl(const Model& model, const json& c, int index, const 
   s.amplitude = number("amplitude", 0);
   s.frequency = number("frequency", 0);
   s.phase = number("phase", 0);
-  if (s.type == ControlShape::kRamp && !(s.end > s.start)) Bad(where("end"), "a ramp needs end > start");
+  if (s.type == ControlShape::kRamp && !(s.end > s.start))
+    Bad(where("end"), "a ramp needs end > start");
   return s;
 }
 
@@ -302,8 +302,7 @@ Scenario LoadScenario(const Model& model, const std::string& file) {
   } catch (const toml::parse_error& e) {
     // toml++ knows where: the line and column of the first problem
     throw ValueError(fmt::format("scenario '{}' is not valid TOML: line {}, column {}: {}", file,
-                                 e.source().begin.line, e.source().begin.column,
-                                 e.description()));
+                                 e.source().begin.line, e.source().begin.column, e.description()));
   } catch (const std::exception& e) {
     throw ValueError("scenario '" + file + "' is not valid " + (toml ? "TOML" : "JSON") + ": " +
                      e.what());

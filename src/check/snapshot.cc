@@ -1,19 +1,17 @@
 // plumb snapshot: what a regression should notice, written as stable JSON: sizes, options,
 // every recorded field of every named element, and a golden trajectory.
 
-#include "plumb/regression.h"
-
-#include "check/snapshot_internal.h"
-
 #include <cmath>
 #include <map>
 
+#include "check/snapshot_internal.h"
 #include "core/fields.h"
 #include "core/mujoco_compat.h"
-#include "plumb/version.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/regression.h"
 #include "plumb/run.h"
+#include "plumb/version.h"
 
 namespace plumb {
 
@@ -59,7 +57,6 @@ bool Recorded(const std::string& f) {
   }
   return true;
 }
-
 
 // Object type an id field refers to, so ids are stored as names (stable when elements
 // are added before them); -1 when the field is not an id.
@@ -137,7 +134,8 @@ ordered_json Structure(const Model& model, const Data& data) {
         if (target >= 0) {
           ordered_json ids = ordered_json::array();
           for (long k = 0; k < p.count; ++k) {
-            ids.push_back(SnapshotElementName(model, target, static_cast<int>(ReadValue(model, data, p, k))));
+            ids.push_back(
+                SnapshotElementName(model, target, static_cast<int>(ReadValue(model, data, p, k))));
           }
           e[f.name] = p.count == 1 ? ids[0] : ids;
         } else if (p.count == 1 &&
@@ -202,20 +200,21 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
   RunResult r = Run(work, data, spec, sink);
   TakeMujocoWarnings();
   if (r.diverged) *diverged = r.divergence->reason;
-  return {{"steps", kSnapshotSteps},
-          {"start", pose.keyframe >= 0 ? "keyframe " + work.Name(mjOBJ_KEY, pose.keyframe) : "qpos0"},
-          {"controls",
-           "ctrl = centre + 0.5*radius*sin(2*pi*t*(1 + 0.37*i)) for ctrl-limited "
-           "actuators, 0 otherwise"},
-          {"qpos", qpos},
-          {"qvel", qvel},
-          {"act", act}};
+  return {
+      {"steps", kSnapshotSteps},
+      {"start", pose.keyframe >= 0 ? "keyframe " + work.Name(mjOBJ_KEY, pose.keyframe) : "qpos0"},
+      {"controls",
+       "ctrl = centre + 0.5*radius*sin(2*pi*t*(1 + 0.37*i)) for ctrl-limited "
+       "actuators, 0 otherwise"},
+      {"qpos", qpos},
+      {"qvel", qvel},
+      {"act", act}};
 }
 
 }  // namespace
 
 ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& sets,
-                      std::string* diverged) {
+                          std::string* diverged) {
   Model nominal = model.Clone();
   Data data(nominal);
   ApplyAssignments(nominal, data, sets);

@@ -129,8 +129,8 @@ void NameNumberedEnums(ordered_json* snapshot) {
         int number = value.get<int>();
         std::optional<std::string> named = compat::EnumFieldName(field, number);
         if (!named) continue;
-        value = same ? *named
-                     : "type " + std::to_string(number) + " as numbered by MuJoCo " + writer;
+        value =
+            same ? *named : "type " + std::to_string(number) + " as numbered by MuJoCo " + writer;
       }
     }
   }
@@ -217,7 +217,8 @@ std::string StateElement(const Model& model, const std::string& array, std::size
   int n = static_cast<int>(i);
   if (array == "qpos") {
     for (int j = m->njnt - 1; j >= 0; --j) {
-      if (m->jnt_qposadr[j] <= n) return label + " (joint '" + SnapshotElementName(model, mjOBJ_JOINT, j) + "')";
+      if (m->jnt_qposadr[j] <= n)
+        return label + " (joint '" + SnapshotElementName(model, mjOBJ_JOINT, j) + "')";
     }
   } else if (array == "qvel" && n < m->nv) {
     return label + " (joint '" + SnapshotElementName(model, mjOBJ_JOINT, m->dof_jntid[n]) + "')";
@@ -232,7 +233,6 @@ std::string StateElement(const Model& model, const std::string& array, std::size
   return label;
 }
 
-
 // Builds a SnapshotDiff step by step: `before` is the snapshot read back, `after` the current
 // model's.
 class Differ {
@@ -244,8 +244,8 @@ class Differ {
         diff_(diff),
         other_version_(before["mujoco_version"] != after["mujoco_version"]) {}
 
-  void Change(const char* kind, std::string path, const ordered_json& was,
-              const ordered_json& is, std::string what) {
+  void Change(const char* kind, std::string path, const ordered_json& was, const ordered_json& is,
+              std::string what) {
     SnapshotChange c;
     c.what = std::move(what);
     c.kind = kind;
@@ -322,8 +322,8 @@ class Differ {
                        const std::string& field) const {
     static const std::set<std::string> kMeshDerived = {"geom_size", "geom_aabb", "geom_pos",
                                                        "geom_quat", "geom_rbound"};
-    bool mesh_derived = section == "geom" && fields.value("geom_type", "") == "mesh" &&
-                        kMeshDerived.count(field);
+    bool mesh_derived =
+        section == "geom" && fields.value("geom_type", "") == "mesh" && kMeshDerived.count(field);
     // a dof's length scale comes from the size of the bodies it moves
     bool size_derived = section == "dof" && field == "dof_length";
     return other_version_ && (mesh_derived || size_derived);
@@ -331,8 +331,7 @@ class Differ {
 
   // One section ("body", "joint", ...): elements removed and added, fields changed, ids
   // shifted (one change for the whole section).
-  void Section(const std::string& section, const ordered_json& old,
-               const ordered_json& elements) {
+  void Section(const std::string& section, const ordered_json& old, const ordered_json& elements) {
     for (const auto& [name, fields] : old.items()) {
       if (!elements.contains(name)) {
         Change("removed", section + "[" + name + "]", fields["id"], nullptr,
@@ -387,8 +386,7 @@ class Differ {
 
   // Whether the trajectories part at step s (0-based): then one change naming the element
   // that moved furthest.
-  bool Departs(const Model& model, const ordered_json& t0, const ordered_json& t1,
-               std::size_t s) {
+  bool Departs(const Model& model, const ordered_json& t0, const ordered_json& t1, std::size_t s) {
     std::string worst_field, worst_at, worst_path;
     double worst = 0, worst_was = 0, worst_is = 0;
     bool departs = false;

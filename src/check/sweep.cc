@@ -1,7 +1,5 @@
 #include "plumb/sweep.h"
 
-#include "check/worker_pool.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -12,9 +10,9 @@
 #include <optional>
 
 #include "check/worker_pool.h"
-#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
+#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -77,7 +75,8 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
     }
     return axis;
   }
-  if (range.size() != 1) throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
+  if (range.size() != 1)
+    throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
   for (const std::string& label : Split(values, ',')) {
     try {
       axis.listed.push_back(ParseAssignment(model, path_text + "=" + label));
@@ -132,8 +131,9 @@ long CaseCount(const std::vector<SweepAxis>& axes) {
   for (const SweepAxis& a : axes) {
     long size = static_cast<long>(a.size());
     if (size > 0 && n > kMostCases / size) {
-      throw ValueError("--vary: the product of the axes passes 2^53 cases; no sweep can run that "
-                       "many. Use fewer values, or plumb rollout to sample the space at random.");
+      throw ValueError(
+          "--vary: the product of the axes passes 2^53 cases; no sweep can run that "
+          "many. Use fewer values, or plumb rollout to sample the space at random.");
     }
     n *= size;
   }
@@ -199,8 +199,7 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
 
   std::atomic<long> done{0};
   // one case: false when a stop request abandoned it
-  WorkerPool::Job<SweepCase> run_case = [&](WorkerPool::Worker& worker, long index,
-                                            SweepCase* c) {
+  WorkerPool::Job<SweepCase> run_case = [&](WorkerPool::Worker& worker, long index, SweepCase* c) {
     c->index = index;
     c->choice = CaseChoice(spec.axes, index);
     std::vector<Assignment> sets = spec.sets;
@@ -247,8 +246,8 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
                        std::to_string(total - static_cast<long>(skip.size())) + " cases");
   };
   WorkerPool pool(model, spec.threads);
-  pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit,
-                         stopping, interrupted);
+  pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit, stopping,
+                         interrupted);
 }
 
 std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {

@@ -18,9 +18,9 @@ namespace {
 
 // What a check needs to run; otherwise it is a SKIP row saying why.
 enum class Needs {
-  kModel,     // nothing: it always runs
-  kFiniteRun, // a nominal run that did not diverge
-  kPendulum,  // a single hinge pendulum under gravity, and a run that did not diverge
+  kModel,      // nothing: it always runs
+  kFiniteRun,  // a nominal run that did not diverge
+  kPendulum,   // a single hinge pendulum under gravity, and a run that did not diverge
 };
 
 struct Check {
@@ -33,8 +33,7 @@ struct Check {
 // The protocol, in report order.
 constexpr Check kChecks[] = {
     {"load", "the model compiles without warnings", Needs::kModel, verify::CheckLoad},
-    {"determinism", "the same run twice is bit-identical", Needs::kModel,
-     verify::CheckDeterminism},
+    {"determinism", "the same run twice is bit-identical", Needs::kModel, verify::CheckDeterminism},
     {"warnings", "no MuJoCo warning and no divergence in the nominal run", Needs::kModel,
      verify::CheckWarnings},
     {"convergence", "the result converges as the timestep shrinks", Needs::kFiniteRun,

@@ -313,7 +313,6 @@ CheckResult ExerciseMoon(const VerifyContext& ctx, CheckResult r) {
   return r;
 }
 
-
 CheckResult ExerciseDensity(const VerifyContext& ctx, CheckResult r) {
   const Model& model = ctx.nominal;
   const PendulumParams& p = *ctx.pendulum;

@@ -1,13 +1,14 @@
 // The verify protocol for any model: the nominal scenario and its runs, and the checks
 // load, determinism, warnings, convergence, energy and radians.
 
+#include "check/verify_protocol.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "check/verify_protocol.h"
 #include "core/mujoco_compat.h"
 #include "plumb/converge.h"
 #include "plumb/error.h"
@@ -45,7 +46,6 @@ class TraceSink : public SampleSink {
 
 }  // namespace
 
-
 double RelError(double measured, double reference) {
   return std::fabs(measured - reference) / std::max(std::fabs(reference), 1e-300);
 }
@@ -74,7 +74,6 @@ void SetNumbers(CheckResult* r, double measured, double reference, const char* u
   r->reference = fmt::format(fmt::runtime(spec), reference) + unit;
 }
 
-
 std::string Seconds(double t) { return fmt::format("{:g} s", t); }
 
 VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
@@ -84,7 +83,7 @@ VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
 }
 
 const Trace& VerifyScenario::Simulate(const std::vector<Assignment>& extra, double until,
-                                           bool energy) const {
+                                      bool energy) const {
   std::string key = fmt::format("{:.17g}", until);
   for (const Assignment& a : extra) key += "|" + a.text;
   auto found = memo_.find(key + "|energy");
@@ -96,7 +95,8 @@ const Trace& VerifyScenario::Simulate(const std::vector<Assignment>& extra, doub
   return memo_[energy ? key + "|energy" : key] = SimulateAnew(extra, until, energy);
 }
 
-Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double until, bool energy) const {
+Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double until,
+                                   bool energy) const {
   Model work = model_.Clone();
   if (energy) work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
   Data data(work);
@@ -426,7 +426,6 @@ CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r) {
       allowed, peaks);
   return r;
 }
-
 
 CheckResult ExerciseRadians(const VerifyContext& ctx, CheckResult r) {
   const VerifyScenario& s = ctx.s;

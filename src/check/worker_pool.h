@@ -40,10 +40,10 @@ class WorkerPool {
   int threads() const;
 
   // Runs the jobs `next_chunk` hands out (it fills the vector it is given with the next up to
-  // `chunk` indices, and returns false when there are none left), each chunk in parallel, and passes their results
-  // to `emit` in index order. Between chunks it looks at `stop`: when set, or when a job was
-  // abandoned, it throws what `interrupted` makes, after emitting every result before the
-  // first unfinished job.
+  // `chunk` indices, and returns false when there are none left), each chunk in parallel, and
+  // passes their results to `emit` in index order. Between chunks it looks at `stop`: when set, or
+  // when a job was abandoned, it throws what `interrupted` makes, after emitting every result
+  // before the first unfinished job.
   template <typename Result>
   void Stream(std::size_t chunk, const std::function<bool(std::vector<long>*)>& next_chunk,
               const Job<Result>& job, const std::function<void(const Result&)>& emit,
@@ -58,9 +58,10 @@ class WorkerPool {
       if (!next_chunk(&indices) || indices.empty()) return;
       results.assign(indices.size(), Result{});
       finished.assign(indices.size(), 0);
-      RunChunk(indices.size(), [&](Worker& worker, std::size_t i) {
-        return job(worker, indices[i], &results[i]);
-      }, &finished);
+      RunChunk(
+          indices.size(),
+          [&](Worker& worker, std::size_t i) { return job(worker, indices[i], &results[i]); },
+          &finished);
       for (std::size_t i = 0; i < indices.size(); ++i) {
         if (!finished[i]) throw interrupted();  // the results before it were emitted
         emit(results[i]);

@@ -102,13 +102,13 @@ std::vector<FieldInfo> BuildFields() {
 #pragma push_macro("MJ_D")
 #undef MJ_M
 #undef MJ_D
-#define MJ_M(n) \
-  ArenaRows { #n, [](const mjModel* m) -> long { return m->n; }, nullptr }
-#define MJ_D(n)                                                   \
-  ArenaRows {                                                     \
-    #n, Unbounded, [](const mjModel*, const mjData* d) -> long { \
-      return d->n;                                                \
-    }                                                             \
+#define MJ_M(n)                                                \
+  ArenaRows {                                                  \
+#n, [](const mjModel* m) -> long { return m->n; }, nullptr \
+  }
+#define MJ_D(n)                                                                 \
+  ArenaRows {                                                                   \
+#n, Unbounded, [](const mjModel*, const mjData* d) -> long { return d->n; } \
   }
 // MuJoCo clears every arena pointer at the start of a step and allocates only those the
 // step needs: a null pointer holds no rows

@@ -1,7 +1,7 @@
 #include "plumb/keyframe.h"
 
-#include "plumb/strings.h"
 #include "plumb/error.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 

@@ -3,7 +3,6 @@
 #include "plumb/model.h"
 
 #include <dlfcn.h>
-
 #include <unistd.h>
 
 #include <atomic>
@@ -15,11 +14,11 @@
 #include <mutex>
 #include <sstream>
 
-#include "plumb/file_kind.h"
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
-#include "plumb/strings.h"
 #include "plumb/error.h"
+#include "plumb/file_kind.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {
@@ -142,7 +141,8 @@ void InstallMujocoHandlers() {
     throw Error("the MuJoCo library loaded (" + MujocoVersion() + ", " + MujocoLibraryPath() +
                 ") is not the one plumb was built with (" + CompiledMujocoVersion() +
                 "): MuJoCo changes its binary interface between releases. Rebuild plumb "
-                "against the MuJoCo it runs with (make build MUJOCO=" + MujocoVersion() +
+                "against the MuJoCo it runs with (make build MUJOCO=" +
+                MujocoVersion() +
                 ", or -DMUJOCO_ROOT=<release folder>), or run it with the library it was "
                 "built with.");
   }

@@ -7,8 +7,8 @@
 
 #include "core/fields.h"
 #include "core/path_internal.h"
-#include "plumb/strings.h"
 #include "plumb/error.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {
@@ -362,16 +362,16 @@ std::pair<long, long> SelectRows(const Model& model, std::string_view text, cons
   if (std::optional<long> index = ParseIndex(row)) {
     if (*index >= rows) {
       throw PathError("path '" + std::string(text) + "': row " + row + " is out of bounds; '" +
-                      field.name + "' has " + std::to_string(rows) + " row(s) (" +
-                      field.row_kind + " = " + std::to_string(rows) + ").");
+                      field.name + "' has " + std::to_string(rows) + " row(s) (" + field.row_kind +
+                      " = " + std::to_string(rows) + ").");
     }
     return {*index, 1};
   }
   const RowKind* kind = FindRowKind(field.row_kind);
   if (!kind) {
     throw PathError("path '" + std::string(text) + "': the rows of '" + field.name +
-                    "' (counted by " + field.row_kind +
-                    ") have no names; use a number from 0 to " + std::to_string(rows - 1) + ".");
+                    "' (counted by " + field.row_kind + ") have no names; use a number from 0 to " +
+                    std::to_string(rows - 1) + ".");
   }
   std::optional<long> by_id =
       row.size() > 1 && row[0] == '#' ? ParseIndex(row.substr(1)) : std::nullopt;
@@ -403,9 +403,8 @@ void SelectElement(std::string_view text, const std::string& index, Path* path) 
                     "' must be a number from 0 to " + std::to_string(path->count - 1) + ".");
   }
   if (*k >= path->count) {
-    throw PathError("path '" + std::string(text) + "': element " + index +
-                    " is out of bounds; '" + path->text + "' has " +
-                    std::to_string(path->count) + " element(s).");
+    throw PathError("path '" + std::string(text) + "': element " + index + " is out of bounds; '" +
+                    path->text + "' has " + std::to_string(path->count) + " element(s).");
   }
   path->first += *k;
   path->count = 1;
@@ -428,8 +427,8 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
   path.text = field.name;
   if (parsed.indices.empty()) {
     if (path.count == 0) {
-      throw PathError("path '" + std::string(text) + "' is empty in this model (" +
-                      field.row_kind + " = 0).");
+      throw PathError("path '" + std::string(text) + "' is empty in this model (" + field.row_kind +
+                      " = 0).");
     }
     return path;
   }
@@ -461,12 +460,14 @@ void RequireCurrentRow(const FieldInfo& field, const mjModel* m, const mjData* d
   // 2.x allocates these arrays for njmax/nconmax rows; 3.x counts them by nefc/ncon
   const std::string& kind = field.row_kind;
   std::string now = kind == "njmax" ? "nefc" : kind == "nconmax" ? "ncon" : kind;
-  std::string room = now == kind ? "" : "; it has room for " + kind + " = " + std::to_string(field.rows(m)) + " rows";
+  std::string room =
+      now == kind ? ""
+                  : "; it has room for " + kind + " = " + std::to_string(field.rows(m)) + " rows";
   throw PathError("'" + path.text + "' does not exist at t = " + FormatNumber(d->time) +
                   " s: there are " + now + " = " + std::to_string(field.current_rows(m, d)) +
-                  " rows now ('" + field.name + "' holds " + std::to_string(count) +
-                  " element(s)" + room +
-                  ", but the constraints and contacts active at this state fill only " + now +
+                  " rows now ('" + field.name + "' holds " + std::to_string(count) + " element(s)" +
+                  room + ", but the constraints and contacts active at this state fill only " +
+                  now +
                   " of them, a number that changes with contacts and limits from step to step).");
 }
 

@@ -10,9 +10,9 @@
 
 #include "core/fields.h"
 #include "core/path_internal.h"
-#include "plumb/strings.h"
 #include "plumb/error.h"
 #include "plumb/path.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {
@@ -317,8 +317,8 @@ std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignme
 }  // namespace
 
 Assignment ParseAssignment(const Model& model, std::string_view text) {
-  auto [path_text, value_view] = SplitAssignment(
-      text, "--set", "PATH=VALUE, e.g. qpos[hinge]=0.7 or opt.gravity=0,0,-1.62");
+  auto [path_text, value_view] =
+      SplitAssignment(text, "--set", "PATH=VALUE, e.g. qpos[hinge]=0.7 or opt.gravity=0,0,-1.62");
   Assignment a;
   a.text = std::string(text);
   a.path = ResolvePath(model, path_text);

@@ -1,3 +1,5 @@
+#include "plumb/atomic_file.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -11,7 +13,6 @@
 #include <vector>
 
 #include "plumb/error.h"
-#include "plumb/atomic_file.h"
 
 namespace plumb {
 

@@ -2,8 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plumb/version.h"
 #include "plumb/json_output.h"
+#include "plumb/version.h"
 
 namespace plumb {
 

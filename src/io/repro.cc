@@ -1,5 +1,7 @@
 // The repro folder of a diverged run: everything needed to reproduce it elsewhere.
 
+#include "plumb/repro.h"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -7,11 +9,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "plumb/version.h"
 #include "plumb/error.h"
-#include "plumb/repro.h"
 #include "plumb/json_output.h"
 #include "plumb/strings.h"
+#include "plumb/version.h"
 
 namespace plumb {
 

@@ -51,8 +51,7 @@ class Statement {
   Statement& Bind(int i, long v) { return Check(sqlite3_bind_int64(s_, i, v)); }
   Statement& Bind(int i, double v) { return Check(sqlite3_bind_double(s_, i, v)); }
   Statement& Bind(int i, const std::string& v) {
-    return Check(sqlite3_bind_text(s_, i, v.c_str(), static_cast<int>(v.size()),
-                                   SQLITE_TRANSIENT));
+    return Check(sqlite3_bind_text(s_, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
   }
   bool Step() {
     int rc = sqlite3_step(s_);
@@ -84,7 +83,6 @@ class Statement {
 };
 
 }  // namespace
-
 
 struct ResultsStore::Impl {
   sqlite3* db = nullptr;
@@ -172,8 +170,8 @@ ResultsStore::~ResultsStore() {
   try {
     Commit();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "plumb: error: %zu result(s) could not be written to '%s': %s\n",
-                 pending, impl_->file.c_str(), e.what());
+    std::fprintf(stderr, "plumb: error: %zu result(s) could not be written to '%s': %s\n", pending,
+                 impl_->file.c_str(), e.what());
   }
   sqlite3_close(impl_->db);
 }
@@ -330,7 +328,7 @@ void RequireCompleteIfFinished(ResultsStore& in, const RunInfo& run, const std::
       "before merging.",
       input, run.id, done.size(), run.count, fmt::join(missing, ", "),
       static_cast<long>(done.size()) + static_cast<long>(missing.size()) < run.count ? ", ..."
-                                                                                      : ""));
+                                                                                     : ""));
 }
 
 }  // namespace

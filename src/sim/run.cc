@@ -309,8 +309,7 @@ std::string MujocoReset(const Model& model, const mjData* d, int kind, long step
       " bad at this state and reset the data to qpos0 in the middle of the step; qpos, "
       "qvel, act and ctrl are the state it found bad, qacc the accelerations recomputed "
       "from it.";
-  return std::string("MuJoCo's state check fired (") + name + "): " + divergence->element +
-         value +
+  return std::string("MuJoCo's state check fired (") + name + "): " + divergence->element + value +
          " is NaN, Inf or beyond 1e10. MuJoCo reset the state to qpos0 and would carry on "
          "as if nothing happened; plumb stops here.";
 }

@@ -62,11 +62,11 @@ TEST(ExitCodesTest, AFatalMujocoErrorIsFour) {
 // A store row that cannot be decoded is no user's bad input: an internal error with context.
 TEST(ExitCodesTest, AnInternalErrorIsSeventyWithItsContext) {
   TempDir dir;
-  testing::CommandResult made = RunPlumb(
-      "rollout " + testing::kPendulum +
-          " --count 3 --until 0.2 --randomize 'dof_damping[hinge]=U(0,0.1)' "
-          "--metric 'qpos[hinge]@0.2' --db r.sqlite --format csv",
-      dir.path());
+  testing::CommandResult made =
+      RunPlumb("rollout " + testing::kPendulum +
+                   " --count 3 --until 0.2 --randomize 'dof_damping[hinge]=U(0,0.1)' "
+                   "--metric 'qpos[hinge]@0.2' --db r.sqlite --format csv",
+               dir.path());
   ASSERT_EQ(made.exit_code, 0) << made.err;
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(dir.File("r.sqlite").c_str(), &db), SQLITE_OK);

@@ -1,14 +1,13 @@
 #include "plumb/audit.h"
-#include "plumb/repro.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
-
 #include <filesystem>
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/repro.h"
 
 namespace plumb {
 namespace {
@@ -126,7 +125,8 @@ TEST_F(AuditTest, PenetrationIsJudgedAgainstTheSoftContactDepth) {
   const Finding* f = Find(rest, "contact.penetration");
   ASSERT_NE(f, nullptr) << Failures(rest);
   EXPECT_EQ(f->status, CheckStatus::kPass) << f->measured;
-  EXPECT_NE(f->measured.find("mm its solref/solimp soften it by"), std::string::npos) << f->measured;
+  EXPECT_NE(f->measured.find("mm its solref/solimp soften it by"), std::string::npos)
+      << f->measured;
   // a hard drop at a coarse step sinks far beyond that softness: still a finding
   AuditReport drop = AuditXml(R"(<mujoco><option timestep="0.01"/><worldbody>
       <geom name="floor" type="plane" size="5 5 0.1"/>

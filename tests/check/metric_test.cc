@@ -24,14 +24,12 @@ TEST_F(MetricTest, ValueAtReproducesTheChaptersNumbers) {
   Model model = Model::Load(testing::kPendulum);
   for (int k = 0; k < 5; ++k) {
     double t = 0.1 * (k + 1);
-    Measurement q =
-        Measure(model, Start(model), ParseMetric(model, "qpos[hinge]@" + std::to_string(t)),
-                0.002, t);
+    Measurement q = Measure(model, Start(model),
+                            ParseMetric(model, "qpos[hinge]@" + std::to_string(t)), 0.002, t);
     ASSERT_TRUE(q.ok) << q.problem;
     EXPECT_NEAR(q.value, testing::kChapterQ[k], 5e-6) << t;
-    Measurement dq =
-        Measure(model, Start(model), ParseMetric(model, "qvel[hinge]@" + std::to_string(t)),
-                0.002, t);
+    Measurement dq = Measure(model, Start(model),
+                             ParseMetric(model, "qvel[hinge]@" + std::to_string(t)), 0.002, t);
     EXPECT_NEAR(dq.value, testing::kChapterDq[k], 5e-6) << t;
   }
 }
@@ -68,8 +66,8 @@ TEST_F(MetricTest, RolloutsAndMeasureShareOneProbe) {
   spec.count = 1;
   spec.until = 4;
   spec.sets = Start(model);
-  std::vector<std::string> texts = {"qpos[hinge]@1", "maxabs(qvel[hinge])",
-                                    "period(qpos[hinge])", "energy_drift", "state@2"};
+  std::vector<std::string> texts = {"qpos[hinge]@1", "maxabs(qvel[hinge])", "period(qpos[hinge])",
+                                    "energy_drift", "state@2"};
   for (const std::string& t : texts) spec.metrics.push_back(ParseMetric(model, t));
   std::vector<RolloutResult> results;
   Rollout(model, spec, [&](const RolloutResult& r) { results.push_back(r); });

@@ -60,10 +60,10 @@ TEST_F(ScenarioTest, TheTallyJudgesEachReductionOverItsWindow) {
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
   std::vector<Assertion> assertions = {
-      ParseAssertion(model, "qpos[hinge] < 0.5"),                     // fails at t = 0.2
+      ParseAssertion(model, "qpos[hinge] < 0.5"),                      // fails at t = 0.2
       ParseAssertion(model, "max(qpos[hinge]) <= 0.6 during [0, 1]"),  // the max is 0.6
-      ParseAssertion(model, "min(qpos[hinge]) > 0 during [0.5, 1]"),  // no sample: fails
-      ParseAssertion(model, "final(qpos[hinge]) > 0.35"),             // the last is 0.4
+      ParseAssertion(model, "min(qpos[hinge]) > 0 during [0.5, 1]"),   // no sample: fails
+      ParseAssertion(model, "final(qpos[hinge]) > 0.35"),              // the last is 0.4
   };
   AssertionTally tally(assertions);
   for (auto [t, q] : {std::pair{0.0, 0.1}, {0.2, 0.6}, {0.4, 0.4}}) {

@@ -106,12 +106,20 @@ TEST_F(VerifyTest, AtRestPendulumSkipsWhatNeedsASwing) {
 // Every check appears once, in the protocol's order, for a pendulum and for any other model
 // (whose pendulum rows are SKIPs that say why).
 TEST_F(VerifyTest, EveryCheckIsOneRowInProtocolOrder) {
-  const std::vector<std::string> order = {
-      "load",           "determinism",     "warnings",
-      "convergence",    "energy",          "analytic.period",
-      "analytic.model_settings", "analytic.damping", "experiment.A",
-      "experiment.B",   "experiment.C",    "exercise.moon_gravity",
-      "exercise.density", "exercise.radians"};
+  const std::vector<std::string> order = {"load",
+                                          "determinism",
+                                          "warnings",
+                                          "convergence",
+                                          "energy",
+                                          "analytic.period",
+                                          "analytic.model_settings",
+                                          "analytic.damping",
+                                          "experiment.A",
+                                          "experiment.B",
+                                          "experiment.C",
+                                          "exercise.moon_gravity",
+                                          "exercise.density",
+                                          "exercise.radians"};
   for (const VerifyReport& report :
        {VerifyPendulum({"qpos[hinge]=0.7"}), Verify(Model::Load(testing::kHumanoid), {})}) {
     std::vector<std::string> ids;

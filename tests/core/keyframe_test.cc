@@ -44,7 +44,8 @@ TEST_F(KeyframeTest, TheReferencePoseIsNamedThenHomeThenTestThenQpos0) {
   Model test = Model::FromXmlString(test_only, "test.xml");
   EXPECT_EQ(FindReferencePose(test).keyframe, 1);
   Model none = Model::FromXmlString(R"(<mujoco><worldbody><body><joint type="slide"/>
-      <geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>)", "none.xml");
+      <geom type="box" size="0.1 0.1 0.1"/></body></worldbody></mujoco>)",
+                                    "none.xml");
   EXPECT_EQ(FindReferencePose(none).keyframe, -1);
   EXPECT_EQ(FindReferencePose(none).description, "qpos0");
   // the keyframe first, then the user's state on top; parameters stay applied

@@ -1,8 +1,3 @@
-#include "plumb/atomic_file.h"
-#include "plumb/sample_writer.h"
-#include "plumb/repro.h"
-#include "plumb/strings.h"
-
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -19,7 +14,11 @@
 #include <thread>
 
 #include "fixture.h"
+#include "plumb/atomic_file.h"
 #include "plumb/error.h"
+#include "plumb/repro.h"
+#include "plumb/sample_writer.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

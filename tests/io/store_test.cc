@@ -1,7 +1,6 @@
 // The results store and merge at API level: rows in and out, resume, shards merged into one
 // run, and the merges that must fail (disagreeing shards, a "complete" run with holes).
 
-#include "plumb/hash.h"
 #include "plumb/store.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +10,7 @@
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/hash.h"
 
 namespace plumb {
 namespace {
@@ -37,8 +37,8 @@ RunInfo Info(long count) {
 }
 
 // Writes a store at `path` with the results of `indices` for a run of `count`.
-void WriteStore(const std::string& path, long count, const std::vector<long>& indices,
-                bool finish, double offset = 0) {
+void WriteStore(const std::string& path, long count, const std::vector<long>& indices, bool finish,
+                double offset = 0) {
   ResultsStore store(path);
   long run = store.BeginRun(Info(count));
   for (long i : indices) store.Add(run, Result(i, i + offset));
