@@ -75,7 +75,9 @@ if [[ "${INSTRUCTIONS:-1}" == 1 ]] && command -v valgrind >/dev/null; then
       --count 4 --until "$until" --metric "state@$until" --format csv >/dev/null 2>&1
     valgrind --tool=callgrind --callgrind-out-file="$work/peer.cg" "$work/venv/bin/python" \
       "$here/bench/rollout_peer.py" "$model" 4 "$nstep" 1 1 >/dev/null 2>&1
-    mine=$(callgrind_annotate --inclusive=yes "$work/plumb.cg" 2>/dev/null | awk '/RunOne/ {gsub(",", "", $1); print $1; exit}')
+    # plumb's rollouts: the worker pool's job (each rollout, RunOne inlined into it)
+    mine=$(callgrind_annotate --inclusive=yes "$work/plumb.cg" 2>/dev/null |
+      awk '/_M_invoke.*WorkerPool::Stream<plumb::RolloutResult>/ {gsub(",", "", $1); print $1; exit}')
     peer=$(callgrind_annotate --inclusive=yes "$work/peer.cg" 2>/dev/null | awk '/_rollout\./ {gsub(",", "", $1); print $1; exit}')
     python3 -c "import sys; a, b = int(sys.argv[1]), int(sys.argv[2]); print(f'| {sys.argv[3]} | 4 x $nstep | {a:,} | {b:,} | {b / a:.4f} |')" \
       "$mine" "$peer" "$(basename "$(dirname "$model")")/$(basename "$model")"
