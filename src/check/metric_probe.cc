@@ -35,30 +35,30 @@ MetricProbe::MetricProbe(const Model& work, const std::vector<Metric>& metrics, 
   }
 }
 
-bool MetricProbe::Reads(const Metric& metric, long step) const {
-  std::size_t k = static_cast<std::size_t>(&metric - metrics_.data());
-  bool at_time = read_step_[k] < 0 || read_step_[k] == step;
-  return scales_ || at_time;
+bool MetricProbe::Reads(std::size_t k, long step) const {
+  return scales_ || read_step_[k] < 0 || read_step_[k] == step;
 }
 
 void MetricProbe::Observe(Data& data, long step) {
   // after mj_step, derived quantities still describe the state before the step: recompute
   // them (without touching the trajectory) when a metric reads one now
-  for (const Metric& metric : metrics_) {
-    if (ReadsDerived(metric) && Reads(metric, step)) {
+  for (std::size_t k = 0; k < metrics_.size(); ++k) {
+    if (ReadsDerived(metrics_[k]) && Reads(k, step)) {
       refresh_(data);
       break;
     }
   }
   for (std::size_t k = 0; k < metrics_.size(); ++k) {
-    if (Reads(metrics_[k], step)) Read(metrics_[k], data, step, &tracks_[k]);
+    if (Reads(k, step)) Read(k, data, step);
   }
 }
 
-void MetricProbe::Read(const Metric& metric, const Data& data, long step, Track* track) {
+void MetricProbe::Read(std::size_t k, const Data& data, long step) {
+  const Metric& metric = metrics_[k];
+  Track* track = &tracks_[k];
   const mjModel* m = work_.get();
   const mjData* d = data.get();
-  bool at_time = read_step_[&metric - metrics_.data()] == step;
+  bool at_time = read_step_[k] == step;
   double t = static_cast<double>(step) * dt_;
   switch (metric.kind) {
     case MetricKind::kValueAt:
@@ -77,7 +77,8 @@ void MetricProbe::Read(const Metric& metric, const Data& data, long step, Track*
       break;
     }
     case MetricKind::kStateAt: {
-      std::vector<double> state(d->qpos, d->qpos + m->nq);
+      std::vector<double>& state = state_;
+      state.assign(d->qpos, d->qpos + m->nq);
       state.insert(state.end(), d->qvel, d->qvel + m->nv);
       state.insert(state.end(), d->act, d->act + m->na);
       if (!track->seen) track->first = state;
@@ -88,7 +89,7 @@ void MetricProbe::Read(const Metric& metric, const Data& data, long step, Track*
       }
       track->maxabs = std::max(track->maxabs, std::sqrt(norm));
       track->excursion = std::max(track->excursion, std::sqrt(moved));
-      if (at_time) track->last = std::move(state);
+      if (at_time) track->last = state;
       break;
     }
     case MetricKind::kEnergyDrift: {

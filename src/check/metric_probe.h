@@ -38,8 +38,9 @@ class MetricProbe {
     double e0 = 0, e1 = 0, max_kinetic = 0;  // energy_drift
     bool seen = false;
   };
-  bool Reads(const Metric& metric, long step) const;
-  void Read(const Metric& metric, const Data& data, long step, Track* track);
+  // Whether metric k reads the state after `step`.
+  bool Reads(std::size_t k, long step) const;
+  void Read(std::size_t k, const Data& data, long step);
 
   const Model& work_;
   const std::vector<Metric>& metrics_;
@@ -47,6 +48,7 @@ class MetricProbe {
   double dt_;
   std::vector<long> read_step_;  // value@T and state@T: the step of T
   std::vector<Track> tracks_;
+  std::vector<double> state_;  // state@T's qpos, qvel, act, reused from step to step
   DerivedRefresher refresh_;
 };
 

@@ -406,7 +406,6 @@ void RolloutPool::Run(const std::vector<long>& indices,
     std::size_t n = std::min(chunk, indices.size() - first);
     out->assign(indices.begin() + first, indices.begin() + first + n);
     first += n;
-    return n > 0;
   };
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");

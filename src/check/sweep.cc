@@ -239,7 +239,6 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
     for (; next < total && static_cast<long>(indices->size()) < chunk_size; ++next) {
       if (!std::binary_search(skip.begin(), skip.end(), next)) indices->push_back(next);
     }
-    return !indices->empty();
   };
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " of " +

@@ -62,7 +62,7 @@ constexpr Check kChecks[] = {
 
 // The nominal run length: 2 s like the chapter; for other models at most 250 steps and at
 // most 1e5 / nv steps (the convergence ladder runs ~16 times as many), always a whole number
-// of 2*dt so the ladder lands on it exactly. @throws ValueError for a bad --until or --tol.
+// of 2*dt so the ladder lands on it exactly. @throws ValueError for a bad --until.
 double NominalLength(const VerifyOptions& options, const mjModel* m, double dt, bool pendulum) {
   if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
     // a run of zero steps would pass determinism and warnings without testing anything
@@ -70,10 +70,6 @@ double NominalLength(const VerifyOptions& options, const mjModel* m, double dt, 
         fmt::format("--until {:g}: the nominal run length must be a positive number "
                     "of seconds (a run of zero steps checks nothing).",
                     *options.until));
-  }
-  if (!(options.tol > 0 && std::isfinite(options.tol))) {
-    throw ValueError(fmt::format("--tol {:g}: the relative tolerance must be positive and finite.",
-                                 options.tol));
   }
   double max_steps =
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
@@ -108,7 +104,10 @@ int VerifyReport::Count(CheckStatus status) const {
 }
 
 VerifyReport Verify(const Model& model, const VerifyOptions& options) {
-  if (!(options.tol > 0)) throw ValueError("--tol must be a positive relative tolerance");
+  if (!(options.tol > 0 && std::isfinite(options.tol))) {
+    throw ValueError(fmt::format("--tol {:g}: the relative tolerance must be positive and finite.",
+                                 options.tol));
+  }
   VerifyReport report;
   report.model = model.file();
   verify::VerifyScenario s(model, options);

@@ -35,10 +35,14 @@ void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
 struct WorkerPool::Impl {
   const Model& nominal;
   int threads;
+#if !defined(__SANITIZE_THREAD__)
   tbb::task_arena arena;
   tbb::enumerable_thread_specific<std::optional<Worker>> workers;
-  std::vector<std::optional<Worker>> slots;  // ThreadSanitizer builds: one per std::thread
-  Impl(const Model& m, int n) : nominal(m), threads(n), arena(n), slots(n) {}
+  Impl(const Model& m, int n) : nominal(m), threads(n), arena(n) {}
+#else
+  std::vector<std::optional<Worker>> slots;  // one per std::thread (see RunChunk)
+  Impl(const Model& m, int n) : nominal(m), threads(n), slots(n) {}
+#endif
 };
 
 WorkerPool::WorkerPool(const Model& nominal, int threads)

@@ -39,13 +39,13 @@ class WorkerPool {
 
   int threads() const;
 
-  // Runs the jobs `next_chunk` hands out (it fills the vector it is given with the next up to
-  // `chunk` indices, and returns false when there are none left), each chunk in parallel, and
+  // Runs the jobs `next_chunk` hands out (it fills the empty vector it is given with the next
+  // up to `chunk` indices, none when all are done), each chunk in parallel, and
   // passes their results to `emit` in index order. Between chunks it looks at `stop`: when set, or
   // when a job was abandoned, it throws what `interrupted` makes, after emitting every result
   // before the first unfinished job.
   template <typename Result>
-  void Stream(std::size_t chunk, const std::function<bool(std::vector<long>*)>& next_chunk,
+  void Stream(std::size_t chunk, const std::function<void(std::vector<long>*)>& next_chunk,
               const Job<Result>& job, const std::function<void(const Result&)>& emit,
               const std::atomic<bool>& stop, const std::function<Interrupted()>& interrupted) {
     std::vector<long> indices;
@@ -55,7 +55,8 @@ class WorkerPool {
       if (stop.load()) throw interrupted();
       indices.clear();
       indices.reserve(chunk);
-      if (!next_chunk(&indices) || indices.empty()) return;
+      next_chunk(&indices);
+      if (indices.empty()) return;
       results.assign(indices.size(), Result{});
       finished.assign(indices.size(), 0);
       RunChunk(
