@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/audit.h"
+#include "plumb/report.h"
 #include "plumb/repro.h"
 #include "summary.h"
 
@@ -23,6 +24,7 @@ struct AuditCommandOptions {
   std::string format = "table";
   std::string repro;
   TableDetail detail = TableDetail::kFindings;
+  std::string report;  // --report FILE.html
 };
 
 std::string Table(const AuditReport& report, TableDetail detail) {
@@ -79,6 +81,10 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
     return WriteRepro(work, run, ctx.argv, repro_dir, what);
   };
   AuditReport report = Audit(model, options);
+  if (!o.report.empty()) {
+    WriteAuditReport(o.report, model, options.sets, report, ReportInfo{ctx.argv});
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   std::string text = o.format == "json" ? Json(report) : Table(report, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   bool failed =
@@ -108,6 +114,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
   AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
+  AddReportOption(cmd, &o->report);
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunAudit(*o, ctx); }; });
 }
 

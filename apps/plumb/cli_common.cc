@@ -129,6 +129,11 @@ void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::
       ->capture_default_str();
 }
 
+void AddReportOption(CLI::App* cmd, std::string* report) {
+  cmd->add_option("--report", *report,
+                  "also write a self-contained HTML report (tables, charts, pictures) here");
+}
+
 int ReportError(const std::exception& error, const std::vector<std::string>& argv) {
   // the reader of stdout went away (`plumb rollout ... | head`): what finished was kept, and
   // there is nobody to tell; the shell's code for a process ended by SIGPIPE
@@ -140,6 +145,10 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
   if (dynamic_cast<const MujocoError*>(&error)) {
     std::fprintf(stderr, "plumb: error: MuJoCo stopped with a fatal error: %s\n", error.what());
     return kExitMujocoError;
+  }
+  if (dynamic_cast<const UnavailableError*>(&error)) {
+    std::fprintf(stderr, "plumb: error: %s\n", error.what());
+    return kExitUnavailable;
   }
   if (!dynamic_cast<const Error*>(&error)) {
     // not an error plumb reports by design: a bug, memory exhausted, data that cannot be

@@ -26,6 +26,7 @@ enum ExitCode : int {
   kExitBadInput = 2,        // bad input or usage: missing file, XML error, unknown path, ...
   kExitDiverged = 3,        // the simulation diverged (a repro folder was written)
   kExitMujocoError = 4,     // MuJoCo stopped with a fatal error (mju_error), not a divergence
+  kExitUnavailable = 5,     // a part is missing: the renderer in this build, GL, ffmpeg
   kExitInternal = 70,       // an internal error: a plumb bug, out of memory (sysexits' EX_SOFTWARE)
   kExitInterrupted = 130,   // SIGINT/SIGTERM: what finished was kept
   kExitOutputClosed = 141,  // stdout was closed by its reader (as a SIGPIPE death)
@@ -63,6 +64,8 @@ CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& 
 void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::string>& choices,
                      const std::string& help = "");
 
+// --report FILE.html: the command's self-contained HTML report (plumb/report.h).
+void AddReportOption(CLI::App* cmd, std::string* report);
 // --keyframe NAME: start from the model's keyframe NAME (as mj_resetDataKeyframe), with
 // every --set applied on top. Commands read it with StartAssignments.
 void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
@@ -133,6 +136,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx);
 void SetupRolloutCommand(CLI::App& app, Context& ctx);
 void SetupResultsCommands(CLI::App& app, Context& ctx);     // results and merge
 void SetupRegressionCommands(CLI::App& app, Context& ctx);  // snapshot and diff
+void SetupRenderCommand(CLI::App& app, Context& ctx);
 
 // Makes every integer option of `app` and of its subcommands take an integer written in any
 // number notation ("--count 1e3" is 1000) and refuse anything else with the option's name

@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/converge.h"
+#include "plumb/report.h"
 #include "plumb/error.h"
 #include "plumb/timing.h"
 
@@ -26,6 +27,7 @@ struct ConvergeOptions {
   double tol = 1e-3;
   double until = kUnset;  // the metric's default
   std::string format = "table";
+  std::string report;  // --report FILE.html
 };
 
 // JSON numbers cannot be NaN: unresolved quantities become null.
@@ -102,7 +104,7 @@ std::string ConvergeTable(const ConvergenceResult& r, const ConvergeOptions& o, 
   return out;
 }
 
-int RunConverge(const ConvergeOptions& o) {
+int RunConverge(const ConvergeOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
   Metric metric = ParseMetric(model, o.metric);
@@ -132,6 +134,12 @@ int RunConverge(const ConvergeOptions& o) {
                     o.metric, r.problem));
   }
 
+  if (!o.report.empty()) {
+    ReportInfo info{ctx.argv};
+    info.nominal_until = until;
+    WriteConvergeReport(o.report, model, sets, {r}, nominal->opt.integrator, info);
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   std::string text =
       o.format == "json" ? ConvergeJson(r, o, expected) : ConvergeTable(r, o, until, expected);
   std::fwrite(text.data(), 1, text.size(), stdout);
@@ -162,7 +170,8 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--until", o->until,
                   "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
   AddFormatOption(cmd, &o->format, {"table", "json"});
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunConverge(*o); }; });
+  AddReportOption(cmd, &o->report);
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunConverge(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

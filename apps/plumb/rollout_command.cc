@@ -18,6 +18,7 @@
 #include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/hash.h"
+#include "plumb/report.h"
 #include "plumb/rollout.h"
 #include "plumb/store.h"
 #include "plumb/strings.h"
@@ -43,6 +44,7 @@ struct RolloutOptions {
   std::string shard;
   std::string db;
   bool resume = false;
+  std::string report;  // --report FILE.html
 };
 
 // Everything that decides a rollout batch's results, as one canonical line: the same
@@ -323,17 +325,21 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   RolloutWriter writer(o.format, params, o.metrics, progress);
   RolloutTally tally;
   tally.summaries.resize(spec.metrics.size());
+  std::optional<BatchCollector> batch;
+  if (!o.report.empty()) batch.emplace(params, o.metrics);
   if (stored.store && !spec.skip.empty()) {
     stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
       if (r.index % spec.shard_count != spec.shard_index) return;
       ++tally.resumed;
       tally.Add(r);
+      if (batch) batch->Add(r.params, r.metrics, r.diverged);
     });
   }
   auto start = std::chrono::steady_clock::now();
   auto emit = [&](const RolloutResult& r) {
     ++tally.run_now;
     tally.Add(r);
+    if (batch) batch->Add(r.params, r.metrics, r.diverged);
     if (stored.store) stored.store->Add(stored.id, r);
     writer.Row(r);
   };
@@ -344,6 +350,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   progress.Finish();
   CompleteStoredRun(stored, spec.count);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (batch) {
+    ReportInfo info{ctx.argv};
+    info.nominal_until = o.until;
+    WriteBatchReport(o.report, "rollout", model, spec.sets, *batch, info);
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   // the human summary: after the table, or on stderr when stdout carries data
   std::string summary = tally.Text(o.metrics, seconds);
   if (o.format == "table") {
@@ -394,6 +406,7 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--db", o->db, "record runs, cases and results in this SQLite file");
   cmd->add_flag("--resume", o->resume,
                 "continue the same run in --db: skip rollouts already stored");
+  AddReportOption(cmd, &o->report);
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunRollout(*o, ctx); }; });
 }
 

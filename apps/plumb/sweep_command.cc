@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "cli_common.h"
 #include "plumb/error.h"
 #include "plumb/hash.h"
+#include "plumb/report.h"
 #include "plumb/sample_writer.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"
@@ -34,6 +36,7 @@ struct SweepOptions {
   std::string format = "table";
   std::string db;
   bool resume = false;
+  std::string report;  // --report FILE.html
 };
 
 // Everything that decides a sweep's results, as one canonical line (see rollout's Config):
@@ -396,6 +399,12 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   flush();
   EffectWatch effect(spec);
   SweepProblems problems(o.metrics, progress);
+  std::optional<BatchCollector> batch;
+  if (!o.report.empty()) {
+    std::vector<std::string> axes;
+    for (const SweepAxis& a : spec.axes) axes.push_back(a.path.text);
+    batch.emplace(axes, o.metrics);
+  }
   bool told_time = false;
   long emitted = 0;
   auto emit = [&](const SweepCase& c) {
@@ -404,6 +413,18 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     if (stored.store) stored.store->Add(stored.id, StoredCase(spec, c));
     out += writer.Row(c);
     problems.See(c);
+    if (batch) {
+      std::vector<double> values, metrics;
+      for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+        values.push_back(spec.axes[a].Value(c.choice[a]).values.at(0));
+      }
+      bool diverged = false;
+      for (const Measurement& m : c.metrics) {
+        metrics.push_back(m.ok ? m.value : NAN);
+        diverged = diverged || m.diverged;
+      }
+      batch->Add(values, metrics, diverged);
+    }
     auto now = std::chrono::steady_clock::now();
     double seconds = std::chrono::duration<double>(now - start).count();
     long left = total - static_cast<long>(stored.done.size()) - emitted;
@@ -424,6 +445,12 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: note: %s\n", note.c_str());
   }
   problems.Report(emitted * static_cast<long>(spec.metrics.size()));
+  if (batch) {
+    ReportInfo info{ctx.argv};
+    info.nominal_until = o.until > 0 ? o.until : 2.0;
+    WriteBatchReport(o.report, "sweep", model, spec.sets, *batch, info);
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   return kExitOk;
 }
 
@@ -458,6 +485,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       ->check(CLI::Range(1, 1024));
   cmd->add_option("--until", o->until,
                   "run length in s for period/maxabs/energy_drift (default 20 for period, else 2)");
+  AddReportOption(cmd, &o->report);
   AddFormatOption(cmd, &o->format, {"table", "csv", "json"});
   cmd->add_option("--db", o->db, "also record the sweep in this SQLite results store");
   cmd->add_flag("--resume", o->resume,

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "cli_common.h"
+#include "plumb/report.h"
 #include "plumb/verify.h"
 #include "summary.h"
 
@@ -22,6 +23,7 @@ struct VerifyCommandOptions {
   double tol = 1e-2;
   std::optional<double> until;  // unset: the default run length
   TableDetail detail = TableDetail::kFindings;
+  std::string report;  // --report FILE.html
 };
 
 std::string Table(const VerifyReport& report, double tol, TableDetail detail) {
@@ -72,13 +74,19 @@ std::string Json(const VerifyReport& report, double tol) {
   return j.dump(2) + "\n";
 }
 
-int RunVerify(const VerifyCommandOptions& o) {
+int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   VerifyOptions options;
   options.sets = StartAssignments(model, o.keyframe, o.sets);
   options.tol = o.tol;
   options.until = o.until;
   VerifyReport report = Verify(model, options);
+  if (!o.report.empty()) {
+    ReportInfo info{ctx.argv};
+    info.nominal_until = report.figures.t.empty() ? 2.0 : report.figures.t.back();
+    WriteVerifyReport(o.report, model, options.sets, report, info);
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   std::string text = o.format == "json" ? Json(report, o.tol) : Table(report, o.tol, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.failed() ? kExitCheckFailed : kExitOk;
@@ -107,7 +115,8 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option_function<double>(
       "--until", [o](double v) { o->until = v; },
       "nominal run length in s (default 2 s; at most 250 steps for large models)");
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunVerify(*o); }; });
+  AddReportOption(cmd, &o->report);
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunVerify(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

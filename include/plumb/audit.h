@@ -13,6 +13,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_AUDIT_H_
 #define PLUMB_INCLUDE_PLUMB_AUDIT_H_
 
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -55,9 +56,23 @@ struct AuditOptions {
       keep_diverged;
 };
 
+// One curve of an audit run, kept for pictures (--report).
+struct AuditCurve {
+  std::string label;     // the run: "passive settle", "step response of actuator 'elbow' (id 3)"
+  std::string quantity;  // what y is, with its unit: "total energy (J)"
+  std::vector<double> t;  // s, every step
+  std::vector<double> y;
+  double start = NAN;   // a step response's value before the step
+  double target = NAN;  // a servo's setpoint after the step; NaN when it has none
+};
+
 struct AuditReport {
   std::string model;
   std::vector<Finding> findings;
+  // The step responses measured (at most 12 actuators) and the passive settle's total
+  // energy and fastest joint speed, step by step.
+  std::vector<AuditCurve> step_responses;
+  std::vector<AuditCurve> settle;
   std::vector<std::string> repro_folders;  // what keep_diverged returned, in run order
   int Count(CheckStatus status) const;
 };

@@ -61,6 +61,14 @@ class IoError : public Error {
   using Error::Error;
 };
 
+// Something plumb needs from the machine is not there: the renderer in this build, a GL
+// library that can make a headless context, or the ffmpeg program. what() names it and
+// how to get it (the command-line tool exits with 5).
+class UnavailableError : public Error {
+ public:
+  using Error::Error;
+};
+
 // The run was stopped by a signal (SIGINT/SIGTERM) before it finished.
 class Interrupted : public Error {
  public:

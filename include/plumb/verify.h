@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "plumb/converge.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 
@@ -48,9 +49,37 @@ struct VerifyOptions {
   std::optional<double> until;
 };
 
+// What the checks measured, kept for pictures (--report): the nominal run's curves, the
+// convergence ladder, and a pendulum's period against amplitude. A part that was not
+// measured is empty.
+struct VerifyFigures {
+  // The nominal run (for a pendulum, the energy check's longer run of several swings),
+  // sampled every timestep.
+  std::vector<double> t;                  // s
+  std::vector<std::string> coords;        // each hinge and slide joint, e.g. "qpos[hinge]"
+  std::vector<std::vector<double>> q;     // [joint][sample], rad or m
+  std::vector<std::vector<double>> qdot;  // [joint][sample], rad/s or m/s
+  std::vector<double> energy;             // potential + kinetic, J
+  // The convergence check's ladder (levels empty when it did not run).
+  std::string convergence_metric;
+  ConvergenceResult convergence;
+  double expected_order = 0;
+  // A pendulum's period at several amplitudes, simulated with RK4, against the exact
+  // elliptic-integral period, and that exact curve densely.
+  struct PeriodPoint {
+    double amplitude = 0;  // rad
+    double period = 0;     // s, simulated
+    double exact = 0;      // s
+  };
+  std::vector<PeriodPoint> periods;
+  std::vector<PeriodPoint> exact_curve;  // period unused (NaN)
+  double small_angle_period = 0;         // s, 2*pi*sqrt(I/(m*g*d))
+};
+
 struct VerifyReport {
   std::string model;
   std::vector<CheckResult> checks;
+  VerifyFigures figures;
   int Count(CheckStatus status) const;
   bool failed() const { return Count(CheckStatus::kFail) > 0; }
 };

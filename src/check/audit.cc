@@ -65,6 +65,12 @@ AuditReport Audit(const Model& model, const AuditOptions& options) {
   audit::ContactLayer(nominal, settle, &report.findings);
   audit::BehaviourLayer(nominal, options.sets, ref, settle, options, &runs, &report.findings);
   Warnings(runs, &report);
+  for (audit::Observed& run : runs) {
+    if (run.label.rfind("step response", 0) == 0) {
+      for (AuditCurve& c : run.curves) report.step_responses.push_back(std::move(c));
+    }
+  }
+  report.settle = std::move(settle.curves);
   return report;
 }
 

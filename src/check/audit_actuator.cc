@@ -189,6 +189,19 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
   out.run.result = Run(work, data, spec, sink);
   TakeMujocoWarnings();  // counted in the run's result, reported in the warnings layer
   out.run.repro = KeepDiverged(work, out.run.result, options, out.run.label);
+  const char* quantity = step.kind == ActuatorKind::kPositionServo   ? "actuator length"
+                         : step.kind == ActuatorKind::kVelocityServo ? "actuator velocity"
+                                                                     : "actuator force";
+  AuditCurve curve;
+  curve.label = out.run.label;
+  curve.quantity = quantity;
+  curve.t = t;
+  curve.y = y;
+  curve.start = y0;
+  bool servo = step.kind == ActuatorKind::kPositionServo ||
+               step.kind == ActuatorKind::kVelocityServo;
+  curve.target = servo ? step.after : NAN;
+  out.run.curves.push_back(std::move(curve));
   if (out.run.result.diverged || y.size() < 2) return out;
   if (step.kind == ActuatorKind::kMotor) {
     double moved = data->actuator_length[u] - step.length0;

@@ -83,6 +83,7 @@ struct Observed {
   double max_slip = 0;         // tangential speed at contacts at the end
   std::string slip_pair;
   std::string repro;  // where AuditOptions::keep_diverged kept it ("" when not)
+  std::vector<AuditCurve> curves;  // what it looked like over time (for --report)
 };
 
 // `wanted` s of simulated time, shortened for big models to the dof-step budget (at

@@ -172,7 +172,18 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
   spec.before_step = [&](mjData* d, long) {
     if (control) control(d, d->time);
   };
-  spec.after_step = [&](const mjData* d, long) { TrackStep(work, d, &o); };
+  o.curves.resize(2);
+  o.curves[0].quantity = "total energy (J)";
+  o.curves[1].quantity = "fastest joint speed (rad/s or m/s)";
+  for (AuditCurve& c : o.curves) c.label = label;
+  spec.after_step = [&](const mjData* d, long) {
+    TrackStep(work, d, &o);
+    double speed = 0;
+    for (int i = 0; i < m->nv; ++i) speed = std::max(speed, std::fabs(d->qvel[i]));
+    for (AuditCurve& c : o.curves) c.t.push_back(d->time);
+    o.curves[0].y.push_back(d->energy[0] + d->energy[1]);
+    o.curves[1].y.push_back(speed);
+  };
   NullSink sink;
   for (long piece = 0; piece < max_pieces; ++piece) {
     if (piece >= min_pieces) {

@@ -131,6 +131,7 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   }
   verify::VerifyContext c{s,     model,         nominal,      pendulum,   trace,
                           until, *energy_trace, energy_until, options.tol};
+  c.figures = &report.figures;
   if (pendulum && finite) {
     // a single hinge: its qpos and dof address are the same index
     c.dof = m->jnt_qposadr[pendulum->joint];
@@ -147,6 +148,12 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
       report.checks.push_back(check.run(c, verify::Row(check.id, check.title)));
     }
   }
+  VerifyFigures& f = report.figures;
+  f.t = energy_trace->t;
+  f.coords = energy_trace->coord_names;
+  f.q = energy_trace->coords;
+  f.qdot = energy_trace->vels;
+  f.energy = energy_trace->energy;
   return report;
 }
 

@@ -182,8 +182,16 @@ CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r) {
     worst = std::max(worst, RelError(run.period, exact));
     growing = growing && run.period > previous;
     previous = run.period;
+    if (ctx.figures != nullptr) ctx.figures->periods.push_back({theta, run.period, exact});
     parts.push_back(fmt::format("{:g} rad: T = {:.8g} s = {:.4f} T0 (elliptic {:.4f} T0)", theta,
                                 run.period, run.period / t0, exact / t0));
+  }
+  if (ctx.figures != nullptr) {
+    ctx.figures->small_angle_period = t0;
+    for (int i = 1; i <= 60; ++i) {
+      double theta = 3.0 * i / 60;  // up to 3 rad, where the period grows steeply
+      ctx.figures->exact_curve.push_back({theta, kNaN, LargeAnglePeriod(p, theta)});
+    }
   }
   r.measured = fmt::format("worst {:.2g} rel. to elliptic", worst);
   r.reference = "<= 1e-06";

@@ -32,8 +32,10 @@ class TraceSink : public SampleSink {
       trace_->max_nefc = std::max(trace_->max_nefc, static_cast<int>(row[4]));
       first = 5;
     }
-    for (std::size_t c = 0; c < trace_->coords.size(); ++c) {
-      trace_->coords[c].push_back(row[first + c]);
+    std::size_t n = trace_->coords.size();
+    for (std::size_t c = 0; c < n; ++c) {
+      trace_->coords[c].push_back(row[first + 2 * c]);
+      trace_->vels[c].push_back(row[first + 2 * c + 1]);
     }
   }
 
@@ -120,9 +122,11 @@ Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double 
     Path p = ResolvePath(work, "qpos[" + std::to_string(m->jnt_qposadr[j]) + "]");
     p.text = name.empty() ? p.text : "qpos[" + name + "]";
     spec.columns.push_back(p);
+    spec.columns.push_back(ResolvePath(work, "qvel[" + std::to_string(m->jnt_dofadr[j]) + "]"));
     trace.coord_names.push_back(p.text);
   }
   trace.coords.resize(trace.coord_names.size());
+  trace.vels.resize(trace.coord_names.size());
   TraceSink sink(&trace, energy);
   trace.result = Run(work, data, spec, sink);
   const mjData* d = data.get();
@@ -241,6 +245,11 @@ CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
   Metric metric = ParseMetric(s.model(), metric_text);
   ConvergenceResult c = Converge(s.model(), s.sets(), metric, 2 * dt, 4, tol, until);
   double expected = ExpectedOrder(m->opt.integrator);
+  if (ctx.figures != nullptr) {
+    ctx.figures->convergence_metric = metric_text;
+    ctx.figures->convergence = c;
+    ctx.figures->expected_order = expected;
+  }
   std::string integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   bool contacts = nominal.max_ncon > 0;
   std::string caveat = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";

@@ -42,6 +42,7 @@ struct Trace {
   std::vector<double> energy;               // potential + kinetic, J
   std::vector<double> kinetic;              // J
   std::vector<std::vector<double>> coords;  // each hinge/slide joint's qpos over time
+  std::vector<std::vector<double>> vels;    // ... and its qvel
   std::vector<std::string> coord_names;
   std::vector<double> final_state;  // qpos, qvel, act at the end
   int max_ncon = 0;
@@ -93,6 +94,7 @@ struct VerifyContext {
   double tol;
   int dof = -1;       // a pendulum's hinge dof (and qpos address)
   double theta0 = 0;  // its start angle
+  VerifyFigures* figures = nullptr;  // where checks leave what a picture shows
 };
 
 // What the pendulum checks read from the context, in one line:

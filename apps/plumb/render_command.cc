@@ -1,0 +1,177 @@
+// plumb render: a picture (PNG) of the model at one time, or a video (MP4) of a run,
+// without a window.
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "cli_common.h"
+#include "plumb/error.h"
+#include "plumb/image.h"
+#include "plumb/render.h"
+#include "plumb/run.h"
+#include "plumb/video.h"
+
+namespace plumb::cli {
+namespace {
+
+struct RenderCommandOptions {
+  std::string model;
+  std::vector<std::string> sets;
+  std::string keyframe;
+  double at = 0;
+  std::optional<double> until;
+  double fps = 30;
+  std::string camera = "auto";
+  std::string size = "640x480";
+  std::vector<std::string> highlight;
+  bool msaa = false;
+  std::string gl = "auto";
+  std::string output;
+};
+
+bool EndsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
+
+std::pair<int, int> ParseSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w < 1 || h < 1 || w > 8192 || h > 8192) {
+    throw ValueError("--size '" + text +
+                     "': give WIDTHxHEIGHT in pixels, each 1 to 8192, "
+                     "e.g. --size 640x480");
+  }
+  return {w, h};
+}
+
+long StepsTo(double t, double dt, const char* option) {
+  if (!(t >= 0) || !std::isfinite(t)) {
+    throw ValueError(
+        fmt::format("{} {:g}: the time must be a finite number of seconds >= 0", option, t));
+  }
+  return std::lround(t / dt);
+}
+
+void SayDiverged(const RunResult& result, double dt, const std::string& shown) {
+  std::fprintf(stderr, "plumb: the run diverged at t = %.6g s: %s. %s\n", result.steps * dt,
+               result.divergence ? result.divergence->reason.c_str() : "", shown.c_str());
+}
+
+int RunRender(const RenderCommandOptions& o) {
+  bool video = EndsWith(o.output, ".mp4");
+  if (!video && !EndsWith(o.output, ".png")) {
+    throw ValueError("-o '" + o.output + "': write a picture (.png) or a video (.mp4)");
+  }
+  if (video != o.until.has_value()) {
+    throw ValueError(video ? "a video needs --until T (and --fps F): how long a run to show"
+                           : "--until makes a video: write it to a .mp4 file, or use --at T "
+                             "for one picture");
+  }
+  if (video && o.at != 0) throw ValueError("--at is for pictures; a video starts at t = 0");
+  auto [width, height] = ParseSize(o.size);
+  Model original = LoadModel(o.model);
+  Model model = original.Clone();
+  Data data(model);
+  ApplyAssignments(model, data, StartAssignments(model, o.keyframe, o.sets));
+  data.Forward();
+  RenderOptions options;
+  options.width = width;
+  options.height = height;
+  options.camera = o.camera;
+  options.highlight = o.highlight;
+  options.msaa = o.msaa;
+  options.backend = o.gl;
+  Renderer renderer(model, options);
+  double dt = model->opt.timestep;
+  NullSink sink;
+  RunSpec spec;
+  spec.every = dt;
+  std::string how = fmt::format("{}x{}, {}, camera {}{}", width, height, renderer.backend(),
+                                renderer.camera(), o.msaa ? ", MSAA" : "");
+  if (!video) {
+    long steps = StepsTo(o.at, dt, "--at");
+    spec.until = steps * dt;
+    RunResult result = Run(model, data, spec, sink);
+    TakeMujocoWarnings();
+    if (result.diverged) {
+      SayDiverged(result, dt,
+                  "Nothing was written: render an earlier --at to see the state "
+                  "before it.");
+      return kExitDiverged;
+    }
+    WritePng(renderer.Render(data), o.output);
+    std::printf("plumb: wrote %s: t = %.6g s, %s\n", o.output.c_str(), data->time, how.c_str());
+    return kExitOk;
+  }
+  if (!(o.fps > 0) || !std::isfinite(o.fps) || o.fps > 1000) {
+    throw ValueError(fmt::format("--fps {:g}: give a frame rate above 0, at most 1000", o.fps));
+  }
+  long steps = StepsTo(*o.until, dt, "--until");
+  // frames a whole number of steps apart; the video plays in real time at that spacing
+  long stride = std::max(1L, std::lround(1.0 / (o.fps * dt)));
+  double fps = 1.0 / (stride * dt);
+  VideoWriter writer(o.output, width, height, fps);
+  Image frame;
+  renderer.Render(data, &frame);
+  writer.Add(frame);
+  spec.until = steps * dt;
+  spec.after_step = [&](const mjData*, long step) {
+    if (step % stride == 0) {
+      renderer.Render(data, &frame);
+      writer.Add(frame);
+    }
+  };
+  RunResult result = Run(model, data, spec, sink);
+  TakeMujocoWarnings();
+  writer.Finish();
+  std::printf("plumb: wrote %s: %d frames at %.4g fps (every %ld steps), t = 0 to %.6g s, %s\n",
+              o.output.c_str(), writer.frames(), fps, stride, result.steps * dt, how.c_str());
+  if (result.diverged) {
+    SayDiverged(result, dt, "The video shows the run up to the last good state.");
+    return kExitDiverged;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void SetupRenderCommand(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<RenderCommandOptions>();
+  CLI::App* cmd = AddCommand(
+      app, "render", "Draw the model without a window: a PNG at one time, or an MP4 of a run",
+      "Examples:\n"
+      "  plumb render models/pendulum.xml --set 'qpos[hinge]=0.7' -o pendulum.png\n"
+      "  plumb render models/pendulum.xml --set 'qpos[hinge]=0.7' --until 4 --fps 30 -o swing.mp4\n"
+      "  plumb render humanoid.xml --at 1.5 --camera track --highlight torso -o fall.png\n"
+      "MuJoCo's OpenGL renderer runs on Mesa through EGL (surfaceless), else OSMesa; the\n"
+      "output line says which ran. Videos are H.264 (yuv420p) made by ffmpeg.\n"
+      "Exit codes: 0 ok, 2 bad input, 3 the run diverged, 4 MuJoCo fatal error,\n"
+      "5 no renderer in this build, no GL context, or no ffmpeg.");
+  AddModelOptions(cmd, &o->model, &o->sets, "before the run");
+  AddKeyframeOption(cmd, &o->keyframe);
+  cmd->add_option("--at", o->at, "time of the picture, s (a PNG)")->capture_default_str();
+  cmd->add_option_function<double>(
+      "--until", [o](double v) { o->until = v; }, "length of the run a video shows, s (an MP4)");
+  cmd->add_option("--fps", o->fps, "video frames per second (rounded to whole steps)")
+      ->capture_default_str();
+  cmd->add_option("--camera", o->camera,
+                  "auto, track (follow a free body's centre of mass), fixed (frame the whole "
+                  "model) or the name of a camera of the model")
+      ->capture_default_str();
+  cmd->add_option("--size", o->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
+  cmd->add_option("--highlight", o->highlight,
+                  "colour a body, geom or joint so it stands out (repeatable)");
+  cmd->add_flag("--msaa", o->msaa, "multisample anti-aliasing (off: slow on a software GL)");
+  cmd->add_option("--gl", o->gl, "GL backend: auto (EGL, else OSMesa), egl or osmesa")
+      ->check(CLI::IsMember({"auto", "egl", "osmesa"}))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "the picture (.png) or video (.mp4) to write")
+      ->required();
+  cmd->callback([o, &ctx] { ctx.action = [o] { return RunRender(*o); }; });
+}
+
+}  // namespace plumb::cli

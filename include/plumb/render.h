@@ -1,0 +1,88 @@
+// Pictures of a model without a window: MuJoCo's classic OpenGL renderer (mjv_ / mjr_)
+// running offscreen on a headless GL context from Debian's Mesa.
+//
+// The context comes from EGL on Mesa's surfaceless platform (the default: no X server, no
+// device file) or, when that cannot be made, from OSMesa (Mesa's software renderer behind
+// its own API). MuJoCo's GL loader binds to one of them per process, so the first Renderer
+// of a process fixes the backend; later ones share it. backend() says which one ran.
+//
+// The renderer is an optional part of the build (PLUMB_WITH_RENDER). Without it, or when no
+// GL context can be made, constructing a Renderer throws UnavailableError saying so.
+//
+// Example:
+//   plumb::RenderOptions options;            // 640x480, camera chosen for the model
+//   options.highlight = {"pole"};            // colour a body so it stands out
+//   plumb::Renderer renderer(model, options);
+//   data.Forward();
+//   plumb::WritePng(renderer.Render(data), "pendulum.png");
+
+#ifndef PLUMB_INCLUDE_PLUMB_RENDER_H_
+#define PLUMB_INCLUDE_PLUMB_RENDER_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plumb/image.h"
+#include "plumb/model.h"
+
+namespace plumb {
+
+struct RenderOptions {
+  int width = 640;  // pixels; the offscreen buffer is made at least this large
+  int height = 480;
+  // "auto": "track" for a model with a free-floating body, else "fixed"; "track": follow the
+  // centre of mass of the first free-floating body's subtree; "fixed": frame the whole model
+  // (its bounding sphere) from MuJoCo's default viewpoint; anything else: the name of a
+  // camera in the model.
+  std::string camera = "auto";
+  // Names of bodies, geoms or joints to colour so they stand out (a body's or joint's
+  // geoms are coloured; everything else is drawn faded).
+  std::vector<std::string> highlight;
+  // Multisample anti-aliasing. Off by default: on Mesa's software rasteriser it costs more
+  // than it shows; on turns on the model's offsamples (4 unless the model says otherwise).
+  bool msaa = false;
+  // "auto" (EGL surfaceless, else OSMesa), "egl" or "osmesa".
+  std::string backend = "auto";
+};
+
+class Renderer {
+ public:
+  // Makes the GL context (or joins the process's), MuJoCo's scene and its render context
+  // for `model`, which must outlive the renderer.
+  // @throws UnavailableError when this build has no renderer or no GL context can be made;
+  //         ValueError for a size below 1 or above 8192 pixels, an unknown camera or
+  //         highlight name (the message lists the valid ones), or an unknown backend.
+  Renderer(const Model& model, RenderOptions options);
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+  ~Renderer();
+
+  // Replaces the highlighted elements (as RenderOptions::highlight; empty: none), so one
+  // renderer draws many thumbnails. @throws ValueError for an unknown name.
+  void Highlight(const std::vector<std::string>& names);
+
+  // Draws the state `data` holds (its positions must be current: after mj_forward or
+  // mj_step) into `image`, reusing its buffer. Rows come out top-down.
+  void Render(Data& data, Image* image);
+  Image Render(Data& data);
+
+  // "EGL (surfaceless)" or "OSMesa", then the GL renderer string, e.g.
+  // "EGL (surfaceless), llvmpipe (LLVM 15.0.6, 256 bits)".
+  const std::string& backend() const;
+  // The camera in use, said for a person: "tracking body 'torso'", "fixed: whole model",
+  // "model camera 'side'".
+  const std::string& camera() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// True when this build has the renderer (PLUMB_WITH_RENDER); a GL context may still be
+// impossible to make on the machine (then Renderer throws UnavailableError).
+bool RendererBuilt();
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_RENDER_H_

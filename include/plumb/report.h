@@ -1,0 +1,94 @@
+// One self-contained HTML report per command (--report FILE.html on verify, audit, converge,
+// sweep and rollout): a header with the model, its hash, the plumb and MuJoCo versions, the
+// command line, the date and pictures of the model; the command's table in PASS / WARN /
+// FAIL / SKIP colours; and charts drawn by Chart.js (inlined, with drag-to-zoom), each with
+// a short "how to read this". The file needs nothing else: it opens offline from file://
+// and makes no network request. It is written through AtomicFile: absent or complete.
+//
+// Pictures need the renderer (plumb/render.h); without it the report says why they are
+// missing and is otherwise the same.
+//
+// Example:
+//   plumb::VerifyReport result = plumb::Verify(model, options);
+//   plumb::ReportInfo info{argv};
+//   plumb::WriteVerifyReport("pendulum.html", model, options.sets, result, info);
+
+#ifndef PLUMB_INCLUDE_PLUMB_REPORT_H_
+#define PLUMB_INCLUDE_PLUMB_REPORT_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "plumb/audit.h"
+#include "plumb/converge.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/verify.h"
+
+namespace plumb {
+
+struct ReportInfo {
+  std::vector<std::string> argv;  // the command line, shown in the header
+  // Pictures of the model (t = 0, the end of the nominal run, a short animation) when the
+  // renderer can run; false leaves them out (faster; tests of the page alone).
+  bool pictures = true;
+  double nominal_until = 2.0;  // the nominal run the pictures show, s
+};
+
+// @throws IoError naming `path` when it cannot be written (nothing is left behind then).
+void WriteVerifyReport(const std::string& path, const Model& model,
+                       const std::vector<Assignment>& sets, const VerifyReport& report,
+                       const ReportInfo& info);
+
+// Each finding that names a body, geom or joint gets a thumbnail with it highlighted.
+void WriteAuditReport(const std::string& path, const Model& model,
+                      const std::vector<Assignment>& sets, const AuditReport& report,
+                      const ReportInfo& info);
+
+void WriteConvergeReport(const std::string& path, const Model& model,
+                         const std::vector<Assignment>& sets,
+                         const std::vector<ConvergenceResult>& results, int integrator,
+                         const ReportInfo& info);
+
+// The cases of a sweep or a rollout batch, gathered as they finish for the report. It keeps
+// every case up to `most` and a uniform sample beyond (reservoir sampling with a fixed
+// seed, so the same batch gives the same report), so memory stays flat however large the
+// batch is; the counts are over every case, the charts over the cases kept.
+class BatchCollector {
+ public:
+  BatchCollector(std::vector<std::string> parameters, std::vector<std::string> metrics,
+                 std::size_t most = 20000);
+
+  // One case: its parameter values, its metrics (NaN when not measured), and whether it
+  // diverged.
+  void Add(const std::vector<double>& parameters, const std::vector<double>& metrics,
+           bool diverged);
+
+  struct Case {
+    std::vector<double> parameters, metrics;
+    bool diverged = false;
+  };
+  const std::vector<std::string>& parameters() const { return parameters_; }
+  const std::vector<std::string>& metrics() const { return metrics_; }
+  const std::vector<Case>& kept() const { return kept_; }
+  long total() const { return total_; }
+  long diverged() const { return diverged_; }
+
+ private:
+  std::vector<std::string> parameters_, metrics_;
+  std::size_t most_;
+  std::vector<Case> kept_;
+  long total_ = 0, diverged_ = 0;
+  std::uint64_t random_ = 0x9e3779b97f4a7c15ULL;
+};
+
+// `kind` is "sweep" or "rollout": each metric against each parameter (diverged cases
+// marked), and a histogram of each metric.
+void WriteBatchReport(const std::string& path, const std::string& kind, const Model& model,
+                      const std::vector<Assignment>& sets, const BatchCollector& batch,
+                      const ReportInfo& info);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_REPORT_H_

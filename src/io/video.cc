@@ -1,0 +1,207 @@
+// VideoWriter: raw RGB frames over a socket to ffmpeg's stdin, H.264 in an MP4 out.
+//
+// A socket rather than a pipe so a write to an ffmpeg that died fails with EPIPE
+// (MSG_NOSIGNAL) instead of raising SIGPIPE in a program that did not ignore it.
+
+#include "plumb/video.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "plumb/error.h"
+
+extern char** environ;
+
+namespace plumb {
+namespace {
+
+// $PLUMB_FFMPEG, else the first executable `ffmpeg` on PATH; "" when there is none.
+std::string FindFfmpeg() {
+  if (const char* given = std::getenv("PLUMB_FFMPEG"); given != nullptr && *given != '\0') {
+    return access(given, X_OK) == 0 ? given : "";
+  }
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    std::string candidate = (dir.empty() ? "." : dir) + "/ffmpeg";
+    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return "";
+}
+
+std::string FolderOf(const std::string& path) {
+  std::size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string BaseOf(const std::string& path) {
+  std::size_t slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// The last lines ffmpeg wrote on stderr (its reason for failing).
+std::string Tail(const std::string& log_path) {
+  std::ifstream in(log_path);
+  std::string line, text;
+  std::vector<std::string> lines;
+  while (std::getline(in, line)) {
+    if (!line.empty()) lines.push_back(line);
+  }
+  for (std::size_t i = lines.size() > 4 ? lines.size() - 4 : 0; i < lines.size(); ++i) {
+    text += (text.empty() ? "" : " | ") + lines[i];
+  }
+  return text.empty() ? "(it printed nothing)" : text;
+}
+
+}  // namespace
+
+VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
+    : path_(std::move(path)), width_(width), height_(height) {
+  if (width <= 0 || height <= 0 || width > 8192 || height > 8192) {
+    throw ValueError("a video frame must be 1 to 8192 pixels a side, not " + std::to_string(width) +
+                     "x" + std::to_string(height));
+  }
+  if (!(fps > 0) || !std::isfinite(fps) || fps > 1000) {
+    throw ValueError("a video's frame rate must be above 0 and at most 1000 per second");
+  }
+  std::string ffmpeg = FindFfmpeg();
+  if (ffmpeg.empty()) {
+    throw UnavailableError(
+        "writing '" + path_ +
+        "' needs the ffmpeg program, which is not on PATH. Install it "
+        "(Debian: apt-get install ffmpeg; scripts/install-deps.sh does), set PLUMB_FFMPEG to "
+        "its path, or write a PNG picture instead.");
+  }
+  std::string folder = FolderOf(path_);
+  std::string temp = folder + "/." + BaseOf(path_) + ".XXXXXX.mp4";
+  std::vector<char> temp_name(temp.begin(), temp.end());
+  temp_name.push_back('\0');
+  int temp_fd = mkstemps(temp_name.data(), 4);
+  if (temp_fd < 0) {
+    throw IoError("cannot write '" + path_ + "': cannot create a file in '" + folder + "' (" +
+                  std::strerror(errno) +
+                  "). Check that the folder exists and is "
+                  "writable.");
+  }
+  fchmod(temp_fd, 0644);  // as a file the user made (mkstemps makes it 0600)
+  close(temp_fd);
+  temp_path_ = temp_name.data();
+  log_path_ = temp_path_ + ".log";
+
+  int sockets[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0) {
+    std::remove(temp_path_.c_str());
+    throw IoError(std::string("cannot make a socket for ffmpeg: ") + std::strerror(errno));
+  }
+  char pad[] = "pad=ceil(iw/2)*2:ceil(ih/2)*2";
+  std::string size = std::to_string(width) + "x" + std::to_string(height);
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.9g", fps);
+  std::vector<std::string> args = {
+      ffmpeg,     "-nostdin",  "-hide_banner", "-loglevel", "error", "-y",      "-f",
+      "rawvideo", "-pix_fmt",  "rgb24",        "-s",        size,    "-r",      rate,
+      "-i",       "pipe:0",    "-vf",          pad,         "-c:v",  "libx264", "-pix_fmt",
+      "yuv420p",  "-movflags", "+faststart",   "-f",        "mp4",   temp_path_};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, sockets[1], 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0600);
+  // -nostdin is about keyboard interaction; ffmpeg still reads the frames from pipe:0
+  int spawn_error = posix_spawn(&pid_, ffmpeg.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(sockets[1]);
+  if (spawn_error != 0) {
+    close(sockets[0]);
+    pid_ = -1;
+    std::remove(temp_path_.c_str());
+    std::remove(log_path_.c_str());
+    throw UnavailableError("cannot start '" + ffmpeg + "': " + std::strerror(spawn_error));
+  }
+  fd_ = sockets[0];
+}
+
+VideoWriter::~VideoWriter() { Abandon(); }
+
+void VideoWriter::Abandon() {
+  if (fd_ >= 0) close(fd_);
+  fd_ = -1;
+  if (pid_ > 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+  }
+  if (!temp_path_.empty()) {
+    std::remove(temp_path_.c_str());
+    std::remove(log_path_.c_str());
+    temp_path_.clear();
+  }
+}
+
+void VideoWriter::Add(const Image& frame) {
+  if (fd_ < 0) throw IoError("the video '" + path_ + "' is already finished");
+  if (frame.width != width_ || frame.height != height_ ||
+      frame.rgb.size() != std::size_t(width_) * height_ * 3) {
+    throw ValueError("a frame of " + std::to_string(frame.width) + "x" +
+                     std::to_string(frame.height) + " pixels does not fit the video '" + path_ +
+                     "' of " + std::to_string(width_) + "x" + std::to_string(height_));
+  }
+  const std::uint8_t* data = frame.rgb.data();
+  std::size_t left = frame.rgb.size();
+  while (left > 0) {
+    ssize_t sent = send(fd_, data, left, MSG_NOSIGNAL);
+    if (sent < 0 && errno == EINTR) continue;
+    if (sent <= 0) {
+      std::string said = Tail(log_path_);
+      Abandon();
+      throw IoError("ffmpeg stopped while writing '" + path_ + "': " + said);
+    }
+    data += sent;
+    left -= std::size_t(sent);
+  }
+  ++frames_;
+}
+
+void VideoWriter::Finish() {
+  if (fd_ < 0) throw IoError("the video '" + path_ + "' is already finished");
+  close(fd_);
+  fd_ = -1;
+  int status = 0;
+  while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+  }
+  pid_ = -1;
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || frames_ == 0) {
+    std::string said = frames_ == 0 ? "no frame was given" : Tail(log_path_);
+    Abandon();
+    throw IoError("ffmpeg could not write '" + path_ + "': " + said);
+  }
+  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+    std::string why = std::strerror(errno);
+    Abandon();
+    throw IoError("cannot move the video into place as '" + path_ + "': " + why);
+  }
+  std::remove(log_path_.c_str());
+  temp_path_.clear();
+}
+
+}  // namespace plumb

@@ -1,0 +1,109 @@
+// The page every report is: a header, sections of tables, charts and pictures, with
+// Chart.js and the page's own script and style inlined (report_assets.cc), so the file
+// opens from file:// with no network.
+
+#ifndef PLUMB_SRC_REPORT_HTML_H_
+#define PLUMB_SRC_REPORT_HTML_H_
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "plumb/image.h"
+#include "plumb/verify.h"
+
+namespace plumb::report {
+
+// One line or set of points of a chart.
+struct Series {
+  enum Style { kLine, kPoints };
+  Series(std::string label, std::vector<double> x, std::vector<double> y, Style style = kLine,
+         std::string color = "", bool dashed = false, std::string marker = "")
+      : label(std::move(label)),
+        x(std::move(x)),
+        y(std::move(y)),
+        style(style),
+        color(std::move(color)),
+        dashed(dashed),
+        marker(std::move(marker)) {}
+  std::string label;
+  std::vector<double> x, y;  // non-finite points are left out
+  Style style = kLine;
+  std::string color;  // CSS colour; empty: the next of the palette
+  bool dashed = false;
+  std::string marker;  // Chart.js point style for kPoints ("circle", "crossRot", ...)
+};
+
+struct Axis {
+  Axis(std::string label, bool log = false) : label(std::move(label)), log(log) {}
+  std::string label;
+  bool log = false;  // logarithmic (non-positive values are left out)
+};
+
+struct Chart {
+  Chart(std::string title, Axis x, Axis y)
+      : title(std::move(title)), x(std::move(x)), y(std::move(y)) {}
+  std::string title;
+  Axis x, y;
+  std::vector<Series> series;
+  std::string how_to_read;  // what a healthy and a sick curve look like
+};
+
+// A histogram: bins' edges and stacked counts per group (e.g. finished / diverged).
+struct Histogram {
+  Histogram(std::string title, std::string x_label)
+      : title(std::move(title)), x_label(std::move(x_label)) {}
+  std::string title;
+  std::string x_label;
+  std::vector<double> edges;  // bins + 1
+  std::vector<std::pair<std::string, std::vector<long>>> groups;
+  std::string how_to_read;
+};
+
+// Keeps at most `most` points of a curve, evenly by index (the first and last kept).
+std::vector<std::size_t> Thin(std::size_t count, std::size_t most);
+
+// data:image/png;base64,... of a PNG's bytes.
+std::string PngDataUri(const std::string& png);
+
+// HTML-escaped text.
+std::string Escape(const std::string& text);
+
+class Page {
+ public:
+  explicit Page(std::string title);
+
+  // The header's key/value list (model, hash, versions, command line, date, ...).
+  void Meta(const std::string& key, const std::string& value);
+  void Heading(const std::string& text);     // a section
+  void Subheading(const std::string& text);  // within a section
+  void Paragraph(const std::string& text, const std::string& css_class = "");
+  void Html(const std::string& html);  // trusted markup made by the report code
+  void StatusSummary(int pass, int warn, int fail, int skip);
+  void Add(const Chart& chart);
+  void Add(const Histogram& histogram);
+  void BeginGrid();  // charts side by side until EndGrid
+  void EndGrid();
+  // Pictures in a row: each a PNG with its caption.
+  void Pictures(const std::vector<std::pair<std::string, std::string>>& png_and_caption);
+  // An animation of PNG frames shown `interval_ms` apart.
+  void Flipbook(const std::vector<std::string>& pngs, int interval_ms, const std::string& caption);
+
+  // The whole page, ready to be written.
+  std::string Render() const;
+
+ private:
+  std::string NextId();
+  std::string title_;
+  std::vector<std::pair<std::string, std::string>> meta_;
+  std::string body_;
+  nlohmann::json charts_ = nlohmann::json::array();
+  int palette_ = 0;
+};
+
+// Row markup for a status table: <tr class="row-FAIL"><td class="status FAIL">FAIL</td>...
+std::string StatusCell(CheckStatus status);
+
+}  // namespace plumb::report
+
+#endif  // PLUMB_SRC_REPORT_HTML_H_

@@ -1,0 +1,31 @@
+// The charts of a verify run, also used by other reports: the nominal run's q(t), q̇(t),
+// phase portrait and energy; a convergence study on log-log axes; a pendulum's period
+// against amplitude.
+
+#ifndef PLUMB_SRC_REPORT_VERIFY_CHARTS_H_
+#define PLUMB_SRC_REPORT_VERIFY_CHARTS_H_
+
+#include <string>
+
+#include "plumb/converge.h"
+#include "plumb/verify.h"
+#include "report/html.h"
+
+namespace plumb::report {
+
+// q(t) and q̇(t) of each hinge and slide joint (at most six), the first one's phase
+// portrait, and the total energy. Nothing when the run has no samples.
+void AddRunCharts(Page* page, const VerifyFigures& figures);
+
+// The successive differences (and estimated errors) against dt on log-log axes, with a
+// line of the expected slope through the finest resolved point. Nothing without levels.
+void AddConvergenceChart(Page* page, const std::string& metric, const ConvergenceResult& c,
+                         double expected_order);
+
+// Simulated periods against the elliptic-integral curve and the small-angle period.
+// Nothing when no period was measured.
+void AddPeriodChart(Page* page, const VerifyFigures& figures);
+
+}  // namespace plumb::report
+
+#endif  // PLUMB_SRC_REPORT_VERIFY_CHARTS_H_

@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Opens plumb HTML reports in Debian's Chromium (driven by Playwright) and checks them.
+
+For each report: no console errors, no network request of any kind (only file: and data:
+URLs are allowed; anything else is blocked and counted), every chart drawn with marks on
+its canvas, every picture decoded. A full-page screenshot is saved beside it as a test
+artifact.
+
+Usage: browser_check.py REPORT.html [REPORT.html ...]   (exit 0 all good, 1 a check failed)
+"""
+import json
+import os
+import sys
+import tempfile
+
+from playwright.sync_api import sync_playwright
+
+CHROMIUM = os.environ.get("PLUMB_CHROMIUM", "/usr/bin/chromium")
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+         "--disable-component-update", "--no-first-run"]
+LOCAL = ("file:", "data:", "about:", "blob:")
+
+# Per chart: the marks Chart.js laid out, and whether its canvas holds any painted pixel.
+CHARTS = """() => window.plumbReport.charts.map((c) => {
+  let marks = 0;
+  c.data.datasets.forEach((d, i) => { marks += c.getDatasetMeta(i).data.length; });
+  const ctx = c.canvas.getContext('2d');
+  const px = ctx.getImageData(0, 0, c.canvas.width, c.canvas.height).data;
+  let painted = 0;
+  for (let i = 3; i < px.length; i += 4) if (px[i] !== 0) painted++;
+  return { id: c.canvas.id, title: c.canvas.previousElementSibling ?
+             c.canvas.previousElementSibling.textContent : '', marks, painted };
+})"""
+PAGE = """() => ({
+  canvases: document.querySelectorAll('canvas.plumb-chart').length,
+  images: Array.from(document.images).map((i) => ({ alt: i.alt, ok: i.complete && i.naturalWidth > 0 })),
+  tables: document.querySelectorAll('table').length,
+})"""
+
+
+def check(context, path):
+    problems = []
+    page = context.new_page()
+    errors, requests = [], []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+
+    def route(r):
+        if r.request.url.startswith(LOCAL):
+            r.continue_()
+        else:
+            requests.append(r.request.url)
+            r.abort()
+
+    page.route("**/*", route)
+    page.on("request", lambda r: None if r.url.startswith(LOCAL) else requests.append(r.url))
+    page.goto("file://" + os.path.abspath(path))
+    try:
+        page.wait_for_function("window.plumbReport && window.plumbReport.ready", timeout=60000)
+    except Exception as e:  # noqa: BLE001 - said in the problem list
+        problems.append(f"the page never said it was ready: {e}")
+    page.wait_for_timeout(300)
+    charts = page.evaluate(CHARTS) if not problems else []
+    info = page.evaluate(PAGE)
+    shot = os.path.splitext(path)[0] + ".png"
+    page.screenshot(path=shot, full_page=True)
+    page.close()
+
+    problems += [f"console error: {e}" for e in errors]
+    problems += [f"network request: {u}" for u in sorted(set(requests))]
+    if info["canvases"] != len(charts):
+        problems.append(f"{info['canvases']} chart canvases but {len(charts)} charts drawn")
+    for c in charts:
+        if c["marks"] == 0 or c["painted"] == 0:
+            problems.append(f"chart {c['id']} ({c['title']!r}) has {c['marks']} marks and "
+                            f"{c['painted']} painted pixels")
+    problems += [f"picture not decoded: {i['alt']}" for i in info["images"] if not i["ok"]]
+    if info["tables"] == 0:
+        problems.append("no table")
+    summary = {"report": path, "charts": len(charts), "pictures": len(info["images"]),
+               "screenshot": shot, "problems": problems}
+    print(json.dumps(summary))
+    return problems
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    if not os.access(CHROMIUM, os.X_OK):
+        print(f"browser_check: {CHROMIUM} is missing: apt-get install chromium", file=sys.stderr)
+        return 1
+    failed = False
+    with tempfile.TemporaryDirectory(prefix="plumb-chromium-") as profile, sync_playwright() as p:
+        context = p.chromium.launch_persistent_context(
+            profile, executable_path=CHROMIUM, args=FLAGS, headless=True,
+            viewport={"width": 1280, "height": 900})
+        for path in sys.argv[1:]:
+            problems = check(context, path) if os.path.isfile(path) else ["no such file"]
+            for problem in problems:
+                print(f"browser_check: {path}: {problem}", file=sys.stderr)
+            failed = failed or bool(problems)
+        context.close()
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
