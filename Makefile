@@ -35,10 +35,11 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# the main job on the chapter's pendulum
+# the main job on the chapter's pendulum, with its report
 demo: build
-	@echo "== plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all"
-	@$(PLUMB) verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all
+	@echo "== plumb verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all --report $(BUILD)/pendulum-report.html"
+	@$(PLUMB) verify models/pendulum.xml --set 'qpos[hinge]=0.7' --all --report $(BUILD)/pendulum-report.html
+	@echo "== the report: $(abspath $(BUILD))/pendulum-report.html (open it in a browser; it needs no network)"
 
 test: test-release test-asan
 

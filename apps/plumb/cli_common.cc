@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <new>
 #include <optional>
 
@@ -130,8 +131,19 @@ void AddFormatOption(CLI::App* cmd, std::string* format, const std::vector<std::
 }
 
 void AddReportOption(CLI::App* cmd, std::string* report) {
+  // checked before the work starts: an hour of rollouts must not end on a typo in a folder
+  auto writable_folder = [](const std::string& path) -> std::string {
+    std::string folder = std::filesystem::path(path).parent_path().string();
+    if (folder.empty()) folder = ".";
+    if (access(folder.c_str(), W_OK | X_OK) != 0) {
+      return "--report " + path + ": the folder '" + folder +
+             "' does not exist or is not writable; create it or choose another";
+    }
+    return "";
+  };
   cmd->add_option("--report", *report,
-                  "also write a self-contained HTML report (tables, charts, pictures) here");
+                  "also write a self-contained HTML report (tables, charts, pictures) here")
+      ->check(CLI::Validator(writable_folder, "FILE.html"));
 }
 
 int ReportError(const std::exception& error, const std::vector<std::string>& argv) {

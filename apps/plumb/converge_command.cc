@@ -8,8 +8,8 @@
 
 #include "cli_common.h"
 #include "plumb/converge.h"
-#include "plumb/report.h"
 #include "plumb/error.h"
+#include "plumb/report.h"
 #include "plumb/timing.h"
 
 namespace plumb::cli {

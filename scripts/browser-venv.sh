@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Makes (once) the test-only virtual environment that drives Chromium: Playwright from PyPI,
+# pinned with hashes in tests/report/requirements-browser.txt. Prints its python.
+#
+# Usage: scripts/browser-venv.sh DIR     (DIR is made if missing; reused when complete)
+# Exit codes: 0 ready, 2 no DIR given, python3 -m venv missing, or pip failed.
+# PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD is set: the tests launch Debian's /usr/bin/chromium.
+set -euo pipefail
+dir="${1:-}"
+if [[ -z "$dir" ]]; then
+  echo "browser-venv.sh: give the folder for the virtual environment" >&2
+  exit 2
+fi
+here="$(cd "$(dirname "$0")/.." && pwd)"
+requirements="$here/tests/report/requirements-browser.txt"
+stamp="$dir/.complete-$(sha256sum "$requirements" | cut -c1-16)"
+if [[ -f "$stamp" ]]; then
+  echo "$dir/bin/python"
+  exit 0
+fi
+rm -rf "$dir"
+if ! python3 -m venv "$dir" >/dev/null 2>&1; then
+  echo "browser-venv.sh: python3 -m venv failed (Debian: apt-get install python3-venv)" >&2
+  exit 2
+fi
+export PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1
+if ! "$dir/bin/pip" install -q --disable-pip-version-check --require-hashes \
+    -r "$requirements" >&2; then
+  echo "browser-venv.sh: pip could not install $requirements from PyPI" >&2
+  exit 2
+fi
+touch "$stamp"
+echo "$dir/bin/python"

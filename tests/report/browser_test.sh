@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Writes each kind of report with the plumb binary and opens them all in Debian's Chromium
+# (browser_check.py). Screenshots stay in OUT as test artifacts.
+#
+# Usage: browser_test.sh PLUMB OUT
+set -euo pipefail
+plumb="$1"
+out="$2"
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+python="$("$root/scripts/browser-venv.sh" "$(dirname "$out")/browser-venv")"
+rm -rf "$out"
+mkdir -p "$out"
+m="$root/models/pendulum.xml"
+humanoid=/usr/share/mujoco/model/humanoid/humanoid.xml
+set -x
+"$plumb" verify "$m" --set 'qpos[hinge]=0.7' --report "$out/verify.html" >/dev/null
+# audit exits 1 when a finding FAILs; the report is what is tested here
+"$plumb" audit "$humanoid" --report "$out/audit.html" >/dev/null || [[ $? -eq 1 ]]
+"$plumb" converge "$m" --set 'qpos[hinge]=0.7' --metric 'qpos[hinge]@2' \
+  --report "$out/converge.html" >/dev/null
+"$plumb" sweep "$m" --set 'qpos[hinge]=0.7' --vary 'dof_damping[hinge]=0:1:6' \
+  --vary 'opt.integrator=Euler,RK4' --metric 'qpos[hinge]@2' --metric energy_drift \
+  --report "$out/sweep.html" >/dev/null
+"$plumb" rollout "$m" --set 'qpos[hinge]=0.7' --count 200 --until 1 --seed 3 \
+  --randomize 'dof_damping[hinge]=U(0,0.5)' --randomize 'body_mass[link]=*U(0.5,2)' \
+  --metric 'qpos[hinge]@1' --metric energy_drift --report "$out/rollout.html" >/dev/null
+set +x
+"$python" "$here/browser_check.py" "$out"/verify.html "$out"/audit.html "$out"/converge.html \
+  "$out"/sweep.html "$out"/rollout.html
