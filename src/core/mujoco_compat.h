@@ -31,6 +31,11 @@ inline constexpr bool kMujoco35 = mjVERSION_HEADER >= 3005000;
 // 3.6.0 merged the option X-macros into MJOPTION_FIELDS.
 inline constexpr bool kMujoco36 = mjVERSION_HEADER >= 3006000;
 
+// 2.x's renderer lights the first frame drawn on a new render context differently (a few
+// levels brighter) from every later frame; plumb draws and discards one frame first, so
+// the same state always gives the same picture.
+inline constexpr bool kRendererFirstFrameDiffers = !kMujoco3;
+
 // The X-macro listing the integer size fields of mjModel (nq, nv, nbody, ...).
 #if mjVERSION_HEADER >= 3005000
 #define PLUMB_MJMODEL_SIZES MJMODEL_SIZES

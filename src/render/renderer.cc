@@ -7,6 +7,7 @@
 #include <cstring>
 #include <set>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/render.h"
 #include "render/gl_context.h"
@@ -76,9 +77,23 @@ struct Renderer::Impl {
   std::string camera_text;
   std::vector<unsigned char> bottom_up;
 
-  Impl(const Model& m, RenderOptions o) : model(m), offscreen(m.Clone()), options(std::move(o)) {}
+  Impl(const Model& m, RenderOptions o) : model(m), offscreen(m.Clone()), options(std::move(o)) {
+    // defaults first: a constructor that throws later frees these as they are
+    mjv_defaultScene(&scene);
+    mjr_defaultContext(&context);
+    mjv_defaultOption(&option);
+  }
   ~Impl() {
-    mjr_freeContext(&context);
+    // GL objects belong to this renderer's context, which another renderer may have
+    // displaced as the current one
+    if (gl != nullptr) {
+      try {
+        gl->MakeCurrent();
+      } catch (const Error&) {
+        // the context is gone; freeing MuJoCo's side is all that is left to do
+      }
+      mjr_freeContext(&context);
+    }
     mjv_freeScene(&scene);
   }
   void ChooseCamera();
@@ -125,10 +140,7 @@ Renderer::Renderer(const Model& model, RenderOptions options) {
   impl_ = std::make_unique<Impl>(model, std::move(options));
   Impl& r = *impl_;
   r.ChooseCamera();
-  mjv_defaultOption(&r.option);
   Highlight(r.options.highlight);
-  mjv_defaultScene(&r.scene);
-  mjr_defaultContext(&r.context);
   r.gl = render::GlContext::Create(r.options.backend);
 
   mjModel* m = r.offscreen.get_mutable();
@@ -147,6 +159,12 @@ Renderer::Renderer(const Model& model, RenderOptions options) {
                            r.gl->description());
   }
   r.bottom_up.resize(std::size_t(r.options.width) * r.options.height * 3);
+  if (compat::kRendererFirstFrameDiffers) {
+    Data warm_up(model);
+    mj_forward(model.get(), warm_up.get());
+    Image discarded;
+    Render(warm_up, &discarded);
+  }
 }
 
 Renderer::~Renderer() = default;

@@ -106,6 +106,7 @@ TEST(RenderTest, HighlightColoursTheElementAndFadesTheRest) {
   Data data(model);
   data.Forward();
   Image plain = renderer->Render(data);
+  EXPECT_EQ(renderer->Render(data).rgb, plain.rgb) << "the same state drew differently";
   renderer->Highlight({"torso"});
   Image lit = renderer->Render(data);
   auto magenta = [](const Image& image) {
@@ -118,7 +119,7 @@ TEST(RenderTest, HighlightColoursTheElementAndFadesTheRest) {
     }
     return n;
   };
-  EXPECT_GT(magenta(lit), 100);
+  EXPECT_GT(magenta(lit), 40);
   EXPECT_LT(magenta(plain), 20);
   renderer->Highlight({"right_knee"});  // a joint: its body's geoms
   EXPECT_GT(magenta(renderer->Render(data)), 20);
