@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "plumb/audit.h"
+#include "plumb/keyframe.h"
 #include "plumb/report.h"
 #include "plumb/repro.h"
 #include "summary.h"
@@ -82,7 +83,15 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   };
   AuditReport report = Audit(model, options);
   if (!o.report.empty()) {
-    WriteAuditReport(o.report, model, options.sets, report, ReportInfo{ctx.argv});
+    // the pictures show the pose the audit judged the model in
+    ReferencePose pose = FindReferencePose(model, o.keyframe);
+    std::vector<Assignment> start;
+    if (pose.keyframe >= 0) {
+      std::string key = model.Name(mjOBJ_KEY, pose.keyframe);
+      start = KeyframeAssignments(model, key.empty() ? "#" + std::to_string(pose.keyframe) : key);
+    }
+    start.insert(start.end(), options.sets.begin(), options.sets.end());
+    WriteAuditReport(o.report, model, start, report, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string text = o.format == "json" ? Json(report) : Table(report, o.detail);
