@@ -42,6 +42,10 @@ struct RenderOptions {
   // Multisample anti-aliasing. Off by default: on Mesa's software rasteriser it costs more
   // than it shows; on turns on the model's offsamples (4 unless the model says otherwise).
   bool msaa = false;
+  // Side of the shadow map in texels; 0 keeps the model's <visual><quality shadowsize>
+  // (MuJoCo's default is 4096, which a software rasteriser clears and draws every frame:
+  // most of a small picture's cost). Reports use 1024 for their small pictures.
+  int shadow_size = 0;
   // "auto" (EGL surfaceless, else OSMesa), "egl" or "osmesa".
   std::string backend = "auto";
 };

@@ -132,6 +132,9 @@ void Renderer::Impl::ChooseCamera() {
 }
 
 Renderer::Renderer(const Model& model, RenderOptions options) {
+  if (options.shadow_size < 0 || options.shadow_size > kMaxSide) {
+    throw ValueError("a shadow map must be 1 to 8192 texels a side (0: the model's)");
+  }
   if (options.width < 1 || options.height < 1 || options.width > kMaxSide ||
       options.height > kMaxSide) {
     throw ValueError("a picture must be 1 to 8192 pixels a side, not " +
@@ -146,6 +149,7 @@ Renderer::Renderer(const Model& model, RenderOptions options) {
   mjModel* m = r.offscreen.get_mutable();
   m->vis.global.offwidth = std::max(m->vis.global.offwidth, r.options.width);
   m->vis.global.offheight = std::max(m->vis.global.offheight, r.options.height);
+  if (r.options.shadow_size > 0) m->vis.quality.shadowsize = r.options.shadow_size;
   if (!r.options.msaa) {
     m->vis.quality.offsamples = 0;
   } else if (m->vis.quality.offsamples <= 0) {

@@ -35,6 +35,7 @@ PAGE = """() => ({
   canvases: document.querySelectorAll('canvas.plumb-chart').length,
   images: Array.from(document.images).map((i) => ({ alt: i.alt, ok: i.complete && i.naturalWidth > 0 })),
   tables: document.querySelectorAll('table').length,
+  thumbnails: document.querySelectorAll('img.thumb').length,
 })"""
 
 
@@ -77,7 +78,11 @@ def check(context, path):
     problems += [f"picture not decoded: {i['alt']}" for i in info["images"] if not i["ok"]]
     if info["tables"] == 0:
         problems.append("no table")
+    want_thumbnails = os.environ.get("PLUMB_EXPECT_THUMBNAILS", "")
+    if os.path.basename(path) in want_thumbnails.split(",") and info["thumbnails"] == 0:
+        problems.append("no thumbnail of a highlighted element")
     summary = {"report": path, "charts": len(charts), "pictures": len(info["images"]),
+               "thumbnails": info["thumbnails"],
                "screenshot": shot, "problems": problems}
     print(json.dumps(summary))
     return problems
