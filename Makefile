@@ -24,7 +24,7 @@ PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 PLUMB      := $(BUILD)/plumb
 
-.PHONY: all deps corpus build demo test test-release test-asan test-tsan test-matrix bench install format clean
+.PHONY: all deps corpus build demo test test-release test-asan test-tsan test-norender test-matrix bench install format clean
 
 all: build
 
@@ -85,6 +85,16 @@ test-tsan: deps
 	  ctest --output-on-failure -j $(JOBS) -R '$(TSAN_TESTS)' -E '$(TSAN_SKIP)'
 
 # the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2)
+# a build without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
+# OSMesa): it must build, say so, and answer render and the reports' pictures with exit 5
+NORENDER_BUILD ?= build-norender
+NORENDER_TARGETS := plumb_cli render_test report_test render_cli_test
+test-norender: deps
+	@cmake -S . -B $(NORENDER_BUILD) -DCMAKE_BUILD_TYPE=Release -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
+	  -DPLUMB_WITH_RENDER=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(NORENDER_BUILD) -j $(JOBS) --target $(NORENDER_TARGETS)
+	@cd $(NORENDER_BUILD) && ctest --output-on-failure -j $(JOBS) -R '^(RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.'
+
 test-matrix:
 	@for v in $(MATRIX); do \
 	  echo "== make test-release MUJOCO=$$v"; start=$$(date +%s); \

@@ -9,9 +9,10 @@ struct Renderer::Impl {};
 
 Renderer::Renderer(const Model&, RenderOptions) {
   throw UnavailableError(
-      "this plumb was built without the renderer: no EGL or OSMesa headers were found when "
-      "it was configured. Install them (Debian: apt-get install libegl-dev libosmesa6-dev; "
-      "scripts/install-deps.sh does) and rebuild with -DPLUMB_WITH_RENDER=ON.");
+      "this plumb was built without the renderer (configured with PLUMB_WITH_RENDER=OFF, or "
+      "no EGL or OSMesa headers and library were found). Install them (Debian: apt-get "
+      "install libegl-dev libosmesa6-dev; scripts/install-deps.sh does) and rebuild with "
+      "-DPLUMB_WITH_RENDER=ON.");
 }
 
 Renderer::~Renderer() = default;

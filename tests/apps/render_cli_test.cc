@@ -72,6 +72,7 @@ TEST(CliRenderTest, BadOptionsAreExit2WithNothingWritten) {
 }
 
 TEST(CliRenderTest, MissingFfmpegIsExit5) {
+  if (!RendererBuilt()) GTEST_SKIP() << "no renderer in this build: render stops before ffmpeg";
   testing::TempDir dir;
   auto r = testing::RunShell("PLUMB_FFMPEG=/nonexistent '" + std::string(PLUMB_CLI) + "' render '" +
                              testing::kPendulum + "' --until 0.1 -o " + dir.File("v.mp4"));
@@ -90,6 +91,23 @@ TEST(CliRenderTest, ADivergingRunIsExit3AndNoPicture) {
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("diverged"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.File("p.png")));
+}
+
+// A build with PLUMB_WITH_RENDER=OFF (make test-norender): render says what is missing,
+// and reports are written without their pictures, saying why.
+TEST(CliRenderTest, WithoutTheRendererItSaysSo) {
+  if (RendererBuilt()) GTEST_SKIP() << "this build has the renderer";
+  testing::TempDir dir;
+  auto r = RunPlumb("render '" + testing::kPendulum + "' -o " + dir.File("p.png"));
+  EXPECT_EQ(r.exit_code, 5) << r.err;
+  EXPECT_NE(r.err.find("built without the renderer"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+  r = RunPlumb("verify '" + testing::kPendulum + "' --set 'qpos[hinge]=0.7' --report " +
+               dir.File("r.html"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::string html = testing::ReadFile(dir.File("r.html"));
+  EXPECT_NE(html.find("No pictures: this plumb was built without the renderer"), std::string::npos);
+  EXPECT_NE(html.find("class=\"plumb-chart\""), std::string::npos);
 }
 
 TEST(CliReportTest, EveryCommandWritesItsReport) {
