@@ -1,0 +1,93 @@
+// Motors bound to actuators or joints, read from sensors or state, driven by the PD law.
+
+#include "bridge/motor_map.h"
+
+#include <gtest/gtest.h>
+
+#include "bridge/pd_law.h"
+#include "fixture.h"
+#include "plumb/error.h"
+
+namespace plumb::bridge {
+namespace {
+
+const char* kArm = R"(
+  <mujoco><worldbody><body><joint name="shoulder" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/>
+      <body pos="0.5 0 0"><joint name="elbow" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03" mass="0.5"/></body></body>
+    </worldbody>
+    <actuator>
+      <motor name="elbow_motor" joint="elbow" gear="2" ctrlrange="-5 5" ctrllimited="true"/>
+      <motor name="shoulder_motor" joint="shoulder" gear="1" ctrlrange="-10 10" ctrllimited="true"
+             forcerange="-8 8" forcelimited="true"/>
+      <position name="servo" joint="shoulder" kp="10"/>
+    </actuator>
+    <sensor><jointpos name="elbow_q" joint="elbow"/><actuatorfrc actuator="elbow_motor"/></sensor>
+  </mujoco>)";
+
+TEST(MotorMapTest, BindsActuatorsAndJointsByName) {
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  MotorMap map = MotorMap::Bind(model, {"shoulder_motor", "elbow_motor", "elbow"});
+  ASSERT_EQ(map.size(), 3u);
+  const Motor& shoulder = map.motors()[0];
+  EXPECT_EQ(shoulder.actuator, 1);
+  EXPECT_DOUBLE_EQ(shoulder.torque_lo, -8);  // forcerange x gear is tighter than ctrlrange
+  EXPECT_DOUBLE_EQ(shoulder.torque_hi, 8);
+  const Motor& elbow = map.motors()[1];
+  EXPECT_DOUBLE_EQ(elbow.torque_per_ctrl, 2);
+  EXPECT_DOUBLE_EQ(elbow.torque_hi, 10);  // ctrl 5 x gear 2
+  EXPECT_GE(elbow.sensor_q, 0);
+  EXPECT_GE(elbow.sensor_tau, 0);
+  EXPECT_EQ(map.motors()[2].actuator, -1);  // the joint itself, through qfrc_applied
+}
+
+TEST(MotorMapTest, ReadsAndAppliesTorque) {
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  MotorMap map = MotorMap::Bind(model, {"shoulder_motor", "elbow_motor", "elbow"});
+  Data data(model);
+  data->qpos[1] = 0.3;
+  data->qvel[1] = -0.5;
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 1, 4), 4);
+  EXPECT_DOUBLE_EQ(data->ctrl[0], 2);                  // 4 N*m / gear 2
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 1, 50), 10);  // clipped
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 2, 0.7), 0.7);
+  EXPECT_DOUBLE_EQ(data->qfrc_applied[1], 0.7);
+  map.Apply(data.get(), 1, 4);
+  data.Forward();
+  EXPECT_DOUBLE_EQ(map.Q(data.get(), 1), 0.3);     // from the jointpos sensor
+  EXPECT_DOUBLE_EQ(map.Dq(data.get(), 1), -0.5);   // from qvel: no jointvel sensor
+  EXPECT_DOUBLE_EQ(map.TauEst(data.get(), 1), 4);  // actuatorfrc 2 x gear 2
+}
+
+TEST(MotorMapTest, RefusesWhatIsNotATorqueMotor) {
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  try {
+    MotorMap::Bind(model, {"servo"});
+    FAIL() << "no error";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a torque motor"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(MotorMap::Bind(model, {"knee"}), ValueError);
+  Model pendulum = Model::Load(testing::kPendulum);
+  EXPECT_THROW(MotorMap::Bind(pendulum, {}), ValueError);  // no actuators: name the joints
+  EXPECT_EQ(MotorMap::Bind(pendulum, {"hinge"}).size(), 1u);
+}
+
+TEST(PdLawTest, IsUnitreesLawAndModeZeroIsLimp) {
+  MotorCommand c;
+  c.mode = 1;
+  c.q = 0.5;
+  c.dq = 0;
+  c.tau = 0.2;
+  c.kp = 50;
+  c.kd = 3.5;
+  EXPECT_DOUBLE_EQ(PdTorque(c, 0.4, 0.1), 0.2 + 50 * 0.1 - 3.5 * 0.1);
+  c.mode = 0;
+  EXPECT_DOUBLE_EQ(PdTorque(c, 0.4, 0.1), 0);
+  c.kp = NAN;
+  EXPECT_FALSE(c.finite());
+}
+
+}  // namespace
+}  // namespace plumb::bridge
