@@ -1,0 +1,61 @@
+// Loopback DDS: a LowCmd_ written is taken whole, CRC and all, on a domain of its own.
+
+#include "bridge/dds_link.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+
+#include "bridge/unitree_crc.h"
+#include "plumb/error.h"
+
+namespace plumb::bridge {
+namespace {
+
+// A domain id of this test process's own (tests run in parallel).
+std::uint32_t TestDomain(int offset) { return 100 + (getpid() * 7 + offset) % 120; }
+
+TEST(DdsLinkTest, ALowCmdCrossesLoopbackWhole) {
+  DdsDomain domain(TestDomain(0));
+  DdsWriter<unitree_go_msg_dds__LowCmd_> writer(domain, "rt/lowcmd",
+                                                &unitree_go_msg_dds__LowCmd__desc);
+  DdsReader<unitree_go_msg_dds__LowCmd_> reader(domain, "rt/lowcmd",
+                                                &unitree_go_msg_dds__LowCmd__desc);
+  auto start = std::chrono::steady_clock::now();
+  while (writer.Matched() == 0 &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(5)) {
+    dds_sleepfor(DDS_MSECS(10));
+  }
+  ASSERT_EQ(writer.Matched(), 1);
+  unitree_go_msg_dds__LowCmd_ sent;
+  std::memset(&sent, 0, sizeof sent);
+  sent.head[0] = 0xFE;
+  sent.motor_cmd[3].mode = 1;
+  sent.motor_cmd[3].q = 0.5f;
+  sent.motor_cmd[3].kp = 50;
+  sent.crc = UnitreeCrc(sent);
+  writer.Write(sent);
+  ASSERT_TRUE(reader.Wait(DDS_SECS(5)));
+  unitree_go_msg_dds__LowCmd_ got;
+  ASSERT_TRUE(reader.Take(&got));
+  EXPECT_EQ(got.motor_cmd[3].q, 0.5f);
+  EXPECT_EQ(got.crc, sent.crc);
+  EXPECT_EQ(UnitreeCrc(got), got.crc);
+  EXPECT_FALSE(reader.Take(&got));
+}
+
+TEST(DdsLinkTest, ABadDomainIdSaysWhy) {
+  EXPECT_THROW(DdsDomain(500), ValueError);
+  DdsDomain once(TestDomain(1));
+  try {
+    DdsDomain twice(TestDomain(1));
+    FAIL() << "a domain started twice in one process";
+  } catch (const UnavailableError& e) {
+    EXPECT_NE(std::string(e.what()).find("starting domain"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace plumb::bridge
