@@ -28,10 +28,12 @@ DdsDomain::DdsDomain(std::uint32_t domain_id, const std::string& config) : id_(d
                      ": RTPS allows 0 to 232 (each id maps to its own UDP ports)");
   }
   domain_ = dds_create_domain(domain_id, config.c_str());
+  // already made in this process (a controller in the same program): join it
+  if (domain_ == DDS_RETCODE_PRECONDITION_NOT_MET) domain_ = 0;
   CheckDds(domain_, "starting domain " + std::to_string(domain_id) + " on loopback");
   participant_ = dds_create_participant(domain_id, nullptr, nullptr);
   if (participant_ < 0) {
-    dds_delete(domain_);
+    if (domain_ > 0) dds_delete(domain_);
     CheckDds(participant_, "creating a participant in domain " + std::to_string(domain_id));
   }
 }

@@ -22,11 +22,14 @@ std::string LoopbackConfig();
 // Throws UnavailableError "DDS: <what> failed: <CycloneDDS's reason>" when `rc` < 0.
 void CheckDds(dds_return_t rc, const std::string& what);
 
-// A domain and its participant, deleted (with every entity made from it) on destruction.
+// A domain and its participant, deleted (with every entity made from it) on destruction. A
+// second DdsDomain of the same id in one process joins the first one's domain (CycloneDDS
+// keeps one domain entity per id per process), so a controller and the bridge can share a
+// program, as they do in tests.
 class DdsDomain {
  public:
-  // @throws UnavailableError saying why when CycloneDDS cannot start (e.g. the domain id is
-  //         taken in this process, or `lo` is missing).
+  // @throws UnavailableError saying why when CycloneDDS cannot start (e.g. `lo` is missing);
+  //         ValueError for an id above 232.
   DdsDomain(std::uint32_t domain_id, const std::string& config = LoopbackConfig());
   DdsDomain(const DdsDomain&) = delete;
   DdsDomain& operator=(const DdsDomain&) = delete;

@@ -1,0 +1,242 @@
+// The bridge loop (plumb/bridge.h): commands in, PD torques inside the step loop, state out.
+
+#include "plumb/bridge.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "bridge/dds_link.h"
+#include "bridge/flight_recorder.h"
+#include "bridge/imu.h"
+#include "bridge/motor_map.h"
+#include "bridge/pd_law.h"
+#include "bridge/unitree_crc.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The message types of a family.
+template <BridgeFamily F>
+struct Family;
+template <>
+struct Family<BridgeFamily::kGo> {
+  using Cmd = unitree_go_msg_dds__LowCmd_;
+  using State = unitree_go_msg_dds__LowState_;
+  static constexpr int kMotors = 20;
+  static const dds_topic_descriptor_t* CmdType() { return &unitree_go_msg_dds__LowCmd__desc; }
+  static const dds_topic_descriptor_t* StateType() { return &unitree_go_msg_dds__LowState__desc; }
+  static void Header(State* s) {
+    s->head[0] = 0xFE;
+    s->head[1] = 0xEF;
+    s->level_flag = 0xFF;
+  }
+};
+template <>
+struct Family<BridgeFamily::kHg> {
+  using Cmd = unitree_hg_msg_dds__LowCmd_;
+  using State = unitree_hg_msg_dds__LowState_;
+  static constexpr int kMotors = 35;
+  static const dds_topic_descriptor_t* CmdType() { return &unitree_hg_msg_dds__LowCmd__desc; }
+  static const dds_topic_descriptor_t* StateType() { return &unitree_hg_msg_dds__LowState__desc; }
+  static void Header(State*) {}
+};
+
+template <BridgeFamily F>
+class Loop {
+ public:
+  using Cmd = typename Family<F>::Cmd;
+  using State = typename Family<F>::State;
+
+  Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config)
+      : config_(config), work_(model.Clone()), data_(work_) {
+    ApplyAssignments(work_, data_, start);
+    data_.Forward();
+    map_ = bridge::MotorMap::Bind(work_, config.motors);
+    if (map_.size() > static_cast<std::size_t>(Family<F>::kMotors)) {
+      throw ValueError(fmt::format(
+          "{}: {} motors, but a {} message carries {}: name at most that many in motors = [...]",
+          config.source.empty() ? "the bridge" : config.source, map_.size(),
+          F == BridgeFamily::kGo ? "unitree_go" : "unitree_hg", Family<F>::kMotors));
+    }
+    double dt = work_->opt.timestep;
+    steps_per_period_ = std::lround(config.control_period / dt);
+    if (steps_per_period_ < 1 ||
+        std::fabs(steps_per_period_ * dt - config.control_period) > 1e-9 * config.control_period) {
+      throw ValueError(fmt::format(
+          "control_period {:g} s is not a whole number of the model's timesteps ({:g} s)",
+          config.control_period, dt));
+    }
+    commands_.resize(map_.size());
+    imu_ = bridge::Imu::Bind(work_);
+    if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
+  }
+
+  BridgeStats Run(const std::atomic<bool>* stop) {
+    bridge::DdsDomain domain(config_.domain);
+    bridge::DdsReader<Cmd> commands(domain, "rt/lowcmd", Family<F>::CmdType());
+    bridge::DdsWriter<State> states(domain, "rt/lowstate", Family<F>::StateType());
+    Publish(states);
+    last_command_ = Clock::now();
+    auto next_period = Clock::now();
+    auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(config_.control_period));
+    while (data_->time < config_.until - 0.5 * work_->opt.timestep &&
+           !(stop != nullptr && stop->load())) {
+      bool fresh = false;
+      if (config_.mode == BridgeMode::kLockstep && !damping_) {
+        // one period per command: wait for it, as long as the watchdog allows
+        auto deadline = last_command_ + Seconds(config_.watchdog_timeout);
+        while (!fresh && Clock::now() < deadline && !(stop != nullptr && stop->load())) {
+          auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - Clock::now());
+          commands.Wait(std::min<dds_duration_t>(left.count(), DDS_MSECS(50)));
+          fresh = Drain(commands);
+        }
+      } else {
+        fresh = Drain(commands);
+      }
+      Watchdog(fresh);
+      if (!fresh && config_.mode == BridgeMode::kLockstep && !damping_) continue;
+      if (config_.mode == BridgeMode::kRealtime || damping_) {
+        std::this_thread::sleep_until(next_period);
+        next_period = std::max(next_period + period, Clock::now() - period);
+      }
+      StepPeriod();
+      Publish(states);
+    }
+    if (recorder_) recorder_->Finish();
+    stats_.time = data_->time;
+    return stats_;
+  }
+
+ private:
+  static Clock::duration Seconds(double s) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+  }
+
+  // Takes every waiting command, keeps the last good one. True when one was taken.
+  bool Drain(bridge::DdsReader<Cmd>& reader) {
+    bool any = false;
+    Cmd cmd;
+    while (reader.Take(&cmd)) {
+      if (config_.check_crc && bridge::UnitreeCrc(cmd) != cmd.crc) {
+        ++stats_.bad_crc;
+        Event(fmt::format("dropped a command with a bad CRC ({:#010x}, expected {:#010x})", cmd.crc,
+                          bridge::UnitreeCrc(cmd)));
+        continue;
+      }
+      std::vector<bridge::MotorCommand> next(map_.size());
+      bool finite = true;
+      for (std::size_t i = 0; i < map_.size(); ++i) {
+        const auto& m = cmd.motor_cmd[i];
+        next[i] = {m.mode, m.q, m.dq, m.tau, m.kp, m.kd};
+        finite = finite && next[i].finite();
+      }
+      if (!finite) {
+        ++stats_.non_finite;
+        Event("dropped a command with a NaN or infinite target or gain");
+        continue;
+      }
+      commands_ = std::move(next);
+      ++stats_.commands;
+      any = true;
+    }
+    if (any) last_command_ = Clock::now();
+    return any;
+  }
+
+  void Watchdog(bool fresh) {
+    bool silent = Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
+    if (!damping_ && silent && !fresh) {
+      damping_ = true;
+      ++stats_.watchdog_trips;
+      Event(fmt::format("watchdog: no command for {:g} ms: damping (kp = 0, kd = {:g})",
+                        config_.watchdog_timeout * 1000, config_.watchdog_kd));
+    } else if (damping_ && fresh) {
+      damping_ = false;
+      Event("watchdog: commands are back: resuming");
+    }
+  }
+
+  void StepPeriod() {
+    mjData* d = data_.get();
+    for (long k = 0; k < steps_per_period_; ++k) {
+      for (std::size_t i = 0; i < map_.size(); ++i) {
+        double q = map_.Q(d, i), dq = map_.Dq(d, i);
+        double tau = damping_ ? -config_.watchdog_kd * dq : bridge::PdTorque(commands_[i], q, dq);
+        map_.Apply(d, i, tau);
+      }
+      data_.Step();
+      ++stats_.steps;
+      for (int i = 0; i < work_->nq; ++i) {
+        if (!std::isfinite(d->qpos[i])) {
+          throw ValueError(fmt::format("the simulation diverged at t = {:.6g} s (qpos[{}] is {})",
+                                       d->time, i, d->qpos[i]));
+        }
+      }
+    }
+    if (recorder_) recorder_->Row(d);
+  }
+
+  void Publish(bridge::DdsWriter<State>& writer) {
+    State s;
+    std::memset(&s, 0, sizeof s);
+    Family<F>::Header(&s);
+    const mjData* d = data_.get();
+    for (std::size_t i = 0; i < map_.size(); ++i) {
+      auto& m = s.motor_state[i];
+      m.mode = commands_[i].mode;
+      m.q = static_cast<float>(map_.Q(d, i));
+      m.dq = static_cast<float>(map_.Dq(d, i));
+      m.tau_est = static_cast<float>(map_.TauEst(d, i));
+    }
+    bridge::ImuReading imu = imu_.Read(work_.get(), data_.get());
+    for (int k = 0; k < 4; ++k) s.imu_state.quaternion[k] = static_cast<float>(imu.quaternion[k]);
+    for (int k = 0; k < 3; ++k) {
+      s.imu_state.gyroscope[k] = static_cast<float>(imu.gyroscope[k]);
+      s.imu_state.accelerometer[k] = static_cast<float>(imu.accelerometer[k]);
+      s.imu_state.rpy[k] = static_cast<float>(imu.rpy[k]);
+    }
+    s.tick = static_cast<std::uint32_t>(std::llround(d->time * 1000));
+    s.crc = bridge::UnitreeCrc(s);
+    writer.Write(s);
+    ++stats_.states;
+  }
+
+  void Event(const std::string& what) {
+    if (recorder_) recorder_->Event(data_->time, what);
+  }
+
+  const BridgeConfig& config_;
+  Model work_;
+  Data data_;
+  bridge::MotorMap map_;
+  bridge::Imu imu_;
+  long steps_per_period_ = 1;
+  std::vector<bridge::MotorCommand> commands_;
+  std::optional<bridge::FlightRecorder> recorder_;
+  Clock::time_point last_command_;
+  bool damping_ = false;
+  BridgeStats stats_;
+};
+
+}  // namespace
+
+BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
+                      const BridgeConfig& config, const std::atomic<bool>* stop) {
+  if (config.family == BridgeFamily::kGo) {
+    return Loop<BridgeFamily::kGo>(model, start, config).Run(stop);
+  }
+  return Loop<BridgeFamily::kHg>(model, start, config).Run(stop);
+}
+
+}  // namespace plumb

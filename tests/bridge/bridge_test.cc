@@ -1,0 +1,162 @@
+// The bridge end to end on loopback DDS, with a controller in the test program: it reaches
+// its target in lockstep, drops bad CRCs and NaN commands, and its watchdog fires.
+
+#include "plumb/bridge.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <future>
+
+#include "bridge/dds_link.h"
+#include "bridge/unitree_crc.h"
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+using Cmd = unitree_go_msg_dds__LowCmd_;
+using State = unitree_go_msg_dds__LowState_;
+
+std::uint32_t TestDomain(int offset) { return 10 + (getpid() * 11 + offset) % 80; }
+
+// A controller: its own participant in the bridge's domain.
+class Controller {
+ public:
+  explicit Controller(std::uint32_t domain)
+      : domain_(domain),
+        commands_(domain_, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc),
+        states_(domain_, "rt/lowstate", &unitree_go_msg_dds__LowState__desc) {}
+
+  // The next state, or false after `seconds` without one.
+  bool Next(State* s, double seconds = 5) {
+    auto deadline = std::chrono::steady_clock::now() +
+                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::duration<double>(seconds));
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (states_.Take(s)) return true;
+      states_.Wait(DDS_MSECS(20));
+    }
+    return false;
+  }
+
+  void Send(Cmd cmd, bool good_crc = true) {
+    cmd.crc = bridge::UnitreeCrc(cmd);
+    if (!good_crc) cmd.crc ^= 1;
+    commands_.Write(cmd);
+  }
+
+  bool Matched(double seconds = 5) {
+    auto start = std::chrono::steady_clock::now();
+    while (commands_.Matched() == 0 &&
+           std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
+      dds_sleepfor(DDS_MSECS(10));
+    }
+    return commands_.Matched() > 0;
+  }
+
+ private:
+  bridge::DdsDomain domain_;
+  bridge::DdsWriter<Cmd> commands_;
+  bridge::DdsReader<State> states_;
+};
+
+// Hold the pendulum at `target` rad: gravity feed-forward plus PD, as a Unitree client does.
+Cmd Hold(double target) {
+  Cmd cmd;
+  std::memset(&cmd, 0, sizeof cmd);
+  cmd.head[0] = 0xFE;
+  cmd.head[1] = 0xEF;
+  cmd.level_flag = 0xFF;
+  auto& m = cmd.motor_cmd[0];
+  m.mode = 1;
+  m.q = static_cast<float>(target);
+  m.kp = 20;
+  m.kd = 2;
+  m.tau = static_cast<float>(1.0 * 9.81 * 0.5 * std::sin(target));  // m g d sin(q)
+  return cmd;
+}
+
+BridgeConfig PendulumConfig(std::uint32_t domain, double until) {
+  BridgeConfig config;
+  config.domain = domain;
+  config.motors = {"hinge"};
+  config.until = until;
+  config.watchdog_timeout = 3.0;  // generous: a loaded CI machine
+  return config;
+}
+
+TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(TestDomain(0), 3.0);
+  Controller controller(config.domain);
+  std::atomic<bool> stop{false};
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  ASSERT_TRUE(controller.Matched());
+  State s;
+  long states = 0;
+  double q = NAN;
+  std::uint32_t tick = 0;
+  while (controller.Next(&s) && s.tick < 3000) {
+    ++states;
+    EXPECT_EQ(s.crc, bridge::UnitreeCrc(s));
+    EXPECT_GE(s.tick, tick);
+    tick = s.tick;
+    q = s.motor_state[0].q;
+    controller.Send(Hold(0.5));
+  }
+  stop = true;
+  BridgeStats stats = bridge.get();
+  EXPECT_NEAR(q, 0.5, 0.01) << "after " << states << " states";
+  EXPECT_NEAR(stats.time, 3.0, 1e-9);
+  EXPECT_EQ(stats.commands, 1500);  // one per control period of 2 ms: lockstep
+  EXPECT_EQ(stats.watchdog_trips, 0);
+  EXPECT_EQ(stats.bad_crc, 0);
+}
+
+TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(TestDomain(1), 0.02);  // ten periods
+  Controller controller(config.domain);
+  std::atomic<bool> stop{false};
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  ASSERT_TRUE(controller.Matched());
+  State s;
+  int sent = 0;
+  while (controller.Next(&s, 10) && s.tick < 20) {
+    controller.Send(Hold(0.2), /*good_crc=*/false);  // dropped: the period waits on
+    Cmd nan = Hold(0.2);
+    nan.motor_cmd[0].kp = NAN;
+    controller.Send(nan);  // dropped too
+    controller.Send(Hold(0.2));
+    ++sent;
+  }
+  BridgeStats stats = bridge.get();
+  EXPECT_EQ(stats.commands, 10);
+  EXPECT_GE(stats.bad_crc, 10);
+  EXPECT_GE(stats.non_finite, 10);
+  EXPECT_GE(sent, 10);
+}
+
+TEST(BridgeTest, TheWatchdogDampsASilentController) {
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(TestDomain(2), 1.0);
+  config.watchdog_timeout = 0.05;
+  config.watchdog_kd = 5;
+  Controller controller(config.domain);
+  std::atomic<bool> stop{false};
+  // the pendulum starts at 0.7 rad; the controller never says anything
+  auto bridge = std::async(std::launch::async, [&] {
+    return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, &stop);
+  });
+  BridgeStats stats = bridge.get();
+  EXPECT_EQ(stats.watchdog_trips, 1);
+  EXPECT_EQ(stats.commands, 0);
+  EXPECT_NEAR(stats.time, 1.0, 1e-9);  // it went on in real time, damped
+}
+
+}  // namespace
+}  // namespace plumb
