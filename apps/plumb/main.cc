@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   SetupSweepCommand(app, ctx);
   SetupRolloutCommand(app, ctx);
   SetupRenderCommand(app, ctx);
+  SetupBridgeCommand(app, ctx);
   SetupResultsCommands(app, ctx);
   AcceptIntegerNotation(&app);
 

@@ -58,9 +58,12 @@ struct BridgeStats {
   long watchdog_trips = 0;  // times the watchdog went to damping
   long steps = 0;
   double time = 0;  // simulated time at the end, s
+  bool diverged = false;  // the run stopped because the state went bad
+  std::string problem;    // what went bad, when it did
 };
 
-// Runs the bridge until config.until or `stop` becomes true. Starts from `start`.
+// Runs the bridge until config.until, `stop` becoming true, or the state going bad
+// (stats.diverged). Starts from `start`.
 // @throws ValueError for a configuration that does not fit the model (unknown motor, more
 // motors than the family has); UnavailableError when DDS cannot start; MujocoError.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,

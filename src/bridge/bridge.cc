@@ -94,12 +94,23 @@ class Loop {
            !(stop != nullptr && stop->load())) {
       bool fresh = false;
       if (config_.mode == BridgeMode::kLockstep && !damping_) {
-        // one period per command: wait for it, as long as the watchdog allows
-        auto deadline = last_command_ + Seconds(config_.watchdog_timeout);
+        // one period per command: wait for it, as long as the watchdog allows (before the
+        // first command there is no limit: a lockstep run starts when its controller does).
+        // The state goes out again every 50 ms meanwhile, for a controller that joined late
+        // or lost it.
+        auto deadline =
+            heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
+        auto republish = Clock::now() + std::chrono::milliseconds(50);
         while (!fresh && Clock::now() < deadline && !(stop != nullptr && stop->load())) {
-          auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - Clock::now());
-          commands.Wait(std::min<dds_duration_t>(left.count(), DDS_MSECS(50)));
+          auto until = std::min(deadline, republish);
+          auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
+          commands.Wait(
+              std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
           fresh = Drain(commands);
+          if (!fresh && Clock::now() >= republish) {
+            Publish(states);
+            republish = Clock::now() + std::chrono::milliseconds(50);
+          }
         }
       } else {
         fresh = Drain(commands);
@@ -110,7 +121,7 @@ class Loop {
         std::this_thread::sleep_until(next_period);
         next_period = std::max(next_period + period, Clock::now() - period);
       }
-      StepPeriod();
+      if (!StepPeriod()) break;
       Publish(states);
     }
     if (recorder_) recorder_->Finish();
@@ -150,12 +161,16 @@ class Loop {
       ++stats_.commands;
       any = true;
     }
-    if (any) last_command_ = Clock::now();
+    if (any) {
+      last_command_ = Clock::now();
+      heard_ = true;
+    }
     return any;
   }
 
   void Watchdog(bool fresh) {
-    bool silent = Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
+    bool silent = (heard_ || config_.mode == BridgeMode::kRealtime) &&
+                  Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
     if (!damping_ && silent && !fresh) {
       damping_ = true;
       ++stats_.watchdog_trips;
@@ -167,7 +182,8 @@ class Loop {
     }
   }
 
-  void StepPeriod() {
+  // False when the state went bad (stats_.diverged says what).
+  bool StepPeriod() {
     mjData* d = data_.get();
     for (long k = 0; k < steps_per_period_; ++k) {
       for (std::size_t i = 0; i < map_.size(); ++i) {
@@ -177,14 +193,21 @@ class Loop {
       }
       data_.Step();
       ++stats_.steps;
-      for (int i = 0; i < work_->nq; ++i) {
-        if (!std::isfinite(d->qpos[i])) {
-          throw ValueError(fmt::format("the simulation diverged at t = {:.6g} s (qpos[{}] is {})",
-                                       d->time, i, d->qpos[i]));
+      for (int i = 0; i < work_->nq + work_->nv; ++i) {
+        double v = i < work_->nq ? d->qpos[i] : d->qvel[i - work_->nq];
+        if (!std::isfinite(v) || d->warning[mjWARN_BADQACC].number > 0) {
+          stats_.diverged = true;
+          stats_.problem = fmt::format("the simulation diverged at t = {:.6g} s{}", d->time,
+                                       d->warning[mjWARN_BADQACC].number > 0
+                                           ? ": MuJoCo found a bad acceleration and reset the state"
+                                           : "");
+          Event(stats_.problem);
+          return false;
         }
       }
     }
     if (recorder_) recorder_->Row(d);
+    return true;
   }
 
   void Publish(bridge::DdsWriter<State>& writer) {
@@ -226,6 +249,7 @@ class Loop {
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
+  bool heard_ = false;  // a command has arrived since the start
   BridgeStats stats_;
 };
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <future>
+#include <thread>
 
 #include "bridge/dds_link.h"
 #include "bridge/unitree_crc.h"
@@ -141,21 +142,40 @@ TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
   EXPECT_GE(sent, 10);
 }
 
-TEST(BridgeTest, TheWatchdogDampsASilentController) {
+TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(TestDomain(2), 1.0);
   config.watchdog_timeout = 0.05;
   config.watchdog_kd = 5;
   Controller controller(config.domain);
   std::atomic<bool> stop{false};
-  // the pendulum starts at 0.7 rad; the controller never says anything
   auto bridge = std::async(std::launch::async, [&] {
     return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, &stop);
   });
+  ASSERT_TRUE(controller.Matched());
+  // ten commands, then silence: the bridge damps and goes on in real time to the end
+  State s;
+  for (int i = 0; i < 10 && controller.Next(&s); ++i) controller.Send(Hold(0.7));
   BridgeStats stats = bridge.get();
   EXPECT_EQ(stats.watchdog_trips, 1);
-  EXPECT_EQ(stats.commands, 0);
-  EXPECT_NEAR(stats.time, 1.0, 1e-9);  // it went on in real time, damped
+  EXPECT_EQ(stats.commands, 10);
+  EXPECT_NEAR(stats.time, 1.0, 1e-9);
+}
+
+TEST(BridgeTest, LockstepWaitsForALateController) {
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(TestDomain(3), 0.01);
+  config.watchdog_timeout = 0.05;
+  std::atomic<bool> stop{false};
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // longer than the watchdog
+  Controller controller(config.domain);
+  State s;
+  while (controller.Next(&s) && s.tick < 10) controller.Send(Hold(0.1));
+  BridgeStats stats = bridge.get();
+  EXPECT_EQ(stats.watchdog_trips, 0);  // no command had come yet: nothing to watch
+  EXPECT_EQ(stats.commands, 5);
+  EXPECT_GE(stats.states, 6);  // republished while it waited
 }
 
 }  // namespace
