@@ -29,6 +29,31 @@ namespace plumb {
 enum class BridgeFamily { kGo, kHg };
 enum class BridgeMode { kLockstep, kRealtime };
 
+// One injected fault (see src/bridge/faults.h for what each does). Times are simulated.
+struct FaultSpec {
+  enum class Kind {
+    kLatency,
+    kDrop,
+    kNoise,
+    kTorqueLimit,
+    kMotorFailure,
+    kImuFreeze,
+    kControllerPause
+  };
+  Kind kind = Kind::kLatency;
+  bool state = false;  // latency, drop: the state direction (else commands)
+  double start = 0;    // s of simulated time
+  double stop = INFINITY;
+  double fixed = 0, jitter = 0;  // latency, s
+  double probability = 0;        // drop
+  std::string signal;            // noise: q, dq, tau_est, gyro, accel, quat
+  double sigma = 0, bias = 0;    // noise
+  int motor = -1;                // noise, torque_limit, motor_failure (required): -1 all
+  double limit = INFINITY;       // torque_limit, N*m
+  bool stuck = false;            // motor_failure: hold position instead of zero torque
+  std::string text;              // as the log names it: "drop of commands (p = 0.2)"
+};
+
 struct BridgeConfig {
   BridgeFamily family = BridgeFamily::kGo;
   BridgeMode mode = BridgeMode::kLockstep;
@@ -42,6 +67,8 @@ struct BridgeConfig {
   std::string log;                // the flight recorder's CSV file; empty: none
   double until = INFINITY;        // stop after this much simulated time, s
   std::string source;             // where the configuration came from, for messages
+  std::vector<FaultSpec> faults;  // [[faults]] tables
+  std::uint64_t seed = 0;         // of every random draw of the faults
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
@@ -51,13 +78,16 @@ struct BridgeConfig {
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {
-  long commands = 0;        // applied
-  long bad_crc = 0;         // dropped: CRC mismatch
-  long non_finite = 0;      // dropped: NaN or infinite target or gain
-  long states = 0;          // published
-  long watchdog_trips = 0;  // times the watchdog went to damping
+  long commands = 0;          // applied
+  long bad_crc = 0;           // dropped: CRC mismatch
+  long non_finite = 0;        // dropped: NaN or infinite target or gain
+  long states = 0;            // published
+  long watchdog_trips = 0;    // times the watchdog went to damping
+  long dropped_commands = 0;  // lost to an injected drop
+  long dropped_states = 0;
+  long paused_commands = 0;  // ignored during an injected controller pause
   long steps = 0;
-  double time = 0;  // simulated time at the end, s
+  double time = 0;        // simulated time at the end, s
   bool diverged = false;  // the run stopped because the state went bad
   std::string problem;    // what went bad, when it did
 };

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "bridge/dds_link.h"
+#include "bridge/faults.h"
 #include "bridge/flight_recorder.h"
 #include "bridge/imu.h"
 #include "bridge/motor_map.h"
@@ -24,6 +25,10 @@ namespace plumb {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A stuck motor: a stiff hold at the angle where it failed (N*m/rad, N*m*s/rad), clipped to
+// the motor's limits like any other torque.
+constexpr double kStuckStiffness = 1000, kStuckDamping = 20;
 
 // The message types of a family.
 template <BridgeFamily F>
@@ -58,7 +63,7 @@ class Loop {
   using State = typename Family<F>::State;
 
   Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config)
-      : config_(config), work_(model.Clone()), data_(work_) {
+      : config_(config), work_(model.Clone()), data_(work_), faults_(config.faults, config.seed) {
     ApplyAssignments(work_, data_, start);
     data_.Forward();
     map_ = bridge::MotorMap::Bind(work_, config.motors);
@@ -77,6 +82,7 @@ class Loop {
           config.control_period, dt));
     }
     commands_.resize(map_.size());
+    stuck_at_.assign(map_.size(), NAN);
     imu_ = bridge::Imu::Bind(work_);
     if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
   }
@@ -85,43 +91,49 @@ class Loop {
     bridge::DdsDomain domain(config_.domain);
     bridge::DdsReader<Cmd> commands(domain, "rt/lowcmd", Family<F>::CmdType());
     bridge::DdsWriter<State> states(domain, "rt/lowstate", Family<F>::StateType());
+    auto stopped = [&] { return stop != nullptr && stop->load(); };
+    Transitions();
     Publish(states);
     last_command_ = Clock::now();
     auto next_period = Clock::now();
     auto period = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(config_.control_period));
-    while (data_->time < config_.until - 0.5 * work_->opt.timestep &&
-           !(stop != nullptr && stop->load())) {
-      bool fresh = false;
-      if (config_.mode == BridgeMode::kLockstep && !damping_) {
-        // one period per command: wait for it, as long as the watchdog allows (before the
-        // first command there is no limit: a lockstep run starts when its controller does).
-        // The state goes out again every 50 ms meanwhile, for a controller that joined late
-        // or lost it.
+    while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stopped()) {
+      Arrival got;
+      // lockstep: one period per command, when the controller has a state to answer (a
+      // state lost or held back by an injected fault cannot be answered: time goes on)
+      bool wait = config_.mode == BridgeMode::kLockstep && !damping_ && awaiting_reply_ &&
+                  held_states_.empty();
+      if (wait) {
+        // as long as the watchdog allows (before the first command there is no limit: a
+        // lockstep run starts when its controller does); the state goes out again every
+        // 50 ms meanwhile, for a controller that joined late
         auto deadline =
             heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
         auto republish = Clock::now() + std::chrono::milliseconds(50);
-        while (!fresh && Clock::now() < deadline && !(stop != nullptr && stop->load())) {
+        while (!got.arrived && Clock::now() < deadline && !stopped()) {
           auto until = std::min(deadline, republish);
           auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
           commands.Wait(
               std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
-          fresh = Drain(commands);
-          if (!fresh && Clock::now() >= republish) {
-            Publish(states);
+          got = Drain(commands);
+          if (!got.arrived && Clock::now() >= republish) {
+            states.Write(last_state_);
             republish = Clock::now() + std::chrono::milliseconds(50);
           }
         }
       } else {
-        fresh = Drain(commands);
+        got = Drain(commands);
       }
-      Watchdog(fresh);
-      if (!fresh && config_.mode == BridgeMode::kLockstep && !damping_) continue;
+      Watchdog(got.fresh);
+      if (wait && !got.arrived && !damping_) continue;
       if (config_.mode == BridgeMode::kRealtime || damping_) {
         std::this_thread::sleep_until(next_period);
         next_period = std::max(next_period + period, Clock::now() - period);
       }
       if (!StepPeriod()) break;
+      Transitions();
+      ReleaseHeldStates(states);
       Publish(states);
     }
     if (recorder_) recorder_->Finish();
@@ -130,15 +142,37 @@ class Loop {
   }
 
  private:
+  struct Arrival {
+    bool arrived = false;  // a command came (lockstep advances), even if a fault lost it
+    bool fresh = false;    // a good command got through (the watchdog hears it)
+  };
+  struct Held {
+    double at;  // simulated time it is released, s
+    std::vector<bridge::MotorCommand> command;
+    State state;
+  };
+
   static Clock::duration Seconds(double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
   }
 
-  // Takes every waiting command, keeps the last good one. True when one was taken.
-  bool Drain(bridge::DdsReader<Cmd>& reader) {
-    bool any = false;
+  // Takes every waiting command: the good ones are applied now or, under injected latency,
+  // when their time comes.
+  Arrival Drain(bridge::DdsReader<Cmd>& reader) {
+    Arrival a;
     Cmd cmd;
+    double t = data_->time;
     while (reader.Take(&cmd)) {
+      if (faults_.ControllerPaused(t)) {
+        ++stats_.paused_commands;
+        continue;
+      }
+      a.arrived = true;
+      std::uint32_t n = command_count_++;
+      if (faults_.DropCommand(t, n)) {
+        ++stats_.dropped_commands;
+        continue;
+      }
       if (config_.check_crc && bridge::UnitreeCrc(cmd) != cmd.crc) {
         ++stats_.bad_crc;
         Event(fmt::format("dropped a command with a bad CRC ({:#010x}, expected {:#010x})", cmd.crc,
@@ -157,15 +191,43 @@ class Loop {
         Event("dropped a command with a NaN or infinite target or gain");
         continue;
       }
-      commands_ = std::move(next);
       ++stats_.commands;
-      any = true;
+      a.fresh = true;
+      double delay = faults_.CommandLatency(t, n);
+      if (delay > 0) {
+        held_commands_.push_back({t + delay, std::move(next), {}});
+      } else {
+        commands_ = std::move(next);
+      }
     }
-    if (any) {
+    if (a.fresh) {
       last_command_ = Clock::now();
       heard_ = true;
     }
-    return any;
+    return a;
+  }
+
+  // Commands held back by latency whose time has come, in the order they arrived.
+  void ApplyHeldCommands() {
+    double t = data_->time;
+    while (!held_commands_.empty() && held_commands_.front().at <= t + 1e-12) {
+      commands_ = std::move(held_commands_.front().command);
+      held_commands_.erase(held_commands_.begin());
+    }
+  }
+
+  void ReleaseHeldStates(bridge::DdsWriter<State>& writer) {
+    double t = data_->time;
+    while (!held_states_.empty() && held_states_.front().at <= t + 1e-12) {
+      writer.Write(held_states_.front().state);
+      last_state_ = held_states_.front().state;
+      held_states_.erase(held_states_.begin());
+      awaiting_reply_ = true;
+    }
+  }
+
+  void Transitions() {
+    for (const std::string& text : faults_.Transitions(data_->time)) Event(text);
   }
 
   void Watchdog(bool fresh) {
@@ -186,9 +248,20 @@ class Loop {
   bool StepPeriod() {
     mjData* d = data_.get();
     for (long k = 0; k < steps_per_period_; ++k) {
+      ApplyHeldCommands();
       for (std::size_t i = 0; i < map_.size(); ++i) {
         double q = map_.Q(d, i), dq = map_.Dq(d, i);
         double tau = damping_ ? -config_.watchdog_kd * dq : bridge::PdTorque(commands_[i], q, dq);
+        int failure = faults_.Failure(static_cast<int>(i), d->time);
+        if (failure == 0) stuck_at_[i] = NAN;
+        if (failure == 1) tau = 0;
+        if (failure == 2) {
+          // a stuck motor holds where it failed, as stiffly as its limits allow
+          if (std::isnan(stuck_at_[i])) stuck_at_[i] = q;
+          tau = kStuckStiffness * (stuck_at_[i] - q) - kStuckDamping * dq;
+        }
+        double limit = faults_.TorqueLimit(static_cast<int>(i), d->time);
+        tau = std::clamp(tau, -limit, limit);
         map_.Apply(d, i, tau);
       }
       data_.Step();
@@ -215,24 +288,48 @@ class Loop {
     std::memset(&s, 0, sizeof s);
     Family<F>::Header(&s);
     const mjData* d = data_.get();
+    double t = d->time;
+    std::uint32_t n = state_count_++;
     for (std::size_t i = 0; i < map_.size(); ++i) {
       auto& m = s.motor_state[i];
+      int motor = static_cast<int>(i);
       m.mode = commands_[i].mode;
-      m.q = static_cast<float>(map_.Q(d, i));
-      m.dq = static_cast<float>(map_.Dq(d, i));
-      m.tau_est = static_cast<float>(map_.TauEst(d, i));
+      m.q = static_cast<float>(map_.Q(d, i) + faults_.Noise("q", motor, t, n));
+      m.dq = static_cast<float>(map_.Dq(d, i) + faults_.Noise("dq", motor, t, n));
+      m.tau_est = static_cast<float>(map_.TauEst(d, i) + faults_.Noise("tau_est", motor, t, n));
     }
-    bridge::ImuReading imu = imu_.Read(work_.get(), data_.get());
+    if (!faults_.ImuFrozen(t) || !imu_read_) {
+      imu_reading_ = imu_.Read(work_.get(), data_.get());
+      for (int k = 0; k < 4; ++k) imu_reading_.quaternion[k] += faults_.Noise("quat", k, t, n);
+      for (int k = 0; k < 3; ++k) {
+        imu_reading_.gyroscope[k] += faults_.Noise("gyro", k, t, n);
+        imu_reading_.accelerometer[k] += faults_.Noise("accel", k, t, n);
+      }
+      imu_read_ = true;
+    }
+    const bridge::ImuReading& imu = imu_reading_;
     for (int k = 0; k < 4; ++k) s.imu_state.quaternion[k] = static_cast<float>(imu.quaternion[k]);
     for (int k = 0; k < 3; ++k) {
       s.imu_state.gyroscope[k] = static_cast<float>(imu.gyroscope[k]);
       s.imu_state.accelerometer[k] = static_cast<float>(imu.accelerometer[k]);
       s.imu_state.rpy[k] = static_cast<float>(imu.rpy[k]);
     }
-    s.tick = static_cast<std::uint32_t>(std::llround(d->time * 1000));
+    s.tick = static_cast<std::uint32_t>(std::llround(t * 1000));
     s.crc = bridge::UnitreeCrc(s);
-    writer.Write(s);
     ++stats_.states;
+    awaiting_reply_ = false;
+    if (faults_.DropState(t, n)) {
+      ++stats_.dropped_states;
+      return;
+    }
+    double delay = faults_.StateLatency(t, n);
+    if (delay > 0) {
+      held_states_.push_back({t + delay, {}, s});
+      return;
+    }
+    writer.Write(s);
+    last_state_ = s;
+    awaiting_reply_ = true;
   }
 
   void Event(const std::string& what) {
@@ -249,7 +346,15 @@ class Loop {
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
-  bool heard_ = false;  // a command has arrived since the start
+  bool heard_ = false;           // a command has arrived since the start
+  bool awaiting_reply_ = false;  // the last state went out: lockstep waits for its answer
+  bridge::Faults faults_;
+  std::uint32_t command_count_ = 0, state_count_ = 0;  // the faults' message numbers
+  std::vector<Held> held_commands_, held_states_;      // under injected latency
+  std::vector<double> stuck_at_;                       // a stuck motor's position, or NaN
+  bridge::ImuReading imu_reading_;                     // the last one (IMU freeze)
+  bool imu_read_ = false;
+  State last_state_{};  // what a late controller is sent
   BridgeStats stats_;
 };
 

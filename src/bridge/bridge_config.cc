@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "plumb/bridge.h"
@@ -64,6 +65,93 @@ class Reader {
   std::string path_;
 };
 
+FaultSpec ReadFault(Reader& r, const toml::table& f, const std::string& prefix) {
+  using Kind = FaultSpec::Kind;
+  static const std::map<std::string, Kind> kKinds = {{"latency", Kind::kLatency},
+                                                     {"drop", Kind::kDrop},
+                                                     {"noise", Kind::kNoise},
+                                                     {"torque_limit", Kind::kTorqueLimit},
+                                                     {"motor_failure", Kind::kMotorFailure},
+                                                     {"imu_freeze", Kind::kImuFreeze},
+                                                     {"controller_pause", Kind::kControllerPause}};
+  std::set<std::string> names;
+  for (const auto& [name, kind] : kKinds) names.insert(name);
+  const toml::node* kind_node = f.get("kind");
+  if (kind_node == nullptr)
+    r.Fail(&f, prefix + "kind", "is missing (one of latency, drop, noise, ...)");
+  std::string kind = r.Choice(f, "kind", "", names);
+  FaultSpec spec;
+  spec.kind = kKinds.at(kind);
+  std::set<std::string> keys = {"kind", "start", "stop"};
+  spec.start = r.Number(f, "start", 0, 0, INFINITY, prefix);
+  spec.stop = r.Number(f, "stop", INFINITY, spec.start, INFINITY, prefix);
+  std::string when = std::isfinite(spec.stop)
+                         ? fmt::format(" from {:g} s to {:g} s", spec.start, spec.stop)
+                         : fmt::format(" from {:g} s", spec.start);
+  auto direction = [&] {
+    keys.insert("direction");
+    spec.state = r.Choice(f, "direction", "command", {"command", "state"}) == "state";
+    return spec.state ? "states" : "commands";
+  };
+  auto motor = [&](bool required) {
+    keys.insert("motor");
+    if (required && f.get("motor") == nullptr)
+      r.Fail(&f, prefix + "motor", "is missing: the motor's index");
+    spec.motor = static_cast<int>(r.Number(f, "motor", -1, -1, 34, prefix));
+    return spec.motor < 0 ? std::string("every motor") : fmt::format("motor {}", spec.motor);
+  };
+  switch (spec.kind) {
+    case Kind::kLatency: {
+      const char* d = direction();
+      keys.insert({"fixed_ms", "jitter_ms"});
+      spec.fixed = r.Number(f, "fixed_ms", 0, 0, 60000, prefix) / 1000;
+      spec.jitter = r.Number(f, "jitter_ms", 0, 0, 60000, prefix) / 1000;
+      spec.text = fmt::format("latency of {} ({:g} ms + up to {:g} ms)", d, spec.fixed * 1000,
+                              spec.jitter * 1000);
+      break;
+    }
+    case Kind::kDrop: {
+      const char* d = direction();
+      keys.insert("probability");
+      spec.probability = r.Number(f, "probability", 0, 0, 1, prefix);
+      spec.text = fmt::format("drop of {} (p = {:g})", d, spec.probability);
+      break;
+    }
+    case Kind::kNoise: {
+      keys.insert({"signal", "sigma", "bias"});
+      spec.signal = r.Choice(f, "signal", "q", {"q", "dq", "tau_est", "gyro", "accel", "quat"});
+      spec.sigma = r.Number(f, "sigma", 0, 0, 1e6, prefix);
+      spec.bias = r.Number(f, "bias", 0, -1e6, 1e6, prefix);
+      std::string who = motor(false);
+      spec.text = fmt::format("noise on {} of {} (sigma {:g}, bias {:g})", spec.signal, who,
+                              spec.sigma, spec.bias);
+      break;
+    }
+    case Kind::kTorqueLimit: {
+      keys.insert("limit");
+      spec.limit = r.Number(f, "limit", 0, 0, 1e6, prefix);
+      spec.text = fmt::format("torque limit {:g} N*m on {}", spec.limit, motor(false));
+      break;
+    }
+    case Kind::kMotorFailure: {
+      keys.insert("behavior");
+      std::string who = motor(true);
+      spec.stuck = r.Choice(f, "behavior", "zero", {"zero", "stuck"}) == "stuck";
+      spec.text = fmt::format("{} failed ({})", who, spec.stuck ? "stuck" : "zero torque");
+      break;
+    }
+    case Kind::kImuFreeze:
+      spec.text = "IMU frozen";
+      break;
+    case Kind::kControllerPause:
+      spec.text = "controller paused";
+      break;
+  }
+  r.OnlyKeys(f, keys, prefix);
+  spec.text += when;
+  return spec;
+}
+
 }  // namespace
 
 BridgeConfig LoadBridgeConfig(const std::string& path) {
@@ -77,7 +165,7 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   Reader r(path);
   r.OnlyKeys(table,
              {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
-              "watchdog"},
+              "watchdog", "faults", "seed"},
              "");
   BridgeConfig c;
   c.source = path;
@@ -116,6 +204,19 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
     r.OnlyKeys(*w, {"timeout_ms", "kd"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;
     c.watchdog_kd = r.Number(*w, "kd", 1, 0, 1e6, "watchdog.");
+  }
+  double seed = r.Number(table, "seed", 0, 0, 9007199254740992.0);
+  c.seed = static_cast<std::uint64_t>(seed);
+  if (const toml::node* node = table.get("faults")) {
+    const toml::array* faults = node->as_array();
+    if (faults == nullptr) r.Fail(node, "faults", "must be an array of tables: [[faults]]");
+    int index = 0;
+    for (const toml::node& entry : *faults) {
+      const toml::table* f = entry.as_table();
+      std::string prefix = fmt::format("faults[{}].", index++);
+      if (f == nullptr) r.Fail(&entry, prefix, "must be a table");
+      c.faults.push_back(ReadFault(r, *f, prefix));
+    }
   }
   return c;
 }
