@@ -8,12 +8,11 @@
 #include <filesystem>
 #include <sstream>
 
+#include "bridge/test_domain.h"
 #include "fixture.h"
 
 namespace plumb {
 namespace {
-
-std::uint32_t TestDomain(int offset) { return 100 + (getpid() * 13 + offset) % 120; }
 
 // The flight recorder's data rows (event rows left out), as columns by name.
 struct Log {
@@ -65,7 +64,7 @@ std::string PendulumConfig(std::uint32_t domain) {
 
 TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   testing::TempDir dir;
-  std::uint32_t domain = TestDomain(0);
+  std::uint32_t domain = testing::FreeDomain();
   testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain));
   auto r = BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
                            "pendulum --domain " + std::to_string(domain) + " --seconds 2.99");
@@ -86,7 +85,7 @@ TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {
   std::string logs[2];
   for (int run = 0; run < 2; ++run) {
     testing::TempDir dir;
-    std::uint32_t domain = TestDomain(1 + run);
+    std::uint32_t domain = testing::FreeDomain();
     testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain));
     BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
                     "pendulum --domain " + std::to_string(domain) + " --seconds 2.99");
@@ -107,7 +106,7 @@ TEST(CliBridgeTest, AGo2StandsUp) {
     GTEST_SKIP() << "the robot corpus is not fetched (make corpus)";
   }
   testing::TempDir dir;
-  std::uint32_t domain = TestDomain(3);
+  std::uint32_t domain = testing::FreeDomain();
   auto r = BridgeAndClient(dir.path(),
                            "'" + go2 + "' --config '" + testing::kSourceDir +
                                "/examples/pd_client/go2-bridge.toml' --domain " +

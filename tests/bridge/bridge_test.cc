@@ -12,6 +12,7 @@
 #include <future>
 #include <thread>
 
+#include "bridge/bridge_fixture.h"
 #include "bridge/dds_link.h"
 #include "bridge/unitree_crc.h"
 #include "fixture.h"
@@ -20,80 +21,9 @@
 namespace plumb {
 namespace {
 
-using Cmd = unitree_go_msg_dds__LowCmd_;
-using State = unitree_go_msg_dds__LowState_;
-
-std::uint32_t TestDomain(int offset) { return 10 + (getpid() * 11 + offset) % 80; }
-
-// A controller: its own participant in the bridge's domain.
-class Controller {
- public:
-  explicit Controller(std::uint32_t domain)
-      : domain_(domain),
-        commands_(domain_, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc),
-        states_(domain_, "rt/lowstate", &unitree_go_msg_dds__LowState__desc) {}
-
-  // The next state, or false after `seconds` without one.
-  bool Next(State* s, double seconds = 5) {
-    auto deadline = std::chrono::steady_clock::now() +
-                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                        std::chrono::duration<double>(seconds));
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (states_.Take(s)) return true;
-      states_.Wait(DDS_MSECS(20));
-    }
-    return false;
-  }
-
-  void Send(Cmd cmd, bool good_crc = true) {
-    cmd.crc = bridge::UnitreeCrc(cmd);
-    if (!good_crc) cmd.crc ^= 1;
-    commands_.Write(cmd);
-  }
-
-  bool Matched(double seconds = 5) {
-    auto start = std::chrono::steady_clock::now();
-    while (commands_.Matched() == 0 &&
-           std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
-      dds_sleepfor(DDS_MSECS(10));
-    }
-    return commands_.Matched() > 0;
-  }
-
- private:
-  bridge::DdsDomain domain_;
-  bridge::DdsWriter<Cmd> commands_;
-  bridge::DdsReader<State> states_;
-};
-
-// Hold the pendulum at `target` rad: gravity feed-forward plus PD, as a Unitree client does.
-Cmd Hold(double target) {
-  Cmd cmd;
-  std::memset(&cmd, 0, sizeof cmd);
-  cmd.head[0] = 0xFE;
-  cmd.head[1] = 0xEF;
-  cmd.level_flag = 0xFF;
-  auto& m = cmd.motor_cmd[0];
-  m.mode = 1;
-  m.q = static_cast<float>(target);
-  m.kp = 20;
-  m.kd = 2;
-  m.tau = static_cast<float>(1.0 * 9.81 * 0.5 * std::sin(target));  // m g d sin(q)
-  return cmd;
-}
-
-BridgeConfig PendulumConfig(std::uint32_t domain, double until) {
-  BridgeConfig config;
-  config.domain = domain;
-  config.motors = {"hinge"};
-  config.until = until;
-  config.watchdog_timeout = 3.0;  // generous: a loaded CI machine
-  return config;
-}
-
 TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
   Model model = Model::Load(testing::kPendulum);
-  BridgeConfig config = PendulumConfig(TestDomain(0), 3.0);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 3.0);
   Controller controller(config.domain);
   std::atomic<bool> stop{false};
   auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
@@ -121,7 +51,7 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
 
 TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
   Model model = Model::Load(testing::kPendulum);
-  BridgeConfig config = PendulumConfig(TestDomain(1), 0.02);  // ten periods
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.02);  // ten periods
   Controller controller(config.domain);
   std::atomic<bool> stop{false};
   auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
@@ -148,7 +78,7 @@ TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
 
 TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
   Model model = Model::Load(testing::kPendulum);
-  BridgeConfig config = PendulumConfig(TestDomain(2), 1.0);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
   config.watchdog_timeout = 0.05;
   config.watchdog_kd = 5;
   Controller controller(config.domain);
@@ -168,11 +98,11 @@ TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
 
 TEST(BridgeTest, LockstepWaitsForALateController) {
   Model model = Model::Load(testing::kPendulum);
-  BridgeConfig config = PendulumConfig(TestDomain(3), 0.01);
-  config.watchdog_timeout = 0.05;
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.01);
+  config.watchdog_timeout = 1.0;
   std::atomic<bool> stop{false};
   auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // longer than the watchdog
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // longer than the watchdog
   Controller controller(config.domain);
   State s;
   while (controller.Next(&s) && s.tick < 10) controller.Send(Hold(0.1));
@@ -227,9 +157,9 @@ FaultSpec Fault(FaultSpec::Kind kind) {
 }
 
 TEST(BridgeFaultsTest, DropAndLatencySlowTheControllerButItConverges) {
-  BridgeConfig clean = PendulumConfig(TestDomain(10), 4.0);
+  BridgeConfig clean = PendulumConfig(testing::FreeDomain(), 4.0);
   HoldRun base = RunHold(clean, 0.5);
-  BridgeConfig faulty = PendulumConfig(TestDomain(11), 4.0);
+  BridgeConfig faulty = PendulumConfig(testing::FreeDomain(), 4.0);
   FaultSpec drop = Fault(FaultSpec::Kind::kDrop);
   drop.probability = 0.2;
   FaultSpec latency = Fault(FaultSpec::Kind::kLatency);
@@ -251,7 +181,7 @@ TEST(BridgeFaultsTest, DropAndLatencySlowTheControllerButItConverges) {
 }
 
 TEST(BridgeFaultsTest, AFailedMotorLetsThePendulumFallAndTheStateShowsIt) {
-  BridgeConfig config = PendulumConfig(TestDomain(12), 3.0);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 3.0);
   FaultSpec failure = Fault(FaultSpec::Kind::kMotorFailure);
   failure.motor = 0;
   failure.start = 1.0;
@@ -266,7 +196,7 @@ TEST(BridgeFaultsTest, AFailedMotorLetsThePendulumFallAndTheStateShowsIt) {
 }
 
 TEST(BridgeFaultsTest, NoiseOnQIsWhatWasAsked) {
-  BridgeConfig config = PendulumConfig(TestDomain(13), 1.0);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
   FaultSpec noise = Fault(FaultSpec::Kind::kNoise);
   noise.signal = "q";
   noise.sigma = 0.01;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "bridge/test_domain.h"
 #include "bridge/unitree_crc.h"
 #include "plumb/error.h"
 
@@ -15,10 +16,9 @@ namespace plumb::bridge {
 namespace {
 
 // A domain id of this test process's own (tests run in parallel).
-std::uint32_t TestDomain(int offset) { return 100 + (getpid() * 7 + offset) % 120; }
 
 TEST(DdsLinkTest, ALowCmdCrossesLoopbackWhole) {
-  DdsDomain domain(TestDomain(0));
+  DdsDomain domain(::plumb::testing::FreeDomain());
   DdsWriter<unitree_go_msg_dds__LowCmd_> writer(domain, "rt/lowcmd",
                                                 &unitree_go_msg_dds__LowCmd__desc);
   DdsReader<unitree_go_msg_dds__LowCmd_> reader(domain, "rt/lowcmd",
@@ -48,8 +48,9 @@ TEST(DdsLinkTest, ALowCmdCrossesLoopbackWhole) {
 
 TEST(DdsLinkTest, ABadDomainIdSaysWhyAndASecondHandleJoins) {
   EXPECT_THROW(DdsDomain(500), ValueError);
-  DdsDomain first(TestDomain(1));
-  DdsDomain second(TestDomain(1));  // joins the first: two participants, one domain
+  std::uint32_t id = ::plumb::testing::FreeDomain();
+  DdsDomain first(id);
+  DdsDomain second(id);  // joins the first: two participants, one domain
   EXPECT_NE(first.participant(), second.participant());
   DdsWriter<unitree_go_msg_dds__LowCmd_> writer(first, "rt/lowcmd",
                                                 &unitree_go_msg_dds__LowCmd__desc);

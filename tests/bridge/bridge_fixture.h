@@ -1,0 +1,91 @@
+// What the bridge's tests share: a controller on loopback DDS (its own participant in the
+// bridge's domain) and the pendulum-holding command.
+
+#ifndef PLUMB_TESTS_BRIDGE_BRIDGE_FIXTURE_H_
+#define PLUMB_TESTS_BRIDGE_BRIDGE_FIXTURE_H_
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "bridge/dds_link.h"
+#include "bridge/test_domain.h"
+#include "bridge/unitree_crc.h"
+#include "plumb/bridge.h"
+
+namespace plumb {
+
+using Cmd = unitree_go_msg_dds__LowCmd_;
+using State = unitree_go_msg_dds__LowState_;
+
+// A controller: its own participant in the bridge's domain.
+class Controller {
+ public:
+  explicit Controller(std::uint32_t domain)
+      : domain_(domain),
+        commands_(domain_, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc),
+        states_(domain_, "rt/lowstate", &unitree_go_msg_dds__LowState__desc) {}
+
+  // The next state, or false after `seconds` without one.
+  bool Next(State* s, double seconds = 5) {
+    auto deadline = std::chrono::steady_clock::now() +
+                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::duration<double>(seconds));
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (states_.Take(s)) return true;
+      states_.Wait(DDS_MSECS(20));
+    }
+    return false;
+  }
+
+  void Send(Cmd cmd, bool good_crc = true) {
+    cmd.crc = bridge::UnitreeCrc(cmd);
+    if (!good_crc) cmd.crc ^= 1;
+    commands_.Write(cmd);
+  }
+
+  bool Matched(double seconds = 5) {
+    auto start = std::chrono::steady_clock::now();
+    while (commands_.Matched() == 0 &&
+           std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
+      dds_sleepfor(DDS_MSECS(10));
+    }
+    return commands_.Matched() > 0;
+  }
+
+ private:
+  bridge::DdsDomain domain_;
+  bridge::DdsWriter<Cmd> commands_;
+  bridge::DdsReader<State> states_;
+};
+
+// Hold the pendulum at `target` rad: gravity feed-forward plus PD, as a Unitree client does.
+inline Cmd Hold(double target) {
+  Cmd cmd;
+  std::memset(&cmd, 0, sizeof cmd);
+  cmd.head[0] = 0xFE;
+  cmd.head[1] = 0xEF;
+  cmd.level_flag = 0xFF;
+  auto& m = cmd.motor_cmd[0];
+  m.mode = 1;
+  m.q = static_cast<float>(target);
+  m.kp = 20;
+  m.kd = 2;
+  m.tau = static_cast<float>(1.0 * 9.81 * 0.5 * std::sin(target));  // m g d sin(q)
+  return cmd;
+}
+
+inline BridgeConfig PendulumConfig(std::uint32_t domain, double until) {
+  BridgeConfig config;
+  config.domain = domain;
+  config.motors = {"hinge"};
+  config.until = until;
+  config.watchdog_timeout = 3.0;  // generous: a loaded CI machine
+  return config;
+}
+
+}  // namespace plumb
+
+#endif  // PLUMB_TESTS_BRIDGE_BRIDGE_FIXTURE_H_
