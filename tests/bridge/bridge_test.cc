@@ -112,6 +112,41 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   EXPECT_GE(stats.states, 6);  // republished while it waited
 }
 
+TEST(BridgeTest, TheHgFamilySpeaksG1Messages) {
+  using HgCmd = unitree_hg_msg_dds__LowCmd_;
+  using HgState = unitree_hg_msg_dds__LowState_;
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
+  config.family = BridgeFamily::kHg;
+  bridge::DdsDomain domain(config.domain);
+  bridge::DdsWriter<HgCmd> commands(domain, "rt/lowcmd", &unitree_hg_msg_dds__LowCmd__desc);
+  bridge::DdsReader<HgState> states(domain, "rt/lowstate", &unitree_hg_msg_dds__LowState__desc);
+  std::atomic<bool> stop{false};
+  auto run = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  HgState s;
+  float q = NAN;
+  for (;;) {
+    ASSERT_TRUE(states.Wait(DDS_SECS(5)));
+    if (!states.Take(&s)) continue;
+    EXPECT_EQ(s.crc, bridge::UnitreeCrc(s));
+    q = s.motor_state[0].q;
+    if (s.tick >= 990) break;
+    HgCmd cmd;
+    std::memset(&cmd, 0, sizeof cmd);
+    cmd.motor_cmd[0].mode = 1;
+    cmd.motor_cmd[0].q = 0.3f;
+    cmd.motor_cmd[0].kp = 20;
+    cmd.motor_cmd[0].kd = 2;
+    cmd.motor_cmd[0].tau = static_cast<float>(9.81 * 0.5 * std::sin(0.3));
+    cmd.crc = bridge::UnitreeCrc(cmd);
+    commands.Write(cmd);
+  }
+  stop = true;
+  BridgeStats stats = run.get();
+  EXPECT_GE(stats.commands, 490);
+  EXPECT_NEAR(q, 0.3, 0.03);
+}
+
 // Runs the pendulum-holding controller against a bridge with `config`; returns the stats and
 // the published q of every state.
 struct HoldRun {
