@@ -34,18 +34,24 @@ class Layout {
   std::vector<std::uint8_t> bytes_;
 };
 
-void PutMotor(Layout& l, const unitree_go_msg_dds__MotorCmd_& c) {
+// A MotorCmd_ of either family (their reserve differs: three words or one).
+template <typename MotorCmd>
+void PutMotor(Layout& l, const MotorCmd& c) {
   l.Align(4);
   l.Put(c.mode);
   for (float v : {c.q, c.dq, c.tau, c.kp, c.kd}) l.Put(v);
   l.Put(c.reserve);
 }
 
-void PutMotor(Layout& l, const unitree_hg_msg_dds__MotorCmd_& c) {
-  l.Align(4);
-  l.Put(c.mode);
-  for (float v : {c.q, c.dq, c.tau, c.kp, c.kd}) l.Put(v);
-  l.Put(c.reserve);
+// The header unitree_go's LowCmd_ and LowState_ share.
+template <typename Message>
+void PutGoHeader(Layout& l, const Message& m) {
+  l.Put(m.head);
+  l.Put(m.level_flag);
+  l.Put(m.frame_reserve);
+  l.Put(m.sn);
+  l.Put(m.version);
+  l.Put(m.bandwidth);
 }
 
 template <typename Imu>
@@ -83,12 +89,7 @@ std::uint32_t Crc32Words(const std::uint32_t* words, std::size_t count) {
 
 std::vector<std::uint8_t> CrcLayout(const unitree_go_msg_dds__LowCmd_& m) {
   Layout l;
-  l.Put(m.head);
-  l.Put(m.level_flag);
-  l.Put(m.frame_reserve);
-  l.Put(m.sn);
-  l.Put(m.version);
-  l.Put(m.bandwidth);
+  PutGoHeader(l, m);
   for (const auto& c : m.motor_cmd) PutMotor(l, c);
   l.Put(m.bms_cmd.off);
   l.Put(m.bms_cmd.reserve);
@@ -103,12 +104,7 @@ std::vector<std::uint8_t> CrcLayout(const unitree_go_msg_dds__LowCmd_& m) {
 
 std::vector<std::uint8_t> CrcLayout(const unitree_go_msg_dds__LowState_& m) {
   Layout l;
-  l.Put(m.head);
-  l.Put(m.level_flag);
-  l.Put(m.frame_reserve);
-  l.Put(m.sn);
-  l.Put(m.version);
-  l.Put(m.bandwidth);
+  PutGoHeader(l, m);
   PutImu(l, m.imu_state);
   for (const auto& s : m.motor_state) {
     l.Align(4);
