@@ -193,6 +193,7 @@ class Loop {
       }
       ++stats_.commands;
       a.fresh = true;
+      if (recorder_) recorder_->Command(t, next);
       double delay = faults_.CommandLatency(t, n);
       if (delay > 0) {
         held_commands_.push_back({t + delay, std::move(next), {}});
@@ -279,7 +280,6 @@ class Loop {
         }
       }
     }
-    if (recorder_) recorder_->Row(d);
     return true;
   }
 
@@ -290,6 +290,7 @@ class Loop {
     const mjData* d = data_.get();
     double t = d->time;
     std::uint32_t n = state_count_++;
+    std::vector<bridge::PublishedMotor> published(map_.size());
     for (std::size_t i = 0; i < map_.size(); ++i) {
       auto& m = s.motor_state[i];
       int motor = static_cast<int>(i);
@@ -297,6 +298,7 @@ class Loop {
       m.q = static_cast<float>(map_.Q(d, i) + faults_.Noise("q", motor, t, n));
       m.dq = static_cast<float>(map_.Dq(d, i) + faults_.Noise("dq", motor, t, n));
       m.tau_est = static_cast<float>(map_.TauEst(d, i) + faults_.Noise("tau_est", motor, t, n));
+      published[i] = {m.q, m.dq, m.tau_est};
     }
     if (!faults_.ImuFrozen(t) || !imu_read_) {
       imu_reading_ = imu_.Read(work_.get(), data_.get());
@@ -320,16 +322,19 @@ class Loop {
     awaiting_reply_ = false;
     if (faults_.DropState(t, n)) {
       ++stats_.dropped_states;
+      if (recorder_) recorder_->State(d, published, "dropped (fault)");
       return;
     }
     double delay = faults_.StateLatency(t, n);
     if (delay > 0) {
       held_states_.push_back({t + delay, {}, s});
+      if (recorder_) recorder_->State(d, published, "held (latency)");
       return;
     }
     writer.Write(s);
     last_state_ = s;
     awaiting_reply_ = true;
+    if (recorder_) recorder_->State(d, published, "");
   }
 
   void Event(const std::string& what) {

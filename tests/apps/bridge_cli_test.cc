@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -14,10 +15,12 @@
 namespace plumb {
 namespace {
 
-// The flight recorder's data rows (event rows left out), as columns by name.
+// The flight recorder's rows: states (as numbers by column name), commands counted, events'
+// texts.
 struct Log {
   std::vector<std::string> names;
-  std::vector<std::vector<double>> rows;
+  std::vector<std::vector<double>> rows;  // kind = state
+  long commands = 0;
   std::vector<std::string> events;
   double At(std::size_t row, const std::string& name) const {
     auto it = std::find(names.begin(), names.end(), name);
@@ -33,17 +36,29 @@ Log ReadLog(const std::string& path) {
   std::istringstream header(line);
   for (std::string name; std::getline(header, name, ',');) log.names.push_back(name);
   while (std::getline(in, line)) {
-    std::size_t comma = line.find(',');
-    if (line.compare(comma, 2, ",,") != 0) {  // an event row: its text after the time
-      log.events.push_back(line.substr(comma + 1, line.find(",,", comma + 1) - comma - 1));
-      continue;
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        cells.push_back(std::move(cell)), cell.clear();
+      else
+        cell += c;
     }
-    std::vector<double> row;
-    std::istringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) {
-      row.push_back(cell.empty() ? NAN : std::stod(cell));
+    cells.push_back(cell);
+    if (cells[1] == "event") {
+      log.events.push_back(cells[2]);
+    } else if (cells[1] == "command") {
+      ++log.commands;
+    } else {
+      std::vector<double> row;
+      for (const std::string& c : cells) {
+        row.push_back(c.empty() || c == "state" || !std::isdigit(c.back()) ? NAN : std::stod(c));
+      }
+      log.rows.push_back(row);
     }
-    log.rows.push_back(row);
   }
   return log;
 }
@@ -74,8 +89,10 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
             std::string::npos)
       << testing::ReadFile(dir.File("bridge.out"));
   Log log = ReadLog(dir.File("log.csv"));
-  ASSERT_EQ(log.rows.size(), 1500u);
+  ASSERT_EQ(log.rows.size(), 1501u);  // the start and every period
+  EXPECT_EQ(log.commands, 1495);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[0]"), 0.5, 0.01);
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[0]"), 0.5, 0.01);  // as published
   // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
   ASSERT_EQ(log.events.size(), 1u);
   EXPECT_NE(log.events[0].find("watchdog"), std::string::npos);
@@ -115,11 +132,11 @@ TEST(CliBridgeTest, AGo2StandsUp) {
   ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
       << testing::ReadFile(dir.File("bridge.err"));
   Log log = ReadLog(dir.File("log.csv"));
-  ASSERT_EQ(log.rows.size(), 1500u);
-  EXPECT_LT(log.At(0, "qpos[2]"), 0.08);                               // lying down
-  EXPECT_GT(log.At(999, "qpos[2]"), 0.2);                              // up after the 1 s ramp
-  EXPECT_NEAR(log.At(1499, "qpos[2]"), log.At(999, "qpos[2]"), 0.03);  // and stays up
-  EXPECT_GT(log.At(1499, "qpos[2]"), 0.24);
+  ASSERT_EQ(log.rows.size(), 1501u);
+  EXPECT_LT(log.At(0, "qpos[2]"), 0.08);                                // lying down
+  EXPECT_GT(log.At(1000, "qpos[2]"), 0.2);                              // up after the 1 s ramp
+  EXPECT_NEAR(log.At(1500, "qpos[2]"), log.At(1000, "qpos[2]"), 0.03);  // and stays up
+  EXPECT_GT(log.At(1500, "qpos[2]"), 0.24);
 }
 
 TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
