@@ -246,6 +246,69 @@ TEST(BridgeFaultsTest, NoiseOnQIsWhatWasAsked) {
   EXPECT_NEAR(std::sqrt(square), 0.01, 0.002);
 }
 
+TEST(BridgeFaultsTest, ATorqueLimitKeepsTheTargetOutOfReach) {
+  // holding 1.2 rad takes m g d sin(1.2) = 4.6 N*m; a 2 N*m limit cannot
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 2.0);
+  FaultSpec limit = Fault(FaultSpec::Kind::kTorqueLimit);
+  limit.limit = 2;
+  config.faults = {limit};
+  HoldRun run = RunHold(config, 1.2);
+  ASSERT_FALSE(run.q.empty());
+  double highest = 0;
+  for (double q : run.q) highest = std::max(highest, q);
+  // 2 N*m balances gravity at asin(2 / m g d) = 0.42 rad: the swing overshoots that (to
+  // about twice, as the energy allows) but never nears 1.2 rad
+  EXPECT_GT(highest, 0.42);
+  EXPECT_LT(highest, 1.0);
+}
+
+TEST(BridgeFaultsTest, AStuckMotorHoldsWhereItFailed) {
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 2.0);
+  FaultSpec stuck = Fault(FaultSpec::Kind::kMotorFailure);
+  stuck.motor = 0;
+  stuck.stuck = true;
+  stuck.start = 0.5;
+  config.faults = {stuck};
+  // the controller asks for 0.5 rad from 0: at 0.5 s the motor locks wherever it is
+  HoldRun run = RunHold(config, 0.5);
+  ASSERT_GT(run.q.size(), 900u);
+  double at_failure = run.q[250];
+  EXPECT_NEAR(run.q.back(), at_failure, 0.02);
+  for (std::size_t i = 300; i < run.q.size(); ++i) ASSERT_NEAR(run.q[i], at_failure, 0.03);
+}
+
+TEST(BridgeFaultsTest, LostAndLateStatesDoNotStallLockstep) {
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 2.0);
+  FaultSpec drop = Fault(FaultSpec::Kind::kDrop);
+  drop.state = true;
+  drop.probability = 0.3;
+  FaultSpec late = Fault(FaultSpec::Kind::kLatency);
+  late.state = true;
+  late.fixed = 0.004;
+  config.faults = {drop, late};
+  config.seed = 11;
+  HoldRun run = RunHold(config, 0.5);
+  EXPECT_GT(run.stats.time, 1.9);  // the helper stops the bridge when its client is done
+  EXPECT_NEAR(double(run.stats.dropped_states) / run.stats.states, 0.3, 0.05);
+  EXPECT_LT(run.q.size(), 0.8 * run.stats.states);  // the controller saw fewer states
+  ASSERT_FALSE(run.q.empty());
+  EXPECT_NEAR(run.q.back(), 0.5, 0.05);
+}
+
+TEST(BridgeFaultsTest, APausedControllerTripsTheWatchdogAndAFrozenImuRepeats) {
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
+  config.watchdog_timeout = 0.2;
+  FaultSpec pause = Fault(FaultSpec::Kind::kControllerPause);
+  pause.start = 0.4;
+  pause.stop = 0.6;
+  FaultSpec freeze = Fault(FaultSpec::Kind::kImuFreeze);
+  config.faults = {pause, freeze};
+  HoldRun run = RunHold(config, 0.5);
+  EXPECT_GE(run.stats.paused_commands, 1);
+  EXPECT_EQ(run.stats.watchdog_trips, 1);
+  EXPECT_GT(run.stats.time, 0.9);
+}
+
 TEST(BridgeFaultsTest, FaultsAreReadFromTheConfiguration) {
   testing::TempDir dir;
   testing::WriteFile(dir.File("b.toml"), R"(seed = 3
