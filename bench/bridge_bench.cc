@@ -50,14 +50,23 @@ Cmd Torque(float tau) {
   return cmd;
 }
 
+// The controller's end of the link: its own participant in the bridge's domain.
+struct Controller {
+  explicit Controller(std::uint32_t domain_id)
+      : domain(domain_id),
+        commands(domain, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc),
+        states(domain, "rt/lowstate", &unitree_go_msg_dds__LowState__desc) {}
+  plumb::bridge::DdsDomain domain;
+  plumb::bridge::DdsWriter<Cmd> commands;
+  plumb::bridge::DdsReader<State> states;
+};
+
 int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double seconds) {
   config.until = seconds;
-  plumb::bridge::DdsDomain domain(config.domain);
-  plumb::bridge::DdsWriter<Cmd> commands(domain, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc);
-  plumb::bridge::DdsReader<State> states(domain, "rt/lowstate",
-                                         &unitree_go_msg_dds__LowState__desc);
+  Controller link(config.domain);
+  auto& commands = link.commands;
+  auto& states = link.states;
   std::atomic<bool> stop{false};
-  auto start = Clock::now();
   auto run =
       std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, &stop); });
   State s;
@@ -73,7 +82,6 @@ int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double secon
   double loop = std::chrono::duration<double>(Clock::now() - first).count();
   stop = true;
   plumb::BridgeStats stats = run.get();
-  (void)start;
   // the same steps without DDS
   plumb::Model plain_model = model.Clone();
   plumb::Data data(plain_model);
@@ -97,10 +105,9 @@ int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double secon
 int Realtime(const plumb::Model& model, plumb::BridgeConfig config, double seconds) {
   config.mode = plumb::BridgeMode::kRealtime;
   config.until = seconds;
-  plumb::bridge::DdsDomain domain(config.domain);
-  plumb::bridge::DdsWriter<Cmd> commands(domain, "rt/lowcmd", &unitree_go_msg_dds__LowCmd__desc);
-  plumb::bridge::DdsReader<State> states(domain, "rt/lowstate",
-                                         &unitree_go_msg_dds__LowState__desc);
+  Controller link(config.domain);
+  auto& commands = link.commands;
+  auto& states = link.states;
   std::atomic<bool> stop{false};
   auto run =
       std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, &stop); });

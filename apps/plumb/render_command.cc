@@ -74,8 +74,7 @@ int RunRender(const RenderCommandOptions& o) {
   }
   if (video && o.at != 0) throw ValueError("--at is for pictures; a video starts at t = 0");
   auto [width, height] = ParseSize(o.size);
-  Model original = LoadModel(o.model);
-  Model model = original.Clone();
+  Model model = LoadModel(o.model);
   Data data(model);
   ApplyAssignments(model, data, StartAssignments(model, o.keyframe, o.sets));
   data.Forward();

@@ -27,6 +27,15 @@ constexpr int kThumbWidth = 240, kThumbHeight = 180;
 // 10 ms a frame to clear and draw, 1024 about a tenth of that, and looks the same at this size
 constexpr int kShadowSize = 1024;
 
+// A report's picture: the model's camera choice, the report's shadow map.
+RenderOptions SmallPicture(int width, int height) {
+  RenderOptions options;
+  options.width = width;
+  options.height = height;
+  options.shadow_size = kShadowSize;
+  return options;
+}
+
 std::string UtcNow() {
   std::time_t now = std::time(nullptr);
   std::tm utc{};
@@ -74,19 +83,12 @@ void AddModelPictures(Page* page, const Model& model, const std::vector<Assignme
   }
   try {
     Start start(model, sets);
-    RenderOptions big;
-    big.width = kPictureWidth;
-    big.height = kPictureHeight;
-    big.shadow_size = kShadowSize;
-    Renderer renderer(start.model, big);
+    Renderer renderer(start.model, SmallPicture(kPictureWidth, kPictureHeight));
     page->Meta("renderer", renderer.backend() + "; camera " + renderer.camera());
     std::string first = EncodePng(renderer.Render(start.data));
 
     // the animation renders smaller frames from a second renderer of the same context
-    RenderOptions small = big;
-    small.width = kFrameWidth;
-    small.height = kFrameHeight;
-    Renderer frames_renderer(start.model, small);
+    Renderer frames_renderer(start.model, SmallPicture(kFrameWidth, kFrameHeight));
     const mjModel* m = start.model.get();
     double dt = m->opt.timestep;
     long steps = std::max(1L, std::lround(info.nominal_until / dt));
@@ -130,11 +132,7 @@ std::vector<std::string> HighlightThumbnails(const Model& model,
   if (elements.empty()) return thumbs;
   try {
     Start start(model, sets);
-    RenderOptions options;
-    options.width = kThumbWidth;
-    options.height = kThumbHeight;
-    options.shadow_size = kShadowSize;
-    Renderer renderer(start.model, options);
+    Renderer renderer(start.model, SmallPicture(kThumbWidth, kThumbHeight));
     Image image;
     for (const std::string& name : elements) {
       renderer.Highlight({name});
