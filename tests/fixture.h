@@ -5,6 +5,7 @@
 #define PLUMB_TESTS_FIXTURE_H_
 
 #include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,8 +20,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <mujoco/mujoco.h>
 
 #include "plumb/error.h"
 #include "plumb/model.h"
@@ -224,10 +223,11 @@ struct CommandResult {
   std::string out, err;
 };
 
-// Runs `command` with /bin/sh in `dir` (default: current), capturing stdout and stderr.
+// Runs `command` (a whole shell list) with /bin/sh in `dir` (default: current), capturing
+// stdout and stderr.
 inline CommandResult RunShell(const std::string& command, const std::string& dir = ".") {
   TempDir capture;
-  std::string full = "cd '" + dir + "' && " + command + " >'" + capture.File("out") + "' 2>'" +
+  std::string full = "cd '" + dir + "' && (" + command + "\n) >'" + capture.File("out") + "' 2>'" +
                      capture.File("err") + "' </dev/null";
   int status = std::system(full.c_str());
   CommandResult r;

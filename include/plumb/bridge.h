@@ -54,6 +54,15 @@ struct FaultSpec {
   std::string text;              // as the log names it: "drop of commands (p = 0.2)"
 };
 
+// Where the published IMU comes from ([imu] table). Empty: the first framequat / gyro /
+// accelerometer sensor of the model, else the base body (the first body moved by a free joint).
+struct BridgeImuSource {
+  std::string quaternion;     // a framequat sensor's name
+  std::string gyroscope;      // a gyro sensor's name
+  std::string accelerometer;  // an accelerometer sensor's name
+  std::string body;           // the body read where no sensor is named or found
+};
+
 struct BridgeConfig {
   BridgeFamily family = BridgeFamily::kGo;
   BridgeMode mode = BridgeMode::kLockstep;
@@ -67,14 +76,16 @@ struct BridgeConfig {
   std::string log;                // the flight recorder's CSV file; empty: none
   double until = INFINITY;        // stop after this much simulated time, s
   std::string source;             // where the configuration came from, for messages
+  BridgeImuSource imu;            // [imu] table
   std::vector<FaultSpec> faults;  // [[faults]] tables
   std::uint64_t seed = 0;         // of every random draw of the faults
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
-// "realtime", domain, control_period, motors = [names], check_crc, log, until, and a
-// [watchdog] table with timeout_ms and kd. @throws ValueError naming the file, line and
-// key for anything unknown or out of range.
+// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed, a
+// [watchdog] table with timeout_ms and kd, an [imu] table with quaternion, gyroscope,
+// accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError naming the file,
+// line and key for anything unknown or out of range.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {

@@ -20,6 +20,7 @@
 #include "bridge/pd_law.h"
 #include "bridge/unitree_crc.h"
 #include "plumb/error.h"
+#include "plumb/run.h"
 
 namespace plumb {
 namespace {
@@ -83,7 +84,7 @@ class Loop {
     }
     commands_.resize(map_.size());
     stuck_at_.assign(map_.size(), NAN);
-    imu_ = bridge::Imu::Bind(work_);
+    imu_ = bridge::Imu::Bind(work_, config.imu);
     if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
   }
 
@@ -100,10 +101,10 @@ class Loop {
         std::chrono::duration<double>(config_.control_period));
     while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stopped()) {
       Arrival got;
-      // lockstep: one period per command, when the controller has a state to answer (a
-      // state lost or held back by an injected fault cannot be answered: time goes on)
-      bool wait = config_.mode == BridgeMode::kLockstep && !damping_ && awaiting_reply_ &&
-                  held_states_.empty();
+      // lockstep: one period per command, when a state has gone out since the last command
+      // (a state lost or still held back by an injected fault cannot be answered: time goes
+      // on until a late one is released, then waits for its answer)
+      bool wait = config_.mode == BridgeMode::kLockstep && !damping_ && awaiting_reply_;
       if (wait) {
         // as long as the watchdog allows (before the first command there is no limit: a
         // lockstep run starts when its controller does); the state goes out again every
@@ -125,6 +126,7 @@ class Loop {
       } else {
         got = Drain(commands);
       }
+      if (got.arrived) awaiting_reply_ = false;
       Watchdog(got.fresh);
       if (wait && !got.arrived && !damping_) continue;
       if (config_.mode == BridgeMode::kRealtime || damping_) {
@@ -245,10 +247,19 @@ class Loop {
     }
   }
 
-  // False when the state went bad (stats_.diverged says what).
+  // False when the state went bad (stats_.diverged says what). Every step, the law reads the
+  // motors (sensors included) at the state it acts on: mj_step1 computes the position and
+  // velocity stages, the torques go in, mj_step2 finishes the step. RK4, which mj_step2 would
+  // replace by Euler, takes a refresh of the derived arrays and a whole mj_step instead.
   bool StepPeriod() {
     mjData* d = data_.get();
+    const mjModel* m = work_.get();
+    bool rk4 = m->opt.integrator == mjINT_RK4;
     for (long k = 0; k < steps_per_period_; ++k) {
+      if (rk4)
+        refresh_(data_);
+      else
+        mj_step1(m, d);
       ApplyHeldCommands();
       for (std::size_t i = 0; i < map_.size(); ++i) {
         double q = map_.Q(d, i), dq = map_.Dq(d, i);
@@ -265,7 +276,10 @@ class Loop {
         tau = std::clamp(tau, -limit, limit);
         map_.Apply(d, i, tau);
       }
-      data_.Step();
+      if (rk4)
+        data_.Step();
+      else
+        mj_step2(m, d);
       ++stats_.steps;
       for (int i = 0; i < work_->nq + work_->nv; ++i) {
         double v = i < work_->nq ? d->qpos[i] : d->qvel[i - work_->nq];
@@ -284,6 +298,7 @@ class Loop {
   }
 
   void Publish(bridge::DdsWriter<State>& writer) {
+    refresh_(data_);  // sensors, forces and the IMU of the state whose tick goes out
     State s;
     std::memset(&s, 0, sizeof s);
     Family<F>::Header(&s);
@@ -319,7 +334,6 @@ class Loop {
     s.tick = static_cast<std::uint32_t>(std::llround(t * 1000));
     s.crc = bridge::UnitreeCrc(s);
     ++stats_.states;
-    awaiting_reply_ = false;
     if (faults_.DropState(t, n)) {
       ++stats_.dropped_states;
       if (recorder_) recorder_->State(d, published, "dropped (fault)");
@@ -346,13 +360,14 @@ class Loop {
   Data data_;
   bridge::MotorMap map_;
   bridge::Imu imu_;
+  DerivedRefresher refresh_{work_};
   long steps_per_period_ = 1;
   std::vector<bridge::MotorCommand> commands_;
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
   bool heard_ = false;           // a command has arrived since the start
-  bool awaiting_reply_ = false;  // the last state went out: lockstep waits for its answer
+  bool awaiting_reply_ = false;  // a state went out since the last command: lockstep waits
   bridge::Faults faults_;
   std::uint32_t command_count_ = 0, state_count_ = 0;  // the faults' message numbers
   std::vector<Held> held_commands_, held_states_;      // under injected latency

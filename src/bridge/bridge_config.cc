@@ -48,6 +48,16 @@ class Reader {
     return *v;
   }
 
+  // A non-empty string, or "" when the key is absent.
+  std::string Text(const toml::table& t, const std::string& key, const std::string& what,
+                   const std::string& prefix = "") {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return "";
+    std::optional<std::string> v = node->value<std::string>();
+    if (!v || v->empty()) Fail(node, prefix + key, "must be " + what + " in quotes");
+    return *v;
+  }
+
   void OnlyKeys(const toml::table& t, const std::set<std::string>& known,
                 const std::string& prefix) {
     for (const auto& [key, node] : t) {
@@ -165,7 +175,7 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   Reader r(path);
   r.OnlyKeys(table,
              {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
-              "watchdog", "faults", "seed"},
+              "watchdog", "imu", "faults", "seed"},
              "");
   BridgeConfig c;
   c.source = path;
@@ -184,11 +194,7 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
     if (!v) r.Fail(node, "check_crc", "must be true or false");
     c.check_crc = *v;
   }
-  if (const toml::node* node = table.get("log")) {
-    std::optional<std::string> v = node->value<std::string>();
-    if (!v || v->empty()) r.Fail(node, "log", "must be a file name");
-    c.log = *v;
-  }
+  c.log = r.Text(table, "log", "a file name");
   if (const toml::node* node = table.get("motors")) {
     const toml::array* names = node->as_array();
     if (names == nullptr) r.Fail(node, "motors", "must be a list of actuator or joint names");
@@ -204,6 +210,15 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
     r.OnlyKeys(*w, {"timeout_ms", "kd"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;
     c.watchdog_kd = r.Number(*w, "kd", 1, 0, 1e6, "watchdog.");
+  }
+  if (const toml::node* node = table.get("imu")) {
+    const toml::table* imu = node->as_table();
+    if (imu == nullptr) r.Fail(node, "imu", "must be a table: [imu]");
+    r.OnlyKeys(*imu, {"quaternion", "gyroscope", "accelerometer", "body"}, "imu.");
+    c.imu.quaternion = r.Text(*imu, "quaternion", "a framequat sensor's name", "imu.");
+    c.imu.gyroscope = r.Text(*imu, "gyroscope", "a gyro sensor's name", "imu.");
+    c.imu.accelerometer = r.Text(*imu, "accelerometer", "an accelerometer sensor's name", "imu.");
+    c.imu.body = r.Text(*imu, "body", "a body's name", "imu.");
   }
   double seed = r.Number(table, "seed", 0, 0, 9007199254740992.0);
   c.seed = static_cast<std::uint64_t>(seed);

@@ -2,17 +2,32 @@
 
 #include "bridge/imu.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "plumb/error.h"
 
 namespace plumb::bridge {
 namespace {
 
-int FirstSensor(const mjModel* m, int type) {
+// The sensordata address of the sensor called `name` (of `type`), or of the first of `type`
+// when `name` is empty; -1 when there is none unnamed.
+int FindSensor(const mjModel* m, int type, const std::string& name, const char* key,
+               const char* type_name) {
+  std::string have;
   for (int s = 0; s < m->nsensor; ++s) {
-    if (m->sensor_type[s] == type) return m->sensor_adr[s];
+    if (m->sensor_type[s] != type) continue;
+    const char* its = mj_id2name(m, mjOBJ_SENSOR, s);
+    if (name.empty() || (its != nullptr && name == its)) return m->sensor_adr[s];
+    have += fmt::format("{}'{}'", have.empty() ? "" : ", ", its != nullptr ? its : "");
   }
-  return -1;
+  if (name.empty()) return -1;
+  throw ValueError(fmt::format("[imu] {} = '{}': the model has no {} sensor of that name ({})", key,
+                               name, type_name,
+                               have.empty() ? std::string("it has none") : "it has " + have));
 }
 
 }  // namespace
@@ -25,12 +40,21 @@ std::array<double, 3> RollPitchYaw(const std::array<double, 4>& q) {
   return {roll, pitch, yaw};
 }
 
-Imu Imu::Bind(const Model& model) {
+Imu Imu::Bind(const Model& model, const BridgeImuSource& source) {
   const mjModel* m = model.get();
   Imu imu;
-  imu.quat_ = FirstSensor(m, mjSENS_FRAMEQUAT);
-  imu.gyro_ = FirstSensor(m, mjSENS_GYRO);
-  imu.accel_ = FirstSensor(m, mjSENS_ACCELEROMETER);
+  imu.quat_ = FindSensor(m, mjSENS_FRAMEQUAT, source.quaternion, "quaternion", "framequat");
+  imu.gyro_ = FindSensor(m, mjSENS_GYRO, source.gyroscope, "gyroscope", "gyro");
+  imu.accel_ =
+      FindSensor(m, mjSENS_ACCELEROMETER, source.accelerometer, "accelerometer", "accelerometer");
+  if (!source.body.empty()) {
+    imu.base_ = mj_name2id(m, mjOBJ_BODY, source.body.c_str());
+    if (imu.base_ <= 0) {
+      throw ValueError(fmt::format("[imu] body = '{}': the model has no such body{}", source.body,
+                                   imu.base_ == 0 ? " (the world body cannot carry an IMU)" : ""));
+    }
+    return imu;
+  }
   for (int j = 0; j < m->njnt; ++j) {
     if (m->jnt_type[j] == mjJNT_FREE) {
       imu.base_ = m->jnt_bodyid[j];

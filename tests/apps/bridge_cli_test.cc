@@ -139,6 +139,46 @@ TEST(CliBridgeTest, AGo2StandsUp) {
   EXPECT_GT(log.At(1500, "qpos[2]"), 0.24);
 }
 
+// An unmodified client of Unitree's own Python SDK (its channels, message classes and CRC)
+// drives the bridge in either message family: same type names, topics, layout and CRC.
+class CliBridgeSdk2Test : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
+  const std::string& family = GetParam();
+  testing::TempDir dir;
+  auto venv = testing::RunShell(
+      "'" + testing::kSourceDir + "/scripts/sdk2-venv.sh' '" + PLUMB_SDK2_VENV + "'", dir.path());
+  ASSERT_EQ(venv.exit_code, 0) << venv.err;
+  std::string python = venv.out.substr(0, venv.out.find('\n'));
+  std::uint32_t domain = testing::FreeDomain();
+  std::string config = PendulumConfig(domain);
+  config.replace(config.find("\"go\""), 4, "\"" + family + "\"");
+  testing::WriteFile(dir.File("bridge.toml"), config);
+  auto r = testing::RunShell("('" + std::string(PLUMB_CLI) + "' bridge '" + testing::kPendulum +
+                                 "' --config bridge.toml --until 1.2 >bridge.out 2>bridge.err;"
+                                 " echo $? >bridge.rc) & '" +
+                                 python + "' '" + testing::kSourceDir +
+                                 "/tests/bridge/sdk2_client.py' " + family + " --domain " +
+                                 std::to_string(domain) + " --seconds 1.0; wait",
+                             dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
+      << testing::ReadFile(dir.File("bridge.err"));
+  std::string summary = testing::ReadFile(dir.File("bridge.out"));
+  EXPECT_NE(summary.find("0 dropped for a bad CRC, 0 for NaN values"), std::string::npos)
+      << summary;
+  Log log = ReadLog(dir.File("log.csv"));
+  EXPECT_GE(log.commands, 490) << summary;
+  // the client read the state the SDK's way: the angle it last saw is the bridge's
+  auto at = r.out.find(", q ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  double seen = std::stod(r.out.substr(at + 4));
+  EXPECT_NEAR(seen, 0.5, 0.02) << r.out;
+  EXPECT_NEAR(seen, log.At(500, "state.q[0]"), 1e-4) << r.out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Families, CliBridgeSdk2Test, ::testing::Values("go", "hg"));
+
 TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
   testing::TempDir dir;
   testing::WriteFile(dir.File("bad.toml"), "family = \"go\"\nmode = \"fast\"\n");

@@ -1,0 +1,110 @@
+// The bridge's configuration file: every key read, every mistake named with file:line.
+
+#include <gtest/gtest.h>
+
+#include "fixture.h"
+#include "plumb/bridge.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+// The message LoadBridgeConfig gives for `text`, or "" when it loads.
+std::string Complaint(const std::string& text) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), text);
+  try {
+    LoadBridgeConfig(dir.File("b.toml"));
+  } catch (const ValueError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BridgeConfigTest, DefaultsAndKeys) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), R"(family = "hg"
+mode = "realtime"
+domain = 7
+control_period = 0.004
+motors = ["a", "b"]
+check_crc = false
+log = "f.csv"
+until = 2.5
+[watchdog]
+timeout_ms = 250
+kd = 3
+[imu]
+quaternion = "orientation"
+gyroscope = "imu_gyro"
+accelerometer = "imu_acc"
+body = "pelvis"
+)");
+  BridgeConfig c = LoadBridgeConfig(dir.File("b.toml"));
+  EXPECT_EQ(c.family, BridgeFamily::kHg);
+  EXPECT_EQ(c.mode, BridgeMode::kRealtime);
+  EXPECT_EQ(c.domain, 7u);
+  EXPECT_EQ(c.control_period, 0.004);
+  EXPECT_EQ(c.motors, (std::vector<std::string>{"a", "b"}));
+  EXPECT_FALSE(c.check_crc);
+  EXPECT_EQ(c.log, "f.csv");
+  EXPECT_EQ(c.until, 2.5);
+  EXPECT_EQ(c.watchdog_timeout, 0.25);
+  EXPECT_EQ(c.watchdog_kd, 3);
+  EXPECT_EQ(c.imu.quaternion, "orientation");
+  EXPECT_EQ(c.imu.gyroscope, "imu_gyro");
+  EXPECT_EQ(c.imu.accelerometer, "imu_acc");
+  EXPECT_EQ(c.imu.body, "pelvis");
+  testing::WriteFile(dir.File("empty.toml"), "");
+  BridgeConfig d = LoadBridgeConfig(dir.File("empty.toml"));
+  EXPECT_EQ(d.family, BridgeFamily::kGo);
+  EXPECT_EQ(d.mode, BridgeMode::kLockstep);
+  EXPECT_TRUE(d.imu.quaternion.empty() && d.imu.body.empty());
+  EXPECT_TRUE(d.check_crc);
+}
+
+TEST(BridgeConfigTest, MistakesNameTheFileLineAndKey) {
+  EXPECT_NE(Complaint("[imu]\ngyro = \"g\"\n").find("b.toml:2:8: imu.gyro: unknown key"),
+            std::string::npos)
+      << Complaint("[imu]\ngyro = \"g\"\n");
+  EXPECT_NE(Complaint("[imu]\nbody = 3\n").find("imu.body: must be a body's name in quotes"),
+            std::string::npos);
+  EXPECT_NE(Complaint("imu = 1\n").find("imu: must be a table"), std::string::npos);
+  EXPECT_NE(Complaint("log = \"\"\n").find("log: must be a file name"), std::string::npos);
+  EXPECT_NE(Complaint("domain = 1.5\n").find("domain: must be a whole number"), std::string::npos);
+  EXPECT_NE(Complaint("mode = \"fast\"\n").find("b.toml:1:8: mode: must be one of"),
+            std::string::npos)
+      << Complaint("mode = \"fast\"\n");
+}
+
+TEST(BridgeConfigTest, FaultsAreRead) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), R"(seed = 3
+[[faults]]
+kind = "drop"
+direction = "state"
+probability = 0.1
+start = 1
+stop = 2
+[[faults]]
+kind = "motor_failure"
+motor = 2
+behavior = "stuck"
+)");
+  BridgeConfig c = LoadBridgeConfig(dir.File("b.toml"));
+  ASSERT_EQ(c.faults.size(), 2u);
+  EXPECT_TRUE(c.faults[0].state);
+  EXPECT_EQ(c.faults[0].text, "drop of states (p = 0.1) from 1 s to 2 s");
+  EXPECT_TRUE(c.faults[1].stuck);
+  EXPECT_EQ(c.seed, 3u);
+  testing::WriteFile(dir.File("bad.toml"), "[[faults]]\nkind = \"motor_failure\"\n");
+  try {
+    LoadBridgeConfig(dir.File("bad.toml"));
+    FAIL() << "no error";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("faults[0].motor"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace plumb
