@@ -11,6 +11,7 @@
 
 #include "bridge/test_domain.h"
 #include "fixture.h"
+#include "plumb/model.h"
 
 namespace plumb {
 namespace {
@@ -110,6 +111,28 @@ TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {
   }
   ASSERT_GT(logs[0].size(), 1000u);
   EXPECT_EQ(logs[0], logs[1]);
+}
+
+// The flight recorder keeps what was applied: feeding its qfrc_applied back into the model,
+// step by step with no DDS and no controller, gives the recorded states bit for bit (the
+// pendulum's control period is one timestep, so every step has its row).
+TEST(CliBridgeTest, TheRecordedLogReplaysBitForBit) {
+  testing::TempDir dir;
+  std::uint32_t domain = testing::FreeDomain();
+  testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain));
+  BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
+                  "pendulum --domain " + std::to_string(domain) + " --seconds 2.99");
+  Log log = ReadLog(dir.File("log.csv"));
+  ASSERT_EQ(log.rows.size(), 1501u);
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  ASSERT_EQ(log.At(0, "qpos[0]"), data->qpos[0]);
+  for (std::size_t row = 1; row < log.rows.size(); ++row) {
+    data->qfrc_applied[0] = log.At(row, "qfrc_applied[0]");
+    mj_step(model.get(), data.get());
+    ASSERT_EQ(data->qpos[0], log.At(row, "qpos[0]")) << "row " << row;
+    ASSERT_EQ(data->qvel[0], log.At(row, "qvel[0]")) << "row " << row;
+  }
 }
 
 TEST(CliBridgeTest, AGo2StandsUp) {
