@@ -38,7 +38,7 @@ packages=(
   libsqlite3-dev libtbb-dev libtomlplusplus-dev
   libopenmpi-dev openmpi-bin
   valgrind sqlite3 python3-pip python3-venv
-  libpng-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev ffmpeg libjs-chart.js
+  libceres-dev libpng-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev ffmpeg libjs-chart.js
   chromium cyclonedds-dev cyclonedds-tools
 )
 

@@ -1,0 +1,76 @@
+// Replaying a log in simulation: the logged inputs drive the model from the logged initial
+// state, and what it measured is compared with what the simulation gives.
+//
+// - Inputs are held (zero-order hold) from each logged sample to the next; the simulation
+//   steps at the model's timestep. Before an input's first sample its first value applies.
+// - The start state is the logged qpos / qvel at the start (each element's first sample at
+//   or after it); elements the log does not hold keep the model's qpos0 / zero velocity.
+// - A measured sample at time t is compared with the simulation at t, linearly
+//   interpolated between the two steps around it (exact when t falls on a step, as in a
+//   log `plumb run` wrote).
+// - window > 0: multiple shooting. The simulation restarts from the logged state at every
+//   `window` seconds, so one early error does not spoil the rest.
+// - input_delay: the inputs act this much later than logged (a link's latency);
+//   sensor_delay: each measurement shows the state this much earlier than its time stamp.
+//
+// Example:
+//   plumb::RobotLog log = plumb::LoadRobotLog(model, "decay.csv", model->opt.timestep);
+//   plumb::ReplayResult r = plumb::Replay(model, log, {});
+//   std::printf("%s: rms %g\n", r.signals[0].column.c_str(), r.signals[0].rms);
+
+#ifndef PLUMB_INCLUDE_PLUMB_REPLAY_H_
+#define PLUMB_INCLUDE_PLUMB_REPLAY_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/robot_log.h"
+
+namespace plumb {
+
+struct ReplayOptions {
+  double window = 0;        // s; 0: one run from the start
+  double input_delay = 0;   // s
+  double sensor_delay = 0;  // s
+};
+
+// What the simulation gives for each measured signal of a log, at that signal's times.
+struct Simulated {
+  std::vector<std::vector<double>> values;  // [signal][sample], NaN after a divergence
+  bool diverged = false;
+  std::string problem;  // what went bad, when it did
+};
+
+struct SignalFit {
+  std::string column;  // as the log names it
+  std::string path;    // the plumb path
+  long samples = 0;
+  double rms = 0;         // root mean square of simulated - logged
+  double max_abs = 0;     // largest |simulated - logged|
+  double worst_time = 0;  // s, log time of the largest
+  double fit = 0;         // %: 100 (1 - |e| / |y - mean y|); 100 is perfect, <= 0 no better
+                          // than the logged mean
+};
+
+struct ReplayResult {
+  std::vector<SignalFit> signals;  // one per measured signal, in the log's order
+  double fit = 0;                  // %: the mean of the signals' fits
+  Simulated simulated;
+  std::vector<std::string> notes;  // start-state elements the log lacks, and the like
+};
+
+// Simulates `log` on `model` with `data` as scratch (reset here). Deterministic.
+// @throws ValueError when a window needs the logged state and the log lacks some of it.
+Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
+                   const ReplayOptions& options);
+
+// Simulates and compares.
+ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);
+
+// The comparison of `simulated` with `log` (the part of Replay after Simulate).
+std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simulated);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_REPLAY_H_

@@ -1,0 +1,246 @@
+// Replaying a log (plumb/replay.h).
+
+#include "plumb/replay.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/fields.h"
+#include "plumb/error.h"
+#include "plumb/run.h"
+
+namespace plumb {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// The index of the first sample at or after `t` (times within a millionth of a step count
+// as equal: a log's times went through decimal text).
+std::size_t FirstAtOrAfter(const std::vector<double>& times, double t, double tolerance) {
+  return std::lower_bound(times.begin(), times.end(), t - tolerance) - times.begin();
+}
+
+// An input held from sample to sample, written straight into the model's array.
+class HeldInput {
+ public:
+  HeldInput(const LogSignal& signal, const mjModel* m, mjData* d, double tolerance)
+      : signal_(signal), tolerance_(tolerance) {
+    const FieldInfo& field = Fields()[signal.path.field_index];
+    target_ = static_cast<mjtNum*>(const_cast<void*>(FieldBase(field, m, d))) + signal.path.first;
+  }
+  // Writes the value logged last at or before `t` (the first value before the first sample).
+  void Apply(double t) {
+    const std::vector<double>& times = signal_.time;
+    if (next_ > 0 && times[next_ - 1] > t + tolerance_) next_ = 0;  // went back: a new window
+    while (next_ < times.size() && times[next_] <= t + tolerance_) ++next_;
+    *target_ = signal_.value[next_ == 0 ? 0 : next_ - 1];
+  }
+
+ private:
+  const LogSignal& signal_;
+  double tolerance_;
+  mjtNum* target_;
+  std::size_t next_ = 0;
+};
+
+class Replayer {
+ public:
+  Replayer(const Model& model, Data& data, const RobotLog& log, const ReplayOptions& options)
+      : model_(model),
+        m_(model.get()),
+        data_(data),
+        log_(log),
+        options_(options),
+        dt_(m_->opt.timestep),
+        tolerance_(1e-6 * dt_),
+        refresh_(model) {
+    for (const LogSignal& s : log.measured) {
+      if (s.path.role == Role::kDerived) needs_refresh_ = true;
+      if (s.path.field == "qpos" || s.path.field == "qvel") state_.push_back(&s);
+    }
+    for (const LogSignal& s : log.inputs) inputs_.emplace_back(s, m_, data.get(), tolerance_);
+  }
+
+  Simulated Run() {
+    out_.values.resize(log_.measured.size());
+    for (std::size_t i = 0; i < log_.measured.size(); ++i) {
+      out_.values[i].assign(log_.measured[i].time.size(), kNan);
+    }
+    std::vector<double> starts = WindowStarts();
+    for (std::size_t w = 0; w < starts.size(); ++w) {
+      double until = w + 1 < starts.size() ? starts[w + 1] : INFINITY;
+      RunWindow(starts[w], until, w + 1 == starts.size());
+    }
+    return std::move(out_);
+  }
+
+ private:
+  // Where each window starts: the log's start, then (multiple shooting) the first time the
+  // logged state has a sample at or after each further `window` seconds.
+  std::vector<double> WindowStarts() const {
+    std::vector<double> starts = {log_.start};
+    if (options_.window <= 0) return starts;
+    if (static_cast<int>(state_.size()) < m_->nq + m_->nv) {
+      throw ValueError(fmt::format(
+          "--window restarts the simulation from the logged state, but {} holds {} of the "
+          "model's {} qpos and qvel elements: log them all, or replay without --window",
+          log_.source, state_.size(), m_->nq + m_->nv));
+    }
+    const std::vector<double>& times = state_.front()->time;
+    for (int j = 1;; ++j) {
+      double at = log_.start + j * options_.window;
+      std::size_t i = FirstAtOrAfter(times, at, tolerance_);
+      if (i >= times.size() || times[i] >= log_.end - tolerance_) break;
+      if (times[i] > starts.back() + tolerance_) starts.push_back(times[i]);
+    }
+    return starts;
+  }
+
+  void StartState(double t) {
+    mjData* d = data_.get();
+    mj_resetData(m_, d);
+    for (const LogSignal* s : state_) {
+      std::size_t i = FirstAtOrAfter(s->time, t, tolerance_);
+      if (i >= s->time.size()) continue;
+      mjtNum* array = s->path.field == "qpos" ? d->qpos : d->qvel;
+      array[s->path.first] = s->value[i];
+    }
+    d->time = t - log_.start;
+  }
+
+  // The simulated value of every measured signal at the state `data_` holds now.
+  void Read(std::vector<double>* values) {
+    if (needs_refresh_) refresh_(data_);
+    for (std::size_t i = 0; i < log_.measured.size(); ++i) {
+      (*values)[i] = ReadValue(model_, data_, log_.measured[i].path);
+    }
+  }
+
+  bool Diverged() const {
+    const mjData* d = data_.get();
+    if (d->warning[mjWARN_BADQACC].number > 0) return true;
+    for (int i = 0; i < m_->nq; ++i) {
+      if (!std::isfinite(d->qpos[i])) return true;
+    }
+    for (int i = 0; i < m_->nv; ++i) {
+      if (!std::isfinite(d->qvel[i])) return true;
+    }
+    return false;
+  }
+
+  // Simulates from `start` and fills every measured sample in [start, until) (the last window
+  // also takes samples at the log's end).
+  void RunWindow(double start, double until, bool last) {
+    StartState(start);
+    std::size_t n = log_.measured.size();
+    std::vector<std::size_t> next(n), stop(n);
+    double latest = start;  // the last time (in simulation terms) any sample asks for
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::vector<double>& times = log_.measured[i].time;
+      next[i] = FirstAtOrAfter(times, start, tolerance_);
+      stop[i] = last ? times.size() : FirstAtOrAfter(times, until, tolerance_);
+      if (stop[i] > next[i]) latest = std::max(latest, times[stop[i] - 1] - options_.sensor_delay);
+    }
+    std::vector<double> cur(n), prev(n);  // the state at t0, and at the step before
+    Read(&cur);
+    mjData* d = data_.get();
+    for (long k = 0;; ++k) {
+      double t0 = start + k * dt_, t1 = start + (k + 1) * dt_;
+      // samples up to t0 are settled by the state at t0 (and the one before it)
+      for (std::size_t i = 0; i < n; ++i) {
+        const LogSignal& s = log_.measured[i];
+        while (next[i] < stop[i]) {
+          double at = std::max(start, s.time[next[i]] - options_.sensor_delay);
+          if (at > t0 + tolerance_) break;
+          double w = k == 0 ? 0 : std::clamp((at - (t0 - dt_)) / dt_, 0.0, 1.0);
+          out_.values[i][next[i]] =
+              k == 0 || w >= 1 - 1e-12 ? cur[i] : prev[i] * (1 - w) + cur[i] * w;
+          ++next[i];
+        }
+      }
+      if (t0 > latest + tolerance_) break;
+      for (HeldInput& input : inputs_) input.Apply(t0 - options_.input_delay);
+      prev.swap(cur);
+      mj_step(m_, d);
+      d->time = t1 - log_.start;
+      if (Diverged()) {
+        if (!out_.diverged) {
+          out_.diverged = true;
+          out_.problem = fmt::format("the simulation diverged at t = {:.6g} s of the log", t1);
+        }
+        return;  // this window's remaining samples stay NaN
+      }
+      Read(&cur);
+    }
+  }
+
+  const Model& model_;
+  const mjModel* m_;
+  Data& data_;
+  const RobotLog& log_;
+  const ReplayOptions& options_;
+  double dt_, tolerance_;
+  DerivedRefresher refresh_;
+  bool needs_refresh_ = false;
+  std::vector<const LogSignal*> state_;
+  std::vector<HeldInput> inputs_;
+  Simulated out_;
+};
+
+}  // namespace
+
+Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
+                   const ReplayOptions& options) {
+  return Replayer(model, data, log, options).Run();
+}
+
+std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simulated) {
+  std::vector<SignalFit> fits;
+  for (std::size_t i = 0; i < log.measured.size(); ++i) {
+    const LogSignal& s = log.measured[i];
+    SignalFit f;
+    f.column = s.column;
+    f.path = s.path.text;
+    f.samples = static_cast<long>(s.value.size());
+    double mean = 0;
+    for (double v : s.value) mean += v / f.samples;
+    double error2 = 0, spread2 = 0;
+    for (std::size_t k = 0; k < s.value.size(); ++k) {
+      double e = simulated.values[i][k] - s.value[k];
+      if (std::isnan(e)) e = INFINITY;
+      error2 += e * e;
+      spread2 += (s.value[k] - mean) * (s.value[k] - mean);
+      if (!(std::fabs(e) <= f.max_abs)) {
+        f.max_abs = std::fabs(e);
+        f.worst_time = s.time[k];
+      }
+    }
+    f.rms = std::sqrt(error2 / f.samples);
+    f.fit = spread2 > 0 ? 100 * (1 - std::sqrt(error2 / spread2)) : (error2 == 0 ? 100 : -INFINITY);
+    fits.push_back(f);
+  }
+  return fits;
+}
+
+ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options) {
+  Data data(model);
+  ReplayResult r;
+  r.simulated = Simulate(model, data, log, options);
+  r.signals = CompareWithLog(log, r.simulated);
+  for (const SignalFit& f : r.signals) r.fit += f.fit / r.signals.size();
+  const mjModel* m = model.get();
+  int held = 0;
+  for (const LogSignal& s : log.measured) held += s.path.field == "qpos" || s.path.field == "qvel";
+  if (held < m->nq + m->nv) {
+    r.notes.push_back(fmt::format(
+        "the log holds {} of the model's {} qpos and qvel elements: the others start from "
+        "the model's qpos0 and zero velocity",
+        held, m->nq + m->nv));
+  }
+  return r;
+}
+
+}  // namespace plumb
