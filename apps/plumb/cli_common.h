@@ -138,6 +138,7 @@ void SetupResultsCommands(CLI::App& app, Context& ctx);     // results and merge
 void SetupRegressionCommands(CLI::App& app, Context& ctx);  // snapshot and diff
 void SetupRenderCommand(CLI::App& app, Context& ctx);
 void SetupBridgeCommand(CLI::App& app, Context& ctx);
+void SetupReplayCommand(CLI::App& app, Context& ctx);
 
 // Makes every integer option of `app` and of its subcommands take an integer written in any
 // number notation ("--count 1e3" is 1000) and refuse anything else with the option's name

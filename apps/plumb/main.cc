@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   SetupRolloutCommand(app, ctx);
   SetupRenderCommand(app, ctx);
   SetupBridgeCommand(app, ctx);
+  SetupReplayCommand(app, ctx);
   SetupResultsCommands(app, ctx);
   AcceptIntegerNotation(&app);
 

@@ -1,0 +1,52 @@
+// Shared by plumb replay and plumb identify (log_options.h).
+
+#include "log_options.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "plumb/error.h"
+
+namespace plumb::cli {
+
+std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string>& paths,
+                               const std::string& column_map) {
+  ColumnMap map;
+  if (!column_map.empty()) map = LoadColumnMap(column_map);
+  std::vector<RobotLog> logs;
+  for (const std::string& path : paths) {
+    logs.push_back(LoadRobotLog(model, path, model->opt.timestep, map));
+  }
+  return logs;
+}
+
+void ApplyParameterSets(Model& model, const std::vector<std::string>& sets) {
+  std::vector<Assignment> edits;
+  for (const std::string& text : sets) {
+    Assignment a = ParseAssignment(model, text);
+    if (a.path.role != Role::kParameter) {
+      throw ValueError(fmt::format(
+          "--set '{}': {} is {} {}; here the state and the inputs come from the log, and --set "
+          "takes model parameters (dof_damping[...], body_mass[...], opt.timestep, ...)",
+          text, a.path.text, a.path.role == Role::kInput ? "an" : "a", RoleName(a.path.role)));
+    }
+    edits.push_back(std::move(a));
+  }
+  Data scratch(model);
+  if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
+}
+
+std::string FitTable(const std::vector<SignalFit>& fits) {
+  std::size_t width = 16;
+  for (const SignalFit& f : fits) width = std::max(width, f.column.size());
+  std::string out = fmt::format("{:<{}} {:>8} {:>12} {:>12} {:>10} {:>8}\n", "signal", width,
+                                "samples", "rms error", "max error", "at t [s]", "fit %");
+  for (const SignalFit& f : fits) {
+    out += fmt::format("{:<{}} {:>8} {:>12.4g} {:>12.4g} {:>10.4f} {:>8.2f}\n", f.column, width,
+                       f.samples, f.rms, f.max_abs, f.worst_time, f.fit);
+  }
+  return out;
+}
+
+}  // namespace plumb::cli

@@ -1,0 +1,30 @@
+// What plumb replay and plumb identify share: logs with an optional column map, and --set
+// limited to model parameters (the state comes from the log).
+
+#ifndef PLUMB_APPS_PLUMB_LOG_OPTIONS_H_
+#define PLUMB_APPS_PLUMB_LOG_OPTIONS_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/replay.h"
+#include "plumb/robot_log.h"
+
+namespace plumb::cli {
+
+// Reads every log against `model` (the column map, when given, applies to each).
+std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string>& paths,
+                               const std::string& column_map);
+
+// Applies --set PATH=VALUE edits, which must be model parameters, to `model` (mj_setConst
+// when an array changed). @throws ValueError for a state or input path.
+void ApplyParameterSets(Model& model, const std::vector<std::string>& sets);
+
+// The per-signal comparison as the table a person reads.
+std::string FitTable(const std::vector<SignalFit>& fits);
+
+}  // namespace plumb::cli
+
+#endif  // PLUMB_APPS_PLUMB_LOG_OPTIONS_H_
