@@ -56,9 +56,9 @@ std::string Json(const ReplayResult& r, const RobotLog& log, const ReplayCommand
 std::string Table(const ReplayResult& r, const RobotLog& log, const ReplayCommandOptions& o) {
   std::string inputs;
   for (const LogSignal& s : log.inputs) inputs += (inputs.empty() ? "" : ", ") + s.column;
-  std::string out = fmt::format("replay of {} on {}: {:g} s from t = {:g} s; inputs: {}\n",
-                                log.source, o.model, log.end - log.start, log.start,
-                                inputs.empty() ? "none" : inputs);
+  std::string out =
+      fmt::format("replay of {} on {}: {:g} s from t = {:g} s; inputs: {}\n", log.source, o.model,
+                  log.end - log.start, log.start, inputs.empty() ? "none" : inputs);
   if (o.replay.window > 0) {
     out += fmt::format("restarted from the logged state every {:g} s\n", o.replay.window);
   }
@@ -67,9 +67,10 @@ std::string Table(const ReplayResult& r, const RobotLog& log, const ReplayComman
                        o.replay.sensor_delay);
   }
   out += "\n" + FitTable(r.signals) + "\n";
-  out += fmt::format("overall fit {:.2f} % (mean of the signals; 100: the log exactly, 0: no "
-                     "better than each signal's mean)\n",
-                     r.fit);
+  out += fmt::format(
+      "overall fit {:.2f} % (mean of the signals; 100: the log exactly, 0: no "
+      "better than each signal's mean)\n",
+      r.fit);
   for (const std::string& note : r.notes) out += "note: " + note + "\n";
   if (r.simulated.diverged) out += r.simulated.problem + "\n";
   return out;
@@ -79,9 +80,10 @@ int RunReplay(const ReplayCommandOptions& o) {
   Model model = LoadModel(o.model);
   ApplyParameterSets(model, o.sets);
   if (!(o.replay.window >= 0 && std::isfinite(o.replay.window))) {
-    throw ValueError(fmt::format("--window {:g}: give a positive number of seconds (or leave it "
-                                 "out for one run from the start)",
-                                 o.replay.window));
+    throw ValueError(
+        fmt::format("--window {:g}: give a positive number of seconds (or leave it "
+                    "out for one run from the start)",
+                    o.replay.window));
   }
   RobotLog log = std::move(LoadLogs(model, {o.log}, o.columns).front());
   ReplayResult r = Replay(model, log, o.replay);

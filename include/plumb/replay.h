@@ -60,10 +60,24 @@ struct ReplayResult {
   std::vector<std::string> notes;  // start-state elements the log lacks, and the like
 };
 
+// Where each window starts (log time, s): the log's start, then (window > 0) the first time
+// the logged state has a sample at or after each further `window` seconds.
+// @throws ValueError when windows are asked for and the log lacks some of the state.
+std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
+                                 const ReplayOptions& options);
+
+// The log's state columns (qpos and qvel elements), in the log's order: what each window
+// starts from.
+std::vector<const LogSignal*> StateSignals(const RobotLog& log);
+
 // Simulates `log` on `model` with `data` as scratch (reset here). Deterministic.
+// `start_offsets`, when given, is added to the logged start state: for each window in turn,
+// one value per StateSignals column (identification fits the start state this way, since a
+// logged start carries the measurement noise).
 // @throws ValueError when a window needs the logged state and the log lacks some of it.
 Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
-                   const ReplayOptions& options);
+                   const ReplayOptions& options,
+                   const std::vector<double>* start_offsets = nullptr);
 
 // Simulates and compares.
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);

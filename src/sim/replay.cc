@@ -48,18 +48,20 @@ class HeldInput {
 
 class Replayer {
  public:
-  Replayer(const Model& model, Data& data, const RobotLog& log, const ReplayOptions& options)
+  Replayer(const Model& model, Data& data, const RobotLog& log, const ReplayOptions& options,
+           const std::vector<double>* offsets)
       : model_(model),
         m_(model.get()),
         data_(data),
         log_(log),
         options_(options),
+        offsets_(offsets),
         dt_(m_->opt.timestep),
         tolerance_(1e-6 * dt_),
-        refresh_(model) {
+        refresh_(model),
+        state_(StateSignals(log)) {
     for (const LogSignal& s : log.measured) {
       if (s.path.role == Role::kDerived) needs_refresh_ = true;
-      if (s.path.field == "qpos" || s.path.field == "qvel") state_.push_back(&s);
     }
     for (const LogSignal& s : log.inputs) inputs_.emplace_back(s, m_, data.get(), tolerance_);
   }
@@ -69,44 +71,26 @@ class Replayer {
     for (std::size_t i = 0; i < log_.measured.size(); ++i) {
       out_.values[i].assign(log_.measured[i].time.size(), kNan);
     }
-    std::vector<double> starts = WindowStarts();
+    std::vector<double> starts = WindowStarts(model_, log_, options_);
     for (std::size_t w = 0; w < starts.size(); ++w) {
       double until = w + 1 < starts.size() ? starts[w + 1] : INFINITY;
+      window_ = w;
       RunWindow(starts[w], until, w + 1 == starts.size());
     }
     return std::move(out_);
   }
 
  private:
-  // Where each window starts: the log's start, then (multiple shooting) the first time the
-  // logged state has a sample at or after each further `window` seconds.
-  std::vector<double> WindowStarts() const {
-    std::vector<double> starts = {log_.start};
-    if (options_.window <= 0) return starts;
-    if (static_cast<int>(state_.size()) < m_->nq + m_->nv) {
-      throw ValueError(fmt::format(
-          "--window restarts the simulation from the logged state, but {} holds {} of the "
-          "model's {} qpos and qvel elements: log them all, or replay without --window",
-          log_.source, state_.size(), m_->nq + m_->nv));
-    }
-    const std::vector<double>& times = state_.front()->time;
-    for (int j = 1;; ++j) {
-      double at = log_.start + j * options_.window;
-      std::size_t i = FirstAtOrAfter(times, at, tolerance_);
-      if (i >= times.size() || times[i] >= log_.end - tolerance_) break;
-      if (times[i] > starts.back() + tolerance_) starts.push_back(times[i]);
-    }
-    return starts;
-  }
-
   void StartState(double t) {
     mjData* d = data_.get();
     mj_resetData(m_, d);
-    for (const LogSignal* s : state_) {
+    for (std::size_t j = 0; j < state_.size(); ++j) {
+      const LogSignal* s = state_[j];
       std::size_t i = FirstAtOrAfter(s->time, t, tolerance_);
       if (i >= s->time.size()) continue;
       mjtNum* array = s->path.field == "qpos" ? d->qpos : d->qvel;
       array[s->path.first] = s->value[i];
+      if (offsets_ != nullptr) array[s->path.first] += (*offsets_)[window_ * state_.size() + j];
     }
     d->time = t - log_.start;
   }
@@ -182,19 +166,52 @@ class Replayer {
   Data& data_;
   const RobotLog& log_;
   const ReplayOptions& options_;
+  const std::vector<double>* offsets_;
   double dt_, tolerance_;
   DerivedRefresher refresh_;
   bool needs_refresh_ = false;
   std::vector<const LogSignal*> state_;
+  std::size_t window_ = 0;
   std::vector<HeldInput> inputs_;
   Simulated out_;
 };
 
 }  // namespace
 
+std::vector<const LogSignal*> StateSignals(const RobotLog& log) {
+  std::vector<const LogSignal*> state;
+  for (const LogSignal& s : log.measured) {
+    if (s.path.field == "qpos" || s.path.field == "qvel") state.push_back(&s);
+  }
+  return state;
+}
+
+std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
+                                 const ReplayOptions& options) {
+  const mjModel* m = model.get();
+  double tolerance = 1e-6 * m->opt.timestep;
+  std::vector<double> starts = {log.start};
+  if (options.window <= 0) return starts;
+  std::vector<const LogSignal*> state = StateSignals(log);
+  if (static_cast<int>(state.size()) < m->nq + m->nv) {
+    throw ValueError(fmt::format(
+        "--window restarts the simulation from the logged state, but {} holds {} of the "
+        "model's {} qpos and qvel elements: log them all, or replay without --window",
+        log.source, state.size(), m->nq + m->nv));
+  }
+  const std::vector<double>& times = state.front()->time;
+  for (int j = 1;; ++j) {
+    double at = log.start + j * options.window;
+    std::size_t i = FirstAtOrAfter(times, at, tolerance);
+    if (i >= times.size() || times[i] >= log.end - tolerance) break;
+    if (times[i] > starts.back() + tolerance) starts.push_back(times[i]);
+  }
+  return starts;
+}
+
 Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
-                   const ReplayOptions& options) {
-  return Replayer(model, data, log, options).Run();
+                   const ReplayOptions& options, const std::vector<double>* start_offsets) {
+  return Replayer(model, data, log, options, start_offsets).Run();
 }
 
 std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simulated) {

@@ -1,5 +1,5 @@
 // Logs made by plumb itself from known parameters, for the replay and identification tests:
-// a model driven through one input path by a known signal (optionally delayed on its way
+// a model driven through input paths by known signals (optionally delayed on its way
 // in), sampled every few steps, with Gaussian measurement noise.
 
 #ifndef PLUMB_TESTS_SIM_LOG_MAKER_H_
@@ -11,6 +11,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fixture.h"
@@ -24,7 +25,8 @@ struct LogSpec {
   std::vector<std::string> set;  // PATH=VALUE: the truth, and the start state
   std::string input = "qfrc_applied[hinge]";
   std::function<double(double)> u;  // the logged input at time t (none: no input column)
-  int delay_steps = 0;              // the input acts this many steps after it is logged
+  std::vector<std::pair<std::string, std::function<double(double)>>> more_inputs;
+  int delay_steps = 0;  // the inputs act this many steps after they are logged
   std::vector<std::string> measured = {"qpos[hinge]", "qvel[hinge]"};
   std::vector<double> noise;  // sigma per measured column (empty: none)
   double until = 3;
@@ -41,20 +43,23 @@ inline std::string MakeLog(const std::string& path, const LogSpec& spec) {
   ApplyAssignments(model, data, set);
   std::vector<Path> measured;
   for (const std::string& m : spec.measured) measured.push_back(ResolvePath(model, m));
-  Path input = ResolvePath(model, spec.input);
+  std::vector<std::pair<std::string, std::function<double(double)>>> inputs = spec.more_inputs;
+  if (spec.u) inputs.insert(inputs.begin(), {spec.input, spec.u});
+  std::vector<Path> input_paths;
+  for (const auto& in : inputs) input_paths.push_back(ResolvePath(model, in.first));
   std::mt19937_64 random(spec.seed);
   std::normal_distribution<double> gauss;
   double dt = model->opt.timestep;
   long steps = std::lround(spec.until / dt);
   std::string csv = "time";
-  if (spec.u) csv += "," + spec.input;
+  for (const auto& in : inputs) csv += "," + in.first;
   for (const std::string& m : spec.measured) csv += "," + m;
   csv += "\n";
   for (long k = 0; k <= steps; ++k) {
     double t = k * dt;
     if (k % spec.every == 0) {
       csv += fmt::format("{}", t);
-      if (spec.u) csv += fmt::format(",{}", spec.u(t));
+      for (const auto& in : inputs) csv += fmt::format(",{}", in.second(t));
       for (std::size_t i = 0; i < measured.size(); ++i) {
         double sigma = i < spec.noise.size() ? spec.noise[i] : 0;
         csv += fmt::format(",{}", ReadValue(model, data, measured[i]) + sigma * gauss(random));
@@ -62,9 +67,11 @@ inline std::string MakeLog(const std::string& path, const LogSpec& spec) {
       csv += "\n";
     }
     if (k == steps) break;
-    if (spec.u) {
-      double at = std::max(0.0, (k - spec.delay_steps) * dt);
-      WriteValues(model, data, input, {spec.u(at)});
+    // the controller sets its inputs when it logs a row, and they act delay_steps later
+    long held = std::max(0L, k - spec.delay_steps);
+    double at = static_cast<double>(held - held % spec.every) * dt;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      WriteValues(model, data, input_paths[i], {inputs[i].second(at)});
     }
     mj_step(model.get(), data.get());
   }

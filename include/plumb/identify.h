@@ -1,0 +1,107 @@
+// Parameter identification: fit model parameters so that replaying logs (plumb/replay.h)
+// matches what was measured, and say how well each parameter is known.
+//
+// - Nonlinear least squares (Ceres Solver, Levenberg-Marquardt) over the replay error of
+//   every measured sample of every log, each signal weighted by its noise: a first solve
+//   weights by the signals' spread, then each signal's noise is estimated from its residuals
+//   and the problem is solved again with those weights, so the residuals are in units of
+//   their own noise.
+// - Parameters are plumb paths of model arrays (dof_damping[hinge], body_mass[payload],
+//   geom_friction[foot][0], `*` for every row). Each is solved in units of its nominal value
+//   (or of its bounds' width when the nominal is 0), so a mass and a friction coefficient are
+//   solved together well. Bounds: given PATH=LO:HI, else [0, inf) for quantities MuJoCo does
+//   not take negative.
+// - The Jacobian is by central differences, its columns run in parallel on the worker pool;
+//   each run starts from the nominal model, so the result is the same for any thread count.
+// - Standard errors from the Jacobian at the optimum, scaled by the residual variance;
+//   correlations; identifiability warnings (a parameter the logs barely see, or two that
+//   move together above 0.95), each naming what log would settle it.
+// - A pure delay on the inputs or on the measurements: scanned in whole timesteps, with the
+//   parameters refitted at the best delay.
+//
+// Example:
+//   plumb::IdentifyOptions o;
+//   o.fit = {"dof_damping[hinge]"};
+//   plumb::IdentifyResult r = plumb::Identify(model, {log}, o);
+//   r.estimates[0].value, r.estimates[0].std_error
+
+#ifndef PLUMB_INCLUDE_PLUMB_IDENTIFY_H_
+#define PLUMB_INCLUDE_PLUMB_IDENTIFY_H_
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/replay.h"
+#include "plumb/robot_log.h"
+
+namespace plumb {
+
+// One free parameter.
+struct FitParameter {
+  Path path;  // one element of a model array
+  double nominal = 0;
+  double lo = -INFINITY, hi = INFINITY;
+  double scale = 1;  // the unit it is solved in
+};
+
+enum class DelayKind { kNone, kInput, kSensor };
+
+struct IdentifyOptions {
+  std::vector<std::string> fit;     // paths; `*` rows expand
+  std::vector<std::string> bounds;  // PATH=LO:HI
+  ReplayOptions replay;             // window; the delays, when not estimated
+  DelayKind delay = DelayKind::kNone;
+  double max_delay = 0.1;  // s: the delay scan's range
+  int threads = 0;         // 0: every core
+  int max_iterations = 100;
+};
+
+struct Estimate {
+  std::string path;
+  double nominal = 0;
+  double value = 0;
+  double std_error = NAN;  // from the Jacobian at the optimum, scaled by the residual variance
+  double lo = -INFINITY, hi = INFINITY;
+  bool at_bound = false;   // the optimum sits on a bound (its standard error then means little)
+  double sensitivity = 0;  // how much a 100 % change moves the fit, in units of the noise
+};
+
+struct IdentifyResult {
+  std::vector<Estimate> estimates;
+  std::vector<std::vector<double>> correlation;  // [i][j]
+  std::vector<double> singular_values;           // of the column-normalised Jacobian, largest = 1
+  std::vector<std::string> warnings;             // identifiability, bounds
+  std::vector<double> first_pass_cost;           // per iteration, weighted by the signals' spread
+  std::vector<double> cost;                      // per iteration of the noise-weighted solve
+  int iterations = 0;
+  bool converged = false;
+  std::string termination;  // Ceres's words
+  long residuals = 0;
+  double residual_variance = NAN;  // 2 cost / (residuals - parameters): about 1 when honest
+  double delay = 0;                // s, estimated (DelayKind) or as given
+  std::vector<std::pair<double, double>> delay_scan;  // (delay, cost) of the last scan
+  std::vector<std::vector<double>> noise;             // [log][signal]: estimated sigma
+  std::vector<ReplayResult> before, after;            // per log: nominal and fitted model
+};
+
+// Resolves and checks the parameters to fit. @throws PathError for an unknown path;
+// ValueError for a path that is not a model parameter, an integer field, bounds that are not
+// LO:HI with LO < HI around the nominal, or a parameter named twice.
+std::vector<FitParameter> ResolveFitParameters(const Model& model,
+                                               const std::vector<std::string>& fit,
+                                               const std::vector<std::string>& bounds);
+
+// Fits. @throws ValueError as ResolveFitParameters does, or for fewer residuals than
+// parameters; MujocoError.
+IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
+                        const IdentifyOptions& options);
+
+// Writes the estimates into `model` (mj_setConst when an array changed).
+void ApplyEstimates(Model& model, const IdentifyResult& result);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_IDENTIFY_H_

@@ -1,0 +1,532 @@
+// Parameter identification (plumb/identify.h): Ceres over the replay error, with our own
+// parallel finite-difference Jacobian.
+
+#include "plumb/identify.h"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "check/worker_pool.h"
+#include "plumb/error.h"
+
+namespace plumb {
+namespace {
+
+// Whether MuJoCo refuses a negative value of `path` (a mass, a damping, ...).
+bool MustBeNonNegative(const Path& path) {
+  try {
+    CheckAssignable(path, -1e-3);
+  } catch (const ValueError&) {
+    return true;
+  }
+  return false;
+}
+
+// The parameters' values in the worker's model, written from nominal each time so a run
+// does not depend on which runs the worker did before (body_mass rescales body_inertia).
+class ParameterWriter {
+ public:
+  ParameterWriter(const Model& nominal, const std::vector<FitParameter>& params)
+      : params_(params),
+        inertia_(nominal->body_inertia, nominal->body_inertia + 3 * nominal->nbody) {
+    for (const FitParameter& p : params) arrays_ = arrays_ || ChangesModelArrays(p.path);
+  }
+
+  // Writes parameter values `x` (in scaled units) into the worker's model.
+  void Write(WorkerPool::Worker& w, const double* x) const {
+    mjModel* m = w.work.get_mutable();
+    for (const FitParameter& p : params_) WriteValues(w.work, w.data, p.path, {p.nominal});
+    std::copy(inertia_.begin(), inertia_.end(), m->body_inertia);
+    for (std::size_t i = 0; i < params_.size(); ++i) {
+      WriteValues(w.work, w.data, params_[i].path, {x[i] * params_[i].scale});
+    }
+    if (arrays_) mj_setConst(m, w.data.get());
+  }
+
+ private:
+  const std::vector<FitParameter>& params_;
+  std::vector<mjtNum> inertia_;
+  bool arrays_ = false;
+};
+
+// The residual vector of given parameters: every measured sample of every log, simulated
+// minus logged, over the signal's weight. A divergence gives large, finite residuals.
+class Residuals {
+ public:
+  // The start state of every window of every log is fitted too (a logged start carries the
+  // measurement noise): those offsets follow the parameters in x, in the logs' units.
+  Residuals(const Model& nominal, const std::vector<RobotLog>& logs,
+            const std::vector<FitParameter>& params, const ReplayOptions& replay, int threads)
+      : logs_(logs),
+        writer_(nominal, params),
+        pool_(nominal, threads),
+        physical_(params.size()),
+        n_(params.size()),
+        replay_(replay) {
+    for (const RobotLog& log : logs) {
+      starts_.push_back(n_);
+      n_ += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
+    }
+    starts_.push_back(n_);
+    for (const RobotLog& log : logs) {
+      weights_.emplace_back();
+      for (const LogSignal& s : log.measured) {
+        m_ += static_cast<long>(s.value.size());
+        double mean = 0, spread = 0;
+        for (double v : s.value) mean += v / s.value.size();
+        for (double v : s.value) spread += (v - mean) * (v - mean) / s.value.size();
+        weights_.back().push_back(spread > 0 ? std::sqrt(spread) : 1.0);
+      }
+    }
+  }
+
+  long size() const { return m_; }
+  std::size_t parameters() const { return n_; }  // the model's, then the start states
+  std::size_t physical() const { return physical_; }
+  // Changing the delays keeps the windows (and so the start-state offsets) as they are.
+  void set_replay(const ReplayOptions& replay) { replay_ = replay; }
+  const ReplayOptions& replay() const { return replay_; }
+  std::vector<std::vector<double>>& weights() { return weights_; }
+
+  // Residuals at each of `points` (scaled parameter vectors), in parallel; out[k] has size().
+  std::vector<std::vector<double>> At(const std::vector<std::vector<double>>& points) {
+    std::vector<std::vector<double>> out;
+    out.reserve(points.size());
+    long next = 0;
+    std::atomic<bool> never{false};
+    pool_.Stream<std::vector<double>>(
+        std::max<std::size_t>(1, points.size()),
+        [&](std::vector<long>* chunk) {
+          for (; next < static_cast<long>(points.size()); ++next) chunk->push_back(next);
+        },
+        [&](WorkerPool::Worker& w, long index, std::vector<double>* r) {
+          writer_.Write(w, points[index].data());
+          *r = Evaluate(w, points[index]);
+          return true;
+        },
+        [&](const std::vector<double>& r) { out.push_back(r); }, never,
+        [] { return Interrupted("identification stopped"); });
+    return out;
+  }
+
+  // Simulated minus logged, per signal of `log`, with the start offsets of x.
+  std::vector<std::vector<double>> Errors(WorkerPool::Worker& w, std::size_t log,
+                                          const std::vector<double>& x) const {
+    std::vector<double> offsets(x.begin() + starts_[log], x.begin() + starts_[log + 1]);
+    Simulated s = Simulate(w.work, w.data, logs_[log], replay_, &offsets);
+    std::vector<std::vector<double>> e(s.values.size());
+    for (std::size_t i = 0; i < s.values.size(); ++i) {
+      const std::vector<double>& logged = logs_[log].measured[i].value;
+      for (std::size_t k = 0; k < logged.size(); ++k) e[i].push_back(s.values[i][k] - logged[k]);
+    }
+    return e;
+  }
+
+ private:
+  std::vector<double> Evaluate(WorkerPool::Worker& w, const std::vector<double>& x) const {
+    std::vector<double> r;
+    r.reserve(m_);
+    for (std::size_t log = 0; log < logs_.size(); ++log) {
+      std::vector<std::vector<double>> e = Errors(w, log, x);
+      for (std::size_t i = 0; i < e.size(); ++i) {
+        for (double v : e[i]) {
+          double scaled = v / weights_[log][i];
+          r.push_back(std::isfinite(scaled) ? scaled : kDiverged);
+        }
+      }
+    }
+    return r;
+  }
+
+  static constexpr double kDiverged = 1e6;
+  const std::vector<RobotLog>& logs_;
+  ParameterWriter writer_;
+  mutable WorkerPool pool_;
+  std::size_t physical_, n_;
+  std::vector<std::size_t> starts_;  // where each log's start offsets begin in x
+  long m_ = 0;
+  std::vector<std::vector<double>> weights_;
+  ReplayOptions replay_;
+};
+
+// Central-difference step in scaled units.
+constexpr double kStep = 1e-4;
+
+// The Jacobian (row-major, residuals x parameters) at x, with the residuals there.
+void Jacobian(Residuals& f, const double* x, double* residuals, double* jacobian) {
+  std::size_t n = f.parameters();
+  std::vector<std::vector<double>> points(2 * n + (residuals != nullptr ? 1 : 0),
+                                          std::vector<double>(x, x + n));
+  for (std::size_t j = 0; j < n; ++j) {
+    points[2 * j][j] += kStep;
+    points[2 * j + 1][j] -= kStep;
+  }
+  std::vector<std::vector<double>> r = f.At(points);
+  for (long i = 0; i < f.size(); ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      jacobian[i * n + j] = (r[2 * j][i] - r[2 * j + 1][i]) / (2 * kStep);
+    }
+  }
+  if (residuals != nullptr) std::copy(r.back().begin(), r.back().end(), residuals);
+}
+
+class ReplayCost : public ceres::CostFunction {
+ public:
+  explicit ReplayCost(Residuals& f) : f_(f) {
+    set_num_residuals(static_cast<int>(f.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(f.parameters()));
+  }
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Jacobian(f_, x[0], residuals, jacobians[0]);
+      return true;
+    }
+    std::vector<double> at(x[0], x[0] + f_.parameters());
+    std::vector<double> r = f_.At({at}).front();
+    std::copy(r.begin(), r.end(), residuals);
+    return true;
+  }
+
+ private:
+  Residuals& f_;
+};
+
+class CostLog : public ceres::IterationCallback {
+ public:
+  explicit CostLog(std::vector<double>* cost) : cost_(cost) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (s.iteration == 0 || s.step_is_successful) cost_->push_back(s.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::vector<double>* cost_;
+};
+
+// Solves from x in place; returns Ceres's summary.
+ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& params,
+                             int max_iterations, std::vector<double>* x,
+                             std::vector<double>* cost) {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddResidualBlock(new ReplayCost(f), nullptr, x->data());
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    if (std::isfinite(params[i].lo)) {
+      problem.SetParameterLowerBound(x->data(), static_cast<int>(i),
+                                     params[i].lo / params[i].scale);
+    }
+    if (std::isfinite(params[i].hi)) {
+      problem.SetParameterUpperBound(x->data(), static_cast<int>(i),
+                                     params[i].hi / params[i].scale);
+    }
+  }
+  CostLog log(cost);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = max_iterations;
+  options.function_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-10;
+  options.gradient_tolerance = 1e-12;
+  options.num_threads = 1;  // the Jacobian's columns are already parallel
+  options.logging_type = ceres::SILENT;
+  options.callbacks.push_back(&log);
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  return summary;
+}
+
+// Sets each signal's weight to the rms of its raw residuals at x: its noise, when the model
+// fits. Returns those, [log][signal].
+std::vector<std::vector<double>> Reweight(Residuals& f, const std::vector<RobotLog>& logs,
+                                          const std::vector<double>& x) {
+  std::vector<double> r = f.At({x}).front();
+  std::vector<std::vector<double>> noise;
+  std::size_t at = 0;
+  for (std::size_t log = 0; log < logs.size(); ++log) {
+    noise.emplace_back();
+    for (std::size_t i = 0; i < logs[log].measured.size(); ++i) {
+      std::size_t count = logs[log].measured[i].value.size();
+      double sum = 0;
+      for (std::size_t k = 0; k < count; ++k, ++at) sum += r[at] * r[at];
+      double& weight = f.weights()[log][i];
+      double rms = std::sqrt(sum / count) * weight;
+      // a perfect fit has no noise to weigh by: keep a floor far below any real noise
+      weight = std::max(rms, 1e-9 * weight);
+      noise.back().push_back(rms);
+    }
+  }
+  return noise;
+}
+
+// What log would pin down a parameter of this field.
+std::string LogThatSettles(const Path& p) {
+  const std::string& f = p.field;
+  if (f == "dof_damping") {
+    return "a log at several speeds (steps or a chirp of several amplitudes): viscous damping "
+           "grows with speed";
+  }
+  if (f == "dof_frictionloss") {
+    return "a log with slow motions that reverse often (small steps, a slow sine): friction "
+           "loss dominates near zero speed";
+  }
+  if (f == "dof_armature" || f == "body_mass" || f == "body_inertia" || f == "body_ipos") {
+    return "a log with large accelerations (fast steps, a chirp up to high frequency) that moves "
+           "this body or joint";
+  }
+  if (f == "jnt_stiffness" || f == "qpos_spring") {
+    return "a log with large displacements from the spring's rest position";
+  }
+  if (f == "geom_friction") return "a log in which this geom slides on its contacts";
+  if (f.rfind("actuator_", 0) == 0) {
+    return "a log with large, varied commands to this actuator (steps of several sizes)";
+  }
+  return "a log whose motion depends on it more strongly (richer excitation)";
+}
+
+std::string PairAdvice(const Path& a, const Path& b) {
+  std::set<std::string> fields = {a.field, b.field};
+  if (fields == std::set<std::string>{"dof_damping", "dof_frictionloss"}) {
+    return "both take energy out of the motion, and one free decay cannot tell viscous from dry "
+           "friction apart: add free decays from several amplitudes, or a chirp (damping grows "
+           "with speed, friction loss does not)";
+  }
+  return "add " + LogThatSettles(a) + "; or " + LogThatSettles(b);
+}
+
+// Standard errors, correlations, singular values and warnings from the Jacobian at x.
+void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std::vector<double>& x,
+                IdentifyResult* result) {
+  std::size_t n = params.size(), all = f.parameters();
+  long m = f.size();
+  std::vector<double> r(m), jac(m * all);
+  Jacobian(f, x.data(), r.data(), jac.data());
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> full(
+      jac.data(), m, static_cast<long>(all));
+  double rss = 0;
+  for (double v : r) rss += v * v;
+  result->residuals = m;
+  result->residual_variance = rss / static_cast<double>(m - static_cast<long>(all));
+  // the covariance of everything fitted (start states included), shown for the parameters
+  Eigen::MatrixXd info = full.transpose() * full;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(info);
+  Eigen::MatrixXd cov = decomposition.pseudoInverse() * result->residual_variance;
+  bool singular = decomposition.rank() < static_cast<long>(all);
+  Eigen::MatrixXd J = full.leftCols(static_cast<long>(n));
+  result->correlation.assign(n, std::vector<double>(n, NAN));
+  for (std::size_t i = 0; i < n; ++i) {
+    const FitParameter& p = params[i];
+    Estimate e;
+    e.path = p.path.text;
+    e.nominal = p.nominal;
+    e.value = x[i] * p.scale;
+    e.lo = p.lo;
+    e.hi = p.hi;
+    e.sensitivity = J.col(static_cast<long>(i)).norm();
+    e.std_error = singular ? NAN : std::sqrt(cov(i, i)) * p.scale;
+    double width = std::isfinite(p.hi - p.lo) ? p.hi - p.lo : std::fabs(e.value);
+    e.at_bound = std::fabs(e.value - p.lo) <= 1e-9 * std::max(width, 1e-300) ||
+                 std::fabs(e.value - p.hi) <= 1e-9 * std::max(width, 1e-300);
+    result->estimates.push_back(e);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!singular) result->correlation[i][j] = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
+    }
+  }
+  Eigen::MatrixXd normalised = J;
+  for (long j = 0; j < normalised.cols(); ++j) {
+    double norm = normalised.col(j).norm();
+    if (norm > 0) normalised.col(j) /= norm;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(normalised, Eigen::ComputeThinV);
+  Eigen::VectorXd sv = svd.singularValues();
+  for (long k = 0; k < sv.size(); ++k) {
+    result->singular_values.push_back(sv(0) > 0 ? sv(k) / sv(0) : 0);
+  }
+  // warnings: a parameter the logs barely see, pairs that move together, bounds
+  for (std::size_t i = 0; i < n; ++i) {
+    const Estimate& e = result->estimates[i];
+    if (e.sensitivity < 1) {
+      result->warnings.push_back(
+          fmt::format("{} barely changes the fit: doubling it moves the residuals by {:.2g} noise "
+                      "standard deviations in all. To settle it, add {}",
+                      e.path, e.sensitivity, LogThatSettles(params[i].path)));
+    }
+    if (e.at_bound) {
+      result->warnings.push_back(fmt::format(
+          "{} ended on its bound ({:g}): the logs push it further than the bounds allow, and "
+          "its standard error does not hold there",
+          e.path, e.value));
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      double c = result->correlation[i][j];
+      if (std::fabs(c) > 0.95) {
+        result->warnings.push_back(
+            fmt::format("{} and {} are correlated at {:.3f}: these logs cannot tell them apart; {}",
+                        params[i].path.text, params[j].path.text, c,
+                        PairAdvice(params[i].path, params[j].path)));
+      }
+    }
+  }
+  if (n > 2 && result->singular_values.back() < 1e-3) {
+    Eigen::VectorXd weak = svd.matrixV().col(static_cast<long>(n) - 1);
+    std::string names;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (std::fabs(weak(static_cast<long>(i))) > 0.3) {
+        names += (names.empty() ? "" : ", ") + params[i].path.text;
+      }
+    }
+    result->warnings.push_back(fmt::format(
+        "the parameters {} move the fit only together (smallest singular value {:.2g} of the "
+        "largest): fix one of them, or add logs that excite each on its own",
+        names, result->singular_values.back()));
+  }
+  if (singular) {
+    result->warnings.push_back(
+        "the Jacobian is rank deficient: some parameters do not change the fit at all, and no "
+        "standard errors can be given");
+  }
+}
+
+}  // namespace
+
+std::vector<FitParameter> ResolveFitParameters(const Model& model,
+                                               const std::vector<std::string>& fit,
+                                               const std::vector<std::string>& bounds) {
+  std::vector<FitParameter> params;
+  std::set<std::string> seen;
+  Data scratch(model);
+  for (const std::string& text : fit) {
+    for (const Path& block : ExpandPath(model, text)) {
+      for (const Path& p : ScalarPaths(block)) {
+        if (p.role != Role::kParameter || p.field.rfind("opt.", 0) == 0 || !p.writable) {
+          throw ValueError(fmt::format(
+              "--fit '{}': {} is {}, not a model parameter that can be fitted (dof_damping[...], "
+              "body_mass[...], geom_friction[...][0], actuator_gear[...][0], ...)",
+              text, p.text, p.role == Role::kParameter ? "not writable" : RoleName(p.role)));
+        }
+        if (!seen.insert(fmt::format("{}:{}", p.field_index, p.first)).second) {
+          throw ValueError(fmt::format("--fit '{}': {} is fitted twice", text, p.text));
+        }
+        FitParameter f;
+        f.path = p;
+        f.nominal = ReadValue(model, scratch, p);
+        if (MustBeNonNegative(p)) f.lo = 0;
+        params.push_back(f);
+      }
+    }
+  }
+  if (params.empty()) throw ValueError("--fit: name at least one parameter to fit");
+  for (const std::string& text : bounds) {
+    auto [path_text, range] = SplitAssignment(text, "--bounds", "'dof_damping[hinge]=0:1'");
+    Path p = ResolvePath(model, path_text);
+    auto it = std::find_if(params.begin(), params.end(),
+                           [&](const FitParameter& f) { return f.path.text == p.text; });
+    if (it == params.end()) {
+      throw ValueError(
+          fmt::format("--bounds '{}': {} is not among the --fit parameters", text, p.text));
+    }
+    std::string r(range);
+    auto colon = r.find(':');
+    char* end = nullptr;
+    double lo = colon == std::string::npos ? NAN : std::strtod(r.c_str(), &end);
+    bool lo_ok = colon != std::string::npos && end == r.c_str() + colon;
+    double hi = colon == std::string::npos ? NAN : std::strtod(r.c_str() + colon + 1, &end);
+    bool hi_ok = lo_ok && *end == '\0' && end != r.c_str() + colon + 1;
+    if (!lo_ok || !hi_ok || !(lo < hi)) {
+      throw ValueError(
+          fmt::format("--bounds '{}': give LO:HI with LO < HI, e.g. '{}=0:1'", text, p.text));
+    }
+    if (it->nominal < lo || it->nominal > hi) {
+      throw ValueError(
+          fmt::format("--bounds '{}': the model's {} = {:g} lies outside; start "
+                      "inside the bounds (--set {}=...)",
+                      text, p.text, it->nominal, p.text));
+    }
+    it->lo = lo;
+    it->hi = hi;
+  }
+  for (FitParameter& f : params) {
+    f.scale = f.nominal != 0                               ? std::fabs(f.nominal)
+              : std::isfinite(f.hi) && std::isfinite(f.lo) ? f.hi - f.lo
+              : std::isfinite(f.hi)                        ? std::max(std::fabs(f.hi), 1e-3)
+                                                           : 1.0;
+  }
+  return params;
+}
+
+IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
+                        const IdentifyOptions& options) {
+  std::vector<FitParameter> params = ResolveFitParameters(model, options.fit, options.bounds);
+  Residuals f(model, logs, params, options.replay, options.threads);
+  std::size_t n = params.size();
+  if (f.size() <= static_cast<long>(f.parameters())) {
+    throw ValueError(fmt::format(
+        "the logs hold {} measured samples for {} unknowns ({} parameters and the start states): "
+        "fitting needs more samples than unknowns",
+        f.size(), f.parameters(), n));
+  }
+  IdentifyResult result;
+  double dt = model->opt.timestep;
+  std::vector<double> x(f.parameters(), 0.0);  // start offsets from 0: the logged start
+  for (std::size_t i = 0; i < n; ++i) x[i] = params[i].nominal / params[i].scale;
+  Solve(f, params, options.max_iterations, &x, &result.first_pass_cost);
+  // the delay: the parameters are fitted at every candidate, and the best fit wins (a scan
+  // at fixed parameters can settle on a wrong delay that the parameters then absorb)
+  if (options.delay != DelayKind::kNone) {
+    double best_cost = INFINITY;
+    std::vector<double> best_x = x;
+    ReplayOptions replay = f.replay(), best_replay = replay;
+    long steps = std::max(1L, std::lround(options.max_delay / dt));
+    for (long k = 0; k <= steps; ++k) {
+      (options.delay == DelayKind::kInput ? replay.input_delay : replay.sensor_delay) = k * dt;
+      f.set_replay(replay);
+      std::vector<double> at = x;
+      std::vector<double> ignored;
+      ceres::Solver::Summary s = Solve(f, params, options.max_iterations, &at, &ignored);
+      result.delay_scan.push_back({k * dt, s.final_cost});
+      if (s.final_cost < best_cost) best_cost = s.final_cost, best_x = at, best_replay = replay;
+    }
+    x = best_x;
+    f.set_replay(best_replay);
+  }
+  result.noise = Reweight(f, logs, x);
+  ceres::Solver::Summary summary = Solve(f, params, options.max_iterations, &x, &result.cost);
+  result.delay = options.delay == DelayKind::kInput    ? f.replay().input_delay
+                 : options.delay == DelayKind::kSensor ? f.replay().sensor_delay
+                                                       : 0;
+  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.termination = summary.message;
+  Statistics(f, params, x, &result);
+  Model fitted = model.Clone();
+  ApplyEstimates(fitted, result);
+  for (const RobotLog& log : logs) {
+    result.before.push_back(Replay(model, log, options.replay));
+    result.after.push_back(Replay(fitted, log, f.replay()));
+  }
+  return result;
+}
+
+void ApplyEstimates(Model& model, const IdentifyResult& result) {
+  std::vector<Assignment> edits;
+  for (const Estimate& e : result.estimates) {
+    Assignment a;
+    a.text = e.path;
+    a.path = ResolvePath(model, e.path);
+    a.values = {e.value};
+    edits.push_back(std::move(a));
+  }
+  Data scratch(model);
+  if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
+}
+
+}  // namespace plumb

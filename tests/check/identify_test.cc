@@ -1,0 +1,211 @@
+// Identification on logs plumb made from known parameters: estimates within 3 standard
+// errors of the truth, honest standard errors, flagged unidentifiable pairs, delays.
+
+#include "plumb/identify.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "fixture.h"
+#include "plumb/error.h"
+#include "sim/log_maker.h"
+
+namespace plumb {
+namespace {
+
+class IdentifyTest : public ::testing::Test {
+ protected:
+  RobotLog Log(const testing::LogSpec& spec, const Model& model) {
+    std::string path = testing::MakeLog(dir_.File("log" + std::to_string(++logs_) + ".csv"), spec);
+    return LoadRobotLog(model, path, model->opt.timestep);
+  }
+  testing::TempDir dir_;
+  int logs_ = 0;
+};
+
+// The chapter's pendulum: its damping, 0.05, from a free decay from 0.7 rad, measured with
+// noise, starting the fit from a wrong guess.
+TEST_F(IdentifyTest, ThePendulumsDampingFromAFreeDecay) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::LogSpec spec;
+  spec.set = {"qpos[hinge]=0.7"};
+  spec.noise = {0.002, 0.01};
+  spec.until = 5;
+  spec.every = 5;
+  RobotLog log = Log(spec, model);
+  Model guess = model.Clone();
+  {
+    Data d(guess);
+    WriteValues(guess, d, ResolvePath(guess, "dof_damping[hinge]"), {0.2});
+  }
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  IdentifyResult r = Identify(guess, {log}, o);
+  ASSERT_EQ(r.estimates.size(), 1u);
+  const Estimate& e = r.estimates[0];
+  EXPECT_EQ(e.nominal, 0.2);
+  EXPECT_NEAR(e.value, 0.05, 3 * e.std_error) << "se " << e.std_error;
+  EXPECT_LT(e.std_error, 0.002);
+  EXPECT_GT(e.std_error, 0);
+  EXPECT_NEAR(r.noise[0][0], 0.002, 0.0003);  // the noise, estimated from the residuals
+  EXPECT_NEAR(r.noise[0][1], 0.01, 0.0015);
+  EXPECT_NEAR(r.residual_variance, 1, 0.2);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
+  EXPECT_LT(r.after[0].signals[0].rms, r.before[0].signals[0].rms);
+  EXPECT_GE(r.cost.size(), 1u);
+}
+
+// Over many noise draws the truth falls within 2 standard errors about 95 % of the time:
+// the standard errors are honest.
+TEST_F(IdentifyTest, StandardErrorsAreHonestOverManySeeds) {
+  Model model = Model::Load(testing::kPendulum);
+  int within_two = 0, within_three = 0, seeds = 20;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    testing::LogSpec spec;
+    spec.set = {"qpos[hinge]=0.7"};
+    spec.noise = {0.003, 0.02};
+    spec.until = 4;
+    spec.every = 5;
+    spec.seed = seed;
+    IdentifyOptions o;
+    o.fit = {"dof_damping[hinge]"};
+    IdentifyResult r = Identify(model, {Log(spec, model)}, o);
+    double z = std::fabs(r.estimates[0].value - 0.05) / r.estimates[0].std_error;
+    within_two += z <= 2;
+    within_three += z <= 3;
+  }
+  // 95 % of 20 is 19; a binomial(20, 0.95) gives 17 or more 98 % of the time
+  EXPECT_GE(within_two, 17);
+  EXPECT_GE(within_three, 19);
+}
+
+// The two-joint arm: damping, armature and friction loss of both joints from chirps on both
+// motors.
+TEST_F(IdentifyTest, AnArmsDampingArmatureAndFrictionLoss) {
+  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
+  Model model = Model::Load(arm);
+  testing::LogSpec spec;
+  spec.model = arm;
+  spec.input = "ctrl[shoulder]";
+  spec.u = testing::Chirp(6, 6);
+  spec.more_inputs = {
+      {"ctrl[elbow]", [](double t) { return 2.5 * std::sin(7 * t + 0.3 * t * t); }}};
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  spec.noise = {0.001, 0.001, 0.01, 0.01};
+  spec.until = 6;
+  spec.every = 2;
+  RobotLog log = Log(spec, model);
+  Model guess = model.Clone();
+  {
+    Data d(guess);
+    for (const char* s : {"dof_damping[shoulder]=1.2", "dof_damping[elbow]=0.2",
+                          "dof_armature[shoulder]=0.1", "dof_armature[elbow]=0.05",
+                          "dof_frictionloss[shoulder]=0.1", "dof_frictionloss[elbow]=0.2"}) {
+      Assignment a = ParseAssignment(guess, s);
+      WriteValues(guess, d, a.path, a.values);
+    }
+  }
+  IdentifyOptions o;
+  o.fit = {"dof_damping[*]", "dof_armature[*]", "dof_frictionloss[*]"};
+  IdentifyResult r = Identify(guess, {log}, o);
+  std::map<std::string, double> truth = {
+      {"dof_damping[shoulder]", 0.8},      {"dof_damping[elbow]", 0.4},
+      {"dof_armature[shoulder]", 0.05},    {"dof_armature[elbow]", 0.02},
+      {"dof_frictionloss[shoulder]", 0.3}, {"dof_frictionloss[elbow]", 0.1}};
+  ASSERT_EQ(r.estimates.size(), 6u);
+  for (const Estimate& e : r.estimates) {
+    ASSERT_TRUE(truth.count(e.path)) << e.path;
+    EXPECT_NEAR(e.value, truth[e.path], 3 * e.std_error) << e.path << " se " << e.std_error;
+    EXPECT_LT(e.std_error, 0.1 * truth[e.path]) << e.path;
+  }
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
+}
+
+// A payload's mass, from the arm driven by steps.
+TEST_F(IdentifyTest, APayloadsMass) {
+  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
+  Model model = Model::Load(arm);
+  testing::LogSpec spec;
+  spec.model = arm;
+  spec.set = {"body_mass[payload]=0.8"};
+  spec.input = "ctrl[shoulder]";
+  spec.u = [](double t) { return std::fmod(t, 1.0) < 0.5 ? 12.0 : 4.0; };
+  spec.more_inputs = {
+      {"ctrl[elbow]", [](double t) { return std::fmod(t, 0.7) < 0.35 ? 3.0 : -1.0; }}};
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  spec.noise = {0.001, 0.001, 0.01, 0.01};
+  spec.until = 4;
+  spec.every = 2;
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"body_mass[payload]"};
+  IdentifyResult r = Identify(model, {log}, o);  // from the nominal 0.5 kg
+  const Estimate& e = r.estimates[0];
+  EXPECT_NEAR(e.value, 0.8, 3 * e.std_error) << "se " << e.std_error;
+  EXPECT_LT(e.std_error, 0.02);
+}
+
+// An input delay of a few control periods, recovered with the damping.
+TEST_F(IdentifyTest, AnInputDelay) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::LogSpec spec;
+  spec.u = testing::Chirp(3, 4);
+  spec.delay_steps = 6;  // 12 ms
+  spec.noise = {0.001, 0.01};
+  spec.until = 4;
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  o.delay = DelayKind::kInput;
+  o.max_delay = 0.05;
+  IdentifyResult r = Identify(model, {log}, o);
+  EXPECT_NEAR(r.delay, 0.012, 1e-9);
+  EXPECT_NEAR(r.estimates[0].value, 0.05, 3 * r.estimates[0].std_error);
+  EXPECT_EQ(r.delay_scan.size(), 26u);
+}
+
+// Damping and friction loss from one free decay move together: flagged, with the log that
+// would separate them.
+TEST_F(IdentifyTest, AnUnidentifiablePairIsFlagged) {
+  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
+  Model model = Model::Load(arm);
+  testing::LogSpec spec;
+  spec.model = arm;
+  spec.set = {"qpos[shoulder]=-0.4", "qpos[elbow]=0"};  // one free decay
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  spec.noise = {0.005, 0.005, 0.05, 0.05};
+  spec.until = 1;
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[shoulder]", "dof_frictionloss[shoulder]"};
+  IdentifyResult r = Identify(model, {log}, o);
+  EXPECT_LT(r.correlation[0][1], -0.95);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("dof_damping[shoulder] and dof_frictionloss[shoulder] are "
+                               "correlated at -0.9"),
+            std::string::npos)
+      << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("free decays from several amplitudes, or a chirp"),
+            std::string::npos);
+}
+
+TEST_F(IdentifyTest, BadParametersAreRefused) {
+  Model model = Model::Load(testing::kPendulum);
+  EXPECT_THROW(ResolveFitParameters(model, {"qpos[hinge]"}, {}), ValueError);
+  EXPECT_THROW(ResolveFitParameters(model, {"dof_dampnig[hinge]"}, {}), PathError);
+  EXPECT_THROW(ResolveFitParameters(model, {"dof_damping[hinge]", "dof_damping[0]"}, {}),
+               ValueError);
+  EXPECT_THROW(ResolveFitParameters(model, {"dof_damping[hinge]"}, {"dof_damping[hinge]=1:0"}),
+               ValueError);
+  EXPECT_THROW(ResolveFitParameters(model, {"dof_damping[hinge]"}, {"dof_damping[hinge]=1:2"}),
+               ValueError);  // the nominal 0.05 lies outside
+  std::vector<FitParameter> p =
+      ResolveFitParameters(model, {"dof_damping[hinge]"}, {"dof_damping[hinge]=0:0.5"});
+  EXPECT_EQ(p[0].lo, 0);
+  EXPECT_EQ(p[0].hi, 0.5);
+  EXPECT_EQ(ResolveFitParameters(model, {"dof_armature[hinge]"}, {})[0].lo, 0);  // >= 0
+}
+
+}  // namespace
+}  // namespace plumb
