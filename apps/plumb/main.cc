@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   SetupRenderCommand(app, ctx);
   SetupBridgeCommand(app, ctx);
   SetupReplayCommand(app, ctx);
+  SetupIdentifyCommand(app, ctx);
   SetupResultsCommands(app, ctx);
   AcceptIntegerNotation(&app);
 

@@ -6,6 +6,9 @@
 //       from lying down to standing, as Unitree's stand example does: joint targets
 //       interpolated from where the legs are to the standing pose over 1 s, kp 50, kd 3.5,
 //       then held
+//   pd_client torque --domain D [--seconds 3]
+//       motor 0 driven by torque alone (kp = kd = 0): a chirp of 2 N m from 0.2 to 3 Hz over
+//       --seconds, computed at each state's time; for identification from the flight log
 // It answers every state with one command (so a lockstep simulator advances in step) and
 // stops after --seconds of the robot's time (the state's tick). Exit 0, or 1 when no state
 // came within 5 s.
@@ -64,11 +67,14 @@ const char* Option(int argc, char** argv, const char* name, const char* fallback
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || (std::strcmp(argv[1], "pendulum") != 0 && std::strcmp(argv[1], "go2") != 0)) {
-    std::fprintf(stderr, "usage: pd_client pendulum|go2 --domain D [--target Q] [--seconds S]\n");
+  if (argc < 2 || (std::strcmp(argv[1], "pendulum") != 0 && std::strcmp(argv[1], "go2") != 0 &&
+                   std::strcmp(argv[1], "torque") != 0)) {
+    std::fprintf(stderr,
+                 "usage: pd_client pendulum|go2|torque --domain D [--target Q] [--seconds S]\n");
     return 2;
   }
   bool go2 = std::strcmp(argv[1], "go2") == 0;
+  bool torque = std::strcmp(argv[1], "torque") == 0;
   auto domain = static_cast<dds_domainid_t>(std::atoi(Option(argc, argv, "--domain", "1")));
   double target = std::atof(Option(argc, argv, "--target", "0.5"));
   double seconds = std::atof(Option(argc, argv, "--seconds", "3"));
@@ -132,6 +138,12 @@ int main(int argc, char** argv) {
         m.kp = 50;
         m.kd = 3.5f;
       }
+    } else if (torque) {
+      const double kPi = 3.14159265358979323846;
+      auto& m = cmd.motor_cmd[0];
+      m.mode = 1;
+      m.tau = static_cast<float>(
+          2.0 * std::sin(2 * kPi * (0.2 * t + (3.0 - 0.2) * t * t / (2 * seconds))));
     } else {
       auto& m = cmd.motor_cmd[0];
       m.mode = 1;

@@ -36,6 +36,10 @@ inline constexpr bool kMujoco36 = mjVERSION_HEADER >= 3006000;
 // the same state always gives the same picture.
 inline constexpr bool kRendererFirstFrameDiffers = !kMujoco3;
 
+// MuJoCo's model-editing API (mjSpec) as plumb uses it to save fitted models: mjs_* element
+// access, polynomial joint damping/stiffness arrays (mjsJoint::damping[0]). 2.x has none.
+#define PLUMB_MUJOCO_HAS_SPEC (mjVERSION_HEADER >= 3010000)
+
 // The X-macro listing the integer size fields of mjModel (nq, nv, nbody, ...).
 #if mjVERSION_HEADER >= 3005000
 #define PLUMB_MJMODEL_SIZES MJMODEL_SIZES

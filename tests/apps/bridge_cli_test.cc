@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "bridge/test_domain.h"
@@ -133,6 +134,33 @@ TEST(CliBridgeTest, TheRecordedLogReplaysBitForBit) {
     ASSERT_EQ(data->qpos[0], log.At(row, "qpos[0]")) << "row " << row;
     ASSERT_EQ(data->qvel[0], log.At(row, "qvel[0]")) << "row " << row;
   }
+}
+
+// The flight log of a run with 10 ms of injected command latency, fitted with plumb identify,
+// gives the latency back (the commands are logged as they arrive, before the fault holds
+// them), with the pendulum's damping.
+TEST(CliBridgeTest, AFlightLogWithLatencyGivesTheLatencyBack) {
+  testing::TempDir dir;
+  std::uint32_t domain = testing::FreeDomain();
+  testing::WriteFile(dir.File("bridge.toml"), PendulumConfig(domain) +
+                                                  "[[faults]]\nkind = \"latency\"\n"
+                                                  "direction = \"command\"\nfixed_ms = 10\n");
+  BridgeAndClient(dir.path(), "'" + testing::kPendulum + "' --config bridge.toml",
+                  "torque --domain " + std::to_string(domain) + " --seconds 2.99");
+  ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
+      << testing::ReadFile(dir.File("bridge.err"));
+  testing::WriteFile(dir.File("map.toml"),
+                     "[columns]\n\"cmd.tau[0]\" = \"qfrc_applied[hinge]\"\n"
+                     "\"qfrc_applied[0]\" = \"\"\n");
+  auto r = testing::RunPlumb("identify '" + testing::kPendulum +
+                                 "' --log log.csv --columns map.toml --fit 'dof_damping[hinge]' "
+                                 "--delay ctrl --max-delay 0.03 --format json",
+                             dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["delay"]["value"].get<double>(), 0.010, 1e-9) << r.out;
+  double value = j["estimates"][0]["value"], se = j["estimates"][0]["std_error"];
+  EXPECT_NEAR(value, 0.05, std::max(3 * se, 1e-6)) << r.out;
 }
 
 TEST(CliBridgeTest, AGo2StandsUp) {

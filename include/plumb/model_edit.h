@@ -1,0 +1,40 @@
+// Writing a model with changed parameters back to MJCF, every attribute right.
+//
+// mj_saveLastXML writes the model as it was compiled and cannot express every runtime edit
+// (an edited body_mass is lost: the body's inertial came from its geoms). This goes through
+// MuJoCo's model-editing API (mjSpec): the source MJCF is parsed again, each changed value is
+// set on its element (a joint's damping, a body's explicit inertial, a geom's friction, an
+// actuator's gear, ...), the result is compiled to check it and saved.
+//
+// Example:
+//   plumb::SaveXmlWithParameters("arm.xml", fitted, {ResolvePath(fitted, "body_mass[payload]")},
+//                                "arm-fitted.xml");
+
+#ifndef PLUMB_INCLUDE_PLUMB_MODEL_EDIT_H_
+#define PLUMB_INCLUDE_PLUMB_MODEL_EDIT_H_
+
+#include <string>
+#include <vector>
+
+#include "plumb/model.h"
+#include "plumb/path.h"
+
+namespace plumb {
+
+// Whether this build can write edited models (MuJoCo 3.10 or later: mjSpec).
+bool CanSaveEditedXml();
+
+// Writes `source_xml` with the values `edited` holds at `paths` to `out` (whole or not at
+// all). Supported fields: dof_damping, dof_armature, dof_frictionloss, jnt_stiffness,
+// body_mass, body_ipos, body_inertia, geom_friction, actuator_gear, actuator_gainprm,
+// actuator_biasprm. Relative mesh and texture folders are made absolute when `out` lies in
+// another folder.
+// @throws UnavailableError before MuJoCo 3.10; ValueError for an unsupported field or an
+// element without a name; LoadError when the source does not parse or the edited model does
+// not compile; IoError when `out` cannot be written.
+void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
+                           const std::vector<Path>& paths, const std::string& out);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_MODEL_EDIT_H_

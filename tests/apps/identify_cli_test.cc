@@ -1,0 +1,139 @@
+// plumb replay and plumb identify as a user runs them: logs from plumb run, bad logs and
+// options refused with exit 2 and nothing written, the fitted model saved and loadable.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "fixture.h"
+#include "plumb/model.h"
+#include "plumb/model_edit.h"
+#include "plumb/path.h"
+#include "sim/log_maker.h"
+
+namespace plumb {
+namespace {
+
+class CliIdentifyTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // the robot: more damping than the model says
+    auto r = testing::RunPlumb("run '" + testing::kPendulum +
+                                   "' --set 'qpos[hinge]=0.7' --set 'dof_damping[hinge]=0.2' "
+                                   "--format csv --until 3 --every 0.01 -o decay.csv",
+                               dir_.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  testing::TempDir dir_;
+};
+
+TEST_F(CliIdentifyTest, ReplayShowsTheMismatchAndWindowsBoundIt) {
+  auto r = testing::RunPlumb("replay '" + testing::kPendulum + "' --log decay.csv --format json",
+                             dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["signals"].size(), 2u);
+  EXPECT_EQ(j["signals"][0]["column"], "qpos[hinge]");
+  EXPECT_EQ(j["signals"][0]["samples"], 301);
+  EXPECT_GT(j["signals"][0]["rms"].get<double>(), 0.05);
+  EXPECT_LT(j["fit"].get<double>(), 90);
+  r = testing::RunPlumb(
+      "replay '" + testing::kPendulum + "' --log decay.csv --set 'dof_damping[hinge]=0.2'",
+      dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("overall fit 100.00 %"), std::string::npos) << r.out;
+}
+
+TEST_F(CliIdentifyTest, IdentifyRecoversTheDampingAndSavesTheModel) {
+  auto r = testing::RunPlumb("identify '" + testing::kPendulum +
+                                 "' --log decay.csv --fit 'dof_damping[hinge]' -o fitted.xml",
+                             dir_.path());
+  if (!CanSaveEditedXml()) {
+    EXPECT_EQ(r.exit_code, 5) << r.err;
+    EXPECT_NE(r.err.find("mjSpec"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("fitted.xml")));
+    return;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("dof_damping[hinge]: 0.05 -> 0.2"), std::string::npos) << r.out;
+  Model fitted = Model::Load(dir_.File("fitted.xml"));
+  Data d(fitted);
+  EXPECT_NEAR(ReadValue(fitted, d, ResolvePath(fitted, "dof_damping[hinge]")), 0.2, 1e-9);
+  // the saved model replays the log exactly
+  r = testing::RunPlumb("replay fitted.xml --log decay.csv", dir_.path());
+  EXPECT_NE(r.out.find("overall fit 100.00 %"), std::string::npos) << r.out;
+}
+
+TEST_F(CliIdentifyTest, AFittedMassIsSavedWithItsInertia) {
+  if (!CanSaveEditedXml()) GTEST_SKIP() << "this MuJoCo has no mjSpec";
+  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
+  testing::LogSpec spec;
+  spec.model = arm;
+  spec.set = {"body_mass[payload]=0.8"};
+  spec.input = "ctrl[shoulder]";
+  spec.u = [](double t) { return std::fmod(t, 1.0) < 0.5 ? 12.0 : 4.0; };
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  spec.until = 2;
+  testing::MakeLog(dir_.File("steps.csv"), spec);
+  auto r = testing::RunPlumb(
+      "identify '" + arm + "' --log steps.csv --fit 'body_mass[payload]' -o arm-fitted.xml",
+      dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Model fitted = Model::Load(dir_.File("arm-fitted.xml"));
+  Model truth = Model::Load(arm);
+  Data d(truth);
+  WriteValues(truth, d, ResolvePath(truth, "body_mass[payload]"), {0.8});
+  int b = mj_name2id(fitted.get(), mjOBJ_BODY, "payload");
+  EXPECT_NEAR(fitted->body_mass[b], 0.8, 1e-6);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(fitted->body_inertia[3 * b + k], truth->body_inertia[3 * b + k], 1e-8);
+}
+
+TEST_F(CliIdentifyTest, BadInputIsExit2AndWritesNothing) {
+  testing::WriteFile(dir_.File("back.csv"), "time,qpos[hinge]\n0,0.7\n0.01,0.69\n0.005,0.68\n");
+  auto r = testing::RunPlumb(
+      "identify '" + testing::kPendulum + "' --log back.csv --fit 'dof_damping[hinge]' -o out.xml",
+      dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("back.csv: row 4, column 'time': goes backwards"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.xml")));
+  r = testing::RunPlumb(
+      "identify '" + testing::kPendulum + "' --log decay.csv --fit 'qpos[hinge]' -o out.xml",
+      dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not a model parameter"), std::string::npos) << r.err;
+  r = testing::RunPlumb("identify '" + testing::kPendulum +
+                            "' --log decay.csv --fit 'dof_damping[hinge]' --bounds "
+                            "'dof_damping[hinge]=1:2'",
+                        dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("lies outside"), std::string::npos) << r.err;
+  r = testing::RunPlumb("replay '" + testing::kPendulum + "' --log nosuch.csv", dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nosuch.csv"), std::string::npos) << r.err;
+  r = testing::RunPlumb("replay '" + testing::kPendulum + "' --log decay.csv --window -1",
+                        dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.xml")));
+}
+
+TEST_F(CliIdentifyTest, AValidationLogIsReported) {
+  auto make = testing::RunPlumb("run '" + testing::kPendulum +
+                                    "' --set 'qpos[hinge]=-0.4' --set 'dof_damping[hinge]=0.2' "
+                                    "--format csv --until 2 --every 0.01 -o other.csv",
+                                dir_.path());
+  ASSERT_EQ(make.exit_code, 0) << make.err;
+  auto r = testing::RunPlumb("identify '" + testing::kPendulum +
+                                 "' --log decay.csv --fit 'dof_damping[hinge]' --validate "
+                                 "other.csv --format json",
+                             dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_LT(j["validation"]["fit_nominal"].get<double>(), 95);
+  EXPECT_GT(j["validation"]["fit_fitted"].get<double>(), 99.9);
+}
+
+}  // namespace
+}  // namespace plumb
