@@ -12,6 +12,7 @@
 #include "plumb/error.h"
 #include "plumb/identify.h"
 #include "plumb/model_edit.h"
+#include "plumb/report.h"
 
 namespace plumb::cli {
 namespace {
@@ -26,6 +27,7 @@ struct IdentifyCommandOptions {
   std::string validate;
   std::string output;  // -o FITTED.xml
   std::string format = "table";
+  std::string report;  // --report FILE.html
 };
 
 nlohmann::ordered_json Number(double v) {
@@ -163,7 +165,7 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   return j.dump(2) + "\n";
 }
 
-int RunIdentify(IdentifyCommandOptions o) {
+int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   Model model = LoadModel(o.model);
   ApplyParameterSets(model, o.sets);
   if (o.delay == "ctrl") o.identify.delay = DelayKind::kInput;
@@ -201,6 +203,10 @@ int RunIdentify(IdentifyCommandOptions o) {
     for (const Estimate& e : r.estimates) paths.push_back(ResolvePath(fitted, e.path));
     SaveXmlWithParameters(o.model, fitted, paths, o.output);
     std::fprintf(stderr, "plumb: wrote the fitted model %s\n", o.output.c_str());
+  }
+  if (!o.report.empty()) {
+    WriteIdentifyReport(o.report, model, logs, r, ReportInfo{ctx.argv});
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   const Validation* shown = validation.empty() ? nullptr : &v;
   WriteStdout(o.format == "json" ? Json(r, logs, o, shown) : Table(r, logs, o, shown));
@@ -250,7 +256,8 @@ void SetupIdentifyCommand(CLI::App& app, Context& ctx) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
   AddFormatOption(cmd, &o->format, {"table", "json"});
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunIdentify(*o); }; });
+  AddReportOption(cmd, &o->report);
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunIdentify(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

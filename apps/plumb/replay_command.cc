@@ -11,6 +11,7 @@
 #include "log_options.h"
 #include "plumb/error.h"
 #include "plumb/replay.h"
+#include "plumb/report.h"
 
 namespace plumb::cli {
 namespace {
@@ -22,6 +23,7 @@ struct ReplayCommandOptions {
   std::string columns;  // column map
   ReplayOptions replay;
   std::string format = "table";
+  std::string report;  // --report FILE.html
 };
 
 nlohmann::ordered_json Number(double v) {
@@ -76,7 +78,7 @@ std::string Table(const ReplayResult& r, const RobotLog& log, const ReplayComman
   return out;
 }
 
-int RunReplay(const ReplayCommandOptions& o) {
+int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   ApplyParameterSets(model, o.sets);
   if (!(o.replay.window >= 0 && std::isfinite(o.replay.window))) {
@@ -87,6 +89,10 @@ int RunReplay(const ReplayCommandOptions& o) {
   }
   RobotLog log = std::move(LoadLogs(model, {o.log}, o.columns).front());
   ReplayResult r = Replay(model, log, o.replay);
+  if (!o.report.empty()) {
+    WriteReplayReport(o.report, model, log, r, o.replay, ReportInfo{ctx.argv});
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
+  }
   WriteStdout(o.format == "json" ? Json(r, log, o) : Table(r, log, o));
   return r.simulated.diverged ? kExitDiverged : kExitOk;
 }
@@ -116,7 +122,8 @@ void SetupReplayCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--sensor-delay", o->replay.sensor_delay,
                   "measurements show the state S seconds before their time stamp");
   AddFormatOption(cmd, &o->format, {"table", "json"});
-  cmd->callback([o, &ctx] { ctx.action = [o] { return RunReplay(*o); }; });
+  AddReportOption(cmd, &o->report);
+  cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunReplay(*o, ctx); }; });
 }
 
 }  // namespace plumb::cli

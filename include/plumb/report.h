@@ -22,8 +22,11 @@
 
 #include "plumb/audit.h"
 #include "plumb/converge.h"
+#include "plumb/identify.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/replay.h"
+#include "plumb/robot_log.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -88,6 +91,19 @@ class BatchCollector {
 void WriteBatchReport(const std::string& path, const std::string& kind, const Model& model,
                       const std::vector<Assignment>& sets, const BatchCollector& batch,
                       const ReportInfo& info);
+
+// plumb replay --report: per measured signal, logged against simulated with the rms error
+// band, and the error over time.
+void WriteReplayReport(const std::string& path, const Model& model, const RobotLog& log,
+                       const ReplayResult& result, const ReplayOptions& options,
+                       const ReportInfo& info);
+
+// plumb identify --report: the estimates with their 95 % intervals, the correlation matrix,
+// the cost per iteration, the delay scan, and per log logged against simulated before and
+// after the fit.
+void WriteIdentifyReport(const std::string& path, const Model& model,
+                         const std::vector<RobotLog>& logs, const IdentifyResult& result,
+                         const ReportInfo& info);
 
 }  // namespace plumb
 

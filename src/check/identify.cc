@@ -474,6 +474,12 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
         "fitting needs more samples than unknowns",
         f.size(), f.parameters(), n));
   }
+  if (options.delay == DelayKind::kInput &&
+      std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
+    throw ValueError(
+        "--delay ctrl: the logs have no input column (ctrl[...], qfrc_applied[...]): there is "
+        "no input to delay; name the commanded input with a column map, or leave --delay out");
+  }
   IdentifyResult result;
   double dt = model->opt.timestep;
   std::vector<double> x(f.parameters(), 0.0);  // start offsets from 0: the logged start

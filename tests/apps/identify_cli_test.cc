@@ -110,6 +110,11 @@ TEST_F(CliIdentifyTest, BadInputIsExit2AndWritesNothing) {
                         dir_.path());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("lies outside"), std::string::npos) << r.err;
+  r = testing::RunPlumb("identify '" + testing::kPendulum +
+                            "' --log decay.csv --fit 'dof_damping[hinge]' --delay ctrl",
+                        dir_.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("no input column"), std::string::npos) << r.err;
   r = testing::RunPlumb("replay '" + testing::kPendulum + "' --log nosuch.csv", dir_.path());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("nosuch.csv"), std::string::npos) << r.err;

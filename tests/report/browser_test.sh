@@ -26,6 +26,12 @@ set -x
 "$plumb" rollout "$m" --set 'qpos[hinge]=0.7' --count 200 --until 1 --seed 3 \
   --randomize 'dof_damping[hinge]=U(0,0.5)' --randomize 'body_mass[link]=*U(0.5,2)' \
   --metric 'qpos[hinge]@1' --metric energy_drift --report "$out/rollout.html" >/dev/null
+# a "robot" with more damping than the model, replayed and fitted
+"$plumb" run "$m" --set 'qpos[hinge]=0.7' --set 'dof_damping[hinge]=0.2' --format csv \
+  --until 3 --every 0.01 -o "$out/decay.csv"
+"$plumb" replay "$m" --log "$out/decay.csv" --report "$out/replay.html" >/dev/null
+"$plumb" identify "$m" --log "$out/decay.csv" --fit 'dof_damping[hinge]' \
+  --report "$out/identify.html" >/dev/null
 set +x
 PLUMB_EXPECT_THUMBNAILS=audit.html "$python" "$here/browser_check.py" "$out"/verify.html "$out"/audit.html "$out"/converge.html \
-  "$out"/sweep.html "$out"/rollout.html
+  "$out"/sweep.html "$out"/rollout.html "$out"/replay.html "$out"/identify.html
