@@ -217,6 +217,27 @@ inline std::vector<double> CsvColumn(const std::string& csv, int column) {
   return values;
 }
 
+// Where scripts/fetch-robots.sh puts the robot corpus (make corpus): $PLUMB_CACHE/robots,
+// else ${XDG_CACHE_HOME:-$HOME/.cache}/plumb/robots.
+inline std::filesystem::path CorpusRoot() {
+  if (const char* cache = std::getenv("PLUMB_CACHE"); cache && *cache) {
+    return std::filesystem::path(cache) / "robots";
+  }
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) {
+    return std::filesystem::path(xdg) / "plumb" / "robots";
+  }
+  const char* home = std::getenv("HOME");
+  return std::filesystem::path(home ? home : "/") / ".cache" / "plumb" / "robots";
+}
+
+// A model of the robot corpus by its path below CorpusRoot, or "" when the corpus is not
+// fetched (a test then skips, or fails when PLUMB_REQUIRE_CORPUS is set: see
+// RequireCorpusModel).
+inline std::string CorpusModel(const std::string& relative) {
+  std::filesystem::path p = CorpusRoot() / relative;
+  return std::filesystem::exists(p) ? p.string() : "";
+}
+
 // Output of one command run.
 struct CommandResult {
   int exit_code = -1;

