@@ -93,14 +93,14 @@ TEST_F(CliIdentifyTest, AFittedMassIsSavedWithItsInertia) {
 TEST_F(CliIdentifyTest, BadInputIsExit2AndWritesNothing) {
   testing::WriteFile(dir_.File("back.csv"), "time,qpos[hinge]\n0,0.7\n0.01,0.69\n0.005,0.68\n");
   auto r = testing::RunPlumb(
-      "identify '" + testing::kPendulum + "' --log back.csv --fit 'dof_damping[hinge]' -o out.xml",
+      "identify '" + testing::kPendulum + "' --log back.csv --fit 'dof_damping[hinge]' --report out.html",
       dir_.path());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("back.csv: row 4, column 'time': goes backwards"), std::string::npos)
       << r.err;
-  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.xml")));
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.html")));
   r = testing::RunPlumb(
-      "identify '" + testing::kPendulum + "' --log decay.csv --fit 'qpos[hinge]' -o out.xml",
+      "identify '" + testing::kPendulum + "' --log decay.csv --fit 'qpos[hinge]' --report out.html",
       dir_.path());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("not a model parameter"), std::string::npos) << r.err;
@@ -121,7 +121,7 @@ TEST_F(CliIdentifyTest, BadInputIsExit2AndWritesNothing) {
   r = testing::RunPlumb("replay '" + testing::kPendulum + "' --log decay.csv --window -1",
                         dir_.path());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.xml")));
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.html")));
 }
 
 TEST_F(CliIdentifyTest, AValidationLogIsReported) {
