@@ -86,6 +86,98 @@ void SignalCharts(report::Page* page, const RobotLog& log,
   page->EndGrid();
 }
 
+// The estimates with their intervals, the correlation matrix and the warnings.
+void EstimatesSection(report::Page* page, const IdentifyResult& r) {
+  page->Heading("Estimates");
+  std::string rows =
+      "<table><tr><th>parameter</th><th>nominal</th><th>estimate</th><th>std error</th>"
+      "<th>95 % interval</th><th>sensitivity</th></tr>\n";
+  for (const Estimate& e : r.estimates) {
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{:.6g}</td><td>{:.6g}</td><td>{:.3g}</td><td>[{:.5g}, {:.5g}]{}</td>"
+        "<td>{:.3g}</td></tr>\n",
+        report::Escape(e.path), e.nominal, e.value, e.std_error, e.value - 1.96 * e.std_error,
+        e.value + 1.96 * e.std_error, e.at_bound ? " (on its bound)" : "", e.sensitivity);
+  }
+  page->Html(rows + "</table>\n");
+  report::Chart bars("Estimates with 95 % intervals, relative to nominal", {"parameter (index)"},
+                     {"estimate / nominal"});
+  for (std::size_t i = 0; i < r.estimates.size(); ++i) {
+    const Estimate& e = r.estimates[i];
+    double unit = e.nominal != 0 ? e.nominal : 1;
+    double x = static_cast<double>(i);
+    bars.series.push_back(
+        {e.path, {x}, {e.value / unit}, report::Series::kPoints, "", false, "rectRot"});
+    bars.series.push_back(
+        {e.path + " 95 %",
+         {x, x},
+         {(e.value - 1.96 * e.std_error) / unit, (e.value + 1.96 * e.std_error) / unit}});
+  }
+  bars.how_to_read =
+      "Each diamond is an estimate divided by its nominal value (1: the model was right), with "
+      "its 95 % interval as a vertical bar (parameters with nominal 0 are shown as they are). "
+      "Healthy: short bars. Sick: a bar that spans zero or several times the value (the logs "
+      "do not pin the parameter down: see the warnings).";
+  page->Add(bars);
+  if (r.estimates.size() > 1) {
+    std::string table = "<table><tr><th></th>";
+    for (const Estimate& e : r.estimates) table += "<th>" + report::Escape(e.path) + "</th>";
+    table += "</tr>\n";
+    for (std::size_t i = 0; i < r.estimates.size(); ++i) {
+      table += "<tr><th>" + report::Escape(r.estimates[i].path) + "</th>";
+      for (std::size_t j = 0; j < r.estimates.size(); ++j) {
+        double c = r.correlation[i][j];
+        int shade = std::isfinite(c) ? static_cast<int>(255 - 155 * std::fabs(c)) : 255;
+        table += fmt::format("<td style=\"background: rgb({0},{0},255)\">{1:.3f}</td>", shade, c);
+      }
+      table += "</tr>\n";
+    }
+    page->Subheading("Correlation");
+    page->Paragraph(
+        "Above 0.95 in size, two parameters move the fit together: the logs cannot "
+        "tell them apart.");
+    page->Html(table + "</table>\n");
+  }
+  if (!r.warnings.empty()) {
+    page->Subheading("Warnings");
+    for (const std::string& w : r.warnings) page->Paragraph(w, "warn");
+  }
+}
+
+// The cost per iteration and the delay scan.
+void SolveSection(report::Page* page, const IdentifyResult& r) {
+  page->Heading("The solve");
+  page->Paragraph(fmt::format(
+      "{} iterations, {} ({}). Residual variance {:.3g}: about 1 when the model explains "
+      "everything but the noise.",
+      r.iterations, r.converged ? "converged" : "stopped", r.termination, r.residual_variance));
+  report::Chart cost("Cost per iteration", {"iteration"}, {"cost", true});
+  std::vector<double> first_x, final_x;
+  for (std::size_t i = 0; i < r.first_pass_cost.size(); ++i) first_x.push_back(double(i));
+  for (std::size_t i = 0; i < r.cost.size(); ++i) final_x.push_back(double(i));
+  cost.series.push_back(
+      {"first solve (weights: signal spread)", first_x, r.first_pass_cost, report::Series::kLine});
+  cost.series.push_back({"noise-weighted solve", final_x, r.cost, report::Series::kLine});
+  cost.how_to_read =
+      "Half the sum of squared weighted residuals after each accepted step. Healthy: a fast "
+      "drop, then flat. Sick: still falling at the last iteration (raise --max-iterations), or "
+      "flat from the start far above the number of samples (a wrong model structure).";
+  page->BeginGrid();
+  page->Add(cost);
+  if (!r.delay_scan.empty()) {
+    report::Chart scan(fmt::format("Delay: best {:g} s", r.delay), {"delay (s)"},
+                       {"cost after fitting", true});
+    std::vector<double> d, c;
+    for (const auto& [delay, value] : r.delay_scan) d.push_back(delay), c.push_back(value);
+    scan.series.push_back({"cost", d, c, report::Series::kPoints, "", false, "circle"});
+    scan.how_to_read =
+        "The parameters fitted at each delay. Healthy: one clear minimum. Sick: a flat curve "
+        "(the logs do not show the delay: add faster inputs).";
+    page->Add(scan);
+  }
+  page->EndGrid();
+}
+
 }  // namespace
 
 void WriteReplayReport(const std::string& path, const Model& model, const RobotLog& log,
@@ -117,90 +209,8 @@ void WriteIdentifyReport(const std::string& path, const Model& model,
                          const ReportInfo& info) {
   report::Page page = report::StartPage("identify", model, info);
   for (const RobotLog& log : logs) page.Meta("log", log.source);
-  page.Heading("Estimates");
-  std::string rows =
-      "<table><tr><th>parameter</th><th>nominal</th><th>estimate</th><th>std error</th>"
-      "<th>95 % interval</th><th>sensitivity</th></tr>\n";
-  for (const Estimate& e : r.estimates) {
-    rows += fmt::format(
-        "<tr><td>{}</td><td>{:.6g}</td><td>{:.6g}</td><td>{:.3g}</td><td>[{:.5g}, {:.5g}]{}</td>"
-        "<td>{:.3g}</td></tr>\n",
-        report::Escape(e.path), e.nominal, e.value, e.std_error, e.value - 1.96 * e.std_error,
-        e.value + 1.96 * e.std_error, e.at_bound ? " (on its bound)" : "", e.sensitivity);
-  }
-  page.Html(rows + "</table>\n");
-  report::Chart bars("Estimates with 95 % intervals, relative to nominal", {"parameter (index)"},
-                     {"estimate / nominal"});
-  for (std::size_t i = 0; i < r.estimates.size(); ++i) {
-    const Estimate& e = r.estimates[i];
-    double unit = e.nominal != 0 ? e.nominal : 1;
-    double x = static_cast<double>(i);
-    bars.series.push_back(
-        {e.path, {x}, {e.value / unit}, report::Series::kPoints, "", false, "rectRot"});
-    bars.series.push_back(
-        {e.path + " 95 %",
-         {x, x},
-         {(e.value - 1.96 * e.std_error) / unit, (e.value + 1.96 * e.std_error) / unit}});
-  }
-  bars.how_to_read =
-      "Each diamond is an estimate divided by its nominal value (1: the model was right), with "
-      "its 95 % interval as a vertical bar (parameters with nominal 0 are shown as they are). "
-      "Healthy: short bars. Sick: a bar that spans zero or several times the value (the logs "
-      "do not pin the parameter down: see the warnings).";
-  page.Add(bars);
-  if (r.estimates.size() > 1) {
-    std::string table = "<table><tr><th></th>";
-    for (const Estimate& e : r.estimates) table += "<th>" + report::Escape(e.path) + "</th>";
-    table += "</tr>\n";
-    for (std::size_t i = 0; i < r.estimates.size(); ++i) {
-      table += "<tr><th>" + report::Escape(r.estimates[i].path) + "</th>";
-      for (std::size_t j = 0; j < r.estimates.size(); ++j) {
-        double c = r.correlation[i][j];
-        int shade = std::isfinite(c) ? static_cast<int>(255 - 155 * std::fabs(c)) : 255;
-        table += fmt::format("<td style=\"background: rgb({0},{0},255)\">{1:.3f}</td>", shade, c);
-      }
-      table += "</tr>\n";
-    }
-    page.Subheading("Correlation");
-    page.Paragraph(
-        "Above 0.95 in size, two parameters move the fit together: the logs cannot "
-        "tell them apart.");
-    page.Html(table + "</table>\n");
-  }
-  if (!r.warnings.empty()) {
-    page.Subheading("Warnings");
-    for (const std::string& w : r.warnings) page.Paragraph(w, "warn");
-  }
-  page.Heading("The solve");
-  page.Paragraph(fmt::format(
-      "{} iterations, {} ({}). Residual variance {:.3g}: about 1 when the model explains "
-      "everything but the noise.",
-      r.iterations, r.converged ? "converged" : "stopped", r.termination, r.residual_variance));
-  report::Chart cost("Cost per iteration", {"iteration"}, {"cost", true});
-  std::vector<double> first_x, final_x;
-  for (std::size_t i = 0; i < r.first_pass_cost.size(); ++i) first_x.push_back(double(i));
-  for (std::size_t i = 0; i < r.cost.size(); ++i) final_x.push_back(double(i));
-  cost.series.push_back(
-      {"first solve (weights: signal spread)", first_x, r.first_pass_cost, report::Series::kLine});
-  cost.series.push_back({"noise-weighted solve", final_x, r.cost, report::Series::kLine});
-  cost.how_to_read =
-      "Half the sum of squared weighted residuals after each accepted step. Healthy: a fast "
-      "drop, then flat. Sick: still falling at the last iteration (raise --max-iterations), or "
-      "flat from the start far above the number of samples (a wrong model structure).";
-  page.BeginGrid();
-  page.Add(cost);
-  if (!r.delay_scan.empty()) {
-    report::Chart scan(fmt::format("Delay: best {:g} s", r.delay), {"delay (s)"},
-                       {"cost after fitting", true});
-    std::vector<double> d, c;
-    for (const auto& [delay, value] : r.delay_scan) d.push_back(delay), c.push_back(value);
-    scan.series.push_back({"cost", d, c, report::Series::kPoints, "", false, "circle"});
-    scan.how_to_read =
-        "The parameters fitted at each delay. Healthy: one clear minimum. Sick: a flat curve "
-        "(the logs do not show the delay: add faster inputs).";
-    page.Add(scan);
-  }
-  page.EndGrid();
+  EstimatesSection(&page, r);
+  SolveSection(&page, r);
   for (std::size_t l = 0; l < logs.size(); ++l) {
     page.Heading("Log " + logs[l].source);
     page.Paragraph(
