@@ -14,6 +14,20 @@
 namespace plumb {
 namespace {
 
+const std::string kArm = testing::kSourceDir + "/tests/models/arm2.xml";
+
+// The two-joint arm (tests/models/arm2.xml), both joints measured with noise every 2 steps.
+testing::LogSpec ArmSpec(double until) {
+  testing::LogSpec spec;
+  spec.model = kArm;
+  spec.input = "ctrl[shoulder]";
+  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  spec.noise = {0.001, 0.001, 0.01, 0.01};
+  spec.until = until;
+  spec.every = 2;
+  return spec;
+}
+
 class IdentifyTest : public ::testing::Test {
  protected:
   RobotLog Log(const testing::LogSpec& spec, const Model& model) {
@@ -83,18 +97,11 @@ TEST_F(IdentifyTest, StandardErrorsAreHonestOverManySeeds) {
 // The two-joint arm: damping, armature and friction loss of both joints from chirps on both
 // motors.
 TEST_F(IdentifyTest, AnArmsDampingArmatureAndFrictionLoss) {
-  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
-  Model model = Model::Load(arm);
-  testing::LogSpec spec;
-  spec.model = arm;
-  spec.input = "ctrl[shoulder]";
+  Model model = Model::Load(kArm);
+  testing::LogSpec spec = ArmSpec(6);
   spec.u = testing::Chirp(6, 6);
   spec.more_inputs = {
       {"ctrl[elbow]", [](double t) { return 2.5 * std::sin(7 * t + 0.3 * t * t); }}};
-  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
-  spec.noise = {0.001, 0.001, 0.01, 0.01};
-  spec.until = 6;
-  spec.every = 2;
   RobotLog log = Log(spec, model);
   Model guess = model.Clone();
   {
@@ -124,19 +131,12 @@ TEST_F(IdentifyTest, AnArmsDampingArmatureAndFrictionLoss) {
 
 // A payload's mass, from the arm driven by steps.
 TEST_F(IdentifyTest, APayloadsMass) {
-  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
-  Model model = Model::Load(arm);
-  testing::LogSpec spec;
-  spec.model = arm;
+  Model model = Model::Load(kArm);
+  testing::LogSpec spec = ArmSpec(4);
   spec.set = {"body_mass[payload]=0.8"};
-  spec.input = "ctrl[shoulder]";
   spec.u = [](double t) { return std::fmod(t, 1.0) < 0.5 ? 12.0 : 4.0; };
   spec.more_inputs = {
       {"ctrl[elbow]", [](double t) { return std::fmod(t, 0.7) < 0.35 ? 3.0 : -1.0; }}};
-  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
-  spec.noise = {0.001, 0.001, 0.01, 0.01};
-  spec.until = 4;
-  spec.every = 2;
   RobotLog log = Log(spec, model);
   IdentifyOptions o;
   o.fit = {"body_mass[payload]"};
@@ -168,14 +168,11 @@ TEST_F(IdentifyTest, AnInputDelay) {
 // Damping and friction loss from one free decay move together: flagged, with the log that
 // would separate them.
 TEST_F(IdentifyTest, AnUnidentifiablePairIsFlagged) {
-  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
-  Model model = Model::Load(arm);
-  testing::LogSpec spec;
-  spec.model = arm;
-  spec.set = {"qpos[shoulder]=-0.4", "qpos[elbow]=0"};  // one free decay
-  spec.measured = {"qpos[shoulder]", "qpos[elbow]", "qvel[shoulder]", "qvel[elbow]"};
+  Model model = Model::Load(kArm);
+  testing::LogSpec spec = ArmSpec(1);
+  spec.set = {"qpos[shoulder]=-0.4", "qpos[elbow]=0"};  // one free decay, no input
   spec.noise = {0.005, 0.005, 0.05, 0.05};
-  spec.until = 1;
+  spec.every = 1;
   RobotLog log = Log(spec, model);
   IdentifyOptions o;
   o.fit = {"dof_damping[shoulder]", "dof_frictionloss[shoulder]"};
@@ -222,16 +219,10 @@ TEST_F(IdentifyTest, AMenagerieArmsArmature) {
 
 // The worker pool computes the Jacobian's columns; the answer does not depend on how many.
 TEST_F(IdentifyTest, TheSameForAnyNumberOfThreads) {
-  std::string arm = testing::kSourceDir + "/tests/models/arm2.xml";
-  Model model = Model::Load(arm);
-  testing::LogSpec spec;
-  spec.model = arm;
+  Model model = Model::Load(kArm);
+  testing::LogSpec spec = ArmSpec(2);
   spec.set = {"body_mass[payload]=0.8"};
-  spec.input = "ctrl[shoulder]";
   spec.u = testing::Chirp(6, 2);
-  spec.measured = {"qpos[shoulder]", "qpos[elbow]"};
-  spec.noise = {0.001, 0.001};
-  spec.until = 2;
   spec.every = 4;
   RobotLog log = Log(spec, model);
   IdentifyOptions o;
