@@ -69,11 +69,11 @@ test-asan: deps
 	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  LP_NUM_THREADS=0 ctest --output-on-failure -j $(JOBS)
 
-# the threaded code (sweep's and rollout's worker pools, the stop flag, the CLI's streaming
-# writers) under ThreadSanitizer; tests/tsan.supp names what TSan cannot see into (oneTBB's
+# the threaded code (sweep's, rollout's and identify's worker pools, the stop flag, the CLI's
+# streaming writers) under ThreadSanitizer; tests/tsan.supp names what TSan cannot see into (oneTBB's
 # own synchronisation, not built with TSan)
-TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test plumb_cli
-TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest)\.
+TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test identify_test plumb_cli
+TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$)\.?
 # the memory benchmarks among them (10^6 cases) take minutes under TSan and share no code
 # path the others do not run
 TSAN_SKIP    := SweepMemoryDoesNotGrowWithTheNumberOfCases|AHugeSweepSaysItsCost
