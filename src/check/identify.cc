@@ -16,6 +16,7 @@
 #include "check/identifiability.h"
 #include "check/worker_pool.h"
 #include "plumb/error.h"
+#include "plumb/run.h"
 
 namespace plumb {
 namespace {
@@ -29,6 +30,10 @@ bool MustBeNonNegative(const Path& path) {
   }
   return false;
 }
+
+// Start states are fitted while they add at most this many unknowns (windows x logged state
+// elements); beyond, the dense Jacobian grows too large and the logged starts are used.
+constexpr std::size_t kMostStartUnknowns = 200;
 
 // The parameters' values in the worker's model, written from nominal each time so a run
 // does not depend on which runs the worker did before (body_mass rescales body_inertia).
@@ -71,9 +76,14 @@ class Residuals {
         physical_(params.size()),
         n_(params.size()),
         replay_(replay) {
+    std::size_t starts = 0;
+    for (const RobotLog& log : logs) {
+      starts += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
+    }
+    fit_starts_ = starts <= kMostStartUnknowns;
     for (const RobotLog& log : logs) {
       starts_.push_back(n_);
-      n_ += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
+      if (fit_starts_) n_ += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
     }
     starts_.push_back(n_);
     for (const RobotLog& log : logs) {
@@ -91,6 +101,7 @@ class Residuals {
   long size() const { return m_; }
   std::size_t parameters() const { return n_; }  // the model's, then the start states
   std::size_t physical() const { return physical_; }
+  bool fit_starts() const { return fit_starts_; }
   // Changing the delays keeps the windows (and so the start-state offsets) as they are.
   void set_replay(const ReplayOptions& replay) { replay_ = replay; }
   const ReplayOptions& replay() const { return replay_; }
@@ -101,7 +112,6 @@ class Residuals {
     std::vector<std::vector<double>> out;
     out.reserve(points.size());
     long next = 0;
-    std::atomic<bool> never{false};
     pool_.Stream<std::vector<double>>(
         std::max<std::size_t>(1, points.size()),
         [&](std::vector<long>* chunk) {
@@ -112,8 +122,8 @@ class Residuals {
           *r = Evaluate(w, points[index]);
           return true;
         },
-        [&](const std::vector<double>& r) { out.push_back(r); }, never,
-        [] { return Interrupted("identification stopped"); });
+        [&](const std::vector<double>& r) { out.push_back(r); }, StopFlag(),
+        [] { return Interrupted("plumb identify stopped before the fit finished"); });
     return out;
   }
 
@@ -121,7 +131,7 @@ class Residuals {
   std::vector<std::vector<double>> Errors(WorkerPool::Worker& w, std::size_t log,
                                           const std::vector<double>& x) const {
     std::vector<double> offsets(x.begin() + starts_[log], x.begin() + starts_[log + 1]);
-    Simulated s = Simulate(w.work, w.data, logs_[log], replay_, &offsets);
+    Simulated s = Simulate(w.work, w.data, logs_[log], replay_, fit_starts_ ? &offsets : nullptr);
     std::vector<std::vector<double>> e(s.values.size());
     for (std::size_t i = 0; i < s.values.size(); ++i) {
       const std::vector<double>& logged = logs_[log].measured[i].value;
@@ -152,6 +162,7 @@ class Residuals {
   mutable WorkerPool pool_;
   std::size_t physical_, n_;
   std::vector<std::size_t> starts_;  // where each log's start offsets begin in x
+  bool fit_starts_ = true;
   long m_ = 0;
   std::vector<std::vector<double>> weights_;
   ReplayOptions replay_;
@@ -184,15 +195,21 @@ class ReplayCost : public ceres::CostFunction {
     set_num_residuals(static_cast<int>(f.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(f.parameters()));
   }
+  // A stop request (Ctrl-C) fails the evaluation; CostLog then aborts the solve, and
+  // Identify says it was interrupted.
   bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
-    if (jacobians != nullptr && jacobians[0] != nullptr) {
-      Jacobian(f_, x[0], residuals, jacobians[0]);
+    try {
+      if (jacobians != nullptr && jacobians[0] != nullptr) {
+        Jacobian(f_, x[0], residuals, jacobians[0]);
+        return true;
+      }
+      std::vector<double> at(x[0], x[0] + f_.parameters());
+      std::vector<double> r = f_.At({at}).front();
+      std::copy(r.begin(), r.end(), residuals);
       return true;
+    } catch (const Interrupted&) {
+      return false;
     }
-    std::vector<double> at(x[0], x[0] + f_.parameters());
-    std::vector<double> r = f_.At({at}).front();
-    std::copy(r.begin(), r.end(), residuals);
-    return true;
   }
 
  private:
@@ -204,7 +221,7 @@ class CostLog : public ceres::IterationCallback {
   explicit CostLog(std::vector<double>* cost) : cost_(cost) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (s.iteration == 0 || s.step_is_successful) cost_->push_back(s.cost);
-    return ceres::SOLVER_CONTINUE;
+    return StopFlag().load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
   }
 
  private:
@@ -241,6 +258,7 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   options.callbacks.push_back(&log);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
+  if (StopFlag().load()) throw Interrupted("plumb identify stopped before the fit finished");
   return summary;
 }
 
@@ -425,6 +443,13 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.termination = summary.message;
   Statistics(f, params, x, &result);
+  if (!f.fit_starts()) {
+    result.warnings.push_back(fmt::format(
+        "the start states were taken as logged, not fitted: with these windows and logs they "
+        "would add more than {} unknowns; their measurement noise may bias the estimates (use a "
+        "longer --window)",
+        kMostStartUnknowns));
+  }
   Model fitted = model.Clone();
   ApplyEstimates(fitted, result);
   for (const RobotLog& log : logs) {

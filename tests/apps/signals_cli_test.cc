@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fixture.h"
+#include "sim/log_maker.h"
 
 namespace plumb {
 namespace {
@@ -29,13 +30,14 @@ const std::string kCli = std::string("'") + PLUMB_CLI + "' ";
 // with stderr in err.txt and stdout in out.txt.
 int Interrupt(const TempDir& dir, const std::string& args, const std::string& signal,
               const std::string& ready_file = "", int ready_lines = 0, double delay = 1.0) {
-  std::string wait =
-      ready_file.empty()
-          ? "sleep " + std::to_string(delay) + "; "
-          : "for i in $(seq 400); do [ \"$(wc -l < " + ready_file + " 2>/dev/null || echo 0)\" -ge " +
-                std::to_string(ready_lines) + " ] && break; sleep 0.05; done; ";
+  std::string wait = ready_file.empty()
+                         ? "sleep " + std::to_string(delay) + "; "
+                         : "for i in $(seq 400); do [ \"$(wc -l < " + ready_file +
+                               " 2>/dev/null || echo 0)\" -ge " + std::to_string(ready_lines) +
+                               " ] && break; sleep 0.05; done; ";
   WriteFile(dir.File("interrupt.sh"), kCli + args + " >out.txt 2>err.txt & pid=$!; " + wait +
-                                          "kill -" + signal + " $pid; wait $pid; echo $? >rc.txt\n");
+                                          "kill -" + signal +
+                                          " $pid; wait $pid; echo $? >rc.txt\n");
   testing::RunShell("bash interrupt.sh", dir.path());
   return std::stoi(ReadFile(dir.File("rc.txt")));
 }
@@ -45,7 +47,6 @@ CommandResult RunBash(const TempDir& dir, const std::string& script) {
   WriteFile(dir.File("script.sh"), script + "\n");
   return testing::RunShell("bash script.sh", dir.path());
 }
-
 
 TEST(CliSignalsTest, VerifyAuditAndConvergeStopWithExit130AndSaySo) {
   // they used to die silently: no message, exit by signal
@@ -63,6 +64,23 @@ TEST(CliSignalsTest, VerifyAuditAndConvergeStopWithExit130AndSaySo) {
       EXPECT_NE(err.find("stopped by a signal"), std::string::npos) << args << err;
     }
   }
+}
+
+TEST(CliSignalsTest, IdentifyStopsWithExit130AndWritesNoModel) {
+  TempDir dir;
+  testing::LogSpec spec;
+  spec.u = testing::Chirp(2, 3);
+  spec.noise = {0.001, 0.01};
+  testing::MakeLog(dir.File("chirp.csv"), spec);
+  // a delay scan of 2500 fits: far longer than the second it is given
+  std::string args = "identify " + testing::kPendulum +
+                     " --log chirp.csv --fit 'dof_damping[hinge]' --delay ctrl --max-delay 5"
+                     " --report fit.html";
+  EXPECT_EQ(Interrupt(dir, args, "INT"), 130) << ReadFile(dir.File("err.txt"));
+  EXPECT_NE(ReadFile(dir.File("err.txt")).find("stopped by a signal"), std::string::npos)
+      << ReadFile(dir.File("err.txt"));
+  EXPECT_FALSE(std::filesystem::exists(dir.File("fit.html")));
+  EXPECT_EQ(ReadFile(dir.File("out.txt")), "");
 }
 
 TEST(CliSignalsTest, AnInterruptedSweepKeepsItsCasesAndResumeFinishesTheSet) {
@@ -125,7 +143,8 @@ TEST(CliSignalsTest, RolloutRowsStreamAndAClosedStdoutStopsTheBatch) {
   ASSERT_EQ(lines.size(), 3u) << head.out;
   EXPECT_EQ(lines[2], "141") << ReadFile(dir.File("err.txt"));
   // what finished was kept: the store holds a prefix, and --resume completes the summary
-  std::vector<std::string> stored = Lines(RunPlumb("results r.sqlite --format csv", dir.path()).out);
+  std::vector<std::string> stored =
+      Lines(RunPlumb("results r.sqlite --format csv", dir.path()).out);
   EXPECT_GE(stored.size(), 2u);
   EXPECT_LT(stored.size(), 100000u);
 }
@@ -139,8 +158,9 @@ TEST(CliSignalsTest, ASummaryAfterResumeCoversEveryRow) {
                            "--metric 'qpos[hinge]@0.1' --format csv --db r.sqlite";
   // a partial run of the same config: its reader closed stdout early
   RunBash(dir, kCli + base + " 2>/dev/null | head -2 >/dev/null");
-  long stored = static_cast<long>(
-      Lines(RunPlumb("results r.sqlite --format csv", dir.path()).out).size()) - 1;
+  long stored =
+      static_cast<long>(Lines(RunPlumb("results r.sqlite --format csv", dir.path()).out).size()) -
+      1;
   ASSERT_GT(stored, 0);
   ASSERT_LT(stored, 20000);
   CommandResult resumed = RunPlumb(base + " --resume --threads 2", dir.path());
