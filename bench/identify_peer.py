@@ -384,7 +384,7 @@ def main():
   ap.add_argument("--seed", type=int, default=1, help="noise seed of the timed logs")
   ap.add_argument("--coverage", type=int, default=0,
                   help="also fit logs with this many further noise seeds (untimed)")
-  ap.add_argument("--work", help="folder for the logs (default: a temporary one)")
+  ap.add_argument("--work", help="folder for the logs, kept (default: a temporary one)")
   ap.add_argument("--json", help="also write every number here")
   ap.add_argument("--cases", default="arm,pendulum")
   ap.add_argument("--peer-inputs", choices=["held", "rows"], default="held",
@@ -396,7 +396,8 @@ def main():
 
   plumb = os.path.abspath(args.plumb)
   version = subprocess.run([plumb, "--version"], capture_output=True, text=True).stdout
-  work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="identify-peer-"))
+  temporary = None if args.work else tempfile.TemporaryDirectory(prefix="identify-peer-")
+  work = pathlib.Path(args.work or temporary.name)  # a temporary one is removed at the end
   work.mkdir(parents=True, exist_ok=True)
   print(f"plumb: {version.splitlines()[0]}; mujoco (python): {mujoco.__version__}; "
         f"python {platform.python_version()}; import mujoco+sysid {IMPORT_SECONDS:.2f} s; "
