@@ -222,7 +222,7 @@ def run_plumb(plumb, case, log):
           "warnings": out["warnings"], "stderr": proc.stderr.strip(), "command": cmd}
 
 
-def run_peer(case, log, inputs="held"):
+def run_peer(case, log, inputs="held", start_from="logged"):
   """mujoco.sysid on the same log: its documented path (ParameterDict, ModelSequences,
   build_residual_fn, optimize, calculate_intervals)."""
   start, cpu0 = time.perf_counter(), time.process_time()
@@ -265,9 +265,15 @@ def run_peer(case, log, inputs="held"):
     control = sysid.TimeSeries(t_steps, np.zeros((len(t_steps), 0)))
   measured_names = [f"{j}_qpos" for j in case["joints"]] + [f"{j}_qvel" for j in case["joints"]]
   sensordata = sysid.TimeSeries.from_names(t_rows, rows[:, 1 + n_in:], model, measured_names)
-  # the start state is not a parameter in sysid: the logged first row, noise included
+  # the start state is not a parameter in sysid: the logged first row, noise included (or,
+  # as a diagnostic, the true start the log was simulated from)
+  qpos0, qvel0 = rows[0, 1 + n_in:1 + n_in + nj], rows[0, 1 + n_in + nj:1 + n_in + 2 * nj]
+  if start_from == "true":
+    qpos0 = np.array([case["start"].get(j, model.qpos0[model.jnt_qposadr[model.joint(j).id]])
+                      for j in case["joints"]])
+    qvel0 = np.zeros(nj)
   initial_state = sysid.create_initial_state(
-      model, rows[0, 1 + n_in:1 + n_in + nj], rows[0, 1 + n_in + nj:1 + n_in + 2 * nj],
+      model, qpos0, qvel0,
       qpos_names=[f"{j}_qpos" for j in case["joints"]],
       qvel_names=[f"{j}_qvel" for j in case["joints"]])
   sequences = sysid.ModelSequences(case["name"], spec, "log", initial_state, control,
@@ -350,14 +356,15 @@ def print_case(case, rows, seed, plumb_runs, peer_runs, rms):
   print("```")
 
 
-def coverage(plumb, case, work, seeds, peer_inputs):
+def coverage(plumb, case, work, seeds, peer_inputs, peer_start):
   """Both fits over several noise seeds: is the truth within 2 standard errors about 95 %
   of the time (honest standard errors), and how far off are the estimates on average?"""
   z = {"plumb": {p[0]: [] for p in case["params"]}, "peer": {p[0]: [] for p in case["params"]}}
   for seed in seeds:
     log = work / f"{case['name']}-seed{seed}.csv"
     make_log(case, log, seed)
-    runs = (("plumb", run_plumb(plumb, case, log)), ("peer", run_peer(case, log, peer_inputs)))
+    runs = (("plumb", run_plumb(plumb, case, log)),
+            ("peer", run_peer(case, log, peer_inputs, peer_start)))
     for name, run in runs:
       for p, t, *_ in case["params"]:
         v, se = run["estimates"][p]
@@ -391,6 +398,9 @@ def main():
                   help="held: the log's inputs handed to sysid held, one value per timestep "
                   "(what the log means); rows: the rows as they are (sysid then interpolates "
                   "linearly between them)")
+  ap.add_argument("--peer-start", choices=["logged", "true"], default="logged",
+                  help="sysid's start state: the logged first row (noise included), or, as "
+                  "a diagnostic, the true start the log was simulated from")
   args = ap.parse_args()
   absl_logging.set_verbosity(absl_logging.ERROR)  # sysid's per-call "missing sensors" note
 
@@ -401,7 +411,7 @@ def main():
   work.mkdir(parents=True, exist_ok=True)
   print(f"plumb: {version.splitlines()[0]}; mujoco (python): {mujoco.__version__}; "
         f"python {platform.python_version()}; import mujoco+sysid {IMPORT_SECONDS:.2f} s; "
-        f"sysid's inputs: {args.peer_inputs}; logs in {work}")
+        f"sysid's inputs: {args.peer_inputs}, start: {args.peer_start}; logs in {work}")
   report = {"plumb_version": version, "mujoco": mujoco.__version__, "cases": {}}
   for case in CASES:
     if case["name"] not in args.cases.split(","):
@@ -411,7 +421,7 @@ def main():
     plumb_runs, peer_runs = [], []
     for _ in range(args.repeat):  # alternating, so drifts in the machine's load hit both
       plumb_runs.append(run_plumb(plumb, case, log))
-      peer_runs.append(run_peer(case, log, args.peer_inputs))
+      peer_runs.append(run_peer(case, log, args.peer_inputs, args.peer_start))
     for name, runs in (("plumb", plumb_runs), ("peer", peer_runs)):
       if any(r["estimates"] != runs[0]["estimates"] for r in runs):
         print(f"note: {name}'s estimates differ between repetitions on {case['name']}")
@@ -434,7 +444,7 @@ def main():
     for case in CASES:
       if case["name"] in args.cases.split(","):
         report["cases"][case["name"]]["coverage"] = coverage(
-            plumb, case, work, seeds, args.peer_inputs)
+            plumb, case, work, seeds, args.peer_inputs, args.peer_start)
   if args.json:
     with open(args.json, "w") as f:
       json.dump(report, f, indent=1, default=str)
