@@ -34,10 +34,8 @@ nlohmann::ordered_json Number(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
-// The validation log's fit before and after.
-struct Validation {
-  ReplayResult nominal, fitted;
-};
+double Front(const std::vector<double>& v) { return v.empty() ? NAN : v.front(); }
+double Back(const std::vector<double>& v) { return v.empty() ? NAN : v.back(); }
 
 std::string Changes(const IdentifyResult& r) {
   std::string out;
@@ -51,7 +49,7 @@ std::string Changes(const IdentifyResult& r) {
 }
 
 std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
-                  const IdentifyCommandOptions& o, const Validation* v) {
+                  const IdentifyCommandOptions& o, const HeldOutLog* v) {
   long samples = 0;
   for (const RobotLog& log : logs) {
     for (const LogSignal& s : log.measured) samples += static_cast<long>(s.value.size());
@@ -86,10 +84,12 @@ std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
     }
   }
   out += fmt::format(
-      "\nsolver: {} iterations, {} ({})\ncost {:.6g} -> {:.6g} (in units of the estimated "
-      "noise); residual variance {:.3g} (about 1 when the model explains all but the noise)\n",
-      r.iterations, r.converged ? "converged" : "stopped", r.termination,
-      r.cost.empty() ? NAN : r.cost.front(), r.cost.empty() ? NAN : r.cost.back(),
+      "\nsolver: first solve {} iterations, cost {:.6g} -> {:.6g} (each signal weighted by its "
+      "spread); noise-weighted solve {} iterations, cost {:.6g} -> {:.6g} (in units of each "
+      "signal's estimated noise), {} ({})\nresidual variance {:.3g} (about 1 when the model "
+      "explains all but the noise)\n",
+      r.first_pass_iterations, Front(r.first_pass_cost), Back(r.first_pass_cost), r.iterations,
+      Front(r.cost), Back(r.cost), r.converged ? "converged" : "stopped", r.termination,
       r.residual_variance);
   out += "\nnoise per signal (rms of the residuals):\n";
   for (std::size_t l = 0; l < logs.size(); ++l) {
@@ -113,7 +113,7 @@ std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
 }
 
 std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
-                 const IdentifyCommandOptions& o, const Validation* v) {
+                 const IdentifyCommandOptions& o, const HeldOutLog* v) {
   nlohmann::ordered_json j;
   j["model"] = o.model;
   nlohmann::ordered_json estimates = nlohmann::ordered_json::array();
@@ -139,7 +139,8 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   if (o.identify.delay != DelayKind::kNone) {
     j["delay"] = {{"kind", o.delay}, {"value", r.delay}};
   }
-  j["iterations"] = r.iterations;
+  j["first_solve"] = {{"iterations", r.first_pass_iterations}, {"cost", r.first_pass_cost}};
+  j["iterations"] = r.iterations;  // of the noise-weighted solve
   j["converged"] = r.converged;
   j["termination"] = r.termination;
   j["cost"] = r.cost;
@@ -190,8 +191,9 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   IdentifyResult r = Identify(model, logs, o.identify);
   Model fitted = model.Clone();
   ApplyEstimates(fitted, r);
-  Validation v;
+  HeldOutLog v;
   if (!validation.empty()) {
+    v.log = &validation.front();
     ReplayOptions replay = o.identify.replay;
     if (o.identify.delay == DelayKind::kInput) replay.input_delay = r.delay;
     if (o.identify.delay == DelayKind::kSensor) replay.sensor_delay = r.delay;
@@ -205,10 +207,11 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the fitted model %s\n", o.output.c_str());
   }
   if (!o.report.empty()) {
-    WriteIdentifyReport(o.report, model, logs, r, ReportInfo{ctx.argv});
+    WriteIdentifyReport(o.report, model, logs, r, ReportInfo{ctx.argv},
+                        validation.empty() ? nullptr : &v);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  const Validation* shown = validation.empty() ? nullptr : &v;
+  const HeldOutLog* shown = validation.empty() ? nullptr : &v;
   WriteStdout(o.format == "json" ? Json(r, logs, o, shown) : Table(r, logs, o, shown));
   for (const ReplayResult& after : r.after) {
     if (after.simulated.diverged) return kExitDiverged;
@@ -252,7 +255,8 @@ void SetupIdentifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("-o", o->output, "write the model with the fitted values (MJCF)");
   cmd->add_option("--threads", o->identify.threads, "worker threads (0: every core)")
       ->capture_default_str();
-  cmd->add_option("--max-iterations", o->identify.max_iterations, "solver iterations at most")
+  cmd->add_option("--max-iterations", o->identify.max_iterations,
+                  "solver iterations at most, per solve")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
   AddFormatOption(cmd, &o->format, {"table", "json"});

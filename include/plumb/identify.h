@@ -54,9 +54,9 @@ struct IdentifyOptions {
   std::vector<std::string> bounds;  // PATH=LO:HI
   ReplayOptions replay;             // window; the delays, when not estimated
   DelayKind delay = DelayKind::kNone;
-  double max_delay = 0.1;  // s: the delay scan's range
-  int threads = 0;         // 0: every core
-  int max_iterations = 100;
+  double max_delay = 0.1;    // s: the delay scan's range
+  int threads = 0;           // 0: every core
+  int max_iterations = 100;  // per solve (the first, each delay's, the noise-weighted one)
 };
 
 struct Estimate {
@@ -76,7 +76,8 @@ struct IdentifyResult {
   std::vector<std::string> warnings;             // identifiability, bounds
   std::vector<double> first_pass_cost;           // per iteration, weighted by the signals' spread
   std::vector<double> cost;                      // per iteration of the noise-weighted solve
-  int iterations = 0;
+  int first_pass_iterations = 0;                 // of the first solve
+  int iterations = 0;                            // of the noise-weighted solve
   bool converged = false;
   std::string termination;  // Ceres's words
   long residuals = 0;

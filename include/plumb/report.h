@@ -98,12 +98,18 @@ void WriteReplayReport(const std::string& path, const Model& model, const RobotL
                        const ReplayResult& result, const ReplayOptions& options,
                        const ReportInfo& info);
 
+// A log held out of the fit, replayed on the nominal and the fitted model.
+struct HeldOutLog {
+  const RobotLog* log = nullptr;
+  ReplayResult nominal, fitted;
+};
+
 // plumb identify --report: the estimates with their 95 % intervals, the correlation matrix,
-// the cost per iteration, the delay scan, and per log logged against simulated before and
-// after the fit.
+// the cost per iteration, the delay scan, and per log (and for the held-out log, when given)
+// logged against simulated before and after the fit.
 void WriteIdentifyReport(const std::string& path, const Model& model,
                          const std::vector<RobotLog>& logs, const IdentifyResult& result,
-                         const ReportInfo& info);
+                         const ReportInfo& info, const HeldOutLog* validation = nullptr);
 
 }  // namespace plumb
 

@@ -168,25 +168,33 @@ class Residuals {
   ReplayOptions replay_;
 };
 
-// Central-difference step in scaled units.
-constexpr double kStep = 1e-4;
+// Difference steps in scaled units: forward differences while solving (one run per unknown),
+// central differences for the standard errors at the optimum (two, and more accurate).
+constexpr double kForwardStep = 1e-6;
+constexpr double kCentralStep = 1e-4;
 
-// The Jacobian (row-major, residuals x parameters) at x, with the residuals there.
-void Jacobian(Residuals& f, const double* x, double* residuals, double* jacobian) {
+// The Jacobian (row-major, residuals x unknowns) at x, with the residuals there.
+void Jacobian(Residuals& f, const double* x, double* residuals, double* jacobian, bool central) {
   std::size_t n = f.parameters();
-  std::vector<std::vector<double>> points(2 * n + (residuals != nullptr ? 1 : 0),
+  std::vector<std::vector<double>> points(central ? 2 * n + 1 : n + 1,
                                           std::vector<double>(x, x + n));
   for (std::size_t j = 0; j < n; ++j) {
-    points[2 * j][j] += kStep;
-    points[2 * j + 1][j] -= kStep;
-  }
-  std::vector<std::vector<double>> r = f.At(points);
-  for (long i = 0; i < f.size(); ++i) {
-    for (std::size_t j = 0; j < n; ++j) {
-      jacobian[i * n + j] = (r[2 * j][i] - r[2 * j + 1][i]) / (2 * kStep);
+    if (central) {
+      points[2 * j][j] += kCentralStep;
+      points[2 * j + 1][j] -= kCentralStep;
+    } else {
+      points[j][j] += kForwardStep;
     }
   }
-  if (residuals != nullptr) std::copy(r.back().begin(), r.back().end(), residuals);
+  std::vector<std::vector<double>> r = f.At(points);
+  const std::vector<double>& at = r.back();  // the last point is x itself
+  for (long i = 0; i < f.size(); ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      jacobian[i * n + j] = central ? (r[2 * j][i] - r[2 * j + 1][i]) / (2 * kCentralStep)
+                                    : (r[j][i] - at[i]) / kForwardStep;
+    }
+  }
+  if (residuals != nullptr) std::copy(at.begin(), at.end(), residuals);
 }
 
 class ReplayCost : public ceres::CostFunction {
@@ -200,7 +208,7 @@ class ReplayCost : public ceres::CostFunction {
   bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     try {
       if (jacobians != nullptr && jacobians[0] != nullptr) {
-        Jacobian(f_, x[0], residuals, jacobians[0]);
+        Jacobian(f_, x[0], residuals, jacobians[0], /*central=*/false);
         return true;
       }
       std::vector<double> at(x[0], x[0] + f_.parameters());
@@ -262,6 +270,29 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   return summary;
 }
 
+// The delay: the parameters are fitted at every candidate (whole timesteps up to
+// options.max_delay), and the best fit wins; a scan at fixed parameters can settle on a wrong
+// delay that the parameters then absorb. Leaves x and f's replay at the best.
+void ProfileDelay(Residuals& f, const std::vector<FitParameter>& params,
+                  const IdentifyOptions& options, double dt, std::vector<double>* x,
+                  IdentifyResult* result) {
+  double best_cost = INFINITY;
+  std::vector<double> best_x = *x;
+  ReplayOptions replay = f.replay(), best_replay = replay;
+  long steps = std::max(1L, std::lround(options.max_delay / dt));
+  for (long k = 0; k <= steps; ++k) {
+    (options.delay == DelayKind::kInput ? replay.input_delay : replay.sensor_delay) = k * dt;
+    f.set_replay(replay);
+    std::vector<double> at = *x;
+    std::vector<double> ignored;
+    ceres::Solver::Summary s = Solve(f, params, options.max_iterations, &at, &ignored);
+    result->delay_scan.push_back({k * dt, s.final_cost});
+    if (s.final_cost < best_cost) best_cost = s.final_cost, best_x = at, best_replay = replay;
+  }
+  *x = best_x;
+  f.set_replay(best_replay);
+}
+
 // Sets each signal's weight to the rms of its raw residuals at x: its noise, when the model
 // fits. Returns those, [log][signal].
 std::vector<std::vector<double>> Reweight(Residuals& f, const std::vector<RobotLog>& logs,
@@ -291,7 +322,7 @@ void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std
   std::size_t n = params.size(), all = f.parameters();
   long m = f.size();
   std::vector<double> r(m), jac(m * all);
-  Jacobian(f, x.data(), r.data(), jac.data());
+  Jacobian(f, x.data(), r.data(), jac.data(), /*central=*/true);
   Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> full(
       jac.data(), m, static_cast<long>(all));
   double rss = 0;
@@ -414,26 +445,10 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   double dt = model->opt.timestep;
   std::vector<double> x(f.parameters(), 0.0);  // start offsets from 0: the logged start
   for (std::size_t i = 0; i < n; ++i) x[i] = params[i].nominal / params[i].scale;
-  Solve(f, params, options.max_iterations, &x, &result.first_pass_cost);
-  // the delay: the parameters are fitted at every candidate, and the best fit wins (a scan
-  // at fixed parameters can settle on a wrong delay that the parameters then absorb)
-  if (options.delay != DelayKind::kNone) {
-    double best_cost = INFINITY;
-    std::vector<double> best_x = x;
-    ReplayOptions replay = f.replay(), best_replay = replay;
-    long steps = std::max(1L, std::lround(options.max_delay / dt));
-    for (long k = 0; k <= steps; ++k) {
-      (options.delay == DelayKind::kInput ? replay.input_delay : replay.sensor_delay) = k * dt;
-      f.set_replay(replay);
-      std::vector<double> at = x;
-      std::vector<double> ignored;
-      ceres::Solver::Summary s = Solve(f, params, options.max_iterations, &at, &ignored);
-      result.delay_scan.push_back({k * dt, s.final_cost});
-      if (s.final_cost < best_cost) best_cost = s.final_cost, best_x = at, best_replay = replay;
-    }
-    x = best_x;
-    f.set_replay(best_replay);
-  }
+  ceres::Solver::Summary first =
+      Solve(f, params, options.max_iterations, &x, &result.first_pass_cost);
+  result.first_pass_iterations = static_cast<int>(first.iterations.size()) - 1;
+  if (options.delay != DelayKind::kNone) ProfileDelay(f, params, options, dt, &x, &result);
   result.noise = Reweight(f, logs, x);
   ceres::Solver::Summary summary = Solve(f, params, options.max_iterations, &x, &result.cost);
   result.delay = options.delay == DelayKind::kInput    ? f.replay().input_delay

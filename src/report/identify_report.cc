@@ -206,7 +206,7 @@ void WriteReplayReport(const std::string& path, const Model& model, const RobotL
 
 void WriteIdentifyReport(const std::string& path, const Model& model,
                          const std::vector<RobotLog>& logs, const IdentifyResult& r,
-                         const ReportInfo& info) {
+                         const ReportInfo& info, const HeldOutLog* validation) {
   report::Page page = report::StartPage("identify", model, info);
   for (const RobotLog& log : logs) page.Meta("log", log.source);
   EstimatesSection(&page, r);
@@ -217,6 +217,16 @@ void WriteIdentifyReport(const std::string& path, const Model& model,
         fmt::format("Fit: nominal {:.2f} %, fitted {:.2f} %.", r.before[l].fit, r.after[l].fit));
     page.Html(FitRows(r.after[l].signals));
     SignalCharts(&page, logs[l], {{"nominal", &r.before[l]}, {"fitted", &r.after[l]}});
+  }
+  if (validation != nullptr) {
+    page.Heading("Validation on " + validation->log->source);
+    page.Paragraph(fmt::format(
+        "A log the fit never saw. Fit: nominal {:.2f} %, fitted {:.2f} %. A fit that holds "
+        "here describes the robot; one that does not has fitted the noise or the experiment.",
+        validation->nominal.fit, validation->fitted.fit));
+    page.Html(FitRows(validation->fitted.signals));
+    SignalCharts(&page, *validation->log,
+                 {{"nominal", &validation->nominal}, {"fitted", &validation->fitted}});
   }
   report::WritePage(page, path);
 }

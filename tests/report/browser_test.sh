@@ -30,8 +30,10 @@ set -x
 "$plumb" run "$m" --set 'qpos[hinge]=0.7' --set 'dof_damping[hinge]=0.2' --format csv \
   --until 3 --every 0.01 -o "$out/decay.csv"
 "$plumb" replay "$m" --log "$out/decay.csv" --report "$out/replay.html" >/dev/null
+"$plumb" run "$m" --set 'qpos[hinge]=-0.4' --set 'dof_damping[hinge]=0.2' --format csv \
+  --until 2 --every 0.01 -o "$out/held-out.csv"
 "$plumb" identify "$m" --log "$out/decay.csv" --fit 'dof_damping[hinge]' \
-  --report "$out/identify.html" >/dev/null
+  --validate "$out/held-out.csv" --report "$out/identify.html" >/dev/null
 set +x
 PLUMB_EXPECT_THUMBNAILS=audit.html "$python" "$here/browser_check.py" "$out"/verify.html "$out"/audit.html "$out"/converge.html \
   "$out"/sweep.html "$out"/rollout.html "$out"/replay.html "$out"/identify.html
