@@ -254,7 +254,8 @@ void SetupIdentifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--validate", o->validate, "a log not used for the fit, to check it on");
   cmd->add_option("-o", o->output, "write the model with the fitted values (MJCF)");
   cmd->add_option("--threads", o->identify.threads, "worker threads (0: every core)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   cmd->add_option("--max-iterations", o->identify.max_iterations,
                   "solver iterations at most, per solve")
       ->capture_default_str()

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "check/identifiability.h"
 #include "check/worker_pool.h"
@@ -427,7 +428,10 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
 IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                         const IdentifyOptions& options) {
   std::vector<FitParameter> params = ResolveFitParameters(model, options.fit, options.bounds);
-  Residuals f(model, logs, params, options.replay, options.threads);
+  int threads = options.threads > 0
+                    ? options.threads
+                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  Residuals f(model, logs, params, options.replay, threads);
   std::size_t n = params.size();
   if (f.size() <= static_cast<long>(f.parameters())) {
     throw ValueError(fmt::format(

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -46,7 +47,7 @@ struct WorkerPool::Impl {
 };
 
 WorkerPool::WorkerPool(const Model& nominal, int threads)
-    : impl_(std::make_unique<Impl>(nominal, threads)) {}
+    : impl_(std::make_unique<Impl>(nominal, std::max(1, threads))) {}
 
 WorkerPool::~WorkerPool() = default;
 

@@ -32,6 +32,7 @@ class WorkerPool {
   template <typename Result>
   using Job = std::function<bool(Worker& worker, long index, Result* result)>;
 
+  // `threads` must be at least 1.
   WorkerPool(const Model& nominal, int threads);
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
