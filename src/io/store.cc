@@ -33,9 +33,42 @@ json Numbers(const std::vector<double>& v) {
   return j;
 }
 
-std::vector<double> FromNumbers(const std::string& text) {
+// A column plumb wrote as JSON, read back. A value that is not what plumb writes (a store
+// edited by hand or damaged on disk) is an IoError naming the store, the row and the column,
+// never an exception from the JSON library.
+json Encoded(const std::string& text, const std::string& where) {
+  json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_array()) {
+    throw IoError(where + " is not a JSON array (" +
+                  (j.is_discarded() ? std::string("not JSON") : std::string(j.type_name())) +
+                  "); the store was edited or damaged: restore it from a copy or start a new "
+                  "--db file.");
+  }
+  return j;
+}
+
+// Numbers, with null for a value that was not finite.
+std::vector<double> FromNumbers(const std::string& text, const std::string& where) {
   std::vector<double> out;
-  for (const json& x : json::parse(text)) out.push_back(x.is_null() ? NAN : x.get<double>());
+  for (const json& x : Encoded(text, where)) {
+    if (!x.is_null() && !x.is_number()) {
+      throw IoError(where + " holds " + x.type_name() +
+                    " where a number belongs; the store was edited or damaged.");
+    }
+    out.push_back(x.is_null() ? NAN : x.get<double>());
+  }
+  return out;
+}
+
+std::vector<std::string> FromNames(const std::string& text, const std::string& where) {
+  std::vector<std::string> out;
+  for (const json& x : Encoded(text, where)) {
+    if (!x.is_string()) {
+      throw IoError(where + " holds " + x.type_name() +
+                    " where a name belongs; the store was edited or damaged.");
+    }
+    out.push_back(x.get<std::string>());
+  }
   return out;
 }
 
@@ -229,8 +262,9 @@ std::vector<RunInfo> ResultsStore::Runs() {
     r.mujoco_version = s.Text(7);
     r.started = s.Text(8);
     r.finished = s.Text(9);
-    r.parameters = json::parse(s.Text(10)).get<std::vector<std::string>>();
-    r.metrics = json::parse(s.Text(11)).get<std::vector<std::string>>();
+    std::string where = fmt::format("results store '{}': run {}", impl_->file, r.id);
+    r.parameters = FromNames(s.Text(10), where + " column 'parameters'");
+    r.metrics = FromNames(s.Text(11), where + " column 'metrics'");
     r.count = s.Int(12);
     runs.push_back(r);
   }
@@ -297,8 +331,10 @@ void ResultsStore::ForEachResult(long run, const std::function<void(const Rollou
   while (s.Step()) {
     RolloutResult x;
     x.index = s.Int(0);
-    x.params = FromNumbers(s.Text(1));
-    x.metrics = FromNumbers(s.Text(2));
+    std::string where =
+        fmt::format("results store '{}': run {} case {}", impl_->file, run, x.index);
+    x.params = FromNumbers(s.Text(1), where + " column 'params'");
+    x.metrics = FromNumbers(s.Text(2), where + " column 'metrics'");
     x.diverged = s.Int(3) != 0;
     x.diverged_time = s.Real(4);
     x.problem = s.Text(5);
