@@ -12,6 +12,7 @@
 #include <optional>
 #include <thread>
 
+#include "bridge/command_check.h"
 #include "bridge/dds_link.h"
 #include "bridge/faults.h"
 #include "bridge/flight_recorder.h"
@@ -175,20 +176,16 @@ class Loop {
         ++stats_.dropped_commands;
         continue;
       }
-      if (config_.check_crc && bridge::UnitreeCrc(cmd) != cmd.crc) {
+      std::vector<bridge::MotorCommand> next;
+      bridge::CommandVerdict verdict =
+          bridge::CheckCommand(cmd, config_.check_crc, map_.size(), &next);
+      if (verdict == bridge::CommandVerdict::kBadCrc) {
         ++stats_.bad_crc;
         Event(fmt::format("dropped a command with a bad CRC ({:#010x}, expected {:#010x})", cmd.crc,
                           bridge::UnitreeCrc(cmd)));
         continue;
       }
-      std::vector<bridge::MotorCommand> next(map_.size());
-      bool finite = true;
-      for (std::size_t i = 0; i < map_.size(); ++i) {
-        const auto& m = cmd.motor_cmd[i];
-        next[i] = {m.mode, m.q, m.dq, m.tau, m.kp, m.kd};
-        finite = finite && next[i].finite();
-      }
-      if (!finite) {
+      if (verdict == bridge::CommandVerdict::kNonFinite) {
         ++stats_.non_finite;
         Event("dropped a command with a NaN or infinite target or gain");
         continue;
