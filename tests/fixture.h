@@ -112,6 +112,13 @@ inline std::string ReadFile(const std::string& path) {
 
 // Every MJCF file of MuJoCo's samples (libmujoco-samples) and of the DeepMind Control
 // Suite in shared/ (when present), sorted: models nobody here wrote.
+// A pendulum whose damping is NaN and whose rod's colour holds an infinity: MuJoCo compiles
+// both with at most a warning (hostile_models.py found verify and audit passing such models).
+inline const char* const kNonFiniteXml = R"(<mujoco><option timestep="0.002"/><worldbody>
+    <body name="arm" pos="0 0 1"><joint name="hinge" axis="0 1 0" damping="nan"/>
+      <geom name="rod" type="capsule" fromto="0 0 0 0 0 -1" size="0.05" rgba="1 inf 0 1"/>
+    </body></worldbody></mujoco>)";
+
 inline const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
 
 inline std::vector<std::string> ThirdPartyModels() {

@@ -123,6 +123,15 @@ std::pair<std::string_view, std::string_view> SplitAssignment(std::string_view t
                                                               const char* option,
                                                               const char* example);
 
+// The compiled model's parameters (mjModel arrays and options, floating point) that are NaN
+// or infinite: the first `max` as "PATH = VALUE" ("dof_damping[hinge] = nan"), and how many
+// there are in all. MuJoCo's compiler accepts such values with at most a warning.
+struct NonFiniteValues {
+  std::vector<std::string> first;
+  long total = 0;
+};
+NonFiniteValues NonFiniteParameters(const Model& model, std::size_t max = 6);
+
 // Whether writing `path` changes a model array (body_mass, dof_damping, ...; not an option
 // such as opt.timestep), after which the constants mj_setConst derives must be recomputed.
 bool ChangesModelArrays(const Path& path);

@@ -8,6 +8,7 @@
 
 #include "check/audit_layers.h"
 #include "core/mujoco_compat.h"
+#include "plumb/path.h"
 
 namespace plumb::audit {
 namespace {
@@ -154,10 +155,28 @@ void ActuatorsAndSensors(const Model& model, std::vector<Finding>* out) {
   ListedNote(L, "structure.sensor", "sensors", m->nsensor, out);
 }
 
+// MuJoCo's compiler takes "nan" and "inf" in most attributes with at most a warning.
+void FiniteParameters(const Model& model, std::vector<Finding>* out) {
+  NonFiniteValues bad = NonFiniteParameters(model);
+  if (bad.total == 0) {
+    out->push_back(Make(L, "structure.finite", "", "all finite", "finite", CheckStatus::kPass,
+                        "every floating-point parameter of the compiled model is finite"));
+    return;
+  }
+  out->push_back(
+      Make(L, "structure.finite",
+           fmt::format("{}{}", fmt::join(bad.first, ", "),
+                       bad.total > static_cast<long>(bad.first.size()) ? ", ..." : ""),
+           fmt::format("{} NaN or infinite", bad.total), "finite", CheckStatus::kFail,
+           "give a finite value to the MJCF attribute that sets each one: MuJoCo compiles NaN and "
+           "infinity without an error, and such a value poisons the steps that use it"));
+}
+
 }  // namespace
 
 void StructureLayer(const Model& model, std::vector<Finding>* out) {
   Counts(model.get(), out);
+  FiniteParameters(model, out);
   UnnamedElements(model, out);
   Joints(model, out);
   NqNv(model, out);

@@ -13,6 +13,7 @@
 #include "plumb/converge.h"
 #include "plumb/error.h"
 #include "plumb/metric.h"
+#include "plumb/path.h"
 #include "plumb/timing.h"
 
 namespace plumb::verify {
@@ -159,7 +160,16 @@ CheckResult CheckLoad(const VerifyContext& ctx, CheckResult r) {
                           m->body_inertia[3 * b + 2]);
   }
   if (m->nbody > 7) bodies += fmt::format("; ... ({} more)", m->nbody - 7);
-  if (model.compile_warnings().empty()) {
+  NonFiniteValues bad = NonFiniteParameters(model);
+  if (bad.total > 0) {
+    r.status = CheckStatus::kFail;
+    r.measured = fmt::format("{} NaN or infinite parameter(s)", bad.total);
+    r.detail = fmt::format(
+        "the compiled model holds {}{}: MuJoCo's compiler accepts NaN and infinity with at most "
+        "a warning, and such a value poisons the steps that use it. Give a finite value to the "
+        "MJCF attribute that sets each one.",
+        fmt::join(bad.first, ", "), bad.total > static_cast<long>(bad.first.size()) ? ", ..." : "");
+  } else if (model.compile_warnings().empty()) {
     r.status = CheckStatus::kPass;
     r.detail = fmt::format("compiled cleanly: {} moving bodies, {} dofs. As compiled: {}.", moving,
                            m->nv, bodies);

@@ -667,5 +667,19 @@ TEST_F(AuditTest, AssertionsParse) {
   EXPECT_THROW(ParseAssertion(model, "qvel[elbow] < 1"), PathError);
 }
 
+// Found by tests/hostile/hostile_models.py: a NaN the compiler let through was no finding.
+TEST_F(AuditTest, ANaNParameterIsAStructureFailureNamingItsPath) {
+  AuditReport r = AuditXml(testing::kNonFiniteXml);
+  const Finding* f = Find(r, "structure.finite");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->status, CheckStatus::kFail);
+  EXPECT_NE(f->element.find("dof_damping[hinge] = nan"), std::string::npos) << f->element;
+  EXPECT_NE(f->element.find("geom_rgba[rod][1] = inf"), std::string::npos) << f->element;
+  EXPECT_GT(r.Count(CheckStatus::kFail), 0);
+  AuditReport clean = Audit(Model::Load(testing::kPendulum), {});
+  ASSERT_NE(Find(clean, "structure.finite"), nullptr);
+  EXPECT_EQ(Find(clean, "structure.finite")->status, CheckStatus::kPass);
+}
+
 }  // namespace
 }  // namespace plumb

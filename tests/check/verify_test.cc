@@ -229,5 +229,15 @@ TEST_F(VerifyTest, ConvergenceIsJudgedOnTheSwingNotTheOffset) {
   EXPECT_NEAR(a.reference_value, b.reference_value, 1e-6 * a.reference_value);
 }
 
+// Found by tests/hostile/hostile_models.py: the load check passed a model with a NaN.
+TEST_F(VerifyTest, ANaNParameterFailsTheLoadCheck) {
+  Model model = Model::FromXmlString(testing::kNonFiniteXml, "nan.xml");
+  TakeMujocoWarnings();
+  VerifyReport report = Verify(model, {});
+  const CheckResult& load = Find(report, "load");
+  EXPECT_EQ(load.status, CheckStatus::kFail);
+  EXPECT_NE(load.detail.find("dof_damping[hinge] = nan"), std::string::npos) << load.detail;
+}
+
 }  // namespace
 }  // namespace plumb

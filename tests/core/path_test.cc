@@ -443,5 +443,19 @@ TEST_F(PathTest, PendulumHingeIsAScalar) {
   EXPECT_EQ(ResolvePath(pendulum, "geom_size[rod][0]").count, 1);
 }
 
+// Found by tests/hostile/hostile_models.py: MuJoCo compiles "nan" and "inf" with at most a
+// warning, and verify's load check and audit passed such a model.
+TEST_F(PathTest, NonFiniteParametersAreNamedByPath) {
+  Model model = Model::FromXmlString(testing::kNonFiniteXml, "nan.xml");
+  TakeMujocoWarnings();
+  NonFiniteValues bad = NonFiniteParameters(model);
+  EXPECT_EQ(bad.total, 2);
+  ASSERT_EQ(bad.first.size(), 2u);
+  EXPECT_EQ(bad.first[0], "dof_damping[hinge] = nan");
+  EXPECT_EQ(bad.first[1], "geom_rgba[rod][1] = inf");
+  EXPECT_EQ(NonFiniteParameters(model, 1).first.size(), 1u);
+  EXPECT_EQ(NonFiniteParameters(Model::Load(testing::kPendulum)).total, 0);
+}
+
 }  // namespace
 }  // namespace plumb
