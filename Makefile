@@ -24,7 +24,7 @@ PREFIX     ?= /usr/local
 CMAKE_FLAGS ?=
 PLUMB      := $(BUILD)/plumb
 
-.PHONY: all deps corpus build demo test test-release test-asan test-tsan test-norender test-matrix bench install format clean
+.PHONY: all deps corpus build demo test test-release test-asan test-tsan test-norender test-fuzz test-matrix bench install format clean
 
 all: build
 
@@ -84,6 +84,20 @@ test-tsan: deps
 	@cd $(TSAN_BUILD) && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/tsan.supp" \
 	  ctest --output-on-failure -j $(JOBS) -R '$(TSAN_TESTS)' -E '$(TSAN_SKIP)'
 
+# libFuzzer on every parser plumb owns (tests/fuzz), built with clang under ASan+UBSan;
+# FUZZ_SECONDS per target (scripts/run-fuzzers.sh says what it found)
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+test-fuzz: deps
+	@cmake -S . -B $(FUZZ_BUILD) -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLUMB_MUJOCO=$(MUJOCO) -DPLUMB_FUZZ=ON \
+	  -DPLUMB_SANITIZE=address,undefined -DPLUMB_WARNINGS_AS_ERRORS=OFF -DPLUMB_BUILD_TESTS=OFF \
+	  -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF \
+	  -DPLUMB_WITH_RENDER=OFF $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_paths fuzz_expressions fuzz_scenario \
+	  fuzz_snapshot fuzz_robot_log fuzz_store $$(grep -q 'PLUMB_WITH_DDS:BOOL=ON' $(FUZZ_BUILD)/CMakeCache.txt && echo fuzz_bridge_config fuzz_dds)
+	@scripts/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
 # the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2)
 # a build without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
 # OSMesa): it must build, say so, and answer render and the reports' pictures with exit 5
@@ -114,4 +128,4 @@ format:
 	@clang-format -i $$(git ls-files '*.h' '*.cc')
 
 clean:
-	@rm -rf build build-asan build-tsan build-mujoco-* build-asan-mujoco-* build-tsan-mujoco-*
+	@rm -rf build build-asan build-tsan build-norender build-fuzz build-mujoco-* build-asan-mujoco-* build-tsan-mujoco-*
