@@ -1,5 +1,8 @@
 // plumb run: step a model and print or record chosen paths at exact sample times.
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +18,7 @@
 #include "plumb/sample_writer.h"
 #include "plumb/start_hints.h"
 #include "plumb/timing.h"
+#include "run_budget.h"
 
 namespace plumb::cli {
 namespace {
@@ -30,6 +34,7 @@ struct RunOptions {
   std::string format = "table";
   std::string output;
   std::string repro;
+  RunBudget budget;
 };
 
 // The schedule and columns of the run: the timestep --set chooses decides the default
@@ -111,6 +116,31 @@ void ReportDivergence(const RunOptions& o, const Context& ctx, const Model& mode
   }
 }
 
+// Runs of at least this many steps are probed for their cost before they start.
+constexpr long kProbeAbove = 200'000;
+
+// Says what a long run will cost, and refuses one whose output cannot fit on its disk.
+void CheckCost(const RunOptions& o, const RunEstimate& e, bool to_file) {
+  if (to_file) {
+    std::error_code ec;
+    std::filesystem::path dir = std::filesystem::absolute(o.output).parent_path();
+    std::filesystem::space_info space = std::filesystem::space(dir, ec);
+    if (!ec && e.bytes > static_cast<double>(space.available)) {
+      throw IoError(fmt::format(
+          "-o {}: this run would write about {:.1f} GB ({}), and {} has {:.1f} GB free. Sample "
+          "less often (--every), fewer --columns, a shorter --until, or --max-rows.",
+          o.output, e.bytes / 1e9, DescribeEstimate(e, o.format), dir.string(),
+          static_cast<double>(space.available) / 1e9));
+    }
+  }
+  if (e.seconds >= 10 || e.bytes >= 1e9) {
+    std::fprintf(stderr, "plumb: this run: %s%s\n", DescribeEstimate(e, o.format).c_str(),
+                 o.budget.max_seconds > 0 || o.budget.max_rows > 0
+                     ? ""
+                     : "; --max-seconds or --max-rows bound it");
+  }
+}
+
 int RunRun(const RunOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   Data data(model);
@@ -123,14 +153,34 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
                         : o.format == "jsonl" ? SampleFormat::kJsonl
                                               : SampleFormat::kTable;
+  bool to_file = !o.output.empty() && o.output != "-";
+  RunEstimate estimate;
+  if (MakeSchedule(dt, spec.until, spec.every).steps >= kProbeAbove) {
+    estimate = EstimateRun(model, sets, spec, format);
+    CheckCost(o, estimate, to_file);
+  }
   std::optional<AtomicFile> file;
   if (!o.output.empty()) file.emplace(o.output);
   std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
   for (const std::string& hint : StartHints(model, data)) {
     std::fprintf(stderr, "plumb: %s\n", hint.c_str());
   }
-  spec.stop = &StopRequested();
-  RunResult result = Run(model, data, spec, *writer);
+  // a bar only where it cannot interleave with the rows: output to a file or a pipe
+  bool bar = estimate.seconds > 2 && (to_file || isatty(fileno(stdout)) == 0);
+  BudgetedRun budgeted(*writer, o.budget, estimate.steps, bar);
+  budgeted.Watch(spec);
+  RunResult result;
+  try {
+    result = Run(model, data, spec, budgeted);
+  } catch (const Interrupted& stopped) {
+    if (budgeted.spent().empty()) throw;  // a signal: exit 130, no output file
+    if (file) file->Commit();
+    std::fprintf(stderr, "plumb: %s spent: stopped %s with %ld rows, every one whole%s\n",
+                 budgeted.spent().c_str(), stopped.what() + std::string("interrupted ").size(),
+                 budgeted.rows(), file ? ("; " + file->path() + " holds them").c_str() : "");
+    ReportWarnings(result);
+    return kExitOk;
+  }
   ReportWarnings(result);
   if (result.diverged) {
     ReportDivergence(o, ctx, model, result, file);
@@ -170,6 +220,13 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("-o,--output", o->output,
                   "write samples to FILE (atomically: complete or not at all; a FIFO or device is "
                   "written directly, a symlink is followed; '-' is stdout)");
+  cmd->add_option("--max-seconds", o->budget.max_seconds,
+                  "stop after this much wall time, keeping the rows written so far (the output "
+                  "is complete up to there; exit 0)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-rows", o->budget.max_rows,
+                  "stop after this many sample rows (the first is t = 0), keeping them; exit 0")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--repro", o->repro,
                   "folder for the repro of a diverged run (default plumb-repro-<model name>)");
   cmd->callback([o, cmd, &ctx] {

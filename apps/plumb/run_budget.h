@@ -1,0 +1,71 @@
+// plumb run's cost before it is spent: an estimate of time and disk from a short probe,
+// a progress bar with ETA on a terminal, and the --max-seconds / --max-rows budgets.
+
+#ifndef PLUMB_APPS_PLUMB_RUN_BUDGET_H_
+#define PLUMB_APPS_PLUMB_RUN_BUDGET_H_
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/run.h"
+#include "plumb/sample_writer.h"
+
+namespace plumb::cli {
+
+struct RunBudget {
+  double max_seconds = 0;  // wall clock; 0: none
+  long max_rows = 0;       // sample rows written; 0: none
+};
+
+// What a run will cost, from a probe of its first steps on a copy of the model.
+struct RunEstimate {
+  long steps = 0, rows = 0;
+  double seconds = 0;  // wall time of the steps and rows
+  double bytes = 0;    // output size (0 when the run writes a table to a terminal)
+  long probe_steps = 0;
+};
+
+// Times up to 200000 steps (at most about 0.1 s) of `model` with `sets` applied on a copy, and
+// one row written in `format`. Never changes `model`.
+RunEstimate EstimateRun(const Model& model, const std::vector<Assignment>& sets,
+                        const RunSpec& spec, SampleFormat format);
+
+// "2.0e+07 steps and 200001 rows: about 14 s and 48 MB of csv" for the log line.
+std::string DescribeEstimate(const RunEstimate& e, const std::string& format);
+
+// Wraps the run's writer and watches the budgets and the signals: when a budget is spent it
+// raises the stop flag the run watches, so the run ends between steps with every row it
+// wrote whole. Draws the progress bar on a terminal.
+class BudgetedRun : public SampleSink {
+ public:
+  BudgetedRun(SampleSink& writer, const RunBudget& budget, long steps, bool progress);
+  // Installs the stop flag and the step hook in `spec`.
+  void Watch(RunSpec& spec);
+  void Begin(const std::vector<Path>& columns) override { writer_.Begin(columns); }
+  void Sample(const std::vector<double>& row) override;
+  void End() override;
+  // Why the run stopped early ("" when it did not, or a signal stopped it).
+  const std::string& spent() const { return spent_; }
+  long rows() const { return rows_; }
+
+ private:
+  void AfterStep(long step);
+
+  SampleSink& writer_;
+  RunBudget budget_;
+  std::atomic<bool> stop_{false};
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::unique_ptr<ProgressBar> bar_;
+  long rows_ = 0;
+  std::string spent_;
+};
+
+}  // namespace plumb::cli
+
+#endif  // PLUMB_APPS_PLUMB_RUN_BUDGET_H_
