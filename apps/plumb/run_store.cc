@@ -39,7 +39,7 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
     throw ValueError(fmt::format(
         "results store '{}' already holds this run ({} run {}, {} of {} done); add --resume to "
         "complete it, or use another --db file.",
-        db, info.kind, existing->id, store.DoneIndices(existing->id).size(), existing->count));
+        db, info.kind, existing->id, store.CountDone(existing->id), existing->count));
   }
   if (existing) {
     out.id = existing->id;
@@ -106,7 +106,7 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
 void CompleteStoredRun(StoredRun& stored, long total) {
   if (!stored.store) return;
   stored.store->Commit();
-  if (static_cast<long>(stored.store->DoneIndices(stored.id).size()) == total) {
+  if (stored.store->CountDone(stored.id) == total) {
     stored.store->FinishRun(stored.id);
   }
 }

@@ -67,6 +67,8 @@ class ResultsStore {
 
   // Indices of the rollouts of `run` that already have results, sorted.
   std::vector<long> DoneIndices(long run);
+  // How many there are, in constant memory (a million-rollout run checks it at its end).
+  long CountDone(long run);
 
   // Queues one result (case and result rows); written at the next Commit, which also
   // happens automatically every `batch` rows. A process killed between commits loses

@@ -280,6 +280,13 @@ std::vector<long> ResultsStore::DoneIndices(long run) {
   return done;
 }
 
+long ResultsStore::CountDone(long run) {
+  Commit();
+  Statement s(impl_->db, "SELECT count(*) FROM results WHERE run = ?", impl_->file);
+  s.Bind(1, run);
+  return s.Step() ? s.Int(0) : 0;
+}
+
 void ResultsStore::Add(long run, const RolloutResult& result) {
   impl_->queue.emplace_back(run, result);
   if (impl_->queue.size() >= batch) Commit();
@@ -348,9 +355,8 @@ namespace {
 // A run an input says is finished must hold every index: a hole there means the store was
 // edited or damaged, and a merge would pass the hole on as a complete run.
 void RequireCompleteIfFinished(ResultsStore& in, const RunInfo& run, const std::string& input) {
-  if (run.finished.empty()) return;
+  if (run.finished.empty() || in.CountDone(run.id) == run.count) return;
   std::vector<long> done = in.DoneIndices(run.id);
-  if (static_cast<long>(done.size()) == run.count) return;
   std::vector<std::string> missing;
   std::size_t k = 0;
   for (long i = 0; i < run.count && missing.size() < 6; ++i) {
@@ -422,7 +428,7 @@ void MergeStores(const std::vector<std::string>& inputs, const std::string& outp
     out.Commit();
     // a merged run is finished when it holds every index
     for (const RunInfo& run : out.Runs()) {
-      if (static_cast<long>(out.DoneIndices(run.id).size()) == run.count) out.FinishRun(run.id);
+      if (out.CountDone(run.id) == run.count) out.FinishRun(run.id);
     }
   } catch (...) {
     remove_temp();  // a failed merge leaves nothing behind

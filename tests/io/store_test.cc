@@ -68,6 +68,7 @@ TEST(StoreTest, RowsComeBackInIndexOrderWithNaNsAndResumeSeesThem) {
   EXPECT_TRUE(runs[0].finished.empty());
   EXPECT_EQ(runs[0].metrics, Info(5).metrics);
   EXPECT_EQ(store.DoneIndices(runs[0].id), (std::vector<long>{0, 1, 3}));
+  EXPECT_EQ(store.CountDone(runs[0].id), 3);
   std::vector<RolloutResult> rows = store.Results(runs[0].id);
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[2].index, 3);
