@@ -41,7 +41,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::istringstream lines(fuzz::Text(data, size));
   for (std::string line; field.size() < 9 && std::getline(lines, line);) field.push_back(line);
   field.resize(9);
-  std::string base = "/tmp/plumb-fuzz-store-" + std::to_string(getpid());
+  // in memory where there is a tmpfs: a store is made and merged for every input
+  static const std::string folder = std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : "/tmp";
+  std::string base = folder + "/plumb-fuzz-store-" + std::to_string(getpid());
   std::string input = base + ".sqlite", output = base + "-merged.sqlite";
   Remove(input);
   Remove(output);
