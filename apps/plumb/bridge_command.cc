@@ -50,9 +50,11 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
       RunBridge(model, StartAssignments(model, o.keyframe, o.sets), config, &StopFlag());
   std::printf(
       "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
-      "CRC, %ld for NaN values; %ld states published; watchdog tripped %ld times%s%s\n",
-      stats.time, stats.steps, stats.commands, stats.bad_crc, stats.non_finite, stats.states,
-      stats.watchdog_trips, config.log.empty() ? "" : "; log ", config.log.c_str());
+      "CRC, %ld for NaN values, %ld from a second controller; %ld states published; watchdog "
+      "tripped %ld times%s%s\n",
+      stats.time, stats.steps, stats.commands, stats.bad_crc, stats.non_finite,
+      stats.foreign_commands, stats.states, stats.watchdog_trips,
+      config.log.empty() ? "" : "; log ", config.log.c_str());
   if (stats.diverged) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
     return kExitDiverged;

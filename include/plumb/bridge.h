@@ -97,6 +97,8 @@ struct BridgeStats {
   long dropped_commands = 0;  // lost to an injected drop
   long dropped_states = 0;
   long paused_commands = 0;  // ignored during an injected controller pause
+  // dropped: from another controller while the one in charge is alive (see RunBridge)
+  long foreign_commands = 0;
   long steps = 0;
   double time = 0;        // simulated time at the end, s
   bool diverged = false;  // the run stopped because the state went bad
@@ -105,6 +107,11 @@ struct BridgeStats {
 
 // Runs the bridge until config.until, `stop` becoming true, or the state going bad
 // (stats.diverged). Starts from `start`.
+// One controller at a time drives the robot: the DataWriter whose good command (CRC and
+// values checked) arrives first is in charge; commands from any other writer are dropped,
+// counted (foreign_commands) and logged once per writer, and do not advance a lockstep
+// period. When the controller in charge has been silent for the watchdog timeout, the next
+// writer with a good command takes over, and the log says so.
 // @throws ValueError for a configuration that does not fit the model (unknown motor, more
 // motors than the family has); UnavailableError when DDS cannot start; MujocoError.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,

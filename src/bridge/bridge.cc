@@ -8,8 +8,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "bridge/command_check.h"
@@ -165,7 +167,9 @@ class Loop {
     Arrival a;
     Cmd cmd;
     double t = data_->time;
-    while (reader.Take(&cmd)) {
+    dds_instance_handle_t writer = 0;
+    while (reader.Take(&cmd, &writer)) {
+      if (Foreign(writer)) continue;
       if (faults_.ControllerPaused(t)) {
         ++stats_.paused_commands;
         continue;
@@ -192,6 +196,7 @@ class Loop {
       }
       ++stats_.commands;
       a.fresh = true;
+      TakeCharge(writer);
       if (recorder_) recorder_->Command(t, next);
       double delay = faults_.CommandLatency(t, n);
       if (delay > 0) {
@@ -205,6 +210,47 @@ class Loop {
       heard_ = true;
     }
     return a;
+  }
+
+  // Whether a command from `writer` comes from a controller other than the one in charge,
+  // while that one is alive: such commands are dropped and counted, and logged once a writer.
+  bool Foreign(dds_instance_handle_t writer) {
+    if (owner_ == 0 || writer == owner_ || OwnerSilent()) return false;
+    ++stats_.foreign_commands;
+    if (foreign_logged_.insert(writer).second) {
+      Event(fmt::format(
+          "a second controller ({}) publishes on rt/lowcmd while {} is in charge: "
+          "its commands are dropped until that one falls silent for {:g} ms",
+          ControllerName(writer), ControllerName(owner_), config_.watchdog_timeout * 1000));
+    }
+    return true;
+  }
+
+  bool OwnerSilent() const {
+    return Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
+  }
+
+  // Controllers are named in the order they were first heard ("controller 1"): a DDS
+  // writer's handle differs from run to run, and a lockstep log must repeat bit for bit.
+  std::string ControllerName(dds_instance_handle_t writer) {
+    auto [at, fresh] = controller_numbers_.emplace(writer, controller_numbers_.size() + 1);
+    return fmt::format("controller {}", at->second);
+  }
+
+  // The writer of a good command is in charge from now on (it already was, or it is the
+  // first, or the one in charge fell silent).
+  void TakeCharge(dds_instance_handle_t writer) {
+    if (writer == owner_) return;
+    if (owner_ == 0) {
+      Event(ControllerName(writer) + " is in charge");
+    } else {
+      Event(fmt::format(
+          "{} takes over from {}, silent for {:.0f} ms", ControllerName(writer),
+          ControllerName(owner_),
+          std::chrono::duration<double, std::milli>(Clock::now() - last_command_).count()));
+    }
+    owner_ = writer;
+    foreign_logged_.erase(writer);
   }
 
   // Commands held back by latency whose time has come, in the order they arrived.
@@ -363,7 +409,10 @@ class Loop {
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
-  bool heard_ = false;           // a command has arrived since the start
+  bool heard_ = false;                              // a command has arrived since the start
+  dds_instance_handle_t owner_ = 0;                 // the controller in charge (0: none yet)
+  std::set<dds_instance_handle_t> foreign_logged_;  // other writers already logged
+  std::map<dds_instance_handle_t, std::size_t> controller_numbers_;
   bool awaiting_reply_ = false;  // a state went out since the last command: lockstep waits
   bridge::Faults faults_;
   std::uint32_t command_count_ = 0, state_count_ = 0;  // the faults' message numbers

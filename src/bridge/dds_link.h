@@ -84,15 +84,18 @@ class DdsReader {
     dds_delete_qos(qos);
     CheckDds(reader_, "creating a reader of " + topic);
   }
-  // Takes one waiting sample into `out`; false when none is waiting.
-  bool Take(T* out) {
+  // Takes one waiting sample into `out`; false when none is waiting. `writer`, when given,
+  // receives the handle of the DataWriter that published it (one per controller).
+  bool Take(T* out, dds_instance_handle_t* writer = nullptr) {
     void* samples[1] = {out};
     dds_sample_info_t info;
     for (;;) {
       dds_return_t n = dds_take(reader_, samples, &info, 1, 1);
       CheckDds(n, "taking a sample");
       if (n == 0) return false;
-      if (info.valid_data) return true;  // else a disposal notice: look further
+      if (!info.valid_data) continue;  // a disposal notice: look further
+      if (writer != nullptr) *writer = info.publication_handle;
+      return true;
     }
   }
   // Waits up to `timeout` for data; true when some is waiting.

@@ -96,8 +96,9 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[0]"), 0.5, 0.01);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[0]"), 0.5, 0.01);  // as published
   // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
-  ASSERT_EQ(log.events.size(), 1u);
-  EXPECT_NE(log.events[0].find("watchdog"), std::string::npos);
+  ASSERT_EQ(log.events.size(), 2u);
+  EXPECT_EQ(log.events[0], "controller 1 is in charge");
+  EXPECT_NE(log.events[1].find("watchdog"), std::string::npos);
 }
 
 TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 #include "bridge/dds_link.h"
 #include "bridge/test_domain.h"
@@ -75,6 +76,13 @@ inline Cmd Hold(double target) {
   m.kd = 2;
   m.tau = static_cast<float>(1.0 * 9.81 * 0.5 * std::sin(target));  // m g d sin(q)
   return cmd;
+}
+
+// How many times `what` occurs in `text` (events and rows of a flight log).
+inline long Occurrences(const std::string& text, const std::string& what) {
+  long n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
 }
 
 inline BridgeConfig PendulumConfig(std::uint32_t domain, double until) {

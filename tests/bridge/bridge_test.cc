@@ -328,5 +328,44 @@ TEST(BridgeFaultsTest, APausedControllerTripsTheWatchdogAndAFrozenImuRepeats) {
   EXPECT_GT(run.stats.time, 0.9);
 }
 
+// Two controllers at once: the first with a good command is in charge; the other's commands
+// are dropped, counted and logged once, and do not advance lockstep; when the first falls
+// silent for the watchdog timeout, the other takes over.
+TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::TempDir dir;
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.5);
+  config.watchdog_timeout = 0.2;
+  config.log = dir.File("flight.csv");
+  Controller first(config.domain), second(config.domain);
+  std::atomic<bool> stop{false};
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  ASSERT_TRUE(first.Matched());
+  ASSERT_TRUE(second.Matched());
+  State s;
+  long both = 0;
+  double q = NAN;
+  // the first sends before the second for every state up to t = 0.5 s, then goes quiet
+  while (second.Next(&s) && s.tick < 1500) {
+    q = s.motor_state[0].q;
+    if (s.tick < 500) {
+      first.Send(Hold(0.5));
+      ++both;
+    }
+    second.Send(Hold(-0.3));
+  }
+  stop = true;
+  BridgeStats stats = bridge.get();
+  EXPECT_NEAR(q, -0.3, 0.02) << "the second controller took over";
+  EXPECT_GE(stats.foreign_commands, both - 2);    // every one while the first was in charge
+  EXPECT_LE(stats.foreign_commands, both + 150);  // and no more than 0.3 s of waiting
+  EXPECT_EQ(stats.watchdog_trips, 1);
+  std::string log = testing::ReadFile(config.log);
+  EXPECT_NE(log.find("controller 1 is in charge"), std::string::npos);
+  auto count = [&](const std::string& text) { return Occurrences(log, text); };
+  EXPECT_EQ(count("a second controller (controller 2)"), 1) << "logged once a writer";
+  EXPECT_EQ(count("controller 2 takes over from controller 1, silent for"), 1);
+}
+
 }  // namespace
 }  // namespace plumb
