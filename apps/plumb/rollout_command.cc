@@ -14,6 +14,7 @@
 #include <malloc.h>
 #endif
 
+#include "budget.h"
 #include "cli_common.h"
 #include "mpi.h"
 #include "plumb/error.h"
@@ -43,6 +44,7 @@ struct RolloutOptions {
   std::string format = "table";
   std::string shard;
   std::string db;
+  double max_seconds = 0;  // --max-seconds: 0 none
   bool resume = false;
   std::string report;  // --report FILE.html
 };
@@ -343,9 +345,11 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     if (stored.store) stored.store->Add(stored.id, r);
     writer.Row(r);
   };
+  WallClockBudget budget(o.max_seconds);
   KeepFinishedOnStop([&] { RunShard(model, spec, total, progress, emit); }, progress, stored,
                      [&] { writer.Flush(); },
-                     [&] { return fmt::format("{} rollouts finished", tally.run_now); }, o.db);
+                     [&] { return fmt::format("{} rollouts finished", tally.run_now); }, o.db,
+                     budget);
   writer.Finish();
   progress.Finish();
   CompleteStoredRun(stored, spec.count);
@@ -404,6 +408,10 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--shard", o->shard, "I/N: run the I-th of N disjoint slices");
   AddFormatOption(cmd, &o->format, {"table", "csv", "json"});
   cmd->add_option("--db", o->db, "record runs, cases and results in this SQLite file");
+  cmd->add_option("--max-seconds", o->max_seconds,
+                  "stop after this much wall time, keeping (printing and storing) the rollouts "
+                  "that finished; exit 0 (with --db, --resume goes on)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--resume", o->resume,
                 "continue the same run in --db: skip rollouts already stored");
   AddReportOption(cmd, &o->report);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "budget.h"
 #include "cli_common.h"
 #include "plumb/atomic_file.h"
 #include "plumb/error.h"
@@ -18,7 +19,6 @@
 #include "plumb/sample_writer.h"
 #include "plumb/start_hints.h"
 #include "plumb/timing.h"
-#include "run_budget.h"
 
 namespace plumb::cli {
 namespace {

@@ -80,9 +80,12 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
 
 void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress, StoredRun& stored,
                         const std::function<void()>& flush,
-                        const std::function<std::string()>& finished, const std::string& db) {
+                        const std::function<std::string()>& finished, const std::string& db,
+                        WallClockBudget& budget) {
   try {
     work();
+    budget.Finish();
+    if (budget.Spent()) StopFlag() = false;  // spent as the last case finished: nothing to stop
   } catch (const Interrupted& e) {
     // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
     progress.Finish();
@@ -90,6 +93,14 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
     try {
       flush();
     } catch (const OutputClosed&) {
+    }
+    budget.Finish();
+    if (budget.Spent()) {
+      StopFlag() = false;  // the budget's stop, not a signal's: the command ends normally
+      std::fprintf(stderr, "plumb: --max-seconds %g spent: %s%s\n", budget.seconds(),
+                   finished().c_str(),
+                   stored.store ? (" and stored in '" + db + "': --resume goes on").c_str() : "");
+      return;
     }
     throw Interrupted(fmt::format(
         "{}; {}{}", e.what(), finished(),

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "budget.h"
 #include "cli_common.h"
 #include "plumb/store.h"
 
@@ -40,10 +41,13 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
 // (Interrupted) the progress line is closed, the store committed, the rows not yet printed
 // written (unless stdout is gone), and the stop is reported again with `finished` ("12
 // rollouts finished") and, with a store, how to go on (--resume). On a closed stdout
-// (OutputClosed) the store is committed and the batch ends quietly (exit 141).
+// (OutputClosed) the store is committed and the batch ends quietly (exit 141). When `budget`
+// stopped it (--max-seconds), the same is kept and said, and KeepFinishedOnStop returns: the
+// command goes on to its summary and exits 0.
 void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress, StoredRun& stored,
                         const std::function<void()>& flush,
-                        const std::function<std::string()>& finished, const std::string& db);
+                        const std::function<std::string()>& finished, const std::string& db,
+                        WallClockBudget& budget);
 
 // Commits the store and marks the run finished when it holds all `total` indices.
 void CompleteStoredRun(StoredRun& stored, long total);

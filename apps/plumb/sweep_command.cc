@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "budget.h"
 #include "cli_common.h"
 #include "plumb/error.h"
 #include "plumb/hash.h"
@@ -35,6 +36,7 @@ struct SweepOptions {
   double until = 0;
   std::string format = "table";
   std::string db;
+  double max_seconds = 0;  // --max-seconds: 0 none
   bool resume = false;
   std::string report;  // --report FILE.html
 };
@@ -434,9 +436,10 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     }
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
+  WallClockBudget budget(o.max_seconds);
   KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit); }, progress, stored, flush,
                      [&] { return fmt::format("the {} finished cases were printed", emitted); },
-                     o.db);
+                     o.db, budget);
   progress.Finish();
   out += writer.Footer();
   flush();
@@ -488,6 +491,10 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
   AddReportOption(cmd, &o->report);
   AddFormatOption(cmd, &o->format, {"table", "csv", "json"});
   cmd->add_option("--db", o->db, "also record the sweep in this SQLite results store");
+  cmd->add_option("--max-seconds", o->max_seconds,
+                  "stop after this much wall time, keeping (printing and storing) the cases that "
+                  "finished; exit 0 (with --db, --resume goes on)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--resume", o->resume,
                 "continue the same sweep in --db: skip cases already stored (a fresh start when "
                 "it holds no sweep)");

@@ -1,5 +1,6 @@
-// plumb run's cost before it is spent: the estimate a long run prints, and the --max-seconds
-// and --max-rows budgets, which stop cleanly and keep every row written so far.
+// Cost before it is spent: the estimate a long plumb run prints; run's --max-seconds and
+// --max-rows, and sweep's and rollout's --max-seconds, which stop cleanly and keep every row
+// that finished.
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,49 @@ TEST(BudgetCliTest, BadBudgetsAreRefusedNamingTheOption) {
         << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir.File("out.csv"))) << bad;
   }
+}
+
+TEST(BudgetCliTest, RolloutMaxSecondsKeepsWhatFinishedStoredAndResumable) {
+  TempDir dir;
+  // two million rollouts: far more than 0.3 s holds in any build
+  std::string args = "rollout " + kPendulum +
+                     " --count 2000000 --until 0.01 --set 'qpos[hinge]=0.7' "
+                     "--randomize 'dof_damping[hinge]=U(0,0.1)' --metric 'qpos[hinge]@0.01' "
+                     "--format csv --db r.sqlite";
+  CommandResult r = RunPlumb(args + " --max-seconds 0.3", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  long printed = Lines(r.out) - 1;
+  EXPECT_GT(printed, 0);
+  EXPECT_LT(printed, 2000000);
+  EXPECT_NE(r.err.find("plumb: --max-seconds 0.3 spent: " + std::to_string(printed) +
+                       " rollouts finished and stored in 'r.sqlite': --resume goes on"),
+            std::string::npos)
+      << r.err;
+  // every printed rollout is stored, and the run is not marked finished
+  CommandResult stored = RunPlumb("results r.sqlite --format csv", dir.path());
+  ASSERT_EQ(stored.exit_code, 0) << stored.err;
+  EXPECT_EQ(Lines(stored.out) - 1, printed);
+  CommandResult again = RunPlumb(args, dir.path());
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("--resume"), std::string::npos) << again.err;
+}
+
+TEST(BudgetCliTest, SweepMaxSecondsPrintsEveryFinishedCaseWhole) {
+  TempDir dir;
+  CommandResult r = RunPlumb("sweep " + kPendulum +
+                                 " --vary 'dof_damping[hinge]=0:0.1:1000000' --set "
+                                 "'qpos[hinge]=0.7' --metric 'qpos[hinge]@0.01' --format csv "
+                                 "--max-seconds 0.3",
+                             dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  long printed = Lines(r.out) - 1;
+  EXPECT_GT(printed, 0);
+  EXPECT_LT(printed, 1000000);
+  EXPECT_EQ(r.out.back(), '\n');
+  EXPECT_NE(r.err.find("plumb: --max-seconds 0.3 spent: the " + std::to_string(printed) +
+                       " finished cases were printed"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace

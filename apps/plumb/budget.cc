@@ -1,4 +1,4 @@
-#include "run_budget.h"
+#include "budget.h"
 
 #include <fmt/format.h>
 
@@ -110,6 +110,31 @@ void BudgetedRun::Sample(const std::vector<double>& row) {
 void BudgetedRun::End() {
   if (bar_) bar_->Finish();
   writer_.End();
+}
+
+WallClockBudget::WallClockBudget(double seconds) : seconds_(seconds) {
+  if (seconds <= 0) return;
+  watcher_ = std::thread([this] {
+    std::unique_lock<std::mutex> lock(mutex_);
+    auto deadline = std::chrono::steady_clock::now() +
+                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::duration<double>(seconds_));
+    if (done_.wait_until(lock, deadline, [this] { return finished_; })) return;
+    spent_ = true;
+    StopFlag() = true;
+  });
+}
+
+WallClockBudget::~WallClockBudget() { Finish(); }
+
+void WallClockBudget::Finish() {
+  if (!watcher_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    finished_ = true;
+  }
+  done_.notify_all();
+  watcher_.join();
 }
 
 }  // namespace plumb::cli

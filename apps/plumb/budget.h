@@ -1,13 +1,17 @@
-// plumb run's cost before it is spent: an estimate of time and disk from a short probe,
-// a progress bar with ETA on a terminal, and the --max-seconds / --max-rows budgets.
+// Cost before it is spent: plumb run's estimate of time and disk from a short probe, its
+// progress bar and its --max-seconds / --max-rows budgets; the wall-clock budget of the
+// batch commands (sweep, rollout: --max-seconds).
 
-#ifndef PLUMB_APPS_PLUMB_RUN_BUDGET_H_
-#define PLUMB_APPS_PLUMB_RUN_BUDGET_H_
+#ifndef PLUMB_APPS_PLUMB_BUDGET_H_
+#define PLUMB_APPS_PLUMB_BUDGET_H_
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli_common.h"
@@ -66,6 +70,31 @@ class BudgetedRun : public SampleSink {
   std::string spent_;
 };
 
+// --max-seconds of a batch command: a watcher raises the process-wide stop flag when the
+// budget is spent, so the batch stops as on Ctrl-C, between cases, keeping (printing and
+// storing) what finished; KeepFinishedOnStop then ends it normally rather than with exit 130.
+class WallClockBudget {
+ public:
+  explicit WallClockBudget(double seconds);  // 0: no budget
+  ~WallClockBudget();
+  WallClockBudget(const WallClockBudget&) = delete;
+  WallClockBudget& operator=(const WallClockBudget&) = delete;
+  // Ends the watch (the batch is over); a budget spent at that very moment raised the stop
+  // flag for nothing, which is lowered again.
+  void Finish();
+  // Whether the budget stopped the batch (and not a signal).
+  bool Spent() const { return spent_.load(); }
+  double seconds() const { return seconds_; }
+
+ private:
+  double seconds_;
+  std::atomic<bool> spent_{false};
+  std::mutex mutex_;
+  std::condition_variable done_;
+  bool finished_ = false;
+  std::thread watcher_;
+};
+
 }  // namespace plumb::cli
 
-#endif  // PLUMB_APPS_PLUMB_RUN_BUDGET_H_
+#endif  // PLUMB_APPS_PLUMB_BUDGET_H_
