@@ -112,6 +112,28 @@ void BudgetedRun::End() {
   writer_.End();
 }
 
+std::string FormatDuration(double seconds) {
+  if (seconds < 120) return fmt::format("{:.0f} s", seconds);
+  if (seconds < 7200) return fmt::format("{:.0f} min", seconds / 60);
+  if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
+  return fmt::format("{:.1f} days", seconds / 86400);
+}
+
+void EtaNote::See(long done, long left) {
+  if (told_ || left <= 0 || done <= 0) return;
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (seconds <= 2) return;
+  told_ = true;
+  double eta = seconds / static_cast<double>(done) * static_cast<double>(left);
+  if (eta <= 60) return;
+  progress_.Clear();
+  std::fprintf(stderr,
+               "plumb: at %.3g %s/s the rest takes about %s; Ctrl-C or --max-seconds stops it and "
+               "keeps what finished%s\n",
+               done / seconds, unit_.c_str(), FormatDuration(eta).c_str(),
+               stored_ ? " (then --resume goes on)" : "");
+}
+
 WallClockBudget::WallClockBudget(double seconds) : seconds_(seconds) {
   if (seconds <= 0) return;
   watcher_ = std::thread([this] {

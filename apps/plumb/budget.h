@@ -70,6 +70,28 @@ class BudgetedRun : public SampleSink {
   std::string spent_;
 };
 
+// "40 s", "12 min", "3.5 h", "2.1 days".
+std::string FormatDuration(double seconds);
+
+// A long batch says how long once it knows (after 2 s), when the rest takes more than a
+// minute, and how to stop it without losing work:
+// "plumb: at 5.2e+04 rollouts/s the rest takes about 12 min; Ctrl-C or --max-seconds stops it
+// and keeps what finished (then --resume goes on)".
+class EtaNote {
+ public:
+  EtaNote(std::string unit, bool stored, ProgressBar& progress)
+      : unit_(std::move(unit)), stored_(stored), progress_(progress) {}
+  // After each item: `done` so far in this process, `left` still to do.
+  void See(long done, long left);
+
+ private:
+  std::string unit_;
+  bool stored_;
+  ProgressBar& progress_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  bool told_ = false;
+};
+
 // --max-seconds of a batch command: a watcher raises the process-wide stop flag when the
 // budget is spent, so the batch stops as on Ctrl-C, between cases, keeping (printing and
 // storing) what finished; KeepFinishedOnStop then ends it normally rather than with exit 130.

@@ -338,8 +338,10 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     });
   }
   auto start = std::chrono::steady_clock::now();
+  EtaNote eta("rollouts", stored.store != nullptr, progress);
   auto emit = [&](const RolloutResult& r) {
     ++tally.run_now;
+    eta.See(tally.run_now, total - tally.run_now);
     tally.Add(r);
     if (batch) batch->Add(r.params, r.metrics, r.diverged);
     if (stored.store) stored.store->Add(stored.id, r);

@@ -53,14 +53,6 @@ std::string Config(const SweepOptions& o, const std::string& model_hash) {
   return config;
 }
 
-// "40 s", "12 min", "3.5 h", "2.1 days".
-std::string FormatDuration(double seconds) {
-  if (seconds < 120) return fmt::format("{:.0f} s", seconds);
-  if (seconds < 7200) return fmt::format("{:.0f} min", seconds / 60);
-  if (seconds < 172800) return fmt::format("{:.1f} h", seconds / 3600);
-  return fmt::format("{:.1f} days", seconds / 86400);
-}
-
 // A case as a results-store row: its values as parameters, one metric each (NaN when not
 // measured, with the reason as the problem).
 RolloutResult StoredCase(const SweepSpec& spec, const SweepCase& c) {
@@ -358,19 +350,6 @@ class SweepProblems {
   std::map<std::pair<std::size_t, std::string>, long> problems_;  // (metric, reason): cases
 };
 
-// A long sweep says how long once it knows (after 2 s), and how to stop it without losing
-// work.
-void EtaNote(double seconds, long emitted, long left, bool stored, ProgressBar& progress) {
-  double eta = seconds / static_cast<double>(emitted) * static_cast<double>(left);
-  if (eta <= 60) return;
-  progress.Clear();
-  std::fprintf(stderr,
-               "plumb: at %.3g cases/s the rest takes about %s; Ctrl-C stops it and keeps "
-               "what finished%s\n",
-               emitted / seconds, FormatDuration(eta).c_str(),
-               stored ? " (then --resume goes on)" : "");
-}
-
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec = MakeSweepSpec(o, model);
@@ -407,7 +386,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     for (const SweepAxis& a : spec.axes) axes.push_back(a.path.text);
     batch.emplace(axes, o.metrics);
   }
-  bool told_time = false;
+  EtaNote eta("cases", stored.store != nullptr, progress);
   long emitted = 0;
   auto emit = [&](const SweepCase& c) {
     ++emitted;
@@ -428,12 +407,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
       batch->Add(values, metrics, diverged);
     }
     auto now = std::chrono::steady_clock::now();
-    double seconds = std::chrono::duration<double>(now - start).count();
-    long left = total - static_cast<long>(stored.done.size()) - emitted;
-    if (!told_time && seconds > 2 && left > 0) {
-      told_time = true;
-      EtaNote(seconds, emitted, left, stored.store != nullptr, progress);
-    }
+    eta.See(emitted, total - static_cast<long>(stored.done.size()) - emitted);
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
   WallClockBudget budget(o.max_seconds);

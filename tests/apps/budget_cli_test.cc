@@ -110,5 +110,19 @@ TEST(BudgetCliTest, SweepMaxSecondsPrintsEveryFinishedCaseWhole) {
       << r.err;
 }
 
+TEST(BudgetCliTest, AHugeRolloutSaysHowLongTheRestTakesAndHowToStopIt) {
+  TempDir dir;
+  CommandResult r = RunPlumb("rollout " + kPendulum +
+                                 " --count 100000000 --until 0.01 --set 'qpos[hinge]=0.7' "
+                                 "--randomize 'dof_damping[hinge]=U(0,0.1)' "
+                                 "--metric 'qpos[hinge]@0.01' --format csv --max-seconds 2.5",
+                             dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find(" rollouts/s the rest takes about "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Ctrl-C or --max-seconds stops it and keeps what finished"),
+            std::string::npos)
+      << r.err;
+}
+
 }  // namespace
 }  // namespace plumb
