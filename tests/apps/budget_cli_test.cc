@@ -22,6 +22,13 @@ using testing::TempDir;
 const std::string kRun =
     "run " + kPendulum + " --set 'qpos[hinge]=0.7' --format csv --every 0.002 ";
 
+// `count` pendulum rollouts of 5 steps each, one metric.
+std::string Rollouts(long count) {
+  return "rollout " + kPendulum + " --count " + std::to_string(count) +
+         " --until 0.01 --set 'qpos[hinge]=0.7' --randomize 'dof_damping[hinge]=U(0,0.1)' "
+         "--metric 'qpos[hinge]@0.01' --format csv";
+}
+
 long Lines(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
 
 TEST(BudgetCliTest, MaxRowsKeepsExactlyThoseRowsAndExits0) {
@@ -70,10 +77,7 @@ TEST(BudgetCliTest, BadBudgetsAreRefusedNamingTheOption) {
 TEST(BudgetCliTest, RolloutMaxSecondsKeepsWhatFinishedStoredAndResumable) {
   TempDir dir;
   // two million rollouts: far more than 0.3 s holds in any build
-  std::string args = "rollout " + kPendulum +
-                     " --count 2000000 --until 0.01 --set 'qpos[hinge]=0.7' "
-                     "--randomize 'dof_damping[hinge]=U(0,0.1)' --metric 'qpos[hinge]@0.01' "
-                     "--format csv --db r.sqlite";
+  std::string args = Rollouts(2000000) + " --db r.sqlite";
   CommandResult r = RunPlumb(args + " --max-seconds 0.3", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   long printed = Lines(r.out) - 1;
@@ -112,11 +116,7 @@ TEST(BudgetCliTest, SweepMaxSecondsPrintsEveryFinishedCaseWhole) {
 
 TEST(BudgetCliTest, AHugeRolloutSaysHowLongTheRestTakesAndHowToStopIt) {
   TempDir dir;
-  CommandResult r = RunPlumb("rollout " + kPendulum +
-                                 " --count 100000000 --until 0.01 --set 'qpos[hinge]=0.7' "
-                                 "--randomize 'dof_damping[hinge]=U(0,0.1)' "
-                                 "--metric 'qpos[hinge]@0.01' --format csv --max-seconds 2.5",
-                             dir.path());
+  CommandResult r = RunPlumb(Rollouts(100000000) + " --max-seconds 2.5", dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find(" rollouts/s the rest takes about "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("Ctrl-C or --max-seconds stops it and keeps what finished"),
