@@ -71,6 +71,12 @@ class ResultsStore {
   // Records a new run and returns its id.
   long BeginRun(const RunInfo& info);
   void FinishRun(long run);
+  // Runs `work` (which reads and writes through this store) in one write transaction, so
+  // what it reads stays true until it commits, whatever other processes writing the store do
+  // meanwhile: two processes that look for a run and begin it when it is missing begin one.
+  // Queued results are committed first. Rolled back when `work` throws, which it rethrows.
+  // @throws IoError when the store cannot be locked (another writer holds it over 10 s).
+  void Transaction(const std::function<void()>& work);
   // Adds another command line to a run's record (a merged run keeps every shard's).
   void AppendCommand(long run, const std::string& command);
   std::vector<RunInfo> Runs();

@@ -248,6 +248,18 @@ void ResultsStore::AppendCommand(long run, const std::string& command) {
   s.Bind(1, command).Bind(2, run).Bind(3, command).Step();
 }
 
+void ResultsStore::Transaction(const std::function<void()>& work) {
+  Commit();
+  impl_->Exec("BEGIN IMMEDIATE");
+  try {
+    work();
+    impl_->Exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
 void ResultsStore::FinishRun(long run) {
   Commit();
   Statement s(impl_->db, "UPDATE runs SET finished = ? WHERE id = ?", impl_->file);
