@@ -48,8 +48,13 @@ class AtomicFile {
   // @throws IoError on any write failure (e.g. disk full, ENOSPC on /dev/full); nothing
   // appears under the target then, except what a direct output has already received.
   void Commit();
+  // As Commit(), and returns a new descriptor (close-on-exec, O_APPEND) of the committed file,
+  // which the caller owns and closes: a log that appears with its header whole and then grows.
+  // @throws IoError as Commit() does.
+  int CommitForAppending();
 
  private:
+  void Finish(int* kept);  // Commit(); with `kept`, also a descriptor of the committed file
   std::string path_;       // as given
   std::string target_;     // where the rename lands (the end of a chain of links)
   std::string temp_path_;  // empty for direct outputs

@@ -140,28 +140,49 @@ AtomicFile::~AtomicFile() {
   if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
-void AtomicFile::Commit() {
+void AtomicFile::Commit() { Finish(nullptr); }
+
+int AtomicFile::CommitForAppending() {
+  int kept = -1;
+  Finish(&kept);
+  return kept;
+}
+
+void AtomicFile::Finish(int* kept) {
   errno = 0;
   bool ok =
       std::fflush(file_) == 0 && !std::ferror(file_) && (direct() || fsync(channel_->fd) == 0);
   int error = channel_ && channel_->error != 0 ? channel_->error : errno != 0 ? errno : EIO;
+  if (kept != nullptr && ok) {
+    // a descriptor of the same open file, which outlives the stream
+    *kept = fcntl(channel_ ? channel_->fd : fileno(file_), F_DUPFD_CLOEXEC, 0);
+    if (*kept < 0) {
+      ok = false;
+      error = errno;
+    } else {
+      fcntl(*kept, F_SETFL, fcntl(*kept, F_GETFL) | O_APPEND);
+    }
+  }
   if (owns_file_) ok = (std::fclose(file_) == 0) && ok;
   file_ = nullptr;
+  auto fail = [&](const std::string& message) {
+    if (kept != nullptr && *kept >= 0) ::close(*kept);
+    throw IoError(message);
+  };
   if (direct()) {
     if (!ok) {
       std::string name = path_ == "-" ? "standard output" : "'" + path_ + "'";
-      throw IoError("cannot write " + name + ": " + std::strerror(error) +
-                    "; the output is incomplete.");
+      fail("cannot write " + name + ": " + std::strerror(error) + "; the output is incomplete.");
     }
     committed_ = true;
     return;
   }
   if (!ok) {
-    throw IoError("cannot write '" + path_ + "': " + std::strerror(error) +
-                  "; nothing was written under that name.");
+    fail("cannot write '" + path_ + "': " + std::strerror(error) +
+         "; nothing was written under that name.");
   }
   if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
-    throw IoError("cannot write '" + path_ + "': " + std::strerror(errno));
+    fail("cannot write '" + path_ + "': " + std::strerror(errno));
   }
   committed_ = true;
   ::close(lock_fd_);
