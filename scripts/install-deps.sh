@@ -39,7 +39,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   valgrind sqlite3 python3-pip python3-venv clang libclang-rt-14-dev
   libceres-dev libpng-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev ffmpeg libjs-chart.js
-  chromium cyclonedds-dev cyclonedds-tools
+  chromium cyclonedds-dev cyclonedds-tools strace
 )
 
 missing=()

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "plumb/error.h"
 
@@ -17,6 +18,12 @@ std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string
   std::vector<RobotLog> logs;
   for (const std::string& path : paths) {
     logs.push_back(LoadRobotLog(model, path, model->opt.timestep, map));
+    if (logs.back().last_line_cut) {
+      std::fprintf(stderr,
+                   "plumb: note: %s: the last line is cut short (the bridge was killed while "
+                   "writing it); it is left out\n",
+                   path.c_str());
+    }
   }
   return logs;
 }

@@ -34,47 +34,51 @@ StoredRun OpenStoredRun(const std::string& db, bool resume, const RunInfo& info)
   }
   out.store = std::make_unique<ResultsStore>(db);
   ResultsStore& store = *out.store;
-  std::optional<RunInfo> existing = store.FindRun(info.config);
-  if (existing && !resume) {
-    throw ValueError(fmt::format(
-        "results store '{}' already holds this run ({} run {}, {} of {} done); add --resume to "
-        "complete it, or use another --db file.",
-        db, info.kind, existing->id, store.CountDone(existing->id), existing->count));
-  }
-  if (existing) {
-    out.id = existing->id;
-    out.done = store.DoneIndices(out.id);
-    return out;
-  }
-  if (resume) {
-    std::optional<RunInfo> last;
-    for (RunInfo& run : store.Runs()) {
-      if (run.kind == info.kind) last = run;
-    }
-    if (last) {
-      // a resume of a run this command does not describe: say what differs
-      std::vector<std::string> mine = Split(info.config, ' '), theirs = Split(last->config, ' ');
-      std::vector<std::string> differences;
-      for (const std::string& t : theirs) {
-        if (std::find(mine.begin(), mine.end(), t) == mine.end()) {
-          differences.push_back("stored " + t);
-        }
-      }
-      for (const std::string& t : mine) {
-        if (std::find(theirs.begin(), theirs.end(), t) == theirs.end()) {
-          differences.push_back("now " + t);
-        }
-      }
+  // one transaction from looking for the run to beginning it: two processes started at once
+  // begin one run, which the second joins with --resume or is refused without
+  store.Transaction([&] {
+    std::optional<RunInfo> existing = store.FindRun(info.config);
+    if (existing && !resume) {
       throw ValueError(fmt::format(
-          "--resume: this command is not the {} run stored in '{}' (run {}), so its results "
-          "would not be comparable: {}. Repeat the stored command ({}) or use a new --db file.",
-          info.kind, db, last->id, fmt::join(differences, ", "), last->command));
+          "results store '{}' already holds this run ({} run {}, {} of {} done); add --resume to "
+          "complete it, or use another --db file.",
+          db, info.kind, existing->id, store.CountDone(existing->id), existing->count));
     }
-    // nothing to resume: the first attempt of a job that is always started with --resume
-    std::fprintf(stderr, "plumb: --resume: '%s' holds no %s run yet; starting one\n", db.c_str(),
-                 info.kind.c_str());
-  }
-  out.id = store.BeginRun(info);
+    if (existing) {
+      out.id = existing->id;
+      out.done = store.DoneIndices(out.id);
+      return;
+    }
+    if (resume) {
+      std::optional<RunInfo> last;
+      for (RunInfo& run : store.Runs()) {
+        if (run.kind == info.kind) last = run;
+      }
+      if (last) {
+        // a resume of a run this command does not describe: say what differs
+        std::vector<std::string> mine = Split(info.config, ' '), theirs = Split(last->config, ' ');
+        std::vector<std::string> differences;
+        for (const std::string& t : theirs) {
+          if (std::find(mine.begin(), mine.end(), t) == mine.end()) {
+            differences.push_back("stored " + t);
+          }
+        }
+        for (const std::string& t : mine) {
+          if (std::find(theirs.begin(), theirs.end(), t) == theirs.end()) {
+            differences.push_back("now " + t);
+          }
+        }
+        throw ValueError(fmt::format(
+            "--resume: this command is not the {} run stored in '{}' (run {}), so its results "
+            "would not be comparable: {}. Repeat the stored command ({}) or use a new --db file.",
+            info.kind, db, last->id, fmt::join(differences, ", "), last->command));
+      }
+      // nothing to resume: the first attempt of a job that is always started with --resume
+      std::fprintf(stderr, "plumb: --resume: '%s' holds no %s run yet; starting one\n", db.c_str(),
+                   info.kind.c_str());
+    }
+    out.id = store.BeginRun(info);
+  });
   return out;
 }
 

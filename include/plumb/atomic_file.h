@@ -13,8 +13,10 @@ namespace plumb {
 // when complete. It is written to a hidden temporary file in the same directory and
 // renamed over the target by Commit(). If Commit() is never called (an error, an
 // exception, an interrupt), the destructor removes the temporary file and nothing
-// appears under the target. A SIGKILL can leave the hidden temporary behind, never a
-// half-written target. What `path` names decides how it is written:
+// appears under the target. A SIGKILL can leave the hidden temporary
+// (".<name>.tmp-XXXXXX") behind, never a half-written target; the next AtomicFile of the
+// same target removes the temporaries whose writers have died (each writer holds a lock on
+// its own while it lives). What `path` names decides how it is written:
 //   - "-": standard output (written directly, flushed by Commit(), never closed);
 //   - a symbolic link (a chain of them, or one whose target does not exist yet): the
 //     link is followed and the temporary file is renamed next to its final target, so
@@ -46,8 +48,13 @@ class AtomicFile {
   // @throws IoError on any write failure (e.g. disk full, ENOSPC on /dev/full); nothing
   // appears under the target then, except what a direct output has already received.
   void Commit();
+  // As Commit(), and returns a new descriptor (close-on-exec, O_APPEND) of the committed file,
+  // which the caller owns and closes: a log that appears with its header whole and then grows.
+  // @throws IoError as Commit() does.
+  int CommitForAppending();
 
  private:
+  void Finish(int* kept);  // Commit(); with `kept`, also a descriptor of the committed file
   std::string path_;       // as given
   std::string target_;     // where the rename lands (the end of a chain of links)
   std::string temp_path_;  // empty for direct outputs
@@ -56,6 +63,7 @@ class AtomicFile {
   std::FILE* file_ = nullptr;
   bool owns_file_ = true;  // false for standard output
   bool committed_ = false;
+  int lock_fd_ = -1;  // holds the temporary's lock until the rename (temp_file.h)
 };
 
 }  // namespace plumb

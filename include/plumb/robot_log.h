@@ -7,7 +7,9 @@
 //   - what was measured: qpos[...], qvel[...], sensordata[...] (state and derived paths).
 // That is what `plumb run --format csv` writes, and what the bridge's flight recorder writes:
 // there, the columns `kind` and `event` and the link's own `cmd.*` / `state.*` columns are
-// read only when a column map names them; rows of kind "event" are skipped.
+// read only when a column map names them; rows of kind "event" are skipped. The flight
+// recorder ends every line with a newline, so a last line without one was cut short by a kill
+// of the bridge: it is left out (RobotLog::last_line_cut).
 // An empty cell means "not sampled in this row": each column keeps its own times.
 //
 // A column map (TOML) renames a robot's own columns to plumb paths, or drops them:
@@ -47,6 +49,7 @@ struct RobotLog {
   double end = 0;                   // the last
   std::vector<LogSignal> inputs;    // applied (role "input")
   std::vector<LogSignal> measured;  // measured (role "state" or "derived")
+  bool last_line_cut = false;       // a flight log's last line had no newline: left out
 };
 
 // Column name -> plumb path; an empty path drops the column.

@@ -13,6 +13,13 @@
 //   plumb::ResultsStore store("results.sqlite");
 //   long run = store.BeginRun(info);             // or FindRun(config) to resume
 //   store.Add(run, result); store.Commit();
+//
+// Crash safety: results are committed in batches (`batch`); a process killed at any moment
+// loses at most the rows it had not committed, and the store opens and resumes afterwards.
+// SQLite keeps committed rows in the write-ahead log, FILE-wal, until the next open folds
+// them into FILE: never delete FILE-wal, FILE-shm or FILE-journal (a kill while a new store is
+// made leaves a journal SQLite rolls back). Several processes may write one store at once
+// (SQLite locks it; each waits up to 10 s for the other's commit).
 
 #ifndef PLUMB_INCLUDE_PLUMB_STORE_H_
 #define PLUMB_INCLUDE_PLUMB_STORE_H_
@@ -48,9 +55,12 @@ class ResultsStore {
  public:
   enum class Mode { kReadWrite, kReadOnly };
 
-  // Opens the store; read-write creates it if needed and runs SQLite's quick_check on an
-  // existing one, read-only never writes. @throws IoError naming the file when it cannot
-  // be opened, is damaged, or is an SQLite file of some other program.
+  // Opens the store; read-write creates it if needed (its tables all at once, so a process
+  // killed meanwhile leaves a whole empty store or none) and runs SQLite's quick_check on an
+  // existing one. Read-only writes nothing, except that a store whose writer was killed
+  // mid-transaction first gets SQLite's own recovery (rolling back the journal), which only a
+  // writable connection can make. @throws IoError naming the file when it cannot be opened,
+  // is damaged, or is an SQLite file of some other program.
   explicit ResultsStore(const std::string& path, Mode mode = Mode::kReadWrite);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;
@@ -61,6 +71,12 @@ class ResultsStore {
   // Records a new run and returns its id.
   long BeginRun(const RunInfo& info);
   void FinishRun(long run);
+  // Runs `work` (which reads and writes through this store) in one write transaction, so
+  // what it reads stays true until it commits, whatever other processes writing the store do
+  // meanwhile: two processes that look for a run and begin it when it is missing begin one.
+  // Queued results are committed first. Rolled back when `work` throws, which it rethrows.
+  // @throws IoError when the store cannot be locked (another writer holds it over 10 s).
+  void Transaction(const std::function<void()>& work);
   // Adds another command line to a run's record (a merged run keeps every shard's).
   void AppendCommand(long run, const std::string& command);
   std::vector<RunInfo> Runs();

@@ -1,8 +1,9 @@
 // MP4 video (H.264, yuv420p) made by piping raw frames to Debian's ffmpeg program.
 //
-// The video is written to a temporary file beside the target and renamed into place by
+// The video is written to a hidden temporary file beside the target and renamed into place by
 // Finish, so a half-made video never appears under the target's name; destroying a writer
-// that was not finished kills ffmpeg and removes the temporary file.
+// that was not finished kills ffmpeg and removes the temporary file. What a killed plumb
+// leaves (".<name>.tmp-XXXXXX.mp4" and ".log") the next writer of the same target removes.
 //
 // Example:
 //   plumb::VideoWriter video("swing.mp4", 640, 480, 30);
@@ -45,6 +46,7 @@ class VideoWriter {
   std::string path_;
   std::string temp_path_;
   std::string log_path_;  // ffmpeg's stderr
+  int temp_fd_ = -1;      // holds the temporary's lock until the rename
   int width_, height_;
   int fd_ = -1;  // our end of the socket ffmpeg reads its stdin from
   pid_t pid_ = -1;

@@ -2,8 +2,13 @@
 
 #include "bridge/flight_recorder.h"
 
-#include <cstdio>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "plumb/atomic_file.h"
 #include "plumb/error.h"
 #include "plumb/sample_writer.h"
 
@@ -18,7 +23,7 @@ std::string Empty(std::size_t cells) { return std::string(cells, ','); }
 }  // namespace
 
 FlightRecorder::FlightRecorder(const std::string& path, const Model& model, const MotorMap& motors)
-    : file_(std::make_unique<AtomicFile>(path)), m_(model.get()), motors_(motors.size()) {
+    : path_(path), m_(model.get()), motors_(motors.size()) {
   std::string header = "time,kind,event";
   for (int i = 0; i < m_->nq; ++i) header += ",qpos[" + std::to_string(i) + "]";
   for (int i = 0; i < m_->nv; ++i) header += ",qvel[" + std::to_string(i) + "]";
@@ -41,12 +46,28 @@ FlightRecorder::FlightRecorder(const std::string& path, const Model& model, cons
     for (const char* f : kStateFields)
       header += ",state." + std::string(f) + "[" + std::to_string(i) + "]";
   }
-  Line(header);
+  // the log appears with its header whole, then grows a line at a time
+  AtomicFile file(path_);
+  header += '\n';
+  std::fwrite(header.data(), 1, header.size(), file.stream());
+  fd_ = file.CommitForAppending();
+}
+
+FlightRecorder::~FlightRecorder() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 void FlightRecorder::Line(const std::string& text) {
-  if (std::fputs(text.c_str(), file_->stream()) < 0 || std::fputc('\n', file_->stream()) < 0) {
-    throw IoError("the flight recorder cannot write its log '" + file_->path() + "'");
+  std::string line = text + '\n';
+  std::size_t done = 0;
+  while (done < line.size()) {
+    ssize_t n = ::write(fd_, line.data() + done, line.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      throw IoError("the flight recorder cannot write its log '" + path_ +
+                    "': " + std::strerror(n < 0 ? errno : EIO));
+    }
+    done += static_cast<std::size_t>(n);
   }
 }
 
@@ -78,6 +99,16 @@ void FlightRecorder::Event(double time, const std::string& what) {
   Line(CsvNumber(time) + ",event," + CsvField(what) + Empty(simulated_ + 9 * motors_));
 }
 
-void FlightRecorder::Finish() { file_->Commit(); }
+void FlightRecorder::Finish() {
+  // a log written to a FIFO or a terminal has nothing to sync
+  bool synced = fsync(fd_) == 0 || errno == EINVAL || errno == EROFS;
+  int error = errno;
+  bool closed = ::close(fd_) == 0;
+  fd_ = -1;
+  if (!synced || !closed) {
+    throw IoError("the flight recorder cannot write its log '" + path_ +
+                  "': " + std::strerror(synced ? errno : error));
+  }
+}
 
 }  // namespace plumb::bridge

@@ -8,19 +8,24 @@
 // that is a joint (what was applied), sensordata[...] (every element); then, per motor i,
 // what crossed the link: cmd.mode[i], cmd.q[i], cmd.dq[i], cmd.kp[i], cmd.kd[i], cmd.tau[i]
 // (command rows) and state.q[i], state.dq[i], state.tau_est[i] (state rows, as published,
-// noise included). Cells a row does not concern are empty. Written through AtomicFile: the
-// log appears complete when the bridge stops, or not at all.
+// noise included). Cells a row does not concern are empty.
+//
+// The log is append-only and survives the bridge being killed: it appears (through AtomicFile)
+// with its header whole, then each row goes to the file as it happens, one write() of the whole
+// line, with no buffer in between. A SIGKILL, a crash or an exception therefore leaves every
+// row written before it, whole and in order. The one thing a kill can cut is the row being
+// written at that instant: the kernel may stop a write() between two pages, so the last line
+// can be cut short, and then has no newline (every whole line ends with one). Readers drop
+// such a line (LoadRobotLog does, and says so). Finish() syncs the file to disk.
 
 #ifndef PLUMB_SRC_BRIDGE_FLIGHT_RECORDER_H_
 #define PLUMB_SRC_BRIDGE_FLIGHT_RECORDER_H_
 
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "bridge/motor_map.h"
 #include "bridge/pd_law.h"
-#include "plumb/atomic_file.h"
 #include "plumb/model.h"
 
 namespace plumb::bridge {
@@ -38,12 +43,17 @@ class FlightRecorder {
              const std::string& note);
   void Command(double time, const std::vector<MotorCommand>& command);
   void Event(double time, const std::string& what);
-  // Commits the file (until then it is a temporary file). @throws IoError.
+  // Syncs the log to disk and closes it. @throws IoError.
   void Finish();
+  ~FlightRecorder();
+  FlightRecorder(const FlightRecorder&) = delete;
+  FlightRecorder& operator=(const FlightRecorder&) = delete;
 
  private:
+  // Appends `text` and a newline with one write(). @throws IoError.
   void Line(const std::string& text);
-  std::unique_ptr<AtomicFile> file_;
+  std::string path_;
+  int fd_ = -1;  // the log, open for appending
   const mjModel* m_;
   std::vector<int> ctrl_, applied_;  // actuator ids, dof ids
   std::size_t motors_ = 0;

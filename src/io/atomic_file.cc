@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <vector>
 
+#include "io/temp_file.h"
 #include "plumb/error.h"
 
 namespace plumb {
@@ -113,25 +113,18 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     file_ = Channel::Open(channel_.get(), fd, path_);
     return;
   }
-  // a regular file (or none yet), perhaps behind links: written next to the link's target
+  // a regular file (or none yet), perhaps behind links: written next to the link's target,
+  // after removing what writers of it that were killed left there
   target_ = target;
-  fs::path dir = fs::path(target_).parent_path();
-  if (dir.empty()) dir = ".";
-  std::string pattern =
-      (dir / ("." + fs::path(target_).filename().string() + ".tmp-XXXXXX")).string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  int fd = mkstemp(name.data());
-  if (fd < 0) {
-    throw IoError("cannot write '" + path_ + "': " + std::strerror(errno) + " (directory '" +
-                  dir.string() + "'). Choose a writable location with -o.");
-  }
+  RemoveStaleTemporaries(target_);
+  int fd = CreateLockedTemporary(target_, "", &temp_path_);
+  // the lock lives with this second descriptor until the rename (the stream's is closed first)
+  lock_fd_ = fcntl(fd, F_DUPFD_CLOEXEC, 0);
   // an existing file keeps its permissions; a new one gets those of an ordinary new file
   // (mkstemp uses 0600)
   mode_t mask = umask(0);
   umask(mask);
   fchmod(fd, exists ? (st.st_mode & 07777) : (0666 & ~mask));
-  temp_path_ = name.data();
   channel_ = std::make_unique<Channel>();
   try {
     file_ = Channel::Open(channel_.get(), fd, path_);
@@ -144,32 +137,56 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 AtomicFile::~AtomicFile() {
   if (file_ && owns_file_) std::fclose(file_);
   if (!committed_ && !temp_path_.empty()) std::remove(temp_path_.c_str());
+  if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
-void AtomicFile::Commit() {
+void AtomicFile::Commit() { Finish(nullptr); }
+
+int AtomicFile::CommitForAppending() {
+  int kept = -1;
+  Finish(&kept);
+  return kept;
+}
+
+void AtomicFile::Finish(int* kept) {
   errno = 0;
   bool ok =
       std::fflush(file_) == 0 && !std::ferror(file_) && (direct() || fsync(channel_->fd) == 0);
   int error = channel_ && channel_->error != 0 ? channel_->error : errno != 0 ? errno : EIO;
+  if (kept != nullptr && ok) {
+    // a descriptor of the same open file, which outlives the stream
+    *kept = fcntl(channel_ ? channel_->fd : fileno(file_), F_DUPFD_CLOEXEC, 0);
+    if (*kept < 0) {
+      ok = false;
+      error = errno;
+    } else {
+      fcntl(*kept, F_SETFL, fcntl(*kept, F_GETFL) | O_APPEND);
+    }
+  }
   if (owns_file_) ok = (std::fclose(file_) == 0) && ok;
   file_ = nullptr;
+  auto fail = [&](const std::string& message) {
+    if (kept != nullptr && *kept >= 0) ::close(*kept);
+    throw IoError(message);
+  };
   if (direct()) {
     if (!ok) {
       std::string name = path_ == "-" ? "standard output" : "'" + path_ + "'";
-      throw IoError("cannot write " + name + ": " + std::strerror(error) +
-                    "; the output is incomplete.");
+      fail("cannot write " + name + ": " + std::strerror(error) + "; the output is incomplete.");
     }
     committed_ = true;
     return;
   }
   if (!ok) {
-    throw IoError("cannot write '" + path_ + "': " + std::strerror(error) +
-                  "; nothing was written under that name.");
+    fail("cannot write '" + path_ + "': " + std::strerror(error) +
+         "; nothing was written under that name.");
   }
   if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
-    throw IoError("cannot write '" + path_ + "': " + std::strerror(errno));
+    fail("cannot write '" + path_ + "': " + std::strerror(errno));
   }
   committed_ = true;
+  ::close(lock_fd_);
+  lock_fd_ = -1;
 }
 
 }  // namespace plumb

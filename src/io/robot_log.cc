@@ -81,6 +81,12 @@ class LogReader {
     while (std::getline(in, line)) {
       ++row;
       if (line.empty() || line == "\r") continue;
+      // every line of the flight recorder ends with a newline: one without was being written
+      // when the bridge was killed, and may be cut anywhere (flight_recorder.h)
+      if (in.eof() && kind_ >= 0) {
+        log_.last_line_cut = true;
+        break;
+      }
       if (!SplitCsv(line, &cells)) Fail(row, "", "has a quote that is never closed");
       if (cells.size() != names_.size()) {
         Fail(row, "",

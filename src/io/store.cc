@@ -132,18 +132,56 @@ struct ResultsStore::Impl {
   }
 };
 
+namespace {
+
+// Opens `path` with SQLite's `flags`. @throws IoError naming the file.
+sqlite3* OpenDatabase(const std::string& path, int flags) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &db, flags, nullptr) != SQLITE_OK) {
+    std::string message = db ? sqlite3_errmsg(db) : "out of memory";
+    sqlite3_close(db);
+    throw IoError("cannot open results store '" + path + "': " + message);
+  }
+  sqlite3_busy_timeout(db, 10000);
+  return db;
+}
+
+// True when a read-only connection cannot read `db` until a writable one has rolled back the
+// journal, or recovered the write-ahead log, of a writer that was killed mid-transaction.
+bool NeedsRecovery(sqlite3* db) {
+  if (sqlite3_exec(db, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr) ==
+      SQLITE_OK) {
+    return false;
+  }
+  int why = sqlite3_extended_errcode(db);
+  return why == SQLITE_READONLY_ROLLBACK || why == SQLITE_READONLY_RECOVERY;
+}
+
+}  // namespace
+
 ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>()) {
   impl_->file = path;
   bool read_only = mode == Mode::kReadOnly;
-  int flags = read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
-  if (sqlite3_open_v2(path.c_str(), &impl_->db, flags, nullptr) != SQLITE_OK) {
-    std::string message = impl_->db ? sqlite3_errmsg(impl_->db) : "out of memory";
-    sqlite3_close(impl_->db);
-    impl_->db = nullptr;
-    throw IoError("cannot open results store '" + path + "': " + message);
-  }
-  sqlite3_busy_timeout(impl_->db, 10000);
+  impl_->db = OpenDatabase(
+      path, read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   try {
+    if (read_only && NeedsRecovery(impl_->db)) {
+      // SQLite's own recovery, on the first read of a writable connection; it writes nothing
+      // else, and the store is read-only again after it
+      sqlite3_close(impl_->db);
+      impl_->db = nullptr;
+      sqlite3* writable = nullptr;
+      try {
+        writable = OpenDatabase(path, SQLITE_OPEN_READWRITE);
+      } catch (const IoError& e) {
+        throw IoError(std::string(e.what()) +
+                      " (a plumb writing it was killed mid-write, and SQLite can finish its "
+                      "recovery only where the file is writable)");
+      }
+      sqlite3_exec(writable, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+      sqlite3_close(writable);
+      impl_->db = OpenDatabase(path, SQLITE_OPEN_READONLY);
+    }
     auto integer = [&](const char* sql) {
       Statement s(impl_->db, sql, path);
       return s.Step() ? s.Int(0) : 0L;
@@ -175,19 +213,24 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
       }
     }
     impl_->Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
-    impl_->Exec(
-        "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, config TEXT, "
-        "command TEXT, model_file TEXT, model_hash TEXT, plumb_version TEXT, "
-        "mujoco_version TEXT, started TEXT, finished TEXT, parameters TEXT, metrics TEXT, "
-        "count INTEGER);"
-        "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
-        "PRIMARY KEY(run, idx));"
-        "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
-        "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
-        "PRIMARY KEY(run, idx));");
-    impl_->Exec(
-        fmt::format("PRAGMA application_id = {}; PRAGMA user_version = 1;", kStoreApplicationId)
-            .c_str());
+    if (id != kStoreApplicationId || ours != 3) {
+      // the tables and the ids in one transaction: a store killed while it is made holds all
+      // of them or none (one table alone used to make it "not a plumb results store")
+      impl_->Exec(
+          fmt::format("BEGIN IMMEDIATE;"
+                      "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, "
+                      "config TEXT, command TEXT, model_file TEXT, model_hash TEXT, "
+                      "plumb_version TEXT, mujoco_version TEXT, started TEXT, finished TEXT, "
+                      "parameters TEXT, metrics TEXT, count INTEGER);"
+                      "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
+                      "PRIMARY KEY(run, idx));"
+                      "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
+                      "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
+                      "PRIMARY KEY(run, idx));"
+                      "PRAGMA application_id = {}; PRAGMA user_version = 1; COMMIT;",
+                      kStoreApplicationId)
+              .c_str());
+    }
   } catch (const Error&) {
     sqlite3_close(impl_->db);
     impl_->db = nullptr;
@@ -236,6 +279,18 @@ void ResultsStore::AppendCommand(long run, const std::string& command) {
               "instr(char(10) || command || char(10), char(10) || ? || char(10)) = 0",
               impl_->file);
   s.Bind(1, command).Bind(2, run).Bind(3, command).Step();
+}
+
+void ResultsStore::Transaction(const std::function<void()>& work) {
+  Commit();
+  impl_->Exec("BEGIN IMMEDIATE");
+  try {
+    work();
+    impl_->Exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
 }
 
 void ResultsStore::FinishRun(long run) {

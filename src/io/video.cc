@@ -22,6 +22,7 @@
 #include <sstream>
 #include <vector>
 
+#include "io/temp_file.h"
 #include "plumb/error.h"
 
 extern char** environ;
@@ -42,17 +43,6 @@ std::string FindFfmpeg() {
     if (access(candidate.c_str(), X_OK) == 0) return candidate;
   }
   return "";
-}
-
-std::string FolderOf(const std::string& path) {
-  std::size_t slash = path.rfind('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-std::string BaseOf(const std::string& path) {
-  std::size_t slash = path.rfind('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 // The last lines ffmpeg wrote on stderr (its reason for failing).
@@ -88,25 +78,24 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
         "(Debian: apt-get install ffmpeg; scripts/install-deps.sh does), set PLUMB_FFMPEG to "
         "its path, or write a PNG picture instead.");
   }
-  std::string folder = FolderOf(path_);
-  std::string temp = folder + "/." + BaseOf(path_) + ".XXXXXX.mp4";
-  std::vector<char> temp_name(temp.begin(), temp.end());
-  temp_name.push_back('\0');
-  int temp_fd = mkstemps(temp_name.data(), 4);
-  if (temp_fd < 0) {
-    throw IoError("cannot write '" + path_ + "': cannot create a file in '" + folder + "' (" +
-                  std::strerror(errno) +
-                  "). Check that the folder exists and is "
-                  "writable.");
+  // the video and ffmpeg's messages go to hidden temporary files beside the target, each
+  // locked while its writer lives (ffmpeg inherits the log's lock), after removing those of
+  // writers that were killed (temp_file.h)
+  RemoveStaleTemporaries(path_);
+  temp_fd_ = CreateLockedTemporary(path_, ".mp4", &temp_path_);
+  fchmod(temp_fd_, 0644);  // as a file the user made (mkstemp makes it 0600)
+  int log_fd = -1;
+  try {
+    log_fd = CreateLockedTemporary(path_, ".log", &log_path_);
+  } catch (const IoError&) {
+    Abandon();
+    throw;
   }
-  fchmod(temp_fd, 0644);  // as a file the user made (mkstemps makes it 0600)
-  close(temp_fd);
-  temp_path_ = temp_name.data();
-  log_path_ = temp_path_ + ".log";
 
   int sockets[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0) {
-    std::remove(temp_path_.c_str());
+    ::close(log_fd);
+    Abandon();
     throw IoError(std::string("cannot make a socket for ffmpeg: ") + std::strerror(errno));
   }
   char pad[] = "pad=ceil(iw/2)*2:ceil(ih/2)*2";
@@ -125,17 +114,16 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, sockets[1], 0);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0600);
+  posix_spawn_file_actions_adddup2(&actions, log_fd, 2);
   // -nostdin is about keyboard interaction; ffmpeg still reads the frames from pipe:0
   int spawn_error = posix_spawn(&pid_, ffmpeg.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   close(sockets[1]);
+  ::close(log_fd);
   if (spawn_error != 0) {
     close(sockets[0]);
     pid_ = -1;
-    std::remove(temp_path_.c_str());
-    std::remove(log_path_.c_str());
+    Abandon();
     throw UnavailableError("cannot start '" + ffmpeg + "': " + std::strerror(spawn_error));
   }
   fd_ = sockets[0];
@@ -153,9 +141,11 @@ void VideoWriter::Abandon() {
   }
   if (!temp_path_.empty()) {
     std::remove(temp_path_.c_str());
-    std::remove(log_path_.c_str());
+    if (!log_path_.empty()) std::remove(log_path_.c_str());
     temp_path_.clear();
   }
+  if (temp_fd_ >= 0) close(temp_fd_);
+  temp_fd_ = -1;
 }
 
 void VideoWriter::Add(const Image& frame) {
@@ -195,13 +185,16 @@ void VideoWriter::Finish() {
     Abandon();
     throw IoError("ffmpeg could not write '" + path_ + "': " + said);
   }
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+  // on disk before it takes the target's name, as AtomicFile does
+  if (fsync(temp_fd_) != 0 || std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     std::string why = std::strerror(errno);
     Abandon();
     throw IoError("cannot move the video into place as '" + path_ + "': " + why);
   }
   std::remove(log_path_.c_str());
   temp_path_.clear();
+  close(temp_fd_);
+  temp_fd_ = -1;
 }
 
 }  // namespace plumb

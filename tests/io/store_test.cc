@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <future>
+#include <thread>
 
 #include "fixture.h"
 #include "plumb/error.h"
@@ -77,6 +80,37 @@ TEST(StoreTest, RowsComeBackInIndexOrderWithNaNsAndResumeSeesThem) {
   EXPECT_TRUE(std::isnan(rows[2].metrics[1]));
   ASSERT_TRUE(store.FindRun(Info(5).config).has_value());
   EXPECT_FALSE(store.FindRun("another config").has_value());
+}
+
+// Two writers of one store look for the same run at once, the second while the first has
+// looked and not yet begun it: in a Transaction they begin it once. Looking and beginning
+// outside one, both found nothing and each began a run of the same config.
+TEST(StoreTest, TwoWritersLookingForARunAtOnceBeginItOnce) {
+  TempDir dir;
+  std::string path = dir.File("r.sqlite");
+  ResultsStore first(path), second(path);
+  std::promise<void> looked;
+  auto claim = [&](ResultsStore& store, bool is_first) {
+    long id = 0;
+    store.Transaction([&] {
+      std::optional<RunInfo> found = store.FindRun(Info(3).config);
+      if (is_first) {
+        looked.set_value();
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+      id = found ? found->id : store.BeginRun(Info(3));
+    });
+    return id;
+  };
+  long second_id = 0;
+  std::thread other([&] {
+    looked.get_future().wait();
+    second_id = claim(second, false);
+  });
+  long first_id = claim(first, true);
+  other.join();
+  EXPECT_EQ(first_id, second_id);
+  EXPECT_EQ(first.Runs().size(), 1u);
 }
 
 TEST(StoreTest, ShardsMergeIntoOneFinishedRun) {

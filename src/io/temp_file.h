@@ -1,0 +1,30 @@
+// Hidden temporary files beside an output, which a killed writer cannot leave to pile up.
+//
+// A writer that makes its output appear whole (AtomicFile, VideoWriter) writes it first to a
+// temporary file in the same folder, named ".<output name>.tmp-XXXXXX<suffix>", and renames it
+// into place when done. A SIGKILL can leave that temporary behind. Each one is therefore
+// locked (flock) by its writer for as long as the writer lives, and the next writer of the same
+// output removes every such file whose lock is free: its writer has died (the kernel drops the
+// locks of a killed process). A live writer's temporary is never touched, in this process or
+// another.
+
+#ifndef PLUMB_SRC_IO_TEMP_FILE_H_
+#define PLUMB_SRC_IO_TEMP_FILE_H_
+
+#include <string>
+
+namespace plumb {
+
+// Removes the temporary files of `target` (as above) that no live writer holds, and returns how
+// many it removed. Files it cannot open, lock or remove are left alone. Never throws.
+int RemoveStaleTemporaries(const std::string& target);
+
+// Creates a new temporary file for `target` (as above, mode 0600, close-on-exec) and locks it
+// for as long as a descriptor of it stays open (including one a child process inherited).
+// Returns the descriptor (the caller closes it); `*path` receives the file's name.
+// @throws IoError naming `target` and the folder when the folder cannot be written.
+int CreateLockedTemporary(const std::string& target, const std::string& suffix, std::string* path);
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_IO_TEMP_FILE_H_
