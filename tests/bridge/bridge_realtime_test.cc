@@ -83,8 +83,14 @@ TEST(BridgeTest, AFloodOfHostileCommandsNeitherSlowsItNorGoesUnrecorded) {
   stop = true;
   BridgeStats stats = bridge.get();
   double span = std::chrono::duration<double>(last_at - first_at).count();
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // under a sanitizer eleven commands a period and their log lines take longer than the
+  // period itself: the pace is the Release build's to show (the rest is checked here too)
+  (void)span, (void)first, (void)last;
+#else
   EXPECT_NEAR((last - first) / 1000.0 / span, 1.0, 0.05) << "simulated time keeps pace";
   EXPECT_NEAR(received / span, 500, 25) << "and so does the publish rate";
+#endif
   EXPECT_EQ(stats.watchdog_trips, 0);
   EXPECT_NEAR(s.motor_state[0].q, 0.3, 0.02) << "the controller in charge holds the pendulum";
   // best effort on loopback may lose a message under load, never invent one
