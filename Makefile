@@ -72,7 +72,7 @@ test-asan: deps
 # the threaded code (sweep's, rollout's and identify's worker pools, the stop flag, the CLI's
 # streaming writers) under ThreadSanitizer; tests/tsan.supp names what TSan cannot see into (oneTBB's
 # own synchronisation, not built with TSan)
-TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test identify_test plumb_cli
+TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli
 TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$)\.?
 # the memory benchmarks among them (10^6 cases) take minutes under TSan and share no code
 # path the others do not run
