@@ -65,13 +65,8 @@ RunEstimate EstimateRun(const Model& model, const std::vector<Assignment>& sets,
 }
 
 std::string DescribeEstimate(const RunEstimate& e, const std::string& format) {
-  auto bytes = [](double b) {
-    if (b >= 1e9) return fmt::format("{:.1f} GB", b / 1e9);
-    if (b >= 1e6) return fmt::format("{:.0f} MB", b / 1e6);
-    return fmt::format("{:.0f} kB", b / 1e3);
-  };
   return fmt::format("{} steps and {} rows: about {:.0f} s and {} of {} (from a {}-step probe)",
-                     e.steps, e.rows, e.seconds, bytes(e.bytes), format, e.probe_steps);
+                     e.steps, e.rows, e.seconds, FormatBytes(e.bytes), format, e.probe_steps);
 }
 
 BudgetedRun::BudgetedRun(SampleSink& writer, const RunBudget& budget, long steps, bool progress)
@@ -110,6 +105,13 @@ void BudgetedRun::Sample(const std::vector<double>& row) {
 void BudgetedRun::End() {
   if (bar_) bar_->Finish();
   writer_.End();
+}
+
+std::string FormatBytes(double b) {
+  return b < 1e3   ? fmt::format("{:.0f} B", b)
+         : b < 1e6 ? fmt::format("{:.0f} kB", b / 1e3)
+         : b < 1e9 ? fmt::format("{:.0f} MB", b / 1e6)
+                   : fmt::format("{:.1f} GB", b / 1e9);
 }
 
 std::string FormatDuration(double seconds) {

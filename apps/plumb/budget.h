@@ -70,6 +70,9 @@ class BudgetedRun : public SampleSink {
   std::string spent_;
 };
 
+// "512 B", "48 kB", "570 MB", "1.2 GB".
+std::string FormatBytes(double bytes);
+
 // "40 s", "12 min", "3.5 h", "2.1 days".
 std::string FormatDuration(double seconds);
 

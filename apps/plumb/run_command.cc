@@ -148,14 +148,14 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   double dt = RunTimestep(model, sets);
   RunSpec spec = MakeRunSpec(o, model, dt);
   // validate the schedule before any output file appears
-  MakeSchedule(dt, spec.until, spec.every);
+  Schedule schedule = MakeSchedule(dt, spec.until, spec.every);
   ApplyAssignments(model, data, sets);
   SampleFormat format = o.format == "csv"     ? SampleFormat::kCsv
                         : o.format == "jsonl" ? SampleFormat::kJsonl
                                               : SampleFormat::kTable;
   bool to_file = !o.output.empty() && o.output != "-";
   RunEstimate estimate;
-  if (MakeSchedule(dt, spec.until, spec.every).steps >= kProbeAbove) {
+  if (schedule.steps >= kProbeAbove) {
     estimate = EstimateRun(model, sets, spec, format);
     CheckCost(o, estimate, to_file);
   }

@@ -86,12 +86,6 @@ std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec&
     double until = at_time ? metric.time : o.until > 0 ? o.until : DefaultDuration(metric);
     steps += static_cast<double>(StepsToReach(until, dt));
   }
-  auto bytes = [](double b) {
-    return b < 1e3   ? fmt::format("{:.0f} B", b)
-           : b < 1e6 ? fmt::format("{:.0f} kB", b / 1e3)
-           : b < 1e9 ? fmt::format("{:.0f} MB", b / 1e6)
-                     : fmt::format("{:.1f} GB", b / 1e9);
-  };
   auto count = [](double x) {
     return x < 1e7 ? fmt::format("{:.0f}", x) : fmt::format("{:.3g}", x);
   };
@@ -101,11 +95,11 @@ std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec&
       "{} of {} output",
       cases, cases == 1 ? "" : "s", spec.metrics.size(), spec.metrics.size() == 1 ? "" : "s",
       count(n * spec.metrics.size()), n * spec.metrics.size() == 1 ? "" : "s", count(steps),
-      count(steps * n), bytes(n * static_cast<double>(row_bytes)), o.format);
+      count(steps * n), FormatBytes(n * static_cast<double>(row_bytes)), o.format);
   // a store row: the case's values and metrics as JSON text, plus SQLite's overhead
   if (!o.db.empty()) {
     double row = 60.0 + 24.0 * static_cast<double>(spec.axes.size() + spec.metrics.size());
-    line += fmt::format(" and about {} in '{}'", bytes(n * row), o.db);
+    line += fmt::format(" and about {} in '{}'", FormatBytes(n * row), o.db);
   }
   return line;
 }
