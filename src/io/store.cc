@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -11,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "plumb/error.h"
 
@@ -134,6 +137,9 @@ struct ResultsStore::Impl {
 
 namespace {
 
+// How long a write waits for another process's write to the same store.
+constexpr int kBusyTimeoutMs = 10000;
+
 // Opens `path` with SQLite's `flags`. @throws IoError naming the file.
 sqlite3* OpenDatabase(const std::string& path, int flags) {
   sqlite3* db = nullptr;
@@ -142,7 +148,7 @@ sqlite3* OpenDatabase(const std::string& path, int flags) {
     sqlite3_close(db);
     throw IoError("cannot open results store '" + path + "': " + message);
   }
-  sqlite3_busy_timeout(db, 10000);
+  sqlite3_busy_timeout(db, kBusyTimeoutMs);
   return db;
 }
 
@@ -155,6 +161,28 @@ bool NeedsRecovery(sqlite3* db) {
   }
   int why = sqlite3_extended_errcode(db);
   return why == SQLITE_READONLY_ROLLBACK || why == SQLITE_READONLY_RECOVERY;
+}
+
+// Puts `db` in write-ahead-log mode (a no-op once it is). SQLite answers a switch that meets
+// another connection's read with SQLITE_BUSY at once, without its busy handler (the switch holds
+// a read lock of its own and waiting could deadlock), so several plumbs opening one new store
+// together retry here, for as long as the busy timeout. @throws IoError naming the file.
+void SwitchToWriteAheadLog(sqlite3* db, const std::string& path) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point give_up = Clock::now() + std::chrono::milliseconds(kBusyTimeoutMs);
+  auto pause = std::chrono::milliseconds(1);
+  while (true) {
+    int rc = sqlite3_exec(db, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
+    if (rc == SQLITE_OK) return;
+    if ((rc & 0xff) != SQLITE_BUSY || Clock::now() >= give_up) {
+      throw IoError("results store '" + path + "': " + sqlite3_errmsg(db) +
+                    (rc == SQLITE_BUSY ? " (another process held it for " +
+                                             std::to_string(kBusyTimeoutMs / 1000) + " s)"
+                                       : ""));
+    }
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::milliseconds(50));
+  }
 }
 
 }  // namespace
@@ -212,7 +240,8 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
                       "); restore it from a copy or start a new --db file.");
       }
     }
-    impl_->Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;");
+    SwitchToWriteAheadLog(impl_->db, path);
+    impl_->Exec("PRAGMA synchronous=NORMAL");
     if (id != kStoreApplicationId || ours != 3) {
       // the tables and the ids in one transaction: a store killed while it is made holds all
       // of them or none (one table alone used to make it "not a plumb results store")
