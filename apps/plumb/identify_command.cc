@@ -86,10 +86,10 @@ std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   out += fmt::format(
       "\nsolver: first solve {} iterations, cost {:.6g} -> {:.6g} (each signal weighted by its "
       "spread); noise-weighted solve {} iterations, cost {:.6g} -> {:.6g} (in units of each "
-      "signal's estimated noise), {} ({})\nresidual variance {:.3g} (about 1 when the model "
-      "explains all but the noise)\n",
+      "signal's estimated noise), {} ({}); the logs simulated {} times in all\nresidual "
+      "variance {:.3g} (about 1 when the model explains all but the noise)\n",
       r.first_pass_iterations, Front(r.first_pass_cost), Back(r.first_pass_cost), r.iterations,
-      Front(r.cost), Back(r.cost), r.converged ? "converged" : "stopped", r.termination,
+      Front(r.cost), Back(r.cost), r.converged ? "converged" : "stopped", r.termination, r.runs,
       r.residual_variance);
   out += "\nnoise per signal (rms of the residuals):\n";
   for (std::size_t l = 0; l < logs.size(); ++l) {
@@ -143,6 +143,7 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   j["iterations"] = r.iterations;  // of the noise-weighted solve
   j["converged"] = r.converged;
   j["termination"] = r.termination;
+  j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
   j["cost"] = r.cost;
   j["residual_variance"] = Number(r.residual_variance);
   nlohmann::ordered_json per_log = nlohmann::ordered_json::array();

@@ -78,6 +78,7 @@ struct IdentifyResult {
   std::vector<double> cost;                      // per iteration of the noise-weighted solve
   int first_pass_iterations = 0;                 // of the first solve
   int iterations = 0;                            // of the noise-weighted solve
+  long runs = 0;  // simulations of the logs (each of every log) for the solves and the errors
   bool converged = false;
   std::string termination;  // Ceres's words
   long residuals = 0;

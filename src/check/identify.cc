@@ -100,31 +100,52 @@ class Residuals {
   }
 
   long size() const { return m_; }
+  long runs() const { return runs_; }            // how many points At has simulated
   std::size_t parameters() const { return n_; }  // the model's, then the start states
   std::size_t physical() const { return physical_; }
   bool fit_starts() const { return fit_starts_; }
   // Changing the delays keeps the windows (and so the start-state offsets) as they are.
-  void set_replay(const ReplayOptions& replay) { replay_ = replay; }
+  void set_replay(const ReplayOptions& replay) {
+    replay_ = replay;
+    last_point_.clear();
+  }
   const ReplayOptions& replay() const { return replay_; }
-  std::vector<std::vector<double>>& weights() { return weights_; }
+  std::vector<std::vector<double>>& weights() {
+    last_point_.clear();
+    return weights_;
+  }
 
   // Residuals at each of `points` (scaled parameter vectors), in parallel; out[k] has size().
+  // The last point asked for is remembered: Ceres asks for the Jacobian at the trial point
+  // whose residuals it has just had, and that run is not repeated.
   std::vector<std::vector<double>> At(const std::vector<std::vector<double>>& points) {
-    std::vector<std::vector<double>> out;
-    out.reserve(points.size());
-    long next = 0;
+    std::vector<std::vector<double>> out(points.size());
+    std::vector<long> todo;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (!last_point_.empty() && points[k] == last_point_) {
+        out[k] = last_residuals_;
+      } else {
+        todo.push_back(static_cast<long>(k));
+      }
+    }
+    runs_ += static_cast<long>(todo.size());
+    std::size_t next = 0, emitted = 0;  // results come back in the order asked
     pool_.Stream<std::vector<double>>(
-        std::max<std::size_t>(1, points.size()),
+        std::max<std::size_t>(1, todo.size()),
         [&](std::vector<long>* chunk) {
-          for (; next < static_cast<long>(points.size()); ++next) chunk->push_back(next);
+          for (; next < todo.size(); ++next) chunk->push_back(todo[next]);
         },
         [&](WorkerPool::Worker& w, long index, std::vector<double>* r) {
           writer_.Write(w, points[index].data());
           *r = Evaluate(w, points[index]);
           return true;
         },
-        [&](const std::vector<double>& r) { out.push_back(r); }, StopFlag(),
+        [&](const std::vector<double>& r) { out[todo[emitted++]] = r; }, StopFlag(),
         [] { return Interrupted("plumb identify stopped before the fit finished"); });
+    if (!points.empty()) {
+      last_point_ = points.back();
+      last_residuals_ = out.back();
+    }
     return out;
   }
 
@@ -167,6 +188,8 @@ class Residuals {
   long m_ = 0;
   std::vector<std::vector<double>> weights_;
   ReplayOptions replay_;
+  std::vector<double> last_point_, last_residuals_;  // the last point At ran, and its residuals
+  long runs_ = 0;
 };
 
 // Difference steps in scaled units: forward differences while solving (one run per unknown),
@@ -198,6 +221,10 @@ void Jacobian(Residuals& f, const double* x, double* residuals, double* jacobian
   if (residuals != nullptr) std::copy(at.begin(), at.end(), residuals);
 }
 
+// The replay error for Ceres. With bounds, Ceres asks for the Jacobian at a trial point for
+// its projected line search and, once the point is taken, for the same Jacobian again: the
+// last one is kept (for one solve, in which the weights and delays stay as they are), which
+// saves a run per unknown per iteration.
 class ReplayCost : public ceres::CostFunction {
  public:
   explicit ReplayCost(Residuals& f) : f_(f) {
@@ -209,7 +236,15 @@ class ReplayCost : public ceres::CostFunction {
   bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     try {
       if (jacobians != nullptr && jacobians[0] != nullptr) {
-        Jacobian(f_, x[0], residuals, jacobians[0], /*central=*/false);
+        std::vector<double> at(x[0], x[0] + f_.parameters());
+        if (at != jacobian_at_) {
+          jacobian_.resize(static_cast<std::size_t>(f_.size()) * at.size());
+          residuals_.resize(static_cast<std::size_t>(f_.size()));
+          Jacobian(f_, x[0], residuals_.data(), jacobian_.data(), /*central=*/false);
+          jacobian_at_ = at;
+        }
+        std::copy(jacobian_.begin(), jacobian_.end(), jacobians[0]);
+        if (residuals != nullptr) std::copy(residuals_.begin(), residuals_.end(), residuals);
         return true;
       }
       std::vector<double> at(x[0], x[0] + f_.parameters());
@@ -223,6 +258,7 @@ class ReplayCost : public ceres::CostFunction {
 
  private:
   Residuals& f_;
+  mutable std::vector<double> jacobian_at_, jacobian_, residuals_;  // the last Jacobian
 };
 
 class CostLog : public ceres::IterationCallback {
@@ -462,6 +498,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.termination = summary.message;
   Statistics(f, params, x, &result);
+  result.runs = f.runs();
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
         "the start states were taken as logged, not fitted: with these windows and logs they "

@@ -28,6 +28,24 @@ testing::LogSpec ArmSpec(double until) {
   return spec;
 }
 
+// The chapter's pendulum let go at 0.7 rad, measured for 5 s with noise (rad, rad/s).
+testing::LogSpec PendulumDecaySpec() {
+  testing::LogSpec spec;
+  spec.set = {"qpos[hinge]=0.7"};
+  spec.noise = {0.002, 0.01};
+  spec.until = 5;
+  spec.every = 5;
+  return spec;
+}
+
+// `model` with the hinge's damping set to `damping`: the wrong guess a fit starts from.
+Model WithDamping(const Model& model, double damping) {
+  Model guess = model.Clone();
+  Data d(guess);
+  WriteValues(guess, d, ResolvePath(guess, "dof_damping[hinge]"), {damping});
+  return guess;
+}
+
 class IdentifyTest : public ::testing::Test {
  protected:
   RobotLog Log(const testing::LogSpec& spec, const Model& model) {
@@ -42,17 +60,8 @@ class IdentifyTest : public ::testing::Test {
 // noise, starting the fit from a wrong guess.
 TEST_F(IdentifyTest, ThePendulumsDampingFromAFreeDecay) {
   Model model = Model::Load(testing::kPendulum);
-  testing::LogSpec spec;
-  spec.set = {"qpos[hinge]=0.7"};
-  spec.noise = {0.002, 0.01};
-  spec.until = 5;
-  spec.every = 5;
-  RobotLog log = Log(spec, model);
-  Model guess = model.Clone();
-  {
-    Data d(guess);
-    WriteValues(guess, d, ResolvePath(guess, "dof_damping[hinge]"), {0.2});
-  }
+  RobotLog log = Log(PendulumDecaySpec(), model);
+  Model guess = WithDamping(model, 0.2);
   IdentifyOptions o;
   o.fit = {"dof_damping[hinge]"};
   IdentifyResult r = Identify(guess, {log}, o);
@@ -68,6 +77,29 @@ TEST_F(IdentifyTest, ThePendulumsDampingFromAFreeDecay) {
   EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
   EXPECT_LT(r.after[0].signals[0].rms, r.before[0].signals[0].rms);
   EXPECT_GE(r.cost.size(), 1u);
+}
+
+// What a fit costs, in simulations of the log: per solve, a Jacobian at its start, after each
+// iteration and at the point it stops on (a run per unknown, here 1 parameter and 2 start
+// states, and one at the point); a run for the noise; central differences for the standard
+// errors. Within two-sided bounds
+// Ceres asks for each Jacobian twice (its line search wants it, then its next step): the
+// second used to be simulated again, nearly doubling the runs.
+TEST_F(IdentifyTest, NoJacobianIsSimulatedTwice) {
+  Model model = Model::Load(testing::kPendulum);
+  RobotLog log = Log(PendulumDecaySpec(), model);
+  for (const char* bounds : {"dof_damping[hinge]=0:2", ""}) {
+    SCOPED_TRACE(bounds);
+    IdentifyOptions o;
+    o.fit = {"dof_damping[hinge]"};
+    if (*bounds != '\0') o.bounds = {bounds};
+    IdentifyResult r = Identify(WithDamping(model, 0.2), {log}, o);
+    // per solve: one at the start, one per iteration, one at the point it stops on
+    const long unknowns = 3, jacobians = r.first_pass_iterations + r.iterations + 4;
+    EXPECT_LE(r.runs, jacobians * (unknowns + 1) + 1 + 2 * unknowns + 1)
+        << jacobians << " Jacobians";
+    EXPECT_GE(r.runs, (jacobians - 2) * unknowns) << jacobians << " Jacobians";
+  }
 }
 
 // Over many noise draws the truth falls within 2 standard errors about 95 % of the time:
