@@ -13,7 +13,7 @@ which may call exit()), a half-written snapshot or an exit 1 without findings is
 the mutant is kept in FAILURES/ with the command that broke on it.
 
 Usage:
-  hostile_models.py --plumb PLUMB [--seed N] [--count N] [--timeout S] [--jobs N]
+  hostile_models.py --plumb PLUMB [--seed N] [--count N] [--timeout S (240)] [--jobs N]
                     [--sample N] [--json FILE] [--failures DIR] [--robot-corpus] ROOT...
 ROOT is a model file or a folder searched for whole MJCF models (a <mujoco> file with a
 <worldbody>); --sample N draws N of them from each ROOT that has more.
@@ -33,6 +33,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import xml.etree.ElementTree as ET
 
 COMMANDS = (
@@ -265,14 +266,16 @@ def run_mutant(plumb, mutant, timeout):
     for name, args in COMMANDS:
         out_file = mutant + ".snap.json"
         argv = [plumb] + [a.format(model=mutant, out=out_file) for a in args]
+        start = time.monotonic()
         try:
             proc = subprocess.run(argv, cwd=folder, stdout=subprocess.PIPE,
                                   stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
                                   timeout=timeout)
             problem = judge(name, proc, out_file, folder)
-            results[name] = (proc.returncode, problem, proc.stderr.decode("utf-8", "replace"))
+            results[name] = (proc.returncode, problem, proc.stderr.decode("utf-8", "replace"),
+                             time.monotonic() - start)
         except subprocess.TimeoutExpired:
-            results[name] = (None, "no answer within %g s (a hang)" % timeout, "")
+            results[name] = (None, "no answer within %g s (a hang)" % timeout, "", timeout)
         for leftover in (out_file, os.path.join(folder, "MUJOCO_LOG.TXT")):
             if os.path.exists(leftover):
                 os.remove(leftover)
@@ -287,7 +290,8 @@ def main():
     parser.add_argument("--plumb", required=True)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--count", type=int, default=60)
-    parser.add_argument("--timeout", type=float, default=60)
+    parser.add_argument("--timeout", type=float, default=240,
+                        help="seconds a command may take before it counts as a hang")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--sample", type=int, default=0,
                         help="models drawn from each ROOT of more (0: all)")
@@ -320,6 +324,7 @@ def main():
     per_kind = collections.Counter()
     start_count = 0
     record = []
+    slowest = []  # (seconds, command, model, kind, mutation) of every command run
 
     def one(index, model):
         # each mutant has its own seed: a defect reproduces from --seed and its index
@@ -333,7 +338,7 @@ def main():
         mutant, kind, what, ctx = made
         try:
             results = run_mutant(a.plumb, mutant, a.timeout)
-            if any(problem for _, problem, _ in results.values()):
+            if any(problem for _, problem, _, _ in results.values()):
                 os.makedirs(a.failures, exist_ok=True)
                 shutil.copy(mutant, os.path.join(a.failures, os.path.basename(mutant)))
             return model, kind, what, results
@@ -361,13 +366,14 @@ def main():
                 model, kind, what, results = answer
                 start_count += 1
                 per_kind[kind] += 1
-                for name, (rc, problem, err) in results.items():
+                for name, (rc, problem, err, seconds) in results.items():
                     exits[name][str(rc)] += 1
+                    slowest.append((seconds, name, model, kind, what))
                     if problem:
                         defects.append({"model": model, "kind": kind, "mutation": what,
                                         "command": name, "exit": rc, "problem": problem,
                                         "stderr": err[-600:]})
-                tally["clean" if all(not p for _, p, _ in results.values()) else "defect"] += 1
+                tally["clean" if all(not p for _, p, _, _ in results.values()) else "defect"] += 1
                 record.append({"model": model, "kind": kind, "mutation": what,
                                "exits": {k: v[0] for k, v in results.items()},
                                "messages": {k: v[2].strip().splitlines()[0][:300]
@@ -382,6 +388,11 @@ def main():
     for name, _ in COMMANDS:
         print("  %-9s exits: %s" % (name, ", ".join(
             "%s x%d" % kv for kv in sorted(exits[name].items()))))
+    # slow is not a defect (a mutant may ask MuJoCo for more work, e.g. a solver tolerance
+    # below 0 runs every iteration), but it is shown: a command near the limit says so here
+    for seconds, name, model, kind, what in sorted(slowest, reverse=True)[:3]:
+        print("  slow: %-8s %5.1f s on a mutant of %s (%s: %s)" % (name, seconds, model, kind,
+                                                                  what))
     for d in defects:
         print("DEFECT: plumb %s on a mutant of %s (%s: %s): %s\n%s" % (
             d["command"], d["model"], d["kind"], d["mutation"], d["problem"],
