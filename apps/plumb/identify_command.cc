@@ -34,9 +34,6 @@ nlohmann::ordered_json Number(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
-double Front(const std::vector<double>& v) { return v.empty() ? NAN : v.front(); }
-double Back(const std::vector<double>& v) { return v.empty() ? NAN : v.back(); }
-
 std::string Changes(const IdentifyResult& r) {
   std::string out;
   for (const Estimate& e : r.estimates) {
@@ -84,13 +81,9 @@ std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
     }
   }
   out += fmt::format(
-      "\nsolver: first solve {} iterations, cost {:.6g} -> {:.6g} (each signal weighted by its "
-      "spread); noise-weighted solve {} iterations, cost {:.6g} -> {:.6g} (in units of each "
-      "signal's estimated noise), {} ({}); the logs simulated {} times in all\nresidual "
-      "variance {:.3g} (about 1 when the model explains all but the noise)\n",
-      r.first_pass_iterations, Front(r.first_pass_cost), Back(r.first_pass_cost), r.iterations,
-      Front(r.cost), Back(r.cost), r.converged ? "converged" : "stopped", r.termination, r.runs,
-      r.residual_variance);
+      "\nsolver: {}\nresidual variance {:.3g} (about 1 when the model explains all but the "
+      "noise)\n",
+      DescribeSolves(r), r.residual_variance);
   out += "\nnoise per signal (rms of the residuals):\n";
   for (std::size_t l = 0; l < logs.size(); ++l) {
     for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {
@@ -141,6 +134,8 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   }
   j["first_solve"] = {{"iterations", r.first_pass_iterations}, {"cost", r.first_pass_cost}};
   j["iterations"] = r.iterations;  // of the noise-weighted solve
+  j["solved_again"] = r.solved_again;
+  j["weight_change"] = r.weight_change;
   j["converged"] = r.converged;
   j["termination"] = r.termination;
   j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors

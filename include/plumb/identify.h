@@ -74,10 +74,14 @@ struct IdentifyResult {
   std::vector<std::vector<double>> correlation;  // [i][j]
   std::vector<double> singular_values;           // of the column-normalised Jacobian, largest = 1
   std::vector<std::string> warnings;             // identifiability, bounds
-  std::vector<double> first_pass_cost;           // per iteration, weighted by the signals' spread
-  std::vector<double> cost;                      // per iteration of the noise-weighted solve
-  int first_pass_iterations = 0;                 // of the first solve
-  int iterations = 0;                            // of the noise-weighted solve
+  std::vector<double> first_pass_cost;  // per iteration, weighted by the log's noise (differences)
+  std::vector<double> cost;             // per iteration of the noise-weighted solve
+  int first_pass_iterations = 0;        // of the first solve
+  int iterations = 0;                   // of the noise-weighted solve (0 when not solved again)
+  // The largest relative change from a signal's first weight to the noise its residuals show;
+  // within 15 % the first solve's estimates stand, else the problem is solved again.
+  double weight_change = 0;
+  bool solved_again = true;
   long runs = 0;  // simulations of the logs (each of every log) for the solves and the errors
   bool converged = false;
   std::string termination;  // Ceres's words
@@ -103,6 +107,10 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
 
 // Writes the estimates into `model` (mj_setConst when an array changed).
 void ApplyEstimates(Model& model, const IdentifyResult& result);
+
+// What the solves did, in a sentence: iterations and cost of each, whether the problem was
+// solved again with the residuals' noise, how it ended and how many runs of the logs it took.
+std::string DescribeSolves(const IdentifyResult& result);
 
 }  // namespace plumb
 

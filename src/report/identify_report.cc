@@ -148,16 +148,18 @@ void EstimatesSection(report::Page* page, const IdentifyResult& r) {
 void SolveSection(report::Page* page, const IdentifyResult& r) {
   page->Heading("The solve");
   page->Paragraph(fmt::format(
-      "{} iterations, {} ({}). Residual variance {:.3g}: about 1 when the model explains "
-      "everything but the noise.",
-      r.iterations, r.converged ? "converged" : "stopped", r.termination, r.residual_variance));
+      "The {}. Residual variance {:.3g}: about 1 when the model explains everything but the "
+      "noise.",
+      DescribeSolves(r), r.residual_variance));
   report::Chart cost("Cost per iteration", {"iteration"}, {"cost", true});
   std::vector<double> first_x, final_x;
   for (std::size_t i = 0; i < r.first_pass_cost.size(); ++i) first_x.push_back(double(i));
   for (std::size_t i = 0; i < r.cost.size(); ++i) final_x.push_back(double(i));
-  cost.series.push_back(
-      {"first solve (weights: signal spread)", first_x, r.first_pass_cost, report::Series::kLine});
-  cost.series.push_back({"noise-weighted solve", final_x, r.cost, report::Series::kLine});
+  cost.series.push_back({"first solve (weights: the log's noise)", first_x, r.first_pass_cost,
+                         report::Series::kLine});
+  cost.series.push_back({r.solved_again ? "solved again (weights: the residuals' noise)"
+                                        : "the first solve's end, in the residuals' noise",
+                         final_x, r.cost, report::Series::kLine});
   cost.how_to_read =
       "Half the sum of squared weighted residuals after each accepted step. Healthy: a fast "
       "drop, then flat. Sick: still falling at the last iteration (raise --max-iterations), or "

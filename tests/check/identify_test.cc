@@ -77,6 +77,28 @@ TEST_F(IdentifyTest, ThePendulumsDampingFromAFreeDecay) {
   EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
   EXPECT_LT(r.after[0].signals[0].rms, r.before[0].signals[0].rms);
   EXPECT_GE(r.cost.size(), 1u);
+  // the noise the log's differences show was the noise the fit left: one solve was enough
+  EXPECT_LT(r.weight_change, 0.15);
+  EXPECT_FALSE(r.solved_again);
+  EXPECT_EQ(r.iterations, 0);
+}
+
+// A model that cannot explain the log (a spring it lacks, and only the damping is fitted)
+// leaves residuals far above the noise the log's differences show: the problem is solved
+// again with the residuals' own noise as weights, and the residual variance is about 1 in it.
+TEST_F(IdentifyTest, ResidualsAboveTheLogsNoiseAreSolvedAgainInTheirUnits) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::LogSpec spec = PendulumDecaySpec();
+  spec.set.push_back("jnt_stiffness[hinge]=3");
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  IdentifyResult r = Identify(WithDamping(model, 0.2), {log}, o);
+  EXPECT_GT(r.weight_change, 0.15);
+  EXPECT_TRUE(r.solved_again);
+  EXPECT_GE(r.iterations, 1);
+  EXPECT_GT(r.noise[0][0], 2 * 0.002) << "the misfit, not the noise";
+  EXPECT_NEAR(r.residual_variance, 1, 0.2);
 }
 
 // What a fit costs, in simulations of the log: per solve, a Jacobian at its start, after each
