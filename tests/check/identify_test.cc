@@ -104,9 +104,10 @@ TEST_F(IdentifyTest, ResidualsAboveTheLogsNoiseAreSolvedAgainInTheirUnits) {
 // What a fit costs, in simulations of the log: per solve, a Jacobian at its start, after each
 // iteration and at the point it stops on (a run per unknown, here 1 parameter and 2 start
 // states, and one at the point); a run for the noise; the Jacobian for the standard errors.
-// Runs are remembered: within two-sided bounds Ceres asks for each Jacobian twice (its line
-// search wants it, then its step), which used to be run twice, nearly doubling the runs; the
-// noise, the second solve's first Jacobian and the standard errors' come from runs done.
+// Runs are remembered: the trial point Ceres has just run is not run again for its Jacobian,
+// and the noise, a second solve's first Jacobian and the standard errors' come from runs
+// done. Within two-sided bounds, Ceres's projected line search asked for a Jacobian at every
+// trial point, and each was run twice, nearly doubling the runs.
 TEST_F(IdentifyTest, NoJacobianIsSimulatedTwice) {
   Model model = Model::Load(testing::kPendulum);
   RobotLog log = Log(PendulumDecaySpec(), model);
@@ -121,6 +122,24 @@ TEST_F(IdentifyTest, NoJacobianIsSimulatedTwice) {
     EXPECT_LE(r.runs, jacobians * (unknowns + 1) + 1) << jacobians << " Jacobians";
     EXPECT_GE(r.runs, (jacobians - 2) * unknowns) << jacobians << " Jacobians";
   }
+}
+
+// Bounds hold: the pendulum's damping (0.05) fitted within [0.1, 1] ends on 0.1, said so.
+// (Ceres projects each step onto the bounds; its projected line search, which wanted a
+// Jacobian at every trial point, is off.)
+TEST_F(IdentifyTest, ABoundIsKeptAndSaid) {
+  Model model = Model::Load(testing::kPendulum);
+  RobotLog log = Log(PendulumDecaySpec(), model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  o.bounds = {"dof_damping[hinge]=0.1:1"};
+  IdentifyResult r = Identify(WithDamping(model, 0.5), {log}, o);
+  ASSERT_EQ(r.estimates.size(), 1u);
+  EXPECT_EQ(r.estimates[0].value, 0.1);
+  EXPECT_TRUE(r.estimates[0].at_bound);
+  bool said = false;
+  for (const std::string& w : r.warnings) said = said || w.find("bound") != std::string::npos;
+  EXPECT_TRUE(said) << ::testing::PrintToString(r.warnings);
 }
 
 // Over many noise draws the truth falls within 2 standard errors about 95 % of the time:
