@@ -110,8 +110,10 @@ inline std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
-// Every MJCF file of MuJoCo's samples (libmujoco-samples) and of the DeepMind Control
-// Suite in shared/ (when present), sorted: models nobody here wrote.
+// Every MJCF file of MuJoCo's samples (libmujoco-samples, installed by
+// scripts/install-deps.sh) and of the DeepMind Control Suite (carried in tests/models), sorted:
+// models nobody here wrote. VerifyModelsListTest fails, saying how to get them, when either
+// folder is missing.
 // A pendulum whose damping is NaN and whose rod's colour holds an infinity: MuJoCo compiles
 // both with at most a warning (hostile_models.py found verify and audit passing such models).
 inline const char* const kNonFiniteXml = R"(<mujoco><option timestep="0.002"/><worldbody>
@@ -119,11 +121,12 @@ inline const char* const kNonFiniteXml = R"(<mujoco><option timestep="0.002"/><w
       <geom name="rod" type="capsule" fromto="0 0 0 0 0 -1" size="0.05" rgba="1 inf 0 1"/>
     </body></worldbody></mujoco>)";
 
-inline const std::string kSuite = std::string(PLUMB_SHARED_DIR) + "/models/dm_control/suite";
+inline const std::string kSamples = "/usr/share/mujoco/model";
+inline const std::string kSuite = PLUMB_DM_CONTROL_DIR;
 
 inline std::vector<std::string> ThirdPartyModels() {
   std::vector<std::string> files;
-  for (const std::string& root : {std::string("/usr/share/mujoco/model"), kSuite}) {
+  for (const std::string& root : {kSamples, kSuite}) {
     std::error_code ec;
     for (auto it = std::filesystem::recursive_directory_iterator(root, ec);
          !ec && it != std::filesystem::end(it); it.increment(ec)) {

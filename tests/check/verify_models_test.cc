@@ -57,11 +57,11 @@ TEST(VerifyModelsListTest, FindsTheModels) {
   std::vector<std::string> models = testing::ThirdPartyModels();
   auto in_suite = [](const std::string& f) { return f.rfind(testing::kSuite, 0) == 0; };
   long suite = std::count_if(models.begin(), models.end(), in_suite);
-  EXPECT_GE(static_cast<long>(models.size()) - suite, 17);  // libmujoco-samples
-  if (std::string(PLUMB_SHARED_DIR).empty()) {
-    GTEST_SKIP() << "shared/models/dm_control not found beside the repository";
-  }
-  EXPECT_GE(suite, 18);
+  EXPECT_GE(static_cast<long>(models.size()) - suite, 17)
+      << "MuJoCo's sample models are missing from " << testing::kSamples
+      << ": install Debian's libmujoco-samples (scripts/install-deps.sh does)";
+  EXPECT_GE(suite, 18) << "the DeepMind Control Suite models are missing from "
+                       << testing::kSuite << ": they are part of the checkout (git status)";
 }
 
 }  // namespace

@@ -301,17 +301,32 @@ def main():
                         help="add plumb's robot corpus (scripts/fetch-robots.sh) as a ROOT")
     parser.add_argument("roots", nargs="*")
     a = parser.parse_args()
+    # a ROOT given that is not there is an error: a test must not pass on fewer models than
+    # it names. The robot corpus is optional (make test CORPUS=off) unless
+    # PLUMB_REQUIRE_CORPUS is set, as make test sets it.
+    for root in a.roots:
+        if not os.path.isdir(root):
+            print("hostile_models.py: model folder %s is not there (MuJoCo's samples come "
+                  "with Debian's libmujoco-samples: scripts/install-deps.sh)" % root,
+                  file=sys.stderr)
+            return 2
     if a.robot_corpus:  # where fetch-robots.sh puts it
         cache = os.environ.get("PLUMB_CACHE") or os.path.join(
             os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "plumb")
-        a.roots.append(os.path.join(cache, "robots"))
+        corpus = os.path.join(cache, "robots")
+        if os.path.isdir(corpus):
+            a.roots.append(corpus)
+        elif os.environ.get("PLUMB_REQUIRE_CORPUS"):
+            print("hostile_models.py: the robot corpus is not in %s: run make corpus "
+                  "(scripts/fetch-robots.sh)" % corpus, file=sys.stderr)
+            return 2
+        else:
+            print("hostile_models.py: leaving out the robot corpus (not in %s; make corpus "
+                  "fetches it)" % corpus, file=sys.stderr)
     rng = random.Random(a.seed)
     models = []
     for root in a.roots:
-        if os.path.exists(root):
-            models += find_models(root, a.sample, rng)
-        else:
-            print("hostile_models.py: skipping %s (not there)" % root, file=sys.stderr)
+        models += find_models(root, a.sample, rng)
     if not models:
         print("hostile_models.py: no models found under %s" % ", ".join(a.roots),
               file=sys.stderr)
