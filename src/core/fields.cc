@@ -1,6 +1,7 @@
 #include "core/fields.h"
 
 #include <cstddef>
+#include <iterator>
 #include <limits>
 #include <string_view>
 
@@ -38,28 +39,125 @@ struct ArenaRows {
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #pragma GCC diagnostic ignored "-Winvalid-offsetof"
 
-// Long by design (about 100 lines): one X-macro expansion per mjModel/mjData/mjOption table
-// of mujoco/mjxmacro.h, in MuJoCo's order; each block registers one table.
+// One row of the tables below: a FieldInfo with its strings as literals. The tables are
+// plain arrays (one X-macro expansion each), turned into FieldInfo by one loop: a function
+// that pushed each of the ~600 fields into the vector directly took the compiler 90 s at -O3.
+struct RawField {
+  const char* name;
+  FieldSource source;
+  ElemType type;
+  std::size_t offset;
+  const char* row_kind;
+  long (*rows)(const mjModel*);
+  long (*cols)(const mjModel*);
+  long (*current_rows)(const mjModel*, const mjData*);
+};
+
+void Append(std::vector<FieldInfo>& f, const RawField* raw, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const RawField& r = raw[i];
+    f.push_back({r.name, r.source, r.type, r.offset, r.row_kind, r.rows, r.cols, r.current_rows});
+  }
+}
+
+// model arrays: rows are a size field of mjModel, columns an expression of them
+const RawField kModelArrays[] = {
+#define X(type, name, nr, nc)                                                                \
+  {#name,                                                                                    \
+   FieldSource::kModelArray,                                                                 \
+   ElemTypeOf<type>(),                                                                       \
+   offsetof(mjModel, name),                                                                  \
+   #nr,                                                                                      \
+   [](const mjModel* m) -> long { return m->nr; },                                           \
+   [](const mjModel* m) -> long {                                                            \
+     MJMODEL_POINTERS_PREAMBLE(m)                                                            \
+     return nc;                                                                              \
+   },                                                                                        \
+   nullptr},
+    MJMODEL_POINTERS
+#undef X
+};
+
+// model sizes (nq, nv, nbody, ...)
+const RawField kModelSizes[] = {
+#define X(name)                                                                              \
+  {#name, FieldSource::kModelSize, ElemTypeOf<decltype(mjModel::name)>(),                    \
+   offsetof(mjModel, name), "", One, One, nullptr},
+    PLUMB_MJMODEL_SIZES
+#undef X
+};
+
+// data arrays
+const RawField kDataArrays[] = {
+#define X(type, name, nr, nc)                                                                \
+  {#name,                                                                                    \
+   FieldSource::kDataArray,                                                                  \
+   ElemTypeOf<type>(),                                                                       \
+   offsetof(mjData, name),                                                                   \
+   #nr,                                                                                      \
+   [](const mjModel* m) -> long { return m->nr; },                                           \
+   [](const mjModel* m) -> long {                                                            \
+     PLUMB_MJDATA_POINTERS_PREAMBLE(m)                                                       \
+     return nc;                                                                              \
+   },                                                                                        \
+   CurrentRows(#nr)},
+    MJDATA_POINTERS
+#undef X
+};
+
+#ifdef PLUMB_MJDATA_ARENA_POINTERS
+// data arrays in the arena (3.x): rows are a size of mjModel (MJ_M) or of mjData (MJ_D)
+#pragma push_macro("MJ_M")
+#pragma push_macro("MJ_D")
+#undef MJ_M
+#undef MJ_D
+#define MJ_M(n)                                                \
+  ArenaRows {                                                  \
+#n, [](const mjModel* m) -> long { return m->n; }, nullptr \
+  }
+#define MJ_D(n)                                                                 \
+  ArenaRows {                                                                   \
+#n, Unbounded, [](const mjModel*, const mjData* d) -> long { return d->n; } \
+  }
+// MuJoCo clears every arena pointer at the start of a step and allocates only those the
+// step needs: a null pointer holds no rows
+const RawField kDataArenaArrays[] = {
+#define X(type, name, nr, nc)                                                                \
+  {#name,                                                                                    \
+   FieldSource::kDataArray,                                                                  \
+   ElemTypeOf<type>(),                                                                       \
+   offsetof(mjData, name),                                                                   \
+   (nr).kind,                                                                                \
+   (nr).allocated,                                                                           \
+   [](const mjModel*) -> long { return nc; },                                                \
+   [](const mjModel* m, const mjData* d) -> long {                                           \
+     ArenaRows r = nr;                                                                       \
+     if (!d->name) return 0;                                                                 \
+     return r.now ? r.now(m, d) : r.allocated(m);                                            \
+   }},
+    PLUMB_MJDATA_ARENA_POINTERS
+#undef X
+};
+#pragma pop_macro("MJ_D")
+#pragma pop_macro("MJ_M")
+#endif
+
+// data scalars (time, ncon, ...) and the energy vector
+const RawField kDataScalars[] = {
+#define X(type, name)                                                                        \
+  {#name, FieldSource::kDataScalar, ElemTypeOf<type>(), offsetof(mjData, name), "", One, One, \
+   nullptr},
+    MJDATA_SCALAR
+#undef X
+    {"energy", FieldSource::kDataScalar, ElemType::kNum, offsetof(mjData, energy), "", One,
+     [](const mjModel*) -> long { return 2; }, nullptr},
+};
+
+// Every field, in the order of mujoco/mjxmacro.h's tables.
 std::vector<FieldInfo> BuildFields() {
   std::vector<FieldInfo> f;
-
-  // model arrays: rows are a size field of mjModel, columns an expression of them
-#define X(type, name, nr, nc)                                                                     \
-  f.push_back({#name, FieldSource::kModelArray, ElemTypeOf<type>(), offsetof(mjModel, name), #nr, \
-               [](const mjModel* m) -> long { return m->nr; },                                    \
-               [](const mjModel* m) -> long {                                                     \
-                 MJMODEL_POINTERS_PREAMBLE(m)                                                     \
-                 return nc;                                                                       \
-               }});
-  MJMODEL_POINTERS
-#undef X
-
-  // model sizes (nq, nv, nbody, ...)
-#define X(name)                                                                       \
-  f.push_back({#name, FieldSource::kModelSize, ElemTypeOf<decltype(mjModel::name)>(), \
-               offsetof(mjModel, name), "", One, One});
-  PLUMB_MJMODEL_SIZES
-#undef X
+  Append(f, kModelArrays, std::size(kModelArrays));
+  Append(f, kModelSizes, std::size(kModelSizes));
 
   // options
   for (const compat::OptionField& o : compat::OptionFields()) {
@@ -84,59 +182,11 @@ std::vector<FieldInfo> BuildFields() {
                  offsetof(mjModel, opt) + o.offset, "", One, cols});
   }
 
-  // data arrays
-#define X(type, name, nr, nc)                                                                   \
-  f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), #nr, \
-               [](const mjModel* m) -> long { return m->nr; },                                  \
-               [](const mjModel* m) -> long {                                                   \
-                 PLUMB_MJDATA_POINTERS_PREAMBLE(m)                                              \
-                 return nc;                                                                     \
-               },                                                                               \
-               CurrentRows(#nr)});
-  MJDATA_POINTERS
-#undef X
-
+  Append(f, kDataArrays, std::size(kDataArrays));
 #ifdef PLUMB_MJDATA_ARENA_POINTERS
-  // data arrays in the arena (3.x): rows are a size of mjModel (MJ_M) or of mjData (MJ_D)
-#pragma push_macro("MJ_M")
-#pragma push_macro("MJ_D")
-#undef MJ_M
-#undef MJ_D
-#define MJ_M(n)                                                \
-  ArenaRows {                                                  \
-#n, [](const mjModel* m) -> long { return m->n; }, nullptr \
-  }
-#define MJ_D(n)                                                                 \
-  ArenaRows {                                                                   \
-#n, Unbounded, [](const mjModel*, const mjData* d) -> long { return d->n; } \
-  }
-// MuJoCo clears every arena pointer at the start of a step and allocates only those the
-// step needs: a null pointer holds no rows
-#define X(type, name, nr, nc)                                                                \
-  {                                                                                          \
-    ArenaRows rows = nr;                                                                     \
-    f.push_back({#name, FieldSource::kDataArray, ElemTypeOf<type>(), offsetof(mjData, name), \
-                 rows.kind, rows.allocated, [](const mjModel*) -> long { return nc; },       \
-                 [](const mjModel* m, const mjData* d) -> long {                             \
-                   ArenaRows r = nr;                                                         \
-                   if (!d->name) return 0;                                                   \
-                   return r.now ? r.now(m, d) : r.allocated(m);                              \
-                 }});                                                                        \
-  }
-  PLUMB_MJDATA_ARENA_POINTERS
-#undef X
-#pragma pop_macro("MJ_D")
-#pragma pop_macro("MJ_M")
+  Append(f, kDataArenaArrays, std::size(kDataArenaArrays));
 #endif
-
-  // data scalars (time, ncon, ...) and the energy vector
-#define X(type, name)                                                                           \
-  f.push_back({#name, FieldSource::kDataScalar, ElemTypeOf<type>(), offsetof(mjData, name), "", \
-               One, One});
-  MJDATA_SCALAR
-#undef X
-  f.push_back({"energy", FieldSource::kDataScalar, ElemType::kNum, offsetof(mjData, energy), "",
-               One, [](const mjModel*) -> long { return 2; }});
+  Append(f, kDataScalars, std::size(kDataScalars));
   return f;
 }
 
