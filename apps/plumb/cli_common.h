@@ -9,6 +9,7 @@
 #include <chrono>
 #include <functional>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,6 +42,9 @@ class OutputClosed : public std::runtime_error {
 // Writes and flushes `text` to stdout, so rows reach a pipe as they are made.
 // @throws OutputClosed when the reader has gone; IoError for another failed write.
 void WriteStdout(const std::string& text);
+
+// A JSON number, or null where `v` is NaN or infinite (JSON has no such numbers).
+nlohmann::ordered_json JsonNumber(double v);
 
 // Shared state of one invocation.
 struct Context {

@@ -30,11 +30,6 @@ struct ConvergeOptions {
   std::string report;  // --report FILE.html
 };
 
-// JSON numbers cannot be NaN: unresolved quantities become null.
-nlohmann::ordered_json Number(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
 // The result as a JSON document.
 std::string ConvergeJson(const ConvergenceResult& r, const ConvergeOptions& o, double expected) {
   nlohmann::ordered_json j;
@@ -44,20 +39,20 @@ std::string ConvergeJson(const ConvergenceResult& r, const ConvergeOptions& o, d
   nlohmann::ordered_json levels = nlohmann::ordered_json::array();
   for (const ConvergenceLevel& l : r.levels) {
     levels.push_back({{"dt", l.dt},
-                      {"value", Number(l.value)},
-                      {"diff", Number(l.diff)},
-                      {"order", Number(l.order)},
-                      {"error", Number(l.error)},
+                      {"value", JsonNumber(l.value)},
+                      {"diff", JsonNumber(l.diff)},
+                      {"order", JsonNumber(l.order)},
+                      {"error", JsonNumber(l.error)},
                       {"error_is_richardson", l.error_is_richardson},
                       {"roundoff", l.roundoff}});
   }
   j["levels"] = levels;
-  j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
+  j["observed_order"] = r.estimate.resolved ? JsonNumber(r.estimate.order) : nullptr;
   j["order_resolved"] = r.estimate.resolved;
-  j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
+  j["extrapolated"] = JsonNumber(r.estimate.extrapolated);  // an estimate, not a measured level
   j["scale"] = r.scale;
   j["tol"] = r.tol;
-  j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+  j["recommended_dt"] = r.recommended_dt > 0 ? JsonNumber(r.recommended_dt) : nullptr;
   j["contacts"] = r.max_contacts;
   j["caveat"] =
       r.caveat.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.caveat);

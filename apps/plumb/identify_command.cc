@@ -30,10 +30,6 @@ struct IdentifyCommandOptions {
   std::string report;  // --report FILE.html
 };
 
-nlohmann::ordered_json Number(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
 std::string Changes(const IdentifyResult& r) {
   std::string out;
   for (const Estimate& e : r.estimates) {
@@ -114,17 +110,17 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
     estimates.push_back({{"path", e.path},
                          {"nominal", e.nominal},
                          {"value", e.value},
-                         {"std_error", Number(e.std_error)},
-                         {"lo", Number(e.lo)},
-                         {"hi", Number(e.hi)},
+                         {"std_error", JsonNumber(e.std_error)},
+                         {"lo", JsonNumber(e.lo)},
+                         {"hi", JsonNumber(e.hi)},
                          {"at_bound", e.at_bound},
-                         {"sensitivity", Number(e.sensitivity)}});
+                         {"sensitivity", JsonNumber(e.sensitivity)}});
   }
   j["estimates"] = estimates;
   nlohmann::ordered_json correlation = nlohmann::ordered_json::array();
   for (const std::vector<double>& row : r.correlation) {
     nlohmann::ordered_json cells = nlohmann::ordered_json::array();
-    for (double c : row) cells.push_back(Number(c));
+    for (double c : row) cells.push_back(JsonNumber(c));
     correlation.push_back(cells);
   }
   j["correlation"] = correlation;
@@ -140,23 +136,23 @@ std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
   j["termination"] = r.termination;
   j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
   j["cost"] = r.cost;
-  j["residual_variance"] = Number(r.residual_variance);
+  j["residual_variance"] = JsonNumber(r.residual_variance);
   nlohmann::ordered_json per_log = nlohmann::ordered_json::array();
   for (std::size_t l = 0; l < logs.size(); ++l) {
     nlohmann::ordered_json noise;
     for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {
-      noise[logs[l].measured[i].column] = Number(r.noise[l][i]);
+      noise[logs[l].measured[i].column] = JsonNumber(r.noise[l][i]);
     }
     per_log.push_back({{"log", logs[l].source},
-                       {"fit_nominal", Number(r.before[l].fit)},
-                       {"fit_fitted", Number(r.after[l].fit)},
+                       {"fit_nominal", JsonNumber(r.before[l].fit)},
+                       {"fit_fitted", JsonNumber(r.after[l].fit)},
                        {"noise", noise}});
   }
   j["logs"] = per_log;
   if (v != nullptr) {
     j["validation"] = {{"log", o.validate},
-                       {"fit_nominal", Number(v->nominal.fit)},
-                       {"fit_fitted", Number(v->fitted.fit)}};
+                       {"fit_nominal", JsonNumber(v->nominal.fit)},
+                       {"fit_fitted", JsonNumber(v->fitted.fit)}};
   }
   j["warnings"] = r.warnings;
   return j.dump(2) + "\n";

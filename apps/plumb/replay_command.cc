@@ -26,10 +26,6 @@ struct ReplayCommandOptions {
   std::string report;  // --report FILE.html
 };
 
-nlohmann::ordered_json Number(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
 std::string Json(const ReplayResult& r, const RobotLog& log, const ReplayCommandOptions& o) {
   nlohmann::ordered_json j;
   j["model"] = o.model;
@@ -42,13 +38,13 @@ std::string Json(const ReplayResult& r, const RobotLog& log, const ReplayCommand
     signals.push_back({{"column", f.column},
                        {"path", f.path},
                        {"samples", f.samples},
-                       {"rms", Number(f.rms)},
-                       {"max_abs", Number(f.max_abs)},
+                       {"rms", JsonNumber(f.rms)},
+                       {"max_abs", JsonNumber(f.max_abs)},
                        {"worst_time", f.worst_time},
-                       {"fit", Number(f.fit)}});
+                       {"fit", JsonNumber(f.fit)}});
   }
   j["signals"] = signals;
-  j["fit"] = Number(r.fit);
+  j["fit"] = JsonNumber(r.fit);
   j["diverged"] = r.simulated.diverged;
   j["problem"] = r.simulated.problem;
   j["notes"] = r.notes;
