@@ -54,9 +54,11 @@ CTEST_ARGS :=
 else
 CORPUS_DEP :=
 CTEST_ENV  :=
-# the crash tests (label crash: SIGKILLs of plumb's own writers, the same code on every engine)
-# run on the default engine, in Release and under ASan; the other legs leave them out for time
-CTEST_ARGS := -LE 'corpus|crash'
+# the other engines leave out, for time, what runs the same code on every engine: the crash
+# tests (label crash: SIGKILLs of plumb's own writers), the reports in Chromium (label browser:
+# the page's script and style), and the wire tests against Unitree's SDK and an independent CRC
+# (message layouts and checksums); all of them run on the default engine
+CTEST_ARGS := -LE 'corpus|crash|browser' -E 'CliBridgeSdk2Test|UnitreeCrcMatchesAnIndependentImplementation'
 endif
 
 corpus:
@@ -77,15 +79,18 @@ test-asan: deps
 
 # the threaded code (sweep's, rollout's and identify's worker pools, the stop flag, the CLI's
 # streaming writers) under ThreadSanitizer; tests/tsan.supp names what TSan cannot see into (oneTBB's
-# own synchronisation, not built with TSan)
-TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli
-TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$)\.?
+# own synchronisation, not built with TSan). This build is also the one without the renderer
+# (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or OSMesa): render and the reports'
+# pictures must build, say so and exit 5 (make test-norender does that part alone)
+TSAN_TARGETS := sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli \
+  render_test report_test render_cli_test
+TSAN_TESTS   := ^(SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.?
 # the memory benchmarks among them (10^6 cases) take minutes under TSan and share no code
 # path the others do not run
 TSAN_SKIP    := SweepMemoryDoesNotGrowWithTheNumberOfCases|AHugeSweepSaysItsCost
 test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
-	  -DPLUMB_SANITIZE=thread -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
+	  -DPLUMB_SANITIZE=thread -DPLUMB_WITH_RENDER=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)
 	@cd $(TSAN_BUILD) && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/tsan.supp" \
 	  ctest --output-on-failure -j $(JOBS) -R '$(TSAN_TESTS)' -E '$(TSAN_SKIP)'
@@ -104,7 +109,6 @@ test-fuzz: deps
 	  fuzz_snapshot fuzz_robot_log fuzz_store $$(grep -q 'PLUMB_WITH_DDS:BOOL=ON' $(FUZZ_BUILD)/CMakeCache.txt && echo fuzz_bridge_config fuzz_dds)
 	@scripts/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
-# the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2)
 # a build without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
 # OSMesa): it must build, say so, and answer render and the reports' pictures with exit 5
 NORENDER_BUILD ?= build-norender
@@ -115,10 +119,12 @@ test-norender: deps
 	@cmake --build $(NORENDER_BUILD) -j $(JOBS) --target $(NORENDER_TARGETS)
 	@cd $(NORENDER_BUILD) && ctest --output-on-failure -j $(JOBS) -R '^(RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.'
 
+# the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2), without
+# the benchmark programs (they build on the default engine)
 test-matrix:
 	@for v in $(MATRIX); do \
 	  echo "== make test-release MUJOCO=$$v"; start=$$(date +%s); \
-	  $(MAKE) --no-print-directory test-release MUJOCO=$$v || exit 1; \
+	  $(MAKE) --no-print-directory test-release MUJOCO=$$v CMAKE_FLAGS="-DPLUMB_BUILD_BENCHMARKS=OFF $(CMAKE_FLAGS)" || exit 1; \
 	  echo "== MUJOCO=$$v: $$(( $$(date +%s) - start )) s"; \
 	done
 
