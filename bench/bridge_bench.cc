@@ -66,9 +66,9 @@ int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double secon
   Controller link(config.domain);
   auto& commands = link.commands;
   auto& states = link.states;
-  std::atomic<bool> stop{false};
+  plumb::StopSource stop;
   auto run =
-      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, &stop); });
+      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
   State s;
   long answered = 0;
   Clock::time_point first;
@@ -80,7 +80,7 @@ int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double secon
     ++answered;
   }
   double loop = std::chrono::duration<double>(Clock::now() - first).count();
-  stop = true;
+  stop.RequestStop();
   plumb::BridgeStats stats = run.get();
   // the same steps without DDS
   plumb::Model plain_model = model.Clone();
@@ -108,9 +108,9 @@ int Realtime(const plumb::Model& model, plumb::BridgeConfig config, double secon
   Controller link(config.domain);
   auto& commands = link.commands;
   auto& states = link.states;
-  std::atomic<bool> stop{false};
+  plumb::StopSource stop;
   auto run =
-      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, &stop); });
+      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
   std::vector<double> gaps, latencies;
   std::map<float, Clock::time_point> sent;  // torque -> when its command was written
   Clock::time_point last;
@@ -138,7 +138,7 @@ int Realtime(const plumb::Model& model, plumb::BridgeConfig config, double secon
     }
   }
 done:
-  stop = true;
+  stop.RequestStop();
   run.get();
   double mean = 0;
   for (double g : gaps) mean += g / gaps.size();

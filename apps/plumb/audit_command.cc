@@ -81,6 +81,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   options.keep_diverged = [&](const Model& work, const RunResult& run, const std::string& what) {
     return WriteRepro(work, run, ctx.argv, repro_dir, what);
   };
+  options.stop = CommandStop().token();
   AuditReport report = Audit(model, options);
   if (!o.report.empty()) {
     // the pictures show the pose the audit judged the model in

@@ -47,7 +47,7 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
                config.domain, config.mode == BridgeMode::kLockstep ? "lockstep" : "realtime",
                model.file().c_str());
   BridgeStats stats =
-      RunBridge(model, StartAssignments(model, o.keyframe, o.sets), config, &StopFlag());
+      RunBridge(model, StartAssignments(model, o.keyframe, o.sets), config, CommandStop().token());
   std::printf(
       "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
       "CRC, %ld for NaN values, %ld from a second controller; %ld states published; watchdog "
@@ -59,7 +59,7 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
     return kExitDiverged;
   }
-  if (StopFlag().load()) return kExitInterrupted;
+  if (CommandStop().stop_requested()) return kExitInterrupted;
   return kExitOk;
 #endif
 }

@@ -75,12 +75,12 @@ BudgetedRun::BudgetedRun(SampleSink& writer, const RunBudget& budget, long steps
 }
 
 void BudgetedRun::Watch(RunSpec& spec) {
-  spec.stop = &stop_;
+  spec.stop = stop_.token();
   spec.after_step = [this](const mjData*, long step) { AfterStep(step); };
 }
 
 void BudgetedRun::AfterStep(long step) {
-  if (StopRequested().load(std::memory_order_relaxed)) stop_ = true;
+  if (CommandStop().stop_requested()) stop_.RequestStop();
   if (step % 256 != 0) return;
   if (bar_) bar_->Update(step);
   if (budget_.max_seconds > 0 && spent_.empty()) {
@@ -88,7 +88,7 @@ void BudgetedRun::AfterStep(long step) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     if (seconds >= budget_.max_seconds) {
       spent_ = fmt::format("--max-seconds {:g}", budget_.max_seconds);
-      stop_ = true;
+      stop_.RequestStop();
     }
   }
 }
@@ -98,7 +98,7 @@ void BudgetedRun::Sample(const std::vector<double>& row) {
   ++rows_;
   if (budget_.max_rows > 0 && rows_ >= budget_.max_rows && spent_.empty()) {
     spent_ = fmt::format("--max-rows {}", budget_.max_rows);
-    stop_ = true;
+    stop_.RequestStop();
   }
 }
 
@@ -145,7 +145,7 @@ WallClockBudget::WallClockBudget(double seconds) : seconds_(seconds) {
                         std::chrono::duration<double>(seconds_));
     if (done_.wait_until(lock, deadline, [this] { return finished_; })) return;
     spent_ = true;
-    StopFlag() = true;
+    CommandStop().RequestStop();
   });
 }
 

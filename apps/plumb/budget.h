@@ -49,7 +49,7 @@ std::string DescribeEstimate(const RunEstimate& e, const std::string& format);
 class BudgetedRun : public SampleSink {
  public:
   BudgetedRun(SampleSink& writer, const RunBudget& budget, long steps, bool progress);
-  // Installs the stop flag and the step hook in `spec`.
+  // Installs the stop request and the step hook in `spec`.
   void Watch(RunSpec& spec);
   void Begin(const std::vector<Path>& columns) override { writer_.Begin(columns); }
   void Sample(const std::vector<double>& row) override;
@@ -63,7 +63,7 @@ class BudgetedRun : public SampleSink {
 
   SampleSink& writer_;
   RunBudget budget_;
-  std::atomic<bool> stop_{false};
+  StopSource stop_;  // the budget's, or the command's when a signal asked
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::unique_ptr<ProgressBar> bar_;
   long rows_ = 0;
@@ -95,8 +95,8 @@ class EtaNote {
   bool told_ = false;
 };
 
-// --max-seconds of a batch command: a watcher raises the process-wide stop flag when the
-// budget is spent, so the batch stops as on Ctrl-C, between cases, keeping (printing and
+// --max-seconds of a batch command: a watcher requests the command's stop (CommandStop) when
+// the budget is spent, so the batch stops as on Ctrl-C, between cases, keeping (printing and
 // storing) what finished; KeepFinishedOnStop then ends it normally rather than with exit 130.
 class WallClockBudget {
  public:
@@ -104,8 +104,8 @@ class WallClockBudget {
   ~WallClockBudget();
   WallClockBudget(const WallClockBudget&) = delete;
   WallClockBudget& operator=(const WallClockBudget&) = delete;
-  // Ends the watch (the batch is over); a budget spent at that very moment raised the stop
-  // flag for nothing, which is lowered again.
+  // Ends the watch (the batch is over); a budget spent at that very moment requested the
+  // stop for nothing, which is withdrawn again.
   void Finish();
   // Whether the budget stopped the batch (and not a signal).
   bool Spent() const { return spent_.load(); }

@@ -23,18 +23,20 @@
 namespace plumb::cli {
 
 namespace {
-static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler sets the stop flag");
-// The first SIGINT/SIGTERM asks every run to stop at its next step, so the command can
-// keep what finished; a second one ends the process at once, as the user expects.
+const StopSource command_stop;  // made before main: the signal handler only reads it
+
+// The first SIGINT/SIGTERM asks the command's calls to stop at their next step, so the
+// command can keep what finished; a second one ends the process at once, as the user
+// expects. RequestStop is one lock-free atomic exchange: async-signal-safe.
 void OnSignal(int sig) {
-  if (StopFlag().exchange(true)) {
+  if (!command_stop.RequestStop()) {
     std::signal(sig, SIG_DFL);
     std::raise(sig);
   }
 }
 }  // namespace
 
-const std::atomic<bool>& StopRequested() { return StopFlag(); }
+const StopSource& CommandStop() { return command_stop; }
 
 void InstallSignalHandlers() {
   std::signal(SIGINT, OnSignal);

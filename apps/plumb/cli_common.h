@@ -17,6 +17,7 @@
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/rollout.h"
+#include "plumb/stop.h"
 
 namespace plumb::cli {
 
@@ -124,10 +125,12 @@ class ProgressBar {
   std::mutex mutex_;
 };
 
-// Set by SIGINT/SIGTERM once InstallSignalHandlers ran (plumb::StopFlag, which every run
-// watches). main installs the handlers for every command; a second signal ends the
-// process at once. SIGPIPE is ignored: WriteStdout reports a closed stdout instead.
-const std::atomic<bool>& StopRequested();
+// The stop request of the command this process runs: each command passes its token to
+// the library calls it makes. SIGINT/SIGTERM request it once InstallSignalHandlers ran
+// (main installs them for every command); a second signal ends the process at once.
+// --max-seconds requests it too (WallClockBudget). SIGPIPE is ignored: WriteStdout reports
+// a closed stdout instead.
+const StopSource& CommandStop();
 void InstallSignalHandlers();
 
 // Registers the subcommands; each sets ctx.action when selected.

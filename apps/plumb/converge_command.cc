@@ -120,7 +120,7 @@ int RunConverge(const ConvergeOptions& o, const Context& ctx) {
   positive(o.tol, "--tol", "the relative tolerance");
   double dt0 = o.dt != kUnset ? o.dt : RunTimestep(model, sets);
   double until = o.until != kUnset ? o.until : DefaultDuration(metric);
-  ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until);
+  ConvergenceResult r = Converge(model, sets, metric, dt0, o.halvings, o.tol, until, CommandStop().token());
   double expected = ExpectedOrder(nominal->opt.integrator);
   if (!r.ok && !r.diverged) {
     // the metric does not apply to this run: the user must choose another or run longer

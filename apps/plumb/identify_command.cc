@@ -180,6 +180,8 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   std::vector<RobotLog> validation;
   if (!o.validate.empty()) validation = LoadLogs(model, {o.validate}, o.columns);
 
+  o.identify.stop = CommandStop().token();
+  o.identify.replay.stop = o.identify.stop;
   IdentifyResult r = Identify(model, logs, o.identify);
   Model fitted = model.Clone();
   ApplyEstimates(fitted, r);

@@ -139,7 +139,7 @@ void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<l
       std::vector<long> chunk(work.size() / sizeof(long));
       std::memcpy(chunk.data(), work.data(), chunk.size() * sizeof(long));
       results.clear();
-      pool.Run(chunk, [&](const RolloutResult& r) { results.push_back(r); });
+      pool.Run(chunk, [&](const RolloutResult& r) { results.push_back(r); }, CommandStop().token());
     }
   }
   // the root: hand out chunks in index order as workers ask, emit results in order

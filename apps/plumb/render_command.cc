@@ -91,6 +91,7 @@ int RunRender(const RenderCommandOptions& o) {
   NullSink sink;
   RunSpec spec;
   spec.every = dt;
+  spec.stop = CommandStop().token();
   std::string how = fmt::format("{}x{}, {}, camera {}{}", width, height, renderer.backend(),
                                 renderer.camera(), o.msaa ? ", MSAA" : "");
   if (!video) {

@@ -84,9 +84,11 @@ int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
                     o.replay.window));
   }
   RobotLog log = std::move(LoadLogs(model, {o.log}, o.columns).front());
-  ReplayResult r = Replay(model, log, o.replay);
+  ReplayOptions replay = o.replay;
+  replay.stop = CommandStop().token();
+  ReplayResult r = Replay(model, log, replay);
   if (!o.report.empty()) {
-    WriteReplayReport(o.report, model, log, r, o.replay, ReportInfo{ctx.argv});
+    WriteReplayReport(o.report, model, log, r, replay, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   WriteStdout(o.format == "json" ? Json(r, log, o) : Table(r, log, o));

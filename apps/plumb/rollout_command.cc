@@ -298,7 +298,7 @@ void RunShard(const Model& model, const RolloutSpec& spec, long total, ProgressB
   RolloutPool pool(model, chunked);  // worker models made once for all chunks
   for (std::vector<long> chunk = next_indices(1 << 16); !chunk.empty();
        chunk = next_indices(1 << 16)) {
-    pool.Run(chunk, emit, &StopRequested());
+    pool.Run(chunk, emit, CommandStop().token());
     done_before += static_cast<long>(chunk.size());
 #ifdef __GLIBC__
     malloc_trim(0);  // hand freed pages back: resident memory stays flat as --count grows

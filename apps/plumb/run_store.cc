@@ -89,7 +89,7 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
   try {
     work();
     budget.Finish();
-    if (budget.Spent()) StopFlag() = false;  // spent as the last case finished: nothing to stop
+    if (budget.Spent()) CommandStop().Clear();  // spent as the last case finished: nothing to stop
   } catch (const Interrupted& e) {
     // Ctrl-C or SIGTERM: what finished is printed and stored, so --resume loses nothing
     progress.Finish();
@@ -100,7 +100,7 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
     }
     budget.Finish();
     if (budget.Spent()) {
-      StopFlag() = false;  // the budget's stop, not a signal's: the command ends normally
+      CommandStop().Clear();  // the budget's stop, not a signal's: the command ends normally
       std::fprintf(stderr, "plumb: --max-seconds %g spent: %s%s\n", budget.seconds(),
                    finished().c_str(),
                    stored.store ? (" and stored in '" + db + "': --resume goes on").c_str() : "");

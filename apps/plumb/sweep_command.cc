@@ -405,7 +405,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
   WallClockBudget budget(o.max_seconds);
-  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit); }, progress, stored, flush,
+  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit, CommandStop().token()); }, progress, stored, flush,
                      [&] { return fmt::format("the {} finished cases were printed", emitted); },
                      o.db, budget);
   progress.Finish();

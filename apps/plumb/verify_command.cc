@@ -80,6 +80,7 @@ int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   options.sets = StartAssignments(model, o.keyframe, o.sets);
   options.tol = o.tol;
   options.until = o.until;
+  options.stop = CommandStop().token();
   VerifyReport report = Verify(model, options);
   if (!o.report.empty()) {
     ReportInfo info{ctx.argv};

@@ -9,6 +9,11 @@
 //   options.scenario = plumb::LoadScenario(model, "stand.toml");
 //   plumb::AuditReport report = plumb::Audit(model, options);
 //   report.Count(plumb::CheckStatus::kFail)
+//
+// Thread-safety: Audit only reads `model` (every run uses a copy of its own) and starts no
+// threads, so audits may run at once from several threads, also on one Model; keep_diverged is
+// called on the calling thread. Each call takes (and drops) the calling thread's pending MuJoCo
+// warnings (TakeMujocoWarnings).
 
 #ifndef PLUMB_INCLUDE_PLUMB_AUDIT_H_
 #define PLUMB_INCLUDE_PLUMB_AUDIT_H_
@@ -54,6 +59,7 @@ struct AuditOptions {
   // here (plumb::WriteRepro), the audit itself writes nothing.
   std::function<std::string(const Model& model, const RunResult& run, const std::string& what)>
       keep_diverged;
+  StopToken stop;  // when it asks, Audit ends with Interrupted at its next step (default: never)
 };
 
 // One curve of an audit run, kept for pictures (--report).
@@ -77,8 +83,10 @@ struct AuditReport {
   int Count(CheckStatus status) const;
 };
 
-// Audits `model` (not modified). @throws only for bad options; what the model does is
-// reported as findings.
+// Audits `model` (not modified). @throws only for bad options (ValueError for an unknown
+// keyframe, ValueError / PathError for a --set the model refuses), Interrupted when options.stop
+// asks, MujocoError from MuJoCo and what keep_diverged throws; what the model does is reported
+// as findings.
 AuditReport Audit(const Model& model, const AuditOptions& options);
 
 }  // namespace plumb

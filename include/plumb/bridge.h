@@ -11,11 +11,15 @@
 // configured rate. When no command arrives for the watchdog's timeout the motors go to
 // damping (kp = 0, kd as configured) until commands return; in lockstep the simulation then
 // goes on in real time, as a robot would.
+//
+// Thread-safety: RunBridge blocks the calling thread, which steps a copy of `model` (only read);
+// CycloneDDS runs threads of its own for the link. `stop` may be asked from any thread or a
+// signal handler. LoadBridgeConfig keeps no state. Bridges on one DDS domain id (in one process
+// or several) share rt/lowcmd and rt/lowstate: run one per domain.
 
 #ifndef PLUMB_INCLUDE_PLUMB_BRIDGE_H_
 #define PLUMB_INCLUDE_PLUMB_BRIDGE_H_
 
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -23,6 +27,7 @@
 
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -105,17 +110,20 @@ struct BridgeStats {
   std::string problem;    // what went bad, when it did
 };
 
-// Runs the bridge until config.until, `stop` becoming true, or the state going bad
-// (stats.diverged). Starts from `start`.
+// Runs the bridge until config.until, `stop` asking (it returns then, without throwing), or
+// the state going bad (stats.diverged). Starts from `start`.
 // One controller at a time drives the robot: the DataWriter whose good command (CRC and
 // values checked) arrives first is in charge; commands from any other writer are dropped,
 // counted (foreign_commands) and logged once per writer, and do not advance a lockstep
 // period. When the controller in charge has been silent for the watchdog timeout, the next
 // writer with a good command takes over, and the log says so.
-// @throws ValueError for a configuration that does not fit the model (unknown motor, more
-// motors than the family has); UnavailableError when DDS cannot start; MujocoError.
+// @throws ValueError for a configuration that does not fit the model (unknown motor or IMU
+// sensor, more motors than the family has, a control_period that is not a whole number of
+// timesteps) or a domain id above 232; ValueError / PathError when the model refuses `start`;
+// UnavailableError when DDS cannot start or fails; IoError when config.log cannot be written;
+// MujocoError.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
-                      const BridgeConfig& config, const std::atomic<bool>* stop);
+                      const BridgeConfig& config, const StopToken& stop);
 
 }  // namespace plumb
 

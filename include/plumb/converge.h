@@ -5,6 +5,11 @@
 //   plumb::ConvergenceResult r = plumb::Converge(model, sets, metric, 0.002, 4, 1e-3);
 //   r.observed_order   // ~1 for Euler, ~4 for RK4 on the chapter's pendulum
 //   r.recommended_dt   // the largest tested dt/2^k whose estimated error is below tol * scale
+//
+// Thread-safety: Converge only reads `model` (each level runs on a copy of its own) and starts no
+// threads, so calls may run at once from several threads, also on one Model; it takes (and
+// drops) the calling thread's pending MuJoCo warnings (TakeMujocoWarnings). The other functions
+// are pure.
 
 #ifndef PLUMB_INCLUDE_PLUMB_CONVERGE_H_
 #define PLUMB_INCLUDE_PLUMB_CONVERGE_H_
@@ -65,10 +70,11 @@ struct ConvergenceResult {
 
 // Measures `metric` at dt0 / 2^k for k = 0..halvings (with the model's integrator,
 // or the one `sets` chooses) over `until` s, and analyses the sequence.
-// @throws ValueError for halvings < 2 or a dt that does not divide the run.
+// @throws ValueError for halvings < 2 or a dt that does not divide the run; ValueError /
+// PathError when the model refuses `sets`; Interrupted when `stop` asks; MujocoError.
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol,
-                           double until);
+                           double until, const StopToken& stop = {});
 
 // The caveat every convergence report (converge's table and JSON, verify's convergence
 // check) gives when contacts occur: contacts make trajectories non-smooth in time, so

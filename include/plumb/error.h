@@ -5,6 +5,12 @@
 // story: what failed, where (file, line, option), and what to do about it. The
 // command-line tool maps each class to an exit code in one place
 // (apps/plumb/cli_common.cc): bad input is 2, divergence is 3.
+//
+// A broken internal contract is not an expected failure: it is an InternalError, which
+// derives from std::logic_error and not from plumb::Error, so that code handling bad input
+// does not swallow a bug (the command-line tool exits with 70).
+//
+// Thread-safety: every class here is an immutable value; copies may be read from any thread.
 
 #ifndef PLUMB_INCLUDE_PLUMB_ERROR_H_
 #define PLUMB_INCLUDE_PLUMB_ERROR_H_
@@ -73,6 +79,23 @@ class UnavailableError : public Error {
 class Interrupted : public Error {
  public:
   using Error::Error;
+};
+
+// A contract inside plumb was broken: a bug in plumb, never the caller's input (that is a
+// plumb::Error). Thrown by PLUMB_DEMAND where code would otherwise go on with a state it
+// does not expect; what() names the source file, the line and the condition that failed.
+// The process is not ended: a library user (a notebook's kernel, a test runner) gets the
+// exception and may report it.
+class InternalError : public std::logic_error {
+ public:
+  InternalError(const char* file, int line, const std::string& condition);
+  // The source file (from the project's root, e.g. "src/check/worker_pool.cc") and line.
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+
+ private:
+  std::string file_;
+  int line_;
 };
 
 }  // namespace plumb

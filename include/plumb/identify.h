@@ -24,6 +24,12 @@
 //   o.fit = {"dof_damping[hinge]"};
 //   plumb::IdentifyResult r = plumb::Identify(model, {log}, o);
 //   r.estimates[0].value, r.estimates[0].std_error
+//
+// Thread-safety: Identify runs its simulations on options.threads threads (0: one per core) of a
+// TBB arena, each on its own copy of `model`; `model` and `logs` are only read, so calls may run
+// at once, also on one Model. ApplyEstimates writes `model`: no other thread may use it
+// meanwhile. MuJoCo warnings of the runs stay with the threads that ran them (TakeMujocoWarnings),
+// which may include the calling thread.
 
 #ifndef PLUMB_INCLUDE_PLUMB_IDENTIFY_H_
 #define PLUMB_INCLUDE_PLUMB_IDENTIFY_H_
@@ -36,6 +42,7 @@
 #include "plumb/path.h"
 #include "plumb/replay.h"
 #include "plumb/robot_log.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -57,6 +64,7 @@ struct IdentifyOptions {
   double max_delay = 0.1;    // s: the delay scan's range
   int threads = 0;           // 0: every core
   int max_iterations = 100;  // per solve (the first, each delay's, the noise-weighted one)
+  StopToken stop;            // when it asks, Identify ends with Interrupted (default: never)
 };
 
 struct Estimate {
@@ -100,12 +108,14 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
                                                const std::vector<std::string>& fit,
                                                const std::vector<std::string>& bounds);
 
-// Fits. @throws ValueError as ResolveFitParameters does, or for fewer residuals than
-// parameters; MujocoError.
+// Fits. @throws PathError / ValueError as ResolveFitParameters does; ValueError for fewer
+// residuals than parameters, an input delay without input columns, or windows the logs lack the
+// state for (see WindowStarts); MujocoError; Interrupted when options.stop asks.
 IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                         const IdentifyOptions& options);
 
 // Writes the estimates into `model` (mj_setConst when an array changed).
+// @throws PathError / ValueError as WriteValues does (a result of another model); MujocoError.
 void ApplyEstimates(Model& model, const IdentifyResult& result);
 
 // What the solves did, in a sentence: iterations and cost of each, whether the problem was

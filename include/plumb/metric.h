@@ -10,6 +10,11 @@
 // Example:
 //   plumb::Metric q2 = plumb::ParseMetric(model, "qpos[hinge]@2");
 //   plumb::Measurement v = plumb::Measure(model, sets, q2, 0.002, 2.0);
+//
+// Thread-safety: ParseMetric and Measure only read `model` (Measure runs on a copy of its own)
+// and may be called from several threads at once, also on one Model. MeasureInPlace writes
+// `work` and `data`: give each thread its own, as a sweep's workers have. Measure and
+// MeasureInPlace take (and drop) the calling thread's pending MuJoCo warnings (TakeMujocoWarnings).
 
 #ifndef PLUMB_INCLUDE_PLUMB_METRIC_H_
 #define PLUMB_INCLUDE_PLUMB_METRIC_H_
@@ -20,6 +25,7 @@
 
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -55,15 +61,18 @@ struct Measurement {
 // Runs `model` (copied: the argument is not changed) with `sets` applied, the timestep
 // set to `timestep` (s), for `until` s, and measures `metric`. Divergence and
 // unmeasurable metrics are reported through ok/problem, not thrown.
-// @throws ValueError when `until` or the metric time is not a whole number of steps.
+// @throws ValueError when `until` or the metric time is not a whole number of steps;
+// ValueError / PathError when the model refuses `sets`; Interrupted when `stop` asks;
+// MujocoError.
 Measurement Measure(const Model& model, const std::vector<Assignment>& sets, const Metric& metric,
-                    double timestep, double until);
+                    double timestep, double until, const StopToken& stop = {});
 
 // Same, reusing `work` (a model of the same structure, e.g. a worker's copy made with
 // Model::Clone) and `data` made from it, so sweeps allocate nothing per case.
+// @throws as Measure does.
 Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
                            const std::vector<Assignment>& sets, const Metric& metric,
-                           double timestep, double until);
+                           double timestep, double until, const StopToken& stop = {});
 
 }  // namespace plumb
 

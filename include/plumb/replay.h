@@ -17,6 +17,10 @@
 //   plumb::RobotLog log = plumb::LoadRobotLog(model, "decay.csv", model->opt.timestep);
 //   plumb::ReplayResult r = plumb::Replay(model, log, {});
 //   std::printf("%s: rms %g\n", r.signals[0].column.c_str(), r.signals[0].rms);
+//
+// Thread-safety: nothing keeps state and a Model is only read. Simulate writes only `data`, so
+// it may run on several threads at once with distinct Data objects; Replay makes a Data of its
+// own. MuJoCo warnings raised stay in the calling thread's buffer (TakeMujocoWarnings).
 
 #ifndef PLUMB_INCLUDE_PLUMB_REPLAY_H_
 #define PLUMB_INCLUDE_PLUMB_REPLAY_H_
@@ -26,6 +30,7 @@
 
 #include "plumb/model.h"
 #include "plumb/robot_log.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -33,6 +38,7 @@ struct ReplayOptions {
   double window = 0;        // s; 0: one run from the start
   double input_delay = 0;   // s
   double sensor_delay = 0;  // s
+  StopToken stop;           // when it asks, the replay ends with Interrupted (default: never)
 };
 
 // What the simulation gives for each measured signal of a log, at that signal's times.
@@ -74,12 +80,13 @@ std::vector<const LogSignal*> StateSignals(const RobotLog& log);
 // `start_offsets`, when given, is added to the logged start state: for each window in turn,
 // one value per StateSignals column (identification fits the start state this way, since a
 // logged start carries the measurement noise).
-// @throws ValueError when a window needs the logged state and the log lacks some of it.
+// @throws ValueError when a window needs the logged state and the log lacks some of it;
+// Interrupted when options.stop asks; MujocoError.
 Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
                    const ReplayOptions& options,
                    const std::vector<double>* start_offsets = nullptr);
 
-// Simulates and compares.
+// Simulates and compares. @throws as Simulate does.
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);
 
 // The comparison of `simulated` with `log` (the part of Replay after Simulate).

@@ -8,11 +8,16 @@
 //   spec.randomize = {plumb::ParseRandomization(model, "body_mass[*]=*U(0.9,1.1)")};
 //   spec.metrics = {plumb::ParseMetric(model, "xpos[torso][2]@2")};
 //   plumb::Rollout(model, spec, [](const plumb::RolloutResult& r) { ... });  // index order
+//
+// Thread-safety: Rollout, RolloutCases and RolloutPool::Run run on spec.threads threads of a TBB
+// arena, each on its own copy of `model`, which is only read: calls may run at once, also on one
+// Model, but a RolloutPool runs one batch at a time. `emit` is called on the calling thread,
+// spec.progress on the workers. The calling thread may run rollouts too: its pending MuJoCo
+// warnings are dropped (TakeMujocoWarnings). The other functions keep no state.
 
 #ifndef PLUMB_INCLUDE_PLUMB_ROLLOUT_H_
 #define PLUMB_INCLUDE_PLUMB_ROLLOUT_H_
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -87,21 +92,25 @@ std::vector<std::string> ParameterNames(const RolloutSpec& spec);
 // rollout in increasing index order (from the calling thread). Memory does not grow
 // with count: work is done in chunks. Results are bit-identical whatever the thread
 // count, shard split or skipped set: every random number is keyed by (seed, rollout
-// index, parameter). @throws ValueError for a bad spec; Interrupted when `stop` is set.
+// index, parameter). @throws ValueError for a bad spec; Interrupted when `stop` asks (the
+// rollouts before the first unfinished one were emitted); MujocoError; what `emit` throws.
 void Rollout(const Model& model, const RolloutSpec& spec,
-             const std::function<void(const RolloutResult&)>& emit,
-             const std::atomic<bool>* stop = nullptr);
+             const std::function<void(const RolloutResult&)>& emit, const StopToken& stop = {});
 
 // Runs exactly the rollouts `indices` (any order, no duplicates) and calls `emit` once per
 // rollout in the order given, from the calling thread; the building block of Rollout and
-// of distributing rollouts over processes. Ignores spec.shard_* and spec.skip.
+// of distributing rollouts over processes. Ignores spec.shard_* and spec.skip, and checks
+// nothing of `spec` (ValidateRolloutSpec does): spec.threads < 1 ends in InternalError.
+// @throws ValueError / PathError when the model refuses spec.sets; Interrupted when `stop`
+// asks; MujocoError; what `emit` throws.
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                   const std::function<void(const RolloutResult&)>& emit,
-                  const std::atomic<bool>* stop = nullptr);
+                  const StopToken& stop = {});
 
 // RolloutCases for many batches of indices (chunks of a long run, or work an MPI rank is
 // handed): the worker threads' model copies and data are made once and kept between
-// calls. `model` and `spec` must outlive the pool.
+// calls. `model` and `spec` must outlive the pool. The constructor checks only spec.threads
+// (@throws ValueError when < 1); Run @throws as RolloutCases does.
 class RolloutPool {
  public:
   RolloutPool(const Model& model, const RolloutSpec& spec);
@@ -110,7 +119,7 @@ class RolloutPool {
   RolloutPool& operator=(const RolloutPool&) = delete;
 
   void Run(const std::vector<long>& indices, const std::function<void(const RolloutResult&)>& emit,
-           const std::atomic<bool>* stop = nullptr);
+           const StopToken& stop = {});
 
  private:
   struct Impl;
@@ -120,7 +129,8 @@ class RolloutPool {
 // Checks a spec (counts, shard, until, metric times). @throws ValueError.
 void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec);
 
-// Serialises a result to bytes and back, for sending it between processes.
+// Serialises a result to bytes and back, for sending it between processes. DecodeResult
+// @throws ValueError when `bytes` is truncated or damaged.
 std::string EncodeResult(const RolloutResult& result);
 RolloutResult DecodeResult(const std::string& bytes);
 

@@ -9,11 +9,16 @@
 //   spec.columns = plumb::DefaultColumns(model);
 //   MySink sink;                               // receives one row per sample
 //   plumb::RunResult result = plumb::Run(model, data, spec, sink);
+//
+// Thread-safety: Run may be called from several threads at once with distinct Data objects; a
+// Model is only read. The sink and the callbacks are called on the calling thread; a
+// DerivedRefresher serves one thread at a time. MuJoCo warnings are counted from the Data into
+// RunResult and also reach the calling thread's buffer (TakeMujocoWarnings), which Run does not
+// clear.
 
 #ifndef PLUMB_INCLUDE_PLUMB_RUN_H_
 #define PLUMB_INCLUDE_PLUMB_RUN_H_
 
-#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,6 +26,7 @@
 
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -44,20 +50,14 @@ class NullSink : public SampleSink {
   void Sample(const std::vector<double>&) override {}
 };
 
-// The process-wide stop request that every Run watches unless its spec names another flag:
-// a signal handler sets it (lock-free, async-signal-safe) and every long command, however
-// deep its runs are, stops at the next step with Interrupted. It stays set: a program that
-// goes on after handling the stop sets it back to false.
-std::atomic<bool>& StopFlag();
-
 // What to run.
 struct RunSpec {
   double until = 2.0;         // final time in s (>= 0); steps = ceil(until / timestep)
   double every = 0.1;         // sampling interval in s; a whole multiple of the timestep
   std::vector<Path> columns;  // sampled paths, each a single element (see ScalarPaths)
-  // When it becomes true (e.g. from a signal handler), Run throws Interrupted before the
-  // next step. Unset: the process-wide StopFlag().
-  const std::atomic<bool>* stop = nullptr;
+  // When its source asks to stop (e.g. from a signal handler), Run throws Interrupted before
+  // the next step. Default: never.
+  StopToken stop;
   // Called before every mj_step with the step about to be taken (1-based), e.g. to
   // write ctrl; and after every step that passed the divergence checks, e.g. to
   // inspect contacts. Either may be empty.
@@ -132,7 +132,8 @@ struct RunResult {
 // checks qpos, qvel, act and qacc for NaN/Inf or magnitudes above MuJoCo's limit (1e10)
 // and whether MuJoCo's own checks reset the state; on the first failure it stops and
 // returns with `diverged` set. @throws ValueError (see MakeSchedule), Interrupted, MujocoError, and
-// whatever the sink throws.
+// whatever the sink throws; PathError (see ReadValue) when a sampled constraint or contact
+// element lies beyond the rows the data holds at that step.
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink);
 
 // Recomputes the derived quantities (xpos, sensordata, energy, contacts, qacc, and what
@@ -141,7 +142,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
 // or counting MuJoCo warnings again. After mj_step they still describe the state before
 // the step (with RK4, an intermediate stage): call this before reading them in an
 // after_step callback. Costs about one mj_forward. Holds scratch buffers sized for one
-// model, so calling it every step does not allocate.
+// model, so calling it every step does not allocate. operator() @throws MujocoError.
 class DerivedRefresher {
  public:
   explicit DerivedRefresher(const Model& model);
@@ -152,7 +153,7 @@ class DerivedRefresher {
   std::vector<mjtNum> qpos_, warmstart_;
 };
 
-// One-off form of DerivedRefresher.
+// One-off form of DerivedRefresher. @throws MujocoError.
 void RefreshDerived(const Model& model, Data& data);
 
 }  // namespace plumb

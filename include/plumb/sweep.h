@@ -7,11 +7,16 @@
 //   spec.metrics = {plumb::ParseMetric(model, "qpos[hinge]@2")};
 //   spec.sets = {plumb::ParseAssignment(model, "qpos[hinge]=0.7")};
 //   std::vector<plumb::SweepCase> cases = plumb::Sweep(model, spec);   // in case order
+//
+// Thread-safety: Sweep runs on spec.threads threads of a TBB arena, each on its own copy of
+// `model`, which is only read: sweeps may run at once from several threads, also on one Model.
+// `emit` is called on the calling thread, spec.progress on the workers. The calling thread may
+// run cases too: its pending MuJoCo warnings are dropped (TakeMujocoWarnings). The other
+// functions keep no state and only read their arguments.
 
 #ifndef PLUMB_INCLUDE_PLUMB_SWEEP_H_
 #define PLUMB_INCLUDE_PLUMB_SWEEP_H_
 
-#include <atomic>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -43,7 +48,7 @@ struct SweepAxis {
 
 // Parses `PATH=V1,V2,...` (numbers or enumeration names) or `PATH=START:STOP:COUNT`
 // (COUNT evenly spaced values, both ends included).
-// @throws PathError / ValueError naming the option.
+// @throws ValueError naming the option, also for an unknown path (never PathError).
 SweepAxis ParseSweepAxis(const Model& model, std::string_view text);
 
 struct SweepSpec {
@@ -81,19 +86,20 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec);
 // Runs the cases 0 .. CaseCount-1 that are not in `skip` (sorted; for --resume) and calls
 // `emit` once per case in increasing index order, from the calling thread, as soon as it and
 // every case before it are done: memory does not grow with the number of cases. When `stop`
-// (default: plumb::StopFlag(), see run.h, which runs also watch step by step) becomes true,
-// the cases already finished are emitted and Interrupted is thrown. A range value that
+// asks (the running cases see it at their next step), the cases already finished are
+// emitted and Interrupted is thrown. A range value that
 // fails CheckAssignable (see ParseSweepAxis) is that case's problem. Bit-identical for any
-// thread count. @throws ValueError as ValidateSweepSpec; Interrupted.
+// thread count. @throws ValueError as ValidateSweepSpec; Interrupted; MujocoError; what `emit`
+// throws.
 void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& skip,
            const std::function<void(const SweepCase&)>& emit,
-           const std::atomic<bool>* stop = nullptr);
+           const StopToken& stop = {});
 
 // Runs every case and returns them all (a small sweep; the streaming Sweep above for large
 // ones). Results come back in case order and are bit-identical whatever the
 // thread count: each case starts from a fresh copy of the nominal model in its worker's
 // own buffer. A diverged case is recorded (ok = false) and the sweep goes on.
-// @throws ValueError for no metric or threads < 1; MujocoError from MuJoCo.
+// @throws ValueError as ValidateSweepSpec does; MujocoError from MuJoCo.
 std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec);
 
 }  // namespace plumb

@@ -11,6 +11,11 @@
 //   options.sets = {plumb::ParseAssignment(model, "qpos[hinge]=0.7")};
 //   plumb::VerifyReport report = plumb::Verify(model, options);
 //   report.failed()  // true when any check FAILed
+//
+// Thread-safety: Verify only reads `model` (each run uses a copy of its own) and starts no
+// threads, so calls may run at once from several threads, also on one Model. Its density
+// exercise compiles MJCF with Model::FromXmlString, serialised with Model::Load. It takes (and
+// drops) the calling thread's pending MuJoCo warnings (TakeMujocoWarnings).
 
 #ifndef PLUMB_INCLUDE_PLUMB_VERIFY_H_
 #define PLUMB_INCLUDE_PLUMB_VERIFY_H_
@@ -22,6 +27,7 @@
 #include "plumb/converge.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -47,6 +53,7 @@ struct VerifyOptions {
   // convergence ladder's coarsest level). Unset picks 2 s (the chapter's), and for models
   // that are not a single pendulum at most min(250, 1e5 / nv) steps.
   std::optional<double> until;
+  StopToken stop;  // when it asks, Verify ends with Interrupted at its next step (default: never)
 };
 
 // What the checks measured, kept for pictures (--report): the nominal run's curves, the
@@ -86,7 +93,8 @@ struct VerifyReport {
 
 // Runs every check on `model` (not modified). Never throws for what a model does
 // (divergence, warnings, non-convergence are results); @throws ValueError for options
-// that make no sense (tol <= 0) and LoadError/MujocoError from MuJoCo itself.
+// that make no sense (tol <= 0) and LoadError/MujocoError from MuJoCo itself; Interrupted when
+// options.stop asks.
 VerifyReport Verify(const Model& model, const VerifyOptions& options);
 
 }  // namespace plumb

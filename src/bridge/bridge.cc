@@ -91,11 +91,11 @@ class Loop {
     if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
   }
 
-  BridgeStats Run(const std::atomic<bool>* stop) {
+  BridgeStats Run(const StopToken& stop) {
     bridge::DdsDomain domain(config_.domain);
     bridge::DdsReader<Cmd> commands(domain, "rt/lowcmd", Family<F>::CmdType());
     bridge::DdsWriter<State> states(domain, "rt/lowstate", Family<F>::StateType());
-    auto stopped = [&] { return stop != nullptr && stop->load(); };
+    auto stopped = [&] { return stop.stop_requested(); };
     Transitions();
     Publish(states);
     last_command_ = Clock::now();
@@ -427,7 +427,7 @@ class Loop {
 }  // namespace
 
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
-                      const BridgeConfig& config, const std::atomic<bool>* stop) {
+                      const BridgeConfig& config, const StopToken& stop) {
   if (config.family == BridgeFamily::kGo) {
     return Loop<BridgeFamily::kGo>(model, start, config).Run(stop);
   }

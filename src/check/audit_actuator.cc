@@ -175,6 +175,7 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
   std::vector<double> t, y;
   double max_speed = 0;
   RunSpec spec;
+  spec.stop = options.stop;
   spec.until = duration;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) { d->ctrl[u] = step.after; };

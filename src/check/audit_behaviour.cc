@@ -80,6 +80,7 @@ void RunScenario(const Model& model, const std::vector<Assignment>& sets, const 
   Data data(work);
   StartAtPose(work, data, start, all);
   RunSpec spec;
+  spec.stop = options.stop;
   spec.until = StepsToReach(sc.duration, m->opt.timestep) * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {

@@ -167,6 +167,7 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
        max_pieces =
            std::max(4L, static_cast<long>(std::floor(longest / (piece_steps * m->opt.timestep))));
   RunSpec spec;
+  spec.stop = options.stop;
   spec.until = piece_steps * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {

@@ -70,7 +70,8 @@ std::string ContactCaveat(int max_contacts) {
 
 namespace {
 // Most contacts at once in the scenario's run at `dt` (the coarsest, cheapest level).
-int MaxContacts(const Model& model, const std::vector<Assignment>& sets, double dt, double until) {
+int MaxContacts(const Model& model, const std::vector<Assignment>& sets, double dt, double until,
+                const StopToken& stop) {
   class MaxSink : public SampleSink {
    public:
     void Begin(const std::vector<Path>&) override {}
@@ -88,6 +89,7 @@ int MaxContacts(const Model& model, const std::vector<Assignment>& sets, double 
   spec.until = until;
   spec.every = dt;
   spec.columns = {ResolvePath(work, "ncon")};
+  spec.stop = stop;
   Run(work, data, spec, sink);
   TakeMujocoWarnings();  // the levels' own runs report them
   return sink.most;
@@ -175,7 +177,7 @@ void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* 
 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol,
-                           double until) {
+                           double until, const StopToken& stop) {
   if (halvings < 2) throw ValueError("--halvings must be at least 2 to estimate an order");
   if (!(dt0 > 0)) throw ValueError("--dt must be a positive number of seconds");
   ConvergenceResult out;
@@ -184,7 +186,7 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   std::vector<Measurement> measured;
   for (int k = 0; k <= halvings; ++k) {
     double dt = dt0 / std::pow(2.0, k);
-    Measurement m = Measure(model, sets, metric, dt, until);
+    Measurement m = Measure(model, sets, metric, dt, until, stop);
     if (!m.ok && out.ok) {
       out.ok = false;
       out.diverged = m.diverged;
@@ -200,7 +202,7 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   out.scale = measured.back().scale;
   if (!out.ok) return out;
   bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
-  out.max_contacts = MaxContacts(model, sets, dt0, at_time ? metric.time : until);
+  out.max_contacts = MaxContacts(model, sets, dt0, at_time ? metric.time : until, stop);
   out.caveat = ContactCaveat(out.max_contacts);
 
   std::vector<double> values;

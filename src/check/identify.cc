@@ -98,13 +98,16 @@ class Residuals {
   // The start state of every window of every log is fitted too (a logged start carries the
   // measurement noise): those offsets follow the parameters in x, in the logs' units.
   Residuals(const Model& nominal, const std::vector<RobotLog>& logs,
-            const std::vector<FitParameter>& params, const ReplayOptions& replay, int threads)
+            const std::vector<FitParameter>& params, const ReplayOptions& replay, int threads,
+            const StopToken& stop)
       : logs_(logs),
         writer_(nominal, params),
         pool_(nominal, threads),
         physical_(params.size()),
         n_(params.size()),
-        replay_(replay) {
+        replay_(replay),
+        stop_(stop) {
+    replay_.stop = stop;  // a replay stops mid-log when asked
     std::size_t starts = 0;
     for (const RobotLog& log : logs) {
       starts += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
@@ -132,9 +135,11 @@ class Residuals {
   // Changing the delays keeps the windows (and so the start-state offsets) as they are.
   void set_replay(const ReplayOptions& replay) {
     replay_ = replay;
+    replay_.stop = stop_;
     remembered_.clear();
   }
   const ReplayOptions& replay() const { return replay_; }
+  const StopToken& stop() const { return stop_; }
   std::vector<std::vector<double>>& weights() { return weights_; }
 
   // Residuals at each of `points` (scaled parameter vectors), in parallel; out[k] has size().
@@ -166,7 +171,7 @@ class Residuals {
           errors[k] = std::make_shared<const std::vector<double>>(e);
           Remember(points[k], errors[k]);
         },
-        StopFlag(), [] { return Interrupted("plumb identify stopped before the fit finished"); });
+        stop_, [] { return Interrupted("plumb identify stopped before the fit finished"); });
     std::vector<std::vector<double>> out;
     out.reserve(points.size());
     for (const auto& e : errors) out.push_back(Weighted(*e));
@@ -242,6 +247,7 @@ class Residuals {
   long m_ = 0;
   std::vector<std::vector<double>> weights_;
   ReplayOptions replay_;
+  StopToken stop_;
   static constexpr std::size_t kRememberBytes = 256u << 20;
   // (point, errors) of the points run last, the most recent first
   std::list<std::pair<std::vector<double>, std::shared_ptr<const std::vector<double>>>> remembered_;
@@ -296,14 +302,15 @@ class ReplayCost : public ceres::CostFunction {
 
 class CostLog : public ceres::IterationCallback {
  public:
-  explicit CostLog(std::vector<double>* cost) : cost_(cost) {}
+  CostLog(std::vector<double>* cost, const StopToken& stop) : cost_(cost), stop_(stop) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (s.iteration == 0 || s.step_is_successful) cost_->push_back(s.cost);
-    return StopFlag().load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+    return stop_.stop_requested() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
   }
 
  private:
   std::vector<double>* cost_;
+  const StopToken& stop_;
 };
 
 // Solves from x in place; returns Ceres's summary.
@@ -324,7 +331,7 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
                                      params[i].hi / params[i].scale);
     }
   }
-  CostLog log(cost);
+  CostLog log(cost, f.stop());
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = max_iterations;
@@ -341,7 +348,7 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   options.callbacks.push_back(&log);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  if (StopFlag().load()) throw Interrupted("plumb identify stopped before the fit finished");
+  if (f.stop().stop_requested()) throw Interrupted("plumb identify stopped before the fit finished");
   return summary;
 }
 
@@ -505,7 +512,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   int threads = options.threads > 0
                     ? options.threads
                     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  Residuals f(model, logs, params, options.replay, threads);
+  Residuals f(model, logs, params, options.replay, threads, options.stop);
   std::size_t n = params.size();
   if (f.size() <= static_cast<long>(f.parameters())) {
     throw ValueError(fmt::format(

@@ -82,15 +82,15 @@ double DefaultDuration(const Metric& metric) {
 }
 
 Measurement Measure(const Model& model, const std::vector<Assignment>& sets, const Metric& metric,
-                    double timestep, double until) {
+                    double timestep, double until, const StopToken& stop) {
   Model work = model.Clone();
   Data data(work);
-  return MeasureInPlace(model, work, data, sets, metric, timestep, until);
+  return MeasureInPlace(model, work, data, sets, metric, timestep, until, stop);
 }
 
 Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
                            const std::vector<Assignment>& sets, const Metric& metric,
-                           double timestep, double until) {
+                           double timestep, double until, const StopToken& stop) {
   // start from the nominal model every time (a sweep's previous case may have edited it)
   mj_copyModel(work.get_mutable(), nominal.get());
   if (metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt) {
@@ -111,6 +111,7 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
   RunSpec spec;
   spec.until = until;
   spec.every = timestep;  // the probe reads every step (the sink keeps nothing)
+  spec.stop = stop;
   spec.after_step = [&](const mjData*, long step) { probe.Observe(data, step); };
   probe.Observe(data, 0);
   NullSink sink;

@@ -126,11 +126,13 @@ constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
 // to the nominal one afterwards.
 class OneRollout {
  public:
-  OneRollout(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index)
+  OneRollout(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index,
+             const StopToken& stop)
       : nominal_(nominal),
         w_(w),
         spec_(spec),
         index_(index),
+        stop_(stop),
         // a drawn body_mass rescales its body's inertia (WriteValues): kept to be put back
         inertia_(w.work->body_inertia, w.work->body_inertia + 3 * w.work->nbody) {
     out_.index = index;
@@ -268,6 +270,7 @@ class OneRollout {
     MetricProbe probe(w_.work, spec_.metrics, /*scales=*/false);
     RunSpec run;
     run.until = spec_.until;
+    run.stop = stop_;
     // one sample at the end: the probe reads every step
     run.every = static_cast<double>(std::max(1L, StepsToReach(spec_.until, dt))) * dt;
     if (spec_.ctrl_noise > 0) run.before_step = [&](mjData* d, long step) { CtrlNoise(d, step); };
@@ -297,14 +300,15 @@ class OneRollout {
   WorkerPool::Worker& w_;
   const RolloutSpec& spec_;
   long index_;
+  const StopToken& stop_;
   std::vector<mjtNum> inertia_;
   RolloutResult out_;
   std::string refusal_;  // why the last draw was refused
 };
 
 RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec,
-                     long index, bool energy) {
-  return OneRollout(nominal, w, spec, index).Run(energy);
+                     long index, bool energy, const StopToken& stop) {
+  return OneRollout(nominal, w, spec, index, stop).Run(energy);
 }
 
 }  // namespace
@@ -379,22 +383,24 @@ struct RolloutPool::Impl {
       : model(m), spec(s), energy(NeedsEnergy(s)), pool(m, s.threads) {}
 };
 
-RolloutPool::RolloutPool(const Model& model, const RolloutSpec& spec)
-    : impl_(std::make_unique<Impl>(model, spec)) {}
+RolloutPool::RolloutPool(const Model& model, const RolloutSpec& spec) {
+  if (spec.threads < 1) throw ValueError("threads must be at least 1");
+  impl_ = std::make_unique<Impl>(model, spec);
+}
 
 RolloutPool::~RolloutPool() = default;
 
 void RolloutPool::Run(const std::vector<long>& indices,
                       const std::function<void(const RolloutResult&)>& emit,
-                      const std::atomic<bool>* stop) {
+                      const StopToken& stop) {
   Impl& p = *impl_;
   std::atomic<long> done{0};
   WorkerPool::Job<RolloutResult> job = [&](WorkerPool::Worker& w, long index,
                                            RolloutResult* result) {
     try {
-      *result = RunOne(p.model, w, p.spec, index, p.energy);
+      *result = RunOne(p.model, w, p.spec, index, p.energy, stop);
     } catch (const Interrupted&) {
-      return false;  // abandoned mid-run (plumb::StopFlag)
+      return false;  // abandoned mid-run (`stop` asked)
     }
     long count = ++done;
     if (p.spec.progress) p.spec.progress(count, static_cast<long>(indices.size()));
@@ -410,19 +416,19 @@ void RolloutPool::Run(const std::vector<long>& indices,
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
   };
-  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop ? *stop : StopFlag(),
+  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop,
                                interrupted);
 }
 
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                   const std::function<void(const RolloutResult&)>& emit,
-                  const std::atomic<bool>* stop) {
+                  const StopToken& stop) {
   RolloutPool pool(model, spec);
   pool.Run(indices, emit, stop);
 }
 
 void Rollout(const Model& model, const RolloutSpec& spec,
-             const std::function<void(const RolloutResult&)>& emit, const std::atomic<bool>* stop) {
+             const std::function<void(const RolloutResult&)>& emit, const StopToken& stop) {
   ValidateRolloutSpec(model, spec);
   std::vector<long> indices;
   for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {

@@ -192,10 +192,9 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
 }
 
 void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& skip,
-           const std::function<void(const SweepCase&)>& emit, const std::atomic<bool>* stop) {
+           const std::function<void(const SweepCase&)>& emit, const StopToken& stop) {
   ValidateSweepSpec(model, spec);
   const long total = CaseCount(spec.axes);
-  const std::atomic<bool>& stopping = stop ? *stop : StopFlag();
 
   std::atomic<long> done{0};
   // one case: false when a stop request abandoned it
@@ -223,7 +222,7 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
       for (const Metric& metric : spec.metrics) {
         double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
         c->metrics.push_back(
-            MeasureInPlace(model, worker.work, worker.data, sets, metric, case_dt, until));
+            MeasureInPlace(model, worker.work, worker.data, sets, metric, case_dt, until, stop));
       }
     } catch (const Interrupted&) {
       return false;  // abandoned mid-run
@@ -245,7 +244,7 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
                        std::to_string(total - static_cast<long>(skip.size())) + " cases");
   };
   WorkerPool pool(model, spec.threads);
-  pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit, stopping,
+  pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit, stop,
                          interrupted);
 }
 

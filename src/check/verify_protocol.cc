@@ -80,7 +80,7 @@ void SetNumbers(CheckResult* r, double measured, double reference, const char* u
 std::string Seconds(double t) { return fmt::format("{:g} s", t); }
 
 VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
-    : model_(model), sets_(options.sets), nominal_(model.Clone()) {
+    : model_(model), sets_(options.sets), stop_(options.stop), nominal_(model.Clone()) {
   Data data(nominal_);
   ApplyAssignments(nominal_, data, sets_);
 }
@@ -111,6 +111,7 @@ Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double 
   RunSpec spec;
   spec.until = until;
   spec.every = m->opt.timestep;
+  spec.stop = stop_;
   spec.columns = {ResolvePath(work, "time")};
   if (energy) {
     for (const char* path : {"energy[0]", "energy[1]", "ncon", "nefc"}) {
@@ -253,7 +254,7 @@ CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
   std::string metric_text =
       pendulum ? fmt::format("qpos[{}]@{:g}", joint, until) : fmt::format("state@{:g}", until);
   Metric metric = ParseMetric(s.model(), metric_text);
-  ConvergenceResult c = Converge(s.model(), s.sets(), metric, 2 * dt, 4, tol, until);
+  ConvergenceResult c = Converge(s.model(), s.sets(), metric, 2 * dt, 4, tol, until, s.stop());
   double expected = ExpectedOrder(m->opt.integrator);
   if (ctx.figures != nullptr) {
     ctx.figures->convergence_metric = metric_text;

@@ -57,6 +57,7 @@ class VerifyScenario {
 
   const Model& model() const { return model_; }
   const std::vector<Assignment>& sets() const { return sets_; }
+  const StopToken& stop() const { return stop_; }
 
   Assignment Set(const std::string& text) const { return ParseAssignment(model_, text); }
 
@@ -76,6 +77,7 @@ class VerifyScenario {
  private:
   const Model& model_;
   std::vector<Assignment> sets_;
+  StopToken stop_;
   Model nominal_;
   mutable std::map<std::string, Trace> memo_;
 };

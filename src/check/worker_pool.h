@@ -6,7 +6,6 @@
 #ifndef PLUMB_SRC_CHECK_WORKER_POOL_H_
 #define PLUMB_SRC_CHECK_WORKER_POOL_H_
 
-#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -14,6 +13,7 @@
 
 #include "plumb/error.h"
 #include "plumb/model.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -32,7 +32,7 @@ class WorkerPool {
   template <typename Result>
   using Job = std::function<bool(Worker& worker, long index, Result* result)>;
 
-  // `threads` must be at least 1.
+  // `threads` must be at least 1 (else plumb::InternalError: the callers validate it).
   WorkerPool(const Model& nominal, int threads);
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
@@ -42,18 +42,18 @@ class WorkerPool {
 
   // Runs the jobs `next_chunk` hands out (it fills the empty vector it is given with the next
   // up to `chunk` indices, none when all are done), each chunk in parallel, and
-  // passes their results to `emit` in index order. Between chunks it looks at `stop`: when set, or
+  // passes their results to `emit` in index order. Between chunks it looks at `stop`: when asked, or
   // when a job was abandoned, it throws what `interrupted` makes, after emitting every result
   // before the first unfinished job.
   template <typename Result>
   void Stream(std::size_t chunk, const std::function<void(std::vector<long>*)>& next_chunk,
               const Job<Result>& job, const std::function<void(const Result&)>& emit,
-              const std::atomic<bool>& stop, const std::function<Interrupted()>& interrupted) {
+              const StopToken& stop, const std::function<Interrupted()>& interrupted) {
     std::vector<long> indices;
     std::vector<Result> results;
     std::vector<char> finished;
     while (true) {
-      if (stop.load()) throw interrupted();
+      if (stop.stop_requested()) throw interrupted();
       indices.clear();
       indices.reserve(chunk);
       next_chunk(&indices);

@@ -148,6 +148,9 @@ class Replayer {
       if (t0 > latest + tolerance_) break;
       for (HeldInput& input : inputs_) input.Apply(t0 - options_.input_delay);
       prev.swap(cur);
+      if (options_.stop.stop_requested()) {
+        throw Interrupted(fmt::format("the replay stopped at t = {:.6g} s of the log", t0));
+      }
       mj_step(m_, d);
       d->time = t1 - log_.start;
       if (Diverged()) {

@@ -211,11 +211,6 @@ void RefreshDerived(const Model& model, Data& data) {
   refresh(data);
 }
 
-std::atomic<bool>& StopFlag() {
-  static std::atomic<bool> flag{false};
-  return flag;
-}
-
 namespace {
 
 // Calls the sink's End once on every path out of a run: explicitly at the end (where a
@@ -345,7 +340,6 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   const mjModel* m = model.get();
   mjData* d = data.get();
   Schedule schedule = MakeSchedule(m->opt.timestep, spec.until, spec.every);
-  const std::atomic<bool>* stop = spec.stop ? spec.stop : &StopFlag();
 
   // the time column reports the exact sample time, not the accumulated d->time
   std::vector<char> is_time(spec.columns.size());
@@ -378,7 +372,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   sample(0);
   result.samples = 1;
   for (long step = 1; step <= schedule.steps; ++step) {
-    if (stop->load(std::memory_order_relaxed)) {
+    if (spec.stop.stop_requested()) {
       throw Interrupted("interrupted at t = " + Format("%g s", time_at(step - 1)) + " (step " +
                         std::to_string(step - 1) + " of " + std::to_string(schedule.steps) + ")");
     }

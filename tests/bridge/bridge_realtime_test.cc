@@ -18,9 +18,9 @@ TEST(BridgeTest, RealtimeKeepsItsPublishRate) {
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 5.0);
   config.mode = BridgeMode::kRealtime;  // 500 states a second, paced to the wall clock
   Controller controller(config.domain);
-  std::atomic<bool> stop{false};
+  plumb::StopSource stop;
   auto start = std::chrono::steady_clock::now();
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   long received = 0;
@@ -55,8 +55,8 @@ TEST(BridgeTest, AFloodOfHostileCommandsNeitherSlowsItNorGoesUnrecorded) {
   config.mode = BridgeMode::kRealtime;
   config.log = dir.File("flight.csv");
   Controller controller(config.domain), intruder(config.domain);
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   ASSERT_TRUE(intruder.Matched());
   State s;
@@ -80,7 +80,7 @@ TEST(BridgeTest, AFloodOfHostileCommandsNeitherSlowsItNorGoesUnrecorded) {
     ++nan;
     intruder.Send(Hold(-0.3));
   }
-  stop = true;
+  stop.RequestStop();
   BridgeStats stats = bridge.get();
   double span = std::chrono::duration<double>(last_at - first_at).count();
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)

@@ -25,8 +25,8 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 3.0);
   Controller controller(config.domain);
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   long states = 0;
@@ -40,7 +40,7 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
     q = s.motor_state[0].q;
     controller.Send(Hold(0.5));
   }
-  stop = true;
+  stop.RequestStop();
   BridgeStats stats = bridge.get();
   EXPECT_NEAR(q, 0.5, 0.01) << "after " << states << " states";
   EXPECT_NEAR(stats.time, 3.0, 1e-9);
@@ -53,8 +53,8 @@ TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.02);  // ten periods
   Controller controller(config.domain);
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   int sent = 0;
@@ -82,9 +82,9 @@ TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
   config.watchdog_timeout = 0.05;
   config.watchdog_kd = 5;
   Controller controller(config.domain);
-  std::atomic<bool> stop{false};
+  plumb::StopSource stop;
   auto bridge = std::async(std::launch::async, [&] {
-    return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, &stop);
+    return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, stop.token());
   });
   ASSERT_TRUE(controller.Matched());
   // ten commands, then silence: the bridge damps and goes on in real time to the end
@@ -100,8 +100,8 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.01);
   config.watchdog_timeout = 1.0;
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // longer than the watchdog
   Controller controller(config.domain);
   State s;
@@ -121,8 +121,8 @@ TEST(BridgeTest, TheHgFamilySpeaksG1Messages) {
   bridge::DdsDomain domain(config.domain);
   bridge::DdsWriter<HgCmd> commands(domain, "rt/lowcmd", &unitree_hg_msg_dds__LowCmd__desc);
   bridge::DdsReader<HgState> states(domain, "rt/lowstate", &unitree_hg_msg_dds__LowState__desc);
-  std::atomic<bool> stop{false};
-  auto run = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto run = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   HgState s;
   float q = NAN;
   for (;;) {
@@ -141,7 +141,7 @@ TEST(BridgeTest, TheHgFamilySpeaksG1Messages) {
     cmd.crc = bridge::UnitreeCrc(cmd);
     commands.Write(cmd);
   }
-  stop = true;
+  stop.RequestStop();
   BridgeStats stats = run.get();
   EXPECT_GE(stats.commands, 490);
   EXPECT_NEAR(q, 0.3, 0.03);
@@ -158,8 +158,8 @@ HoldRun RunHold(BridgeConfig config, double target,
                 const std::string& xml = testing::ReadFile(testing::kPendulum)) {
   Model model = Model::FromXmlString(xml, "pendulum.xml");
   Controller controller(config.domain);
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   HoldRun run;
   if (!controller.Matched()) return run;
   State s;
@@ -168,7 +168,7 @@ HoldRun RunHold(BridgeConfig config, double target,
     run.q.push_back(s.motor_state[0].q);
     controller.Send(Hold(target));
   }
-  stop = true;
+  stop.RequestStop();
   run.stats = bridge.get();
   return run;
 }
@@ -338,8 +338,8 @@ TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
   config.watchdog_timeout = 0.2;
   config.log = dir.File("flight.csv");
   Controller first(config.domain), second(config.domain);
-  std::atomic<bool> stop{false};
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, &stop); });
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(first.Matched());
   ASSERT_TRUE(second.Matched());
   State s;
@@ -354,7 +354,7 @@ TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
     }
     second.Send(Hold(-0.3));
   }
-  stop = true;
+  stop.RequestStop();
   BridgeStats stats = bridge.get();
   EXPECT_NEAR(q, -0.3, 0.02) << "the second controller took over";
   EXPECT_GE(stats.foreign_commands, both - 2);    // every one while the first was in charge

@@ -681,5 +681,14 @@ TEST_F(AuditTest, ANaNParameterIsAStructureFailureNamingItsPath) {
   EXPECT_EQ(Find(clean, "structure.finite")->status, CheckStatus::kPass);
 }
 
+TEST_F(AuditTest, StopsWhenItsCallerAsks) {
+  Model model = Model::Load(testing::kPendulum);
+  AuditOptions options;
+  StopSource stop;
+  stop.RequestStop();
+  options.stop = stop.token();
+  EXPECT_THROW(Audit(model, options), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb

@@ -237,5 +237,12 @@ TEST_F(ConvergeTest, ContactsGiveTheCaveat) {
   EXPECT_EQ(pendulum.caveat, "");
 }
 
+TEST_F(ConvergeTest, StopsWhenItsCallerAsks) {
+  Metric q2 = ParseMetric(pendulum_, "qpos[hinge]@2");
+  StopSource stop;
+  stop.RequestStop();
+  EXPECT_THROW(Converge(pendulum_, Start(), q2, 0.002, 4, 1e-3, 2, stop.token()), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb

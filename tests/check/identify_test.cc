@@ -328,5 +328,16 @@ TEST_F(IdentifyTest, BadParametersAreRefused) {
   EXPECT_EQ(ResolveFitParameters(model, {"dof_armature[hinge]"}, {})[0].lo, 0);  // >= 0
 }
 
+TEST_F(IdentifyTest, StopsWhenItsCallerAsks) {
+  Model model = Model::Load(testing::kPendulum);
+  RobotLog log = Log(PendulumDecaySpec(), model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  StopSource stop;
+  stop.RequestStop();
+  o.stop = stop.token();
+  EXPECT_THROW(Identify(WithDamping(model, 0.2), {log}, o), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb

@@ -387,15 +387,15 @@ TEST_F(RolloutTest, AStopRequestKeepsTheRolloutsThatFinished) {
   spec.count = 200;
   spec.until = 0.05;
   spec.metrics = {ParseMetric(humanoid_, "state@0.05")};
-  std::atomic<bool> stop{false};
+  StopSource stop;
   std::vector<long> emitted;
   EXPECT_THROW(Rollout(
                    humanoid_, spec,
                    [&](const RolloutResult& r) {
                      emitted.push_back(r.index);
-                     if (r.index == 2) stop = true;
+                     if (r.index == 2) stop.RequestStop();
                    },
-                   &stop),
+                   stop.token()),
                Interrupted);
   ASSERT_GE(emitted.size(), 3u);
   EXPECT_LT(emitted.size(), 200u);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <thread>
 #include <atomic>
 #include <cstring>
 
@@ -142,13 +143,19 @@ TEST_F(SweepTest, TheSameElementVariedTwiceIsRefused) {
   EXPECT_NO_THROW(ValidateSweepSpec(model, spec));
 }
 
-TEST_F(SweepTest, StreamingSkipsStoredCasesAndKeepsFinishedOnStop) {
-  Model model = Model::Load(testing::kPendulum);
+// The pendulum from 0.7 rad at 40 dampings from 0 to 1, on two threads.
+SweepSpec FortyDampings(const Model& model, const std::string& metric) {
   SweepSpec spec;
   spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
   spec.axes = {ParseSweepAxis(model, "dof_damping[hinge]=0:1:40")};
-  spec.metrics = {ParseMetric(model, "qpos[hinge]@0.2")};
+  spec.metrics = {ParseMetric(model, metric)};
   spec.threads = 2;
+  return spec;
+}
+
+TEST_F(SweepTest, StreamingSkipsStoredCasesAndKeepsFinishedOnStop) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec = FortyDampings(model, "qpos[hinge]@0.2");
   std::vector<SweepCase> all = Sweep(model, spec);
   ASSERT_EQ(all.size(), 40u);
   // a resumed sweep runs only what is not stored, in order, with the same numbers
@@ -162,19 +169,51 @@ TEST_F(SweepTest, StreamingSkipsStoredCasesAndKeepsFinishedOnStop) {
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
   for (long s : skip) EXPECT_EQ(std::count(seen.begin(), seen.end(), s), 0) << s;
   // a stop request keeps every case emitted before it and throws Interrupted
-  std::atomic<bool> stop{false};
+  StopSource stop;
   std::vector<long> before_stop;
   EXPECT_THROW(Sweep(
                    model, spec, {},
                    [&](const SweepCase& c) {
                      before_stop.push_back(c.index);
-                     if (c.index == 5) stop = true;
+                     if (c.index == 5) stop.RequestStop();
                    },
-                   &stop),
+                   stop.token()),
                Interrupted);
   ASSERT_GE(before_stop.size(), 6u);
   EXPECT_LT(before_stop.size(), 40u);
   for (std::size_t i = 0; i < before_stop.size(); ++i) EXPECT_EQ(before_stop[i], static_cast<long>(i));
+}
+
+// Two sweeps on two threads, each with its own stop request: stopping one leaves the other
+// running to the end, with the same cases as alone (the Python package cancels one call of
+// a notebook without stopping another's).
+TEST_F(SweepTest, StoppingOneSweepLeavesAnotherThreadsSweepRunning) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec = FortyDampings(model, "qpos[hinge]@0.5");
+  std::vector<SweepCase> alone = Sweep(model, spec);
+  StopSource first, second;
+  std::vector<long> stopped_cases;
+  std::vector<SweepCase> other_cases;
+  std::thread stopped([&] {
+    EXPECT_THROW(Sweep(
+                     model, spec, {},
+                     [&](const SweepCase& c) {
+                       stopped_cases.push_back(c.index);
+                       if (c.index == 3) first.RequestStop();
+                     },
+                     first.token()),
+                 Interrupted);
+  });
+  std::thread other([&] {
+    Sweep(model, spec, {}, [&](const SweepCase& c) { other_cases.push_back(c); }, second.token());
+  });
+  stopped.join();
+  other.join();
+  EXPECT_LT(stopped_cases.size(), 40u);
+  ASSERT_EQ(other_cases.size(), alone.size());
+  for (std::size_t i = 0; i < alone.size(); ++i) {
+    EXPECT_EQ(other_cases[i].metrics[0].value, alone[i].metrics[0].value) << i;
+  }
 }
 
 }  // namespace

@@ -239,5 +239,14 @@ TEST_F(VerifyTest, ANaNParameterFailsTheLoadCheck) {
   EXPECT_NE(load.detail.find("dof_damping[hinge] = nan"), std::string::npos) << load.detail;
 }
 
+TEST_F(VerifyTest, StopsWhenItsCallerAsks) {
+  VerifyOptions options;
+  options.sets = {ParseAssignment(pendulum_, "qpos[hinge]=0.7")};
+  StopSource stop;
+  stop.RequestStop();
+  options.stop = stop.token();
+  EXPECT_THROW(Verify(pendulum_, options), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb

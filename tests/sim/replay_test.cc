@@ -132,5 +132,16 @@ TEST_F(ReplayTest, ADivergenceLeavesTheRestUnmatched) {
   EXPECT_EQ(r.signals[0].rms, INFINITY);
 }
 
+TEST_F(ReplayTest, StopsWhenItsCallerAsks) {
+  testing::LogSpec spec;
+  spec.set = {"qpos[hinge]=0.7"};
+  RobotLog log = Log(spec);
+  StopSource stop;
+  stop.RequestStop();
+  ReplayOptions options;
+  options.stop = stop.token();
+  EXPECT_THROW(Replay(model_, log, options), Interrupted);
+}
+
 }  // namespace
 }  // namespace plumb

@@ -73,9 +73,10 @@ TEST_F(RunTest, TheSinkIsFinishedOnEveryPath) {
   {
     Data data(model);
     RecordingSink sink;
-    std::atomic<bool> stop{true};
+    StopSource stop;
+    stop.RequestStop();
     RunSpec spec = PendulumSpec(model, 0.1);
-    spec.stop = &stop;
+    spec.stop = stop.token();
     EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
     EXPECT_TRUE(sink.ended);
   }
@@ -277,12 +278,13 @@ TEST_F(RunTest, WarningsAreSummarisedWithFirstTime) {
   EXPECT_FALSE(result.warnings[0].message.empty());
 }
 
-TEST_F(RunTest, StopFlagInterrupts) {
+TEST_F(RunTest, AStopRequestInterrupts) {
   Model model = Model::Load(kPendulum);
   Data data(model);
-  std::atomic<bool> stop{true};
+  StopSource stop;
+  stop.RequestStop();
   RunSpec spec = PendulumSpec(model);
-  spec.stop = &stop;
+  spec.stop = stop.token();
   NullSink sink;
   EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
 }
@@ -463,22 +465,26 @@ TEST_F(RunTest, RunsAreBitIdentical) {
   }
 }
 
-TEST_F(RunTest, RunsWatchTheProcessWideStopFlag) {
-  // a signal reaches every run however deep in a command it is: verify, audit and converge
-  // used to die silently on SIGINT because only run and rollout passed a stop flag
+TEST_F(RunTest, ARunStopsOnItsOwnRequestAndNoOther) {
+  // one caller's request does not stop another caller's run (a notebook stopping one call
+  // while another thread's goes on); a default token never stops
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
   RunSpec spec;
   spec.until = 1;
   NullSink sink;
-  StopFlag() = true;
+  StopSource mine, theirs;
+  mine.RequestStop();
+  spec.stop = mine.token();
   EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
-  StopFlag() = false;
+  Data other(model);
+  spec.stop = theirs.token();
+  EXPECT_NO_THROW(plumb::Run(model, other, spec, sink));
+  spec.stop = StopToken();
+  EXPECT_NO_THROW(plumb::Run(model, other, spec, sink));
+  mine.Clear();  // withdrawn: the caller goes on
+  spec.stop = mine.token();
   EXPECT_NO_THROW(plumb::Run(model, data, spec, sink));
-  // a flag of the caller's own takes its place
-  std::atomic<bool> own{true};
-  spec.stop = &own;
-  EXPECT_THROW(plumb::Run(model, data, spec, sink), Interrupted);
 }
 
 }  // namespace
