@@ -6,6 +6,9 @@
 //   plumb::PendulumParams p = *plumb::DetectPendulum(model);   // I, m*g*d, c from the model
 //   double t0 = plumb::SmallAnglePeriod(p);                      // 2*pi*sqrt(I/(m*g*d))
 //   double t = plumb::LargeAnglePeriod(p, 0.7);                 // with the elliptic integral
+//
+// Thread-safety: every function may be called from several threads at once, also on one Model:
+// a Model is only read (DetectPendulum computes on a Data of its own) and nothing keeps state.
 
 #ifndef PLUMB_INCLUDE_PLUMB_ANALYTIC_H_
 #define PLUMB_INCLUDE_PLUMB_ANALYTIC_H_
@@ -41,6 +44,7 @@ struct PendulumParams {
 // gravity enabled with a component perpendicular to the axis, the centre of mass off the
 // axis, and no geom it can collide with within reach of a full turn. Returns the parameters, or
 // nullopt with the reason in `why_not`. Uses mj_fullM at the equilibrium angle for I.
+// @throws MujocoError.
 std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* why_not = nullptr);
 
 // Why some actuator applies force while every ctrl is 0 (a position or velocity servo's

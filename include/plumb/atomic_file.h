@@ -1,4 +1,9 @@
 // Output files that appear complete or not at all (a command's -o).
+//
+// Thread-safety: use an AtomicFile from one thread at a time; different ones may be written at
+// once from different threads, even for one target (each has its own locked temporary; the last
+// Commit wins). Opening a file that is not written directly reads the umask by setting it to 0
+// and back, so a file another thread creates at that instant may miss the umask.
 
 #ifndef PLUMB_INCLUDE_PLUMB_ATOMIC_FILE_H_
 #define PLUMB_INCLUDE_PLUMB_ATOMIC_FILE_H_

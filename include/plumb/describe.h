@@ -5,6 +5,9 @@
 // Example:
 //   plumb::ModelDescription d = plumb::Describe(model);
 //   d.sizes  // {{"nbody", 2}, {"njnt", 1}, {"nq", 1}, {"nv", 1}, {"nu", 0}, ...}
+//
+// Thread-safety: Describe and ActuatorPositionUnit only read the model and keep no state: they
+// may be called from several threads at once, also on one Model.
 
 #ifndef PLUMB_INCLUDE_PLUMB_DESCRIBE_H_
 #define PLUMB_INCLUDE_PLUMB_DESCRIBE_H_

@@ -1,6 +1,9 @@
 // What a file given as a model or a snapshot is, from its first bytes, so that a wrong
 // file is named for what it is (empty, binary, a snapshot, an MJCF model) instead of
 // passing MuJoCo's XML parser error through.
+//
+// Thread-safety: the functions are pure (no state; CheckModelText is given the text and reads no
+// file): call them from any thread, at once.
 
 #ifndef PLUMB_INCLUDE_PLUMB_FILE_KIND_H_
 #define PLUMB_INCLUDE_PLUMB_FILE_KIND_H_

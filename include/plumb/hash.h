@@ -4,6 +4,9 @@
 //
 // Example:
 //   std::string h = plumb::HashModel(model);  // "3f0c..." (16 hex digits)
+//
+// Thread-safety: HashFile reads its file and HashModel only reads the model; neither keeps state,
+// so both may be called from several threads at once, also on one Model.
 
 #ifndef PLUMB_INCLUDE_PLUMB_HASH_H_
 #define PLUMB_INCLUDE_PLUMB_HASH_H_

@@ -3,6 +3,9 @@
 // Example:
 //   plumb::Image image = renderer.Render(data);
 //   plumb::WritePng(image, "pendulum.png");   // atomically: absent or complete
+//
+// Thread-safety: the functions keep no state (each call has libpng state of its own), so they
+// may run at once from several threads; WritePng writes through AtomicFile (see atomic_file.h).
 
 #ifndef PLUMB_INCLUDE_PLUMB_IMAGE_H_
 #define PLUMB_INCLUDE_PLUMB_IMAGE_H_
@@ -28,7 +31,7 @@ struct Image {
 enum class PngEffort { kFast, kSmall };
 
 // The PNG file of `image` as bytes. @throws ValueError for an empty image or one whose
-// pixel buffer does not match its size.
+// pixel buffer does not match its size; IoError when libpng fails to encode it.
 std::string EncodePng(const Image& image, PngEffort effort = PngEffort::kSmall);
 
 // Writes `image` as a PNG file through AtomicFile (a partly written picture never appears).

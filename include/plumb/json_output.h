@@ -1,4 +1,8 @@
 // plumb's JSON documents: a model's description, a state, a run's warnings.
+//
+// Thread-safety: the functions are pure: call them from any thread. They throw nothing of
+// plumb's own; text that is not valid UTF-8 (a name in the model) makes nlohmann::json throw
+// its type_error.
 
 #ifndef PLUMB_INCLUDE_PLUMB_JSON_OUTPUT_H_
 #define PLUMB_INCLUDE_PLUMB_JSON_OUTPUT_H_

@@ -6,6 +6,10 @@
 //   std::vector<plumb::Assignment> start = plumb::KeyframeAssignments(model, "home");
 //   start.push_back(plumb::ParseAssignment(model, "qvel[hinge]=1"));  // --set on top
 //   plumb::ApplyAssignments(model, data, start);
+//
+// Thread-safety: FindKeyframe, KeyframeAssignments and FindReferencePose only read the model and
+// may be called from several threads at once. StartAtPose writes `model` and `data`: no other
+// thread may use them meanwhile.
 
 #ifndef PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
 #define PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
@@ -45,7 +49,7 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named = "
 
 // Puts `data` at `pose` with `sets` applied: the assignments (parameters and state) in order,
 // then the keyframe's state, then the state assignments again, so that the user's --set wins
-// over the keyframe.
+// over the keyframe. @throws ValueError / PathError as ApplyAssignments does; MujocoError.
 void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
                  const std::vector<Assignment>& sets);
 

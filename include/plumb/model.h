@@ -106,7 +106,8 @@ class Data {
   Data& operator=(const Data&) = delete;
   ~Data();
 
-  // Returns an independent copy of the whole data (mj_copyData).
+  // Returns an independent copy of the whole data (mj_copyData). @throws MujocoError when
+  // MuJoCo cannot allocate it.
   Data Clone() const;
 
   mjData* get() { return d_.get(); }

@@ -9,6 +9,10 @@
 // Example:
 //   plumb::SaveXmlWithParameters("arm.xml", fitted, {ResolvePath(fitted, "body_mass[payload]")},
 //                                "arm-fitted.xml");
+//
+// Thread-safety: SaveXmlWithParameters keeps no state of its own and only reads `edited`; it
+// parses the source into an mjSpec of its own, not through MuJoCo's global "last XML" that
+// Model::Load serialises, and writes `out` through AtomicFile (see atomic_file.h).
 
 #ifndef PLUMB_INCLUDE_PLUMB_MODEL_EDIT_H_
 #define PLUMB_INCLUDE_PLUMB_MODEL_EDIT_H_

@@ -20,6 +20,11 @@
 //   double angle = plumb::ReadValue(model, data, q);          // rad
 //   auto set = plumb::ParseAssignment(model, "opt.gravity=0,0,-1.62");
 //   plumb::ApplyAssignments(model, data, {set});
+//
+// Thread-safety: the functions keep no state, and those taking a const Model (and a const Data)
+// only read them: they may be called from several threads at once. WriteValues, WriteParameters,
+// WriteState and ApplyAssignments write the Model and Data they get: no other thread may use
+// those meanwhile (give each thread its own, e.g. with Model::Clone).
 
 #ifndef PLUMB_INCLUDE_PLUMB_PATH_H_
 #define PLUMB_INCLUDE_PLUMB_PATH_H_
@@ -153,7 +158,7 @@ void WriteState(Model& model, Data& data, const std::vector<Assignment>& assignm
 // body_mass implies, see WriteValues), then mj_setConst when any model array changed (derived
 // constants such as body_subtreemass stay right), then mj_resetData, then state and input edits,
 // then mj_forward so derived quantities (xpos, sensordata) are consistent with the state.
-// @throws ValueError / PathError as WriteValues does.
+// @throws ValueError / PathError as WriteValues does; MujocoError.
 void ApplyAssignments(Model& model, Data& data, const std::vector<Assignment>& assignments);
 
 }  // namespace plumb

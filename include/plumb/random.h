@@ -6,6 +6,9 @@
 //
 // Example:
 //   double u = plumb::Uniform01(seed, rollout_index, parameter_index, 0);   // in (0, 1)
+//
+// Thread-safety: every function is pure (no state, no allocation): call them from any thread.
+// Nothing here throws.
 
 #ifndef PLUMB_INCLUDE_PLUMB_RANDOM_H_
 #define PLUMB_INCLUDE_PLUMB_RANDOM_H_

@@ -6,6 +6,10 @@
 //   std::string text = plumb::MakeSnapshot(model, {});        // pretty JSON
 //   plumb::SnapshotDiff diff = plumb::DiffSnapshot(text, edited_model, {}, 1e-6);
 //   diff.changes[0].what   // "dof_damping[hinge]: 0.05 → 0.1"
+//
+// Thread-safety: MakeSnapshot and DiffSnapshot only read `model` (they run on copies of their
+// own) and start no threads, so calls may run at once from several threads, also on one Model;
+// each takes (and drops) the calling thread's pending MuJoCo warnings (TakeMujocoWarnings).
 
 #ifndef PLUMB_INCLUDE_PLUMB_REGRESSION_H_
 #define PLUMB_INCLUDE_PLUMB_REGRESSION_H_
@@ -29,7 +33,8 @@ inline constexpr int kSnapshotSteps = 100;
 // (0 for unlimited ones) for kSnapshotSteps steps, recording qpos, qvel and act after each. Every
 // element records its id (ids are not compared one by one: a shift is one change). A diverging
 // trajectory is recorded up to the step before and `divergence` (when given) receives the reason;
-// it is left empty otherwise. @throws MujocoError.
+// it is left empty otherwise. @throws ValueError / PathError when the model refuses `sets`;
+// MujocoError.
 std::string MakeSnapshot(const Model& model, const std::vector<Assignment>& sets,
                          std::string* divergence = nullptr);
 
@@ -73,7 +78,9 @@ struct SnapshotDiff {
 // Parameters differ when |a - b| > tol * max(|a|, |b|) (relative: 1e-8 -> 2e-8 is a
 // change); trajectory values when |a - b| > tol * max(1, |a|, |b|). @throws ValueError
 // when the text is not a plumb snapshot or is damaged, naming the entry, e.g.
-// "structure.body.link.body_mass: expected a number, got \"x\"".
+// "structure.body.link.body_mass: expected a number, got \"x\""; ValueError / PathError when
+// the model refuses `sets` (a recorded --set it refuses is listed as a change instead);
+// MujocoError.
 SnapshotDiff DiffSnapshot(const std::string& snapshot_text, const Model& model,
                           const std::vector<Assignment>& sets, double tol);
 

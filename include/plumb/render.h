@@ -15,6 +15,11 @@
 //   plumb::Renderer renderer(model, options);
 //   data.Forward();
 //   plumb::WritePng(renderer.Render(data), "pendulum.png");
+//
+// Thread-safety: use a Renderer from one thread at a time: Render makes its GL context current
+// on the calling thread (renderers on several threads at once are not tested). Making a context
+// fixes the backend under a lock and sets MUJOCO_GL (setenv): construct renderers while no other
+// thread reads the environment. `model` is only read; RendererBuilt is pure.
 
 #ifndef PLUMB_INCLUDE_PLUMB_RENDER_H_
 #define PLUMB_INCLUDE_PLUMB_RENDER_H_
@@ -56,7 +61,8 @@ class Renderer {
   // for `model`, which must outlive the renderer.
   // @throws UnavailableError when this build has no renderer or no GL context can be made;
   //         ValueError for a size below 1 or above 8192 pixels, an unknown camera or
-  //         highlight name (the message lists the valid ones), or an unknown backend.
+  //         highlight name (the message lists the valid ones), or an unknown backend;
+//         MujocoError when MuJoCo cannot set up its render context on the GL context.
   Renderer(const Model& model, RenderOptions options);
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -68,6 +74,7 @@ class Renderer {
 
   // Draws the state `data` holds (its positions must be current: after mj_forward or
   // mj_step) into `image`, reusing its buffer. Rows come out top-down.
+// @throws UnavailableError when the GL context cannot be made current again; MujocoError.
   void Render(Data& data, Image* image);
   Image Render(Data& data);
 

@@ -12,6 +12,11 @@
 //   plumb::VerifyReport result = plumb::Verify(model, options);
 //   plumb::ReportInfo info{argv};
 //   plumb::WriteVerifyReport("pendulum.html", model, options.sets, result, info);
+//
+// Thread-safety: the writers only read their arguments and keep no state; with pictures they
+// run a copy of the model and render on the calling thread (render.h says how renderers may be
+// shared) and drop its pending MuJoCo warnings. A BatchCollector is not synchronised: Add to it
+// from one thread at a time.
 
 #ifndef PLUMB_INCLUDE_PLUMB_REPORT_H_
 #define PLUMB_INCLUDE_PLUMB_REPORT_H_
@@ -39,16 +44,19 @@ struct ReportInfo {
   double nominal_until = 2.0;  // the nominal run the pictures show, s
 };
 
-// @throws IoError naming `path` when it cannot be written (nothing is left behind then).
+// @throws IoError naming `path` when it cannot be written (nothing is left behind then);
+// with pictures, ValueError / PathError when the model refuses `sets`, and MujocoError.
 void WriteVerifyReport(const std::string& path, const Model& model,
                        const std::vector<Assignment>& sets, const VerifyReport& report,
                        const ReportInfo& info);
 
 // Each finding that names a body, geom or joint gets a thumbnail with it highlighted.
+// @throws as WriteVerifyReport does.
 void WriteAuditReport(const std::string& path, const Model& model,
                       const std::vector<Assignment>& sets, const AuditReport& report,
                       const ReportInfo& info);
 
+// @throws as WriteVerifyReport does.
 void WriteConvergeReport(const std::string& path, const Model& model,
                          const std::vector<Assignment>& sets,
                          const std::vector<ConvergenceResult>& results, int integrator,
@@ -87,13 +95,13 @@ class BatchCollector {
 };
 
 // `kind` is "sweep" or "rollout": each metric against each parameter (diverged cases
-// marked), and a histogram of each metric.
+// marked), and a histogram of each metric. @throws as WriteVerifyReport does.
 void WriteBatchReport(const std::string& path, const std::string& kind, const Model& model,
                       const std::vector<Assignment>& sets, const BatchCollector& batch,
                       const ReportInfo& info);
 
 // plumb replay --report: per measured signal, logged against simulated with the rms error
-// band, and the error over time.
+// band, and the error over time. @throws IoError as WriteVerifyReport does.
 void WriteReplayReport(const std::string& path, const Model& model, const RobotLog& log,
                        const ReplayResult& result, const ReplayOptions& options,
                        const ReportInfo& info);
@@ -106,7 +114,7 @@ struct HeldOutLog {
 
 // plumb identify --report: the estimates with their 95 % intervals, the correlation matrix,
 // the cost per iteration, the delay scan, and per log (and for the held-out log, when given)
-// logged against simulated before and after the fit.
+// logged against simulated before and after the fit. @throws IoError as WriteVerifyReport does.
 void WriteIdentifyReport(const std::string& path, const Model& model,
                          const std::vector<RobotLog>& logs, const IdentifyResult& result,
                          const ReportInfo& info, const HeldOutLog* validation = nullptr);

@@ -1,4 +1,8 @@
 // The repro folder of a diverged run: everything needed to run the failing step again.
+//
+// Thread-safety: WriteRepro only reads `model` and `result` (Model::SaveXml is serialised with
+// Model::Load). It assembles the folder under ".<name>.tmp-<process id>" beside `dir`, so two
+// threads of one process must not write repros to the same `dir` at once.
 
 #ifndef PLUMB_INCLUDE_PLUMB_REPRO_H_
 #define PLUMB_INCLUDE_PLUMB_REPRO_H_

@@ -22,6 +22,9 @@
 // Example:
 //   plumb::RobotLog log = plumb::LoadRobotLog(model, "decay.csv");
 //   for (const plumb::LogSignal& s : log.measured) ...
+//
+// Thread-safety: LoadColumnMap and LoadRobotLog read their files, only read `model` and keep no
+// state: they may be called from several threads at once.
 
 #ifndef PLUMB_INCLUDE_PLUMB_ROBOT_LOG_H_
 #define PLUMB_INCLUDE_PLUMB_ROBOT_LOG_H_

@@ -1,5 +1,8 @@
 // Writing a run's samples as they arrive: a fixed-width table, CSV or JSON lines, and the
 // CSV number and field rules every plumb command follows.
+//
+// Thread-safety: the CSV functions are pure. A sink from MakeSampleWriter serves one run at a
+// time; sinks writing to different streams may run on different threads.
 
 #ifndef PLUMB_INCLUDE_PLUMB_SAMPLE_WRITER_H_
 #define PLUMB_INCLUDE_PLUMB_SAMPLE_WRITER_H_

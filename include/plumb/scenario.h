@@ -4,6 +4,9 @@
 // Example:
 //   plumb::Scenario sc = plumb::LoadScenario(model, "stand.toml");
 //   plumb::Assertion a = plumb::ParseAssertion(model, "xpos[torso][2] > 0.8 during [0, 2]");
+//
+// Thread-safety: the functions keep no state and only read `model`: they may be called from
+// several threads at once, also on one Model.
 
 #ifndef PLUMB_INCLUDE_PLUMB_SCENARIO_H_
 #define PLUMB_INCLUDE_PLUMB_SCENARIO_H_

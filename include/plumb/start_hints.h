@@ -2,6 +2,10 @@
 //
 // Example:
 //   for (const std::string& hint : plumb::StartHints(model, data)) std::puts(hint.c_str());
+//
+// Thread-safety: StartHints only reads `model` and `data` (it tries offsets on a copy of the
+// data) and keeps no state, so it may run while other threads read them too, but not while
+// `data` is being written.
 
 #ifndef PLUMB_INCLUDE_PLUMB_START_HINTS_H_
 #define PLUMB_INCLUDE_PLUMB_START_HINTS_H_
@@ -17,7 +21,7 @@ namespace plumb {
 // line of advice per problem found (empty when nothing looks wrong). Today: a system
 // at rest in equilibrium with nothing driving it will not move; the advice names a
 // --set that plumb tried and found to make it accelerate (so following it never
-// repeats the hint), or a velocity when no offset does.
+// repeats the hint), or a velocity when no offset does. @throws MujocoError.
 std::vector<std::string> StartHints(const Model& model, const Data& data);
 
 }  // namespace plumb

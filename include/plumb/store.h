@@ -20,6 +20,10 @@
 // them into FILE: never delete FILE-wal, FILE-shm or FILE-journal (a kill while a new store is
 // made leaves a journal SQLite rolls back). Several processes may write one store at once
 // (SQLite locks it; each waits up to 10 s for the other's commit).
+//
+// Thread-safety: use a ResultsStore from one thread at a time (its queue is not synchronised).
+// Several stores, in one process or in several, may use one file at once: SQLite locks it.
+// MergeStores opens stores of its own.
 
 #ifndef PLUMB_INCLUDE_PLUMB_STORE_H_
 #define PLUMB_INCLUDE_PLUMB_STORE_H_
@@ -66,10 +70,11 @@ class ResultsStore {
   ResultsStore(const ResultsStore&) = delete;
   ResultsStore& operator=(const ResultsStore&) = delete;
 
-  // The run with this exact config, if any.
+  // The run with this exact config, if any. @throws IoError as Runs does.
   std::optional<RunInfo> FindRun(const std::string& config);
-  // Records a new run and returns its id.
+  // Records a new run and returns its id. @throws IoError.
   long BeginRun(const RunInfo& info);
+  // Commits the queued results and marks `run` finished now. @throws IoError.
   void FinishRun(long run);
   // Runs `work` (which reads and writes through this store) in one write transaction, so
   // what it reads stays true until it commits, whatever other processes writing the store do
@@ -78,23 +83,30 @@ class ResultsStore {
   // @throws IoError when the store cannot be locked (another writer holds it over 10 s).
   void Transaction(const std::function<void()>& work);
   // Adds another command line to a run's record (a merged run keeps every shard's).
+  // @throws IoError.
   void AppendCommand(long run, const std::string& command);
+  // Every run, in id order. @throws IoError when SQLite fails or a row is damaged.
   std::vector<RunInfo> Runs();
 
-  // Indices of the rollouts of `run` that already have results, sorted.
+  // Indices of the rollouts of `run` that already have results, sorted (queued results are
+  // committed first). @throws IoError.
   std::vector<long> DoneIndices(long run);
   // How many there are, in constant memory (a million-rollout run checks it at its end).
+  // @throws IoError.
   long CountDone(long run);
 
   // Queues one result (case and result rows); written at the next Commit, which also
   // happens automatically every `batch` rows. A process killed between commits loses
-  // only the queued rows.
+  // only the queued rows. @throws IoError as Commit does, when it commits.
   void Add(long run, const RolloutResult& result);
+  // Writes the queued rows in one transaction; they stay queued when it fails.
+  // @throws IoError when SQLite fails (e.g. another writer holds the store over 10 s).
   void Commit();
 
-  // All results of a run in index order.
+  // All results of a run in index order. @throws IoError as Runs does.
   std::vector<RolloutResult> Results(long run);
-  // The same, one at a time, in memory that does not grow with the run.
+  // The same, one at a time, in memory that does not grow with the run. @throws IoError as
+  // Runs does, and what `visit` throws.
   void ForEachResult(long run, const std::function<void(const RolloutResult&)>& visit);
 
   std::size_t batch = 64;

@@ -1,5 +1,8 @@
 // Text helpers plumb uses everywhere and its users may too: joining and splitting, strict
 // number parsing, printing that round-trips, and "did you mean" suggestions.
+//
+// Thread-safety: every function is pure: call them from any thread. Nothing here throws, except
+// std::bad_alloc.
 
 #ifndef PLUMB_INCLUDE_PLUMB_STRINGS_H_
 #define PLUMB_INCLUDE_PLUMB_STRINGS_H_

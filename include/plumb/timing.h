@@ -7,6 +7,9 @@
 //   double dt = plumb::RunTimestep(model, sets);           // after --set opt.timestep=...
 //   long stride = plumb::RequireWholeSteps(0.1, dt, "--every");
 //   double every = plumb::DefaultEvery(dt);                // 0.1 s on whole steps
+//
+// Thread-safety: every function is pure (RunTimestep only reads the model): call them from any
+// thread.
 
 #ifndef PLUMB_INCLUDE_PLUMB_TIMING_H_
 #define PLUMB_INCLUDE_PLUMB_TIMING_H_

@@ -9,6 +9,10 @@
 //   plumb::VideoWriter video("swing.mp4", 640, 480, 30);
 //   for (...) video.Add(renderer.Render(data));
 //   video.Finish();
+//
+// Thread-safety: use a VideoWriter from one thread at a time; different writers (each with its
+// own ffmpeg process) may run on different threads, even for one target (each has its own
+// locked temporary; the last Finish wins).
 
 #ifndef PLUMB_INCLUDE_PLUMB_VIDEO_H_
 #define PLUMB_INCLUDE_PLUMB_VIDEO_H_
@@ -33,10 +37,12 @@ class VideoWriter {
   ~VideoWriter();
 
   // Sends one frame (its size must be the writer's). @throws IoError when ffmpeg has
-  // stopped, with what it said.
+  // stopped, with what it said, or the writer is already finished (Finish called, or an Add
+  // failed); ValueError for a frame of another size.
   void Add(const Image& frame);
   // Closes the stream, waits for ffmpeg and renames the video into place.
-  // @throws IoError with ffmpeg's message when it failed (nothing is left behind then).
+  // @throws IoError with ffmpeg's message when it failed (nothing is left behind then), or when
+  // the writer is already finished.
   void Finish();
 
   int frames() const { return frames_; }
