@@ -188,14 +188,6 @@ TEST(CliSignalsTest, AHugeSweepSaysItsCostAndStreamsInFlatMemory) {
   EXPECT_NE(err.find("GB of csv output"), std::string::npos) << err;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-#define PLUMB_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define PLUMB_UNDER_ASAN 1
-#endif
-#endif
-
 TEST(CliSignalsTest, SweepMemoryDoesNotGrowWithTheNumberOfCases) {
   // a one-axis sweep kept every case for its no-effect note: 250 MB for a million cases
 #ifdef PLUMB_UNDER_ASAN
