@@ -21,11 +21,11 @@
 #include "plumb/hash.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
+#include "plumb/statistics.h"
 #include "plumb/store.h"
 #include "plumb/strings.h"
 #include "plumb/version.h"
 #include "run_store.h"
-#include "summary.h"
 
 namespace plumb::cli {
 namespace {
@@ -238,7 +238,7 @@ class RolloutWriter {
 
 // What the summary says: every row of the shard, stored before a --resume or run now.
 struct RolloutTally {
-  std::vector<Summary> summaries;
+  std::vector<SummaryStatistics> summaries;
   long diverged = 0, run_now = 0, resumed = 0;
 
   void Add(const RolloutResult& r) {
@@ -256,7 +256,7 @@ struct RolloutTally {
                 : "",
         diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? run_now / seconds : 0.0);
     for (std::size_t k = 0; k < summaries.size(); ++k) {
-      const Summary& s = summaries[k];
+      const SummaryStatistics& s = summaries[k];
       if (s.count() == 0) {
         // no value to summarise: no mean, and no +-inf from empty minima and maxima
         summary +=

@@ -1,57 +1,15 @@
-// Streaming summary statistics for plumb's batch commands: count, mean, standard
-// deviation (Welford), min, max and quantiles (exact for the first 4096 values, then the
-// P-square estimator of Jain and Chlamtac, 1985), in bounded memory however many values
-// arrive. And the check tables of `plumb verify` and `plumb audit`: findings first, the
-// rest counted.
+// The check tables of `plumb verify` and `plumb audit`: findings first, the rest counted.
 
 #ifndef PLUMB_APPS_PLUMB_SUMMARY_H_
 #define PLUMB_APPS_PLUMB_SUMMARY_H_
 
 #include <CLI/CLI.hpp>
-#include <array>
-#include <cmath>
 #include <string>
 #include <vector>
 
 #include "plumb/verify.h"
 
 namespace plumb::cli {
-
-// One quantile p in (0, 1), estimated with five markers.
-class P2Quantile {
- public:
-  explicit P2Quantile(double p) : p_(p) {}
-  void Add(double x);
-  double Value() const;
-
- private:
-  double p_;
-  long n_ = 0;
-  std::array<double, 5> q_{}, pos_{}, want_{}, step_{};
-};
-
-class Summary {
- public:
-  void Add(double x);  // NaN values are counted apart
-  long count() const { return n_; }
-  long missing() const { return missing_; }
-  double mean() const { return mean_; }
-  double stddev() const { return n_ > 1 ? std::sqrt(m2_ / (n_ - 1)) : 0; }
-  double min() const { return min_; }
-  double max() const { return max_; }
-  // Exact while at most kExact values arrived, the P-square estimate beyond.
-  double q05() const { return Quantile(0.05, q05_); }
-  double q50() const { return Quantile(0.5, q50_); }
-  double q95() const { return Quantile(0.95, q95_); }
-  static constexpr long kExact = 4096;
-
- private:
-  double Quantile(double p, const P2Quantile& estimate) const;
-  std::vector<double> exact_;
-  long n_ = 0, missing_ = 0;
-  double mean_ = 0, m2_ = 0, min_ = INFINITY, max_ = -INFINITY;
-  P2Quantile q05_{0.05}, q50_{0.5}, q95_{0.95};
-};
 
 // How much of a check table to print: the findings (FAIL and WARN rows, SKIPs grouped by
 // reason, PASS rows counted), every row (--all), or the count line alone (--quiet).
