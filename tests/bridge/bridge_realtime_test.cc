@@ -85,22 +85,26 @@ TEST(BridgeTest, AFloodOfHostileCommandsNeitherSlowsItNorGoesUnrecorded) {
   double span = std::chrono::duration<double>(last_at - first_at).count();
 #if defined(PLUMB_UNDER_ASAN) || defined(__SANITIZE_THREAD__)
   // under a sanitizer eleven commands a period and their log lines take longer than the
-  // period itself: the pace is the Release build's to show (the rest is checked here too)
+  // period itself, and the flood (the test's own code, not instrumented) outruns the bridge:
+  // the pace and the share received are the Release build's to show; the accounting of what
+  // arrived is checked here too
   (void)span, (void)first, (void)last;
+  const double share = 0.5;
 #else
   EXPECT_NEAR((last - first) / 1000.0 / span, 1.0, 0.05) << "simulated time keeps pace";
   EXPECT_NEAR(received / span, 500, 25) << "and so does the publish rate";
+  const double share = 0.95;
 #endif
   EXPECT_EQ(stats.watchdog_trips, 0);
   EXPECT_NEAR(s.motor_state[0].q, 0.3, 0.02) << "the controller in charge holds the pendulum";
   // best effort on loopback may lose a message under load, never invent one
   EXPECT_LE(stats.bad_crc, bad);
-  EXPECT_GE(stats.bad_crc, 0.95 * bad);
+  EXPECT_GE(stats.bad_crc, share * bad);
   EXPECT_LE(stats.non_finite, nan);
-  EXPECT_GE(stats.non_finite, 0.95 * nan);
+  EXPECT_GE(stats.non_finite, share * nan);
   EXPECT_LE(stats.commands, good + 1);
-  EXPECT_GE(stats.commands, 0.95 * good);
-  EXPECT_GE(stats.foreign_commands, 0.95 * received);
+  EXPECT_GE(stats.commands, share * good);
+  EXPECT_GE(stats.foreign_commands, share * received);
   // the log holds every command applied and every one dropped
   std::string log = testing::ReadFile(config.log);
   auto count = [&](const std::string& text) { return Occurrences(log, text); };
