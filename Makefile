@@ -82,11 +82,11 @@ test-asan: deps
 	  LP_NUM_THREADS=0 ctest --output-on-failure -j $(JOBS)
 
 # the threaded code (sweep's, rollout's and identify's worker pools, the stop flag, the CLI's
-# streaming writers) under ThreadSanitizer, the worker pool on its production oneTBB arena (the
-# hand-overs inside Debian's libtbb, not built with TSan, are declared to TSan in the pool).
-# This build is also the one without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine
-# without EGL or OSMesa): render and the reports' pictures must build, say so and exit 5
-# (make test-norender does that part alone)
+# streaming writers) under ThreadSanitizer; tests/tsan.supp says why the worker pool runs its
+# chunks on std::threads here (Debian's oneTBB is not built with TSan). This build is also
+# the one without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or OSMesa):
+# render and the reports' pictures must build, say so and exit 5 (make test-norender does that
+# part alone)
 TSAN_TARGETS := worker_pool_test sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli \
   render_test report_test render_cli_test
 TSAN_TESTS   := ^(WorkerPoolTest|SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.?

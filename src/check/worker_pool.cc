@@ -4,41 +4,15 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <exception>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include "core/demand.h"
 
-#if defined(__SANITIZE_THREAD__)
-#include <sanitizer/tsan_interface.h>
-#endif
-
 namespace plumb {
 namespace {
-
-// ThreadSanitizer builds (make test-tsan) run the same TBB arena as every other build.
-// Debian's oneTBB is not built with TSan, so two hand-overs inside libtbb are invisible to
-// it: a job given to a TBB thread, and the end of parallel_for waiting for every job. Each
-// is declared to TSan as a release and an acquire on one address; everything else (the
-// jobs, their workers and what they share) is checked as it runs in production.
-#if defined(__SANITIZE_THREAD__)
-void HandOver(void* address) { __tsan_release(address); }
-void TakeOver(void* address) { __tsan_acquire(address); }
-#else
-void HandOver(void*) {}
-void TakeOver(void*) {}
-#endif
-
-// Declares a job's end to TSan however it ends (returning or throwing).
-class JobEnd {
- public:
-  explicit JobEnd(void* join) : join_(join) {}
-  ~JobEnd() { HandOver(join_); }
-  JobEnd(const JobEnd&) = delete;
-  JobEnd& operator=(const JobEnd&) = delete;
-
- private:
-  void* join_;
-};
 
 // One job on the worker of the thread that runs it: the worker is made on first use, and
 // dropped when the job is abandoned (its copy may hold the job's edits) or throws (a MuJoCo
@@ -63,9 +37,14 @@ void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
 struct WorkerPool::Impl {
   const Model& nominal;
   int threads;
+#if !defined(__SANITIZE_THREAD__)
   tbb::task_arena arena;
   tbb::enumerable_thread_specific<std::optional<Worker>> workers;
   Impl(const Model& m, int n) : nominal(m), threads(n), arena(n) {}
+#else
+  std::vector<std::optional<Worker>> slots;  // one per std::thread (see RunChunk)
+  Impl(const Model& m, int n) : nominal(m), threads(n), slots(n) {}
+#endif
 };
 
 WorkerPool::WorkerPool(const Model& nominal, int threads) {
@@ -77,24 +56,52 @@ WorkerPool::~WorkerPool() = default;
 
 int WorkerPool::threads() const { return impl_->threads; }
 
+#if !defined(__SANITIZE_THREAD__)
+
 void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
                           std::vector<char>* finished) {
   Impl& p = *impl_;
-  char fork = 0, join = 0;  // addresses the TSan hand-overs are declared on
-  HandOver(&fork);
-  try {
-    p.arena.execute([&] {
-      tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        TakeOver(&fork);
-        JobEnd end(&join);
-        RunJob(p.nominal, p.workers.local(), run, i, finished);
-      });
+  p.arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      RunJob(p.nominal, p.workers.local(), run, i, finished);
     });
-  } catch (...) {
-    TakeOver(&join);  // a job threw: TBB carried its exception across threads
-    throw;
-  }
-  TakeOver(&join);
+  });
 }
+
+#else
+
+// ThreadSanitizer builds (make test-tsan) run each chunk on std::threads, which TSan follows,
+// instead of the TBB arena: Debian's oneTBB is not built with TSan, so the fork and join
+// inside libtbb are invisible to it and every job would be reported as racing with the
+// thread that set it up. The jobs, their workers and everything they share are the same.
+// Declaring the fork and the join to TSan (__tsan_release and __tsan_acquire around each job)
+// is not enough: parallel_for's task tree, inlined from oneTBB's headers into plumb, is written
+// by one thread and read by another through libtbb's queues (tried: races reported in
+// start_for, tree_node and fold_tree). Checking the arena itself needs a oneTBB built with TSan.
+void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
+                          std::vector<char>* finished) {
+  Impl& p = *impl_;
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto thread_body = [&](int slot) {
+    for (std::size_t i; (i = next++) < n;) {
+      try {
+        RunJob(p.nominal, p.slots[slot], run, i, finished);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;  // no further jobs
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int slot = 1; slot < p.threads; ++slot) threads.emplace_back(thread_body, slot);
+  thread_body(0);
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+#endif
 
 }  // namespace plumb
