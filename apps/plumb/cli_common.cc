@@ -17,7 +17,6 @@
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/run.h"
-#include "plumb/sample_writer.h"
 #include "plumb/strings.h"
 
 namespace plumb::cli {
@@ -210,29 +209,6 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
     }
   }
   return out;
-}
-
-std::string CsvHeader(const std::vector<std::string>& fields) {
-  std::string line;
-  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + CsvField(fields[i]);
-  return line + "\n";
-}
-
-std::vector<std::string> RolloutCsvColumns(const std::vector<std::string>& params,
-                                           const std::vector<std::string>& metrics) {
-  std::vector<std::string> columns = {"rollout"};
-  columns.insert(columns.end(), params.begin(), params.end());
-  columns.insert(columns.end(), metrics.begin(), metrics.end());
-  for (const char* c : {"diverged", "diverged_at", "problem"}) columns.push_back(c);
-  return columns;
-}
-
-std::string RolloutCsvRow(const RolloutResult& r) {
-  std::string out = std::to_string(r.index);
-  for (double v : r.params) out += "," + CsvNumber(v);
-  for (double v : r.metrics) out += "," + CsvNumber(v);
-  out += r.diverged ? ",1," + CsvNumber(r.diverged_time) : ",0,";
-  return out + "," + CsvField(r.problem) + "\n";
 }
 
 std::vector<std::string> SplitPathList(const std::string& text) {

@@ -91,17 +91,6 @@ Model LoadModel(const std::string& path);
 // Parses every --set assignment against the model.
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
 
-// A CSV header line (with newline), fields quoted where they hold commas or quotes
-// (CsvField and CsvNumber, plumb/sample_writer.h, write the rows).
-std::string CsvHeader(const std::vector<std::string>& fields);
-
-// The columns and rows of a rollout in CSV, shared by `plumb rollout` and `plumb results`:
-// rollout, parameters, metrics (empty when unmeasured), diverged (0/1), diverged_at (s,
-// empty unless diverged), problem (why metrics are missing; empty when none).
-std::vector<std::string> RolloutCsvColumns(const std::vector<std::string>& params,
-                                           const std::vector<std::string>& metrics);
-std::string RolloutCsvRow(const RolloutResult& result);
-
 // Splits a comma-separated list of paths, keeping commas inside [...] together.
 std::vector<std::string> SplitPathList(const std::string& text);
 

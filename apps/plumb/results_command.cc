@@ -10,6 +10,8 @@
 
 #include "cli_common.h"
 #include "plumb/error.h"
+#include "plumb/rollout_csv.h"
+#include "plumb/sample_writer.h"
 #include "plumb/store.h"
 #include "plumb/strings.h"
 
@@ -92,7 +94,7 @@ int RunResults(const ResultsOptions& o) {
     for (const std::string& c : RolloutCsvColumns(runs[0].parameters, runs[0].metrics)) {
       header.push_back(c);
     }
-    out = CsvHeader(header);
+    out = CsvLine(header);
     for (const RunInfo& run : runs) {
       for (const RolloutResult& r : store.Results(run.id)) {
         out += std::to_string(run.id) + "," + RolloutCsvRow(r);

@@ -21,6 +21,8 @@
 #include "plumb/hash.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
+#include "plumb/rollout_csv.h"
+#include "plumb/sample_writer.h"
 #include "plumb/statistics.h"
 #include "plumb/store.h"
 #include "plumb/strings.h"
@@ -151,7 +153,7 @@ class RolloutWriter {
     std::vector<std::string> columns = RolloutCsvColumns(params, metrics);
     if (format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
     if (format == "csv") {
-      out_ += CsvHeader(columns);
+      out_ += CsvLine(columns);
     } else if (format == "json") {
       out_ += "[\n";
     } else {

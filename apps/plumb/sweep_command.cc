@@ -121,7 +121,7 @@ class SweepWriter {
       std::vector<std::string> header = {"case"};
       for (const SweepAxis& a : spec_.axes) header.push_back(a.path.text);
       header.insert(header.end(), o_.metrics.begin(), o_.metrics.end());
-      return CsvHeader(header);
+      return CsvLine(header);
     }
     std::string header = fmt::format("{:>6}", "case");
     for (const SweepAxis& a : spec_.axes) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "plumb/run.h"
 
@@ -29,6 +30,8 @@ enum class SampleFormat {
 void AppendCsvNumber(std::string* out, double v);
 std::string CsvNumber(double v);
 std::string CsvField(const std::string& text);
+// A CSV line of text fields (CsvField each), with its newline: a header.
+std::string CsvLine(const std::vector<std::string>& fields);
 
 // A sink writing rows to `out` (not owned) in `format`. Rows are written as they
 // arrive; nothing is kept in memory. Write errors surface as IoError from End().

@@ -58,12 +58,9 @@ class CsvWriter : public Writer {
  public:
   using Writer::Writer;
   void Begin(const std::vector<Path>& columns) override {
-    std::string header;
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c) header += ',';
-      header += CsvField(columns[c].text);
-    }
-    Put(header + "\n");
+    std::vector<std::string> names;
+    for (const Path& column : columns) names.push_back(column.text);
+    Put(CsvLine(names));
   }
   void Sample(const std::vector<double>& row) override {
     line_.clear();
@@ -142,6 +139,12 @@ std::unique_ptr<SampleSink> MakeSampleWriter(SampleFormat format, std::FILE* out
       return std::make_unique<JsonlWriter>(out);
   }
   return nullptr;
+}
+
+std::string CsvLine(const std::vector<std::string>& fields) {
+  std::string line;
+  for (std::size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + CsvField(fields[i]);
+  return line + "\n";
 }
 
 void AppendCsvNumber(std::string* out, double v) {
