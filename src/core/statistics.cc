@@ -8,11 +8,12 @@
 namespace plumb {
 namespace {
 
-// Sorts the first n (<= 5) values in place.
-void SortFirst(std::array<double, 5>* v, long n) {
-  for (long i = 1; i < n; ++i) {
-    for (long j = i; j > 0 && (*v)[j] < (*v)[j - 1]; --j) std::swap((*v)[j], (*v)[j - 1]);
-  }
+// The p-quantile of n (> 0) sorted values, interpolated linearly between order statistics.
+double SortedQuantile(const double* sorted, long n, double p) {
+  double at = p * static_cast<double>(n - 1);
+  long lo = static_cast<long>(at);
+  long hi = std::min<long>(lo + 1, n - 1);
+  return sorted[lo] + (at - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
 }
 
 }  // namespace
@@ -21,7 +22,7 @@ void P2Quantile::Add(double x) {
   if (n_ < 5) {
     q_[n_++] = x;
     if (n_ == 5) {
-      SortFirst(&q_, 5);
+      std::stable_sort(q_.begin(), q_.end());
       for (int i = 0; i < 5; ++i) pos_[i] = i + 1;
       want_ = {1, 1 + 2 * p_, 1 + 4 * p_, 3 + 2 * p_, 5};
       step_ = {0, p_ / 2, p_, (1 + p_) / 2, 1};
@@ -66,11 +67,8 @@ double P2Quantile::Value() const {
   if (n_ == 0) return NAN;
   if (n_ < 5) {
     std::array<double, 5> sorted = q_;
-    SortFirst(&sorted, n_);
-    double at = p_ * (n_ - 1);
-    long lo = static_cast<long>(at);
-    long hi = std::min<long>(lo + 1, n_ - 1);
-    return sorted[lo] + (at - lo) * (sorted[hi] - sorted[lo]);
+    std::stable_sort(sorted.begin(), sorted.begin() + n_);
+    return SortedQuantile(sorted.data(), n_, p_);
   }
   return q_[2];
 }
@@ -102,10 +100,7 @@ double SummaryStatistics::Quantile(double p, const P2Quantile& estimate) const {
   if (n_ > kExact) return estimate.Value();
   std::vector<double> sorted = exact_;
   std::sort(sorted.begin(), sorted.end());
-  double at = p * (n_ - 1);
-  long lo = static_cast<long>(at);
-  long hi = std::min<long>(lo + 1, n_ - 1);
-  return sorted[lo] + (at - lo) * (sorted[hi] - sorted[lo]);
+  return SortedQuantile(sorted.data(), n_, p);
 }
 
 }  // namespace plumb
