@@ -95,14 +95,13 @@ class Loop {
     bridge::DdsDomain domain(config_.domain);
     bridge::DdsReader<Cmd> commands(domain, "rt/lowcmd", Family<F>::CmdType());
     bridge::DdsWriter<State> states(domain, "rt/lowstate", Family<F>::StateType());
-    auto stopped = [&] { return stop.stop_requested(); };
     Transitions();
     Publish(states);
     last_command_ = Clock::now();
     auto next_period = Clock::now();
     auto period = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(config_.control_period));
-    while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stopped()) {
+    while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stop.stop_requested()) {
       Arrival got;
       // lockstep: one period per command, when a state has gone out since the last command
       // (a state lost or still held back by an injected fault cannot be answered: time goes
@@ -115,7 +114,7 @@ class Loop {
         auto deadline =
             heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
         auto republish = Clock::now() + std::chrono::milliseconds(50);
-        while (!got.arrived && Clock::now() < deadline && !stopped()) {
+        while (!got.arrived && Clock::now() < deadline && !stop.stop_requested()) {
           auto until = std::min(deadline, republish);
           auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
           commands.Wait(

@@ -105,8 +105,7 @@ class Residuals {
         pool_(nominal, threads),
         physical_(params.size()),
         n_(params.size()),
-        replay_(replay),
-        stop_(stop) {
+        replay_(replay) {
     replay_.stop = stop;  // a replay stops mid-log when asked
     std::size_t starts = 0;
     for (const RobotLog& log : logs) {
@@ -133,13 +132,13 @@ class Residuals {
   std::size_t physical() const { return physical_; }
   bool fit_starts() const { return fit_starts_; }
   // Changing the delays keeps the windows (and so the start-state offsets) as they are.
-  void set_replay(const ReplayOptions& replay) {
-    replay_ = replay;
-    replay_.stop = stop_;
+  void set_delays(double input, double sensor) {
+    replay_.input_delay = input;
+    replay_.sensor_delay = sensor;
     remembered_.clear();
   }
   const ReplayOptions& replay() const { return replay_; }
-  const StopToken& stop() const { return stop_; }
+  const StopToken& stop() const { return replay_.stop; }
   std::vector<std::vector<double>>& weights() { return weights_; }
 
   // Residuals at each of `points` (scaled parameter vectors), in parallel; out[k] has size().
@@ -171,7 +170,7 @@ class Residuals {
           errors[k] = std::make_shared<const std::vector<double>>(e);
           Remember(points[k], errors[k]);
         },
-        stop_, [] { return Interrupted("plumb identify stopped before the fit finished"); });
+        stop(), [] { return Interrupted("plumb identify stopped before the fit finished"); });
     std::vector<std::vector<double>> out;
     out.reserve(points.size());
     for (const auto& e : errors) out.push_back(Weighted(*e));
@@ -247,7 +246,6 @@ class Residuals {
   long m_ = 0;
   std::vector<std::vector<double>> weights_;
   ReplayOptions replay_;
-  StopToken stop_;
   static constexpr std::size_t kRememberBytes = 256u << 20;
   // (point, errors) of the points run last, the most recent first
   std::list<std::pair<std::vector<double>, std::shared_ptr<const std::vector<double>>>> remembered_;
@@ -364,7 +362,7 @@ void ProfileDelay(Residuals& f, const std::vector<FitParameter>& params,
   long steps = std::max(1L, std::lround(options.max_delay / dt));
   for (long k = 0; k <= steps; ++k) {
     (options.delay == DelayKind::kInput ? replay.input_delay : replay.sensor_delay) = k * dt;
-    f.set_replay(replay);
+    f.set_delays(replay.input_delay, replay.sensor_delay);
     std::vector<double> at = *x;
     std::vector<double> ignored;
     ceres::Solver::Summary s = Solve(f, params, options.max_iterations, &at, &ignored);
@@ -372,7 +370,7 @@ void ProfileDelay(Residuals& f, const std::vector<FitParameter>& params,
     if (s.final_cost < best_cost) best_cost = s.final_cost, best_x = at, best_replay = replay;
   }
   *x = best_x;
-  f.set_replay(best_replay);
+  f.set_delays(best_replay.input_delay, best_replay.sensor_delay);
 }
 
 // Sets each signal's weight to the rms of its raw residuals at x: its noise, when the model
