@@ -4,14 +4,14 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 
 #include "cli_common.h"
 #include "plumb/audit.h"
+#include "plumb/check_table.h"
 #include "plumb/keyframe.h"
 #include "plumb/report.h"
 #include "plumb/repro.h"
-#include "summary.h"
+#include "plumb/result_json.h"
 
 namespace plumb::cli {
 namespace {
@@ -27,48 +27,6 @@ struct AuditCommandOptions {
   TableDetail detail = TableDetail::kFindings;
   std::string report;  // --report FILE.html
 };
-
-std::string Table(const AuditReport& report, TableDetail detail) {
-  std::vector<CheckRow> rows;
-  for (const Finding& f : report.findings) {
-    std::string element = f.element.empty() ? "(model)" : f.element;
-    CheckRow row{f.status,   f.layer,   f.check + " " + element, "",
-                 f.measured, f.element, f.element_type,          f.element_name};
-    row.text = fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.check, element);
-    std::string numbers = "      " + f.measured;
-    if (!f.threshold.empty()) numbers += "   threshold " + f.threshold;
-    row.text += numbers + "\n";
-    if (f.status != CheckStatus::kPass) row.text += "      fix: " + f.fix + "\n";
-    rows.push_back(row);
-  }
-  return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()), rows,
-                    detail);
-}
-
-std::string Json(const AuditReport& report) {
-  nlohmann::ordered_json j;
-  j["model"] = report.model;
-  j["mujoco_version"] = MujocoVersion();
-  nlohmann::ordered_json layers = nlohmann::ordered_json::object();
-  for (const Finding& f : report.findings) {
-    layers[f.layer].push_back({{"check", f.check},
-                               {"element", f.element},
-                               {"element_type", f.element_type},
-                               {"element_name", f.element_name},
-                               {"element_id", f.element_id},
-                               {"measured", f.measured},
-                               {"threshold", f.threshold},
-                               {"status", CheckStatusName(f.status)},
-                               {"fix", f.fix}});
-  }
-  j["layers"] = layers;
-  j["repro_folders"] = report.repro_folders;
-  j["summary"] = {{"pass", report.Count(CheckStatus::kPass)},
-                  {"warn", report.Count(CheckStatus::kWarn)},
-                  {"fail", report.Count(CheckStatus::kFail)},
-                  {"skip", report.Count(CheckStatus::kSkip)}};
-  return j.dump(2) + "\n";
-}
 
 int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
@@ -95,7 +53,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
     WriteAuditReport(o.report, model, start, report, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? Json(report) : Table(report, o.detail);
+  std::string text = o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   bool failed =
       report.Count(CheckStatus::kFail) > 0 || (o.strict && report.Count(CheckStatus::kWarn) > 0);

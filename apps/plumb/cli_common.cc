@@ -110,6 +110,15 @@ void AddKeyframeOption(CLI::App* cmd, std::string* keyframe) {
                   "mj_resetDataKeyframe); --set applies on top");
 }
 
+void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail) {
+  CLI::Option* all = cmd->add_flag_callback(
+      "--all", [detail] { *detail = TableDetail::kAll; },
+      "show every check, PASS rows included (default: failures, warnings and skips)");
+  CLI::Option* quiet = cmd->add_flag_callback(
+      "--quiet", [detail] { *detail = TableDetail::kQuiet; }, "print the count line alone");
+  all->excludes(quiet);
+}
+
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
                                          const std::vector<std::string>& sets) {
   std::vector<Assignment> out = KeyframeAssignments(model, keyframe);

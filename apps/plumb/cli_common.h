@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "plumb/check_table.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/rollout.h"
@@ -74,6 +75,9 @@ void AddReportOption(CLI::App* cmd, std::string* report);
 // --keyframe NAME: start from the model's keyframe NAME (as mj_resetDataKeyframe), with
 // every --set applied on top. Commands read it with StartAssignments.
 void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
+
+// Adds --all and --quiet (mutually exclusive) to `cmd`, setting `*detail`.
+void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail);
 
 // The assignments a run starts from: keyframe `keyframe` (when not empty), then every
 // --set in order. @throws ValueError for an unknown keyframe; PathError / ValueError

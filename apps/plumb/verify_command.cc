@@ -4,13 +4,13 @@
 
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli_common.h"
+#include "plumb/check_table.h"
 #include "plumb/report.h"
+#include "plumb/result_json.h"
 #include "plumb/verify.h"
-#include "summary.h"
 
 namespace plumb::cli {
 namespace {
@@ -26,54 +26,6 @@ struct VerifyCommandOptions {
   std::string report;  // --report FILE.html
 };
 
-std::string Table(const VerifyReport& report, double tol, TableDetail detail) {
-  std::vector<CheckRow> rows;
-  for (const CheckResult& c : report.checks) {
-    CheckRow row{c.status, "", c.id, "", c.detail, "", "", ""};  // about no one element
-    row.text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
-    if (c.status != CheckStatus::kSkip) {
-      std::string numbers = "measured " + (c.measured.empty() ? "-" : c.measured);
-      if (!c.reference.empty()) numbers += "   reference " + c.reference;
-      if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
-      row.text += Wrap(numbers, 94, "      ");
-    }
-    row.text += Wrap(c.detail, 94, "      ");
-    rows.push_back(row);
-  }
-  return CheckTable(
-      fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model, MujocoVersion(), tol),
-      rows, detail);
-}
-
-nlohmann::ordered_json Value(double number, const std::string& text) {
-  if (std::isfinite(number)) return number;
-  if (text.empty()) return nullptr;
-  return text;
-}
-
-std::string Json(const VerifyReport& report, double tol) {
-  nlohmann::ordered_json j;
-  j["model"] = report.model;
-  j["mujoco_version"] = MujocoVersion();
-  j["tol"] = tol;
-  nlohmann::ordered_json checks = nlohmann::ordered_json::array();
-  for (const CheckResult& c : report.checks) {
-    checks.push_back({{"id", c.id},
-                      {"title", c.title},
-                      {"status", CheckStatusName(c.status)},
-                      {"measured", Value(c.measured_value, c.measured)},
-                      {"reference", Value(c.reference_value, c.reference)},
-                      {"rel_error", Value(c.rel_error, "")},
-                      {"detail", c.detail}});
-  }
-  j["checks"] = checks;
-  j["summary"] = {{"pass", report.Count(CheckStatus::kPass)},
-                  {"warn", report.Count(CheckStatus::kWarn)},
-                  {"fail", report.Count(CheckStatus::kFail)},
-                  {"skip", report.Count(CheckStatus::kSkip)}};
-  return j.dump(2) + "\n";
-}
-
 int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   VerifyOptions options;
@@ -88,7 +40,7 @@ int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
     WriteVerifyReport(o.report, model, options.sets, report, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? Json(report, o.tol) : Table(report, o.tol, o.detail);
+  std::string text = o.format == "json" ? VerifyToJson(report) : VerifyTable(report, o.detail);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.failed() ? kExitCheckFailed : kExitOk;
 }

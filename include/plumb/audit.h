@@ -24,27 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "plumb/check.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
 #include "plumb/scenario.h"
-#include "plumb/verify.h"
 
 namespace plumb {
-
-struct Finding {
-  std::string layer;    // structure, inertia, actuator, contact, behaviour, warnings
-  std::string check;    // e.g. "inertia.tiny_mass"
-  std::string element;  // e.g. "body 'hand' (id 3)"; "" for the whole model
-  // the same, split, when the row is about one element (else "", "", -1)
-  std::string element_type;  // "body", "joint", "actuator", "geom", ...
-  std::string element_name;  // "" when unnamed
-  int element_id = -1;
-  std::string measured;   // with units
-  std::string threshold;  // with units; "" for informational rows
-  CheckStatus status = CheckStatus::kPass;
-  std::string fix;  // what to do about it (or what the row shows, for PASS)
-};
 
 struct AuditOptions {
   std::vector<Assignment> sets;  // applied before everything
@@ -74,7 +60,9 @@ struct AuditCurve {
 
 struct AuditReport {
   std::string model;
-  std::vector<Finding> findings;
+  // One row per finding, in layer order; each row's section is its layer: structure, inertia,
+  // actuator, contact, behaviour, warnings.
+  std::vector<CheckRow> findings;
   // The step responses measured (at most 12 actuators) and the passive settle's total
   // energy and fastest joint speed, step by step.
   std::vector<AuditCurve> step_responses;

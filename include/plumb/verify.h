@@ -24,27 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "plumb/check.h"
 #include "plumb/converge.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/stop.h"
 
 namespace plumb {
-
-enum class CheckStatus { kPass, kWarn, kFail, kSkip };
-const char* CheckStatusName(CheckStatus status);  // "PASS", "WARN", "FAIL", "SKIP"
-
-struct CheckResult {
-  std::string id;     // e.g. "convergence", "analytic.period"
-  std::string title;  // what it checks, one line
-  CheckStatus status = CheckStatus::kSkip;
-  std::string measured;       // as displayed, with units
-  std::string reference;      // as displayed, with units
-  double measured_value = 0;  // numeric forms where they exist (NaN otherwise)
-  double reference_value = 0;
-  double rel_error = 0;  // |measured - reference| / |reference|, NaN when not numeric
-  std::string detail;    // the explanation, or the reason for SKIP
-};
 
 struct VerifyOptions {
   std::vector<Assignment> sets;  // the nominal scenario's --set assignments
@@ -56,8 +42,21 @@ struct VerifyOptions {
   StopToken stop;  // when it asks, Verify ends with Interrupted at its next step (default: never)
 };
 
+// A pendulum's period at several amplitudes, simulated with RK4, against the exact
+// elliptic-integral period, and that exact curve densely.
+struct PendulumFigures {
+  struct PeriodPoint {
+    double amplitude = 0;  // rad
+    double period = 0;     // s, simulated
+    double exact = 0;      // s
+  };
+  std::vector<PeriodPoint> periods;
+  std::vector<PeriodPoint> exact_curve;  // period unused (NaN)
+  double small_angle_period = 0;         // s, 2*pi*sqrt(I/(m*g*d))
+};
+
 // What the checks measured, kept for pictures (--report): the nominal run's curves, the
-// convergence ladder, and a pendulum's period against amplitude. A part that was not
+// convergence ladder, and for a pendulum its period against amplitude. A part that was not
 // measured is empty.
 struct VerifyFigures {
   // The nominal run (for a pendulum, the energy check's longer run of several swings),
@@ -71,21 +70,14 @@ struct VerifyFigures {
   std::string convergence_metric;
   ConvergenceResult convergence;
   double expected_order = 0;
-  // A pendulum's period at several amplitudes, simulated with RK4, against the exact
-  // elliptic-integral period, and that exact curve densely.
-  struct PeriodPoint {
-    double amplitude = 0;  // rad
-    double period = 0;     // s, simulated
-    double exact = 0;      // s
-  };
-  std::vector<PeriodPoint> periods;
-  std::vector<PeriodPoint> exact_curve;  // period unused (NaN)
-  double small_angle_period = 0;         // s, 2*pi*sqrt(I/(m*g*d))
+  // A single hinge pendulum's figures; empty for any other model.
+  std::optional<PendulumFigures> pendulum;
 };
 
 struct VerifyReport {
   std::string model;
-  std::vector<CheckResult> checks;
+  double tol = 0;  // the tolerance the checks were judged with (VerifyOptions::tol)
+  std::vector<CheckRow> checks;
   VerifyFigures figures;
   int Count(CheckStatus status) const;
   bool failed() const { return Count(CheckStatus::kFail) > 0; }

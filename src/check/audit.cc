@@ -36,10 +36,7 @@ void Warnings(const std::vector<audit::Observed>& runs, AuditReport* report) {
 
 }  // namespace
 
-int AuditReport::Count(CheckStatus status) const {
-  return static_cast<int>(std::count_if(findings.begin(), findings.end(),
-                                        [&](const Finding& f) { return f.status == status; }));
-}
+int AuditReport::Count(CheckStatus status) const { return CountStatus(findings, status); }
 
 AuditReport Audit(const Model& model, const AuditOptions& options) {
   AuditReport report;

@@ -219,10 +219,10 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
 constexpr int kStepActuators = 12;
 
 // An actuator nothing bounds: a real motor saturates.
-void Limits(const mjModel* m, int u, const Element& element, std::vector<Finding>* out) {
+void Limits(const mjModel* m, int u, const CheckElement& element, std::vector<CheckRow>* out) {
   auto [flo, fhi] = ForceRange(m, u);
   if (std::isfinite(flo) && std::isfinite(fhi)) return;
-  out->push_back(Make(
+  CheckRow& row = out->emplace_back(Make(
       L, "actuator.limits", element,
       fmt::format("ctrl {}, force {}, gear {:g}",
                   m->actuator_ctrllimited[u] ? "limited" : "unlimited",
@@ -230,10 +230,13 @@ void Limits(const mjModel* m, int u, const Element& element, std::vector<Finding
       "a force bound", CheckStatus::kWarn,
       "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
       "from the motor's datasheet, torque = gear x force"));
+  // the same finding: the same of ctrl and force bounded (the gears may differ)
+  row.finding = fmt::format("ctrl {}, force {}", m->actuator_ctrllimited[u] ? "limited" : "unlimited",
+                            m->actuator_forcelimited[u] ? "limited" : "unlimited");
 }
 
 // A position servo's targets (ctrl / gear, in joint units) should lie within reach.
-void TargetRange(const mjModel* m, int u, const Element& element, std::vector<Finding>* out) {
+void TargetRange(const mjModel* m, int u, const CheckElement& element, std::vector<CheckRow>* out) {
   int trn = m->actuator_trntype[u];
   int joint = m->actuator_trnid[2 * u];
   double gear = m->actuator_gear[6 * u];
@@ -259,8 +262,8 @@ void TargetRange(const mjModel* m, int u, const Element& element, std::vector<Fi
 // pose: the actuator adds gear * force to its dof, enough when the needed generalized force
 // (qfrc_bias at qvel = 0) lies within gear * [flo, fhi], sign included. False when the row
 // does not apply or is not listed.
-bool Holding(const Model& model, const Data& data, int u, const Element& element, bool listed,
-             std::vector<Finding>* out) {
+bool Holding(const Model& model, const Data& data, int u, const CheckElement& element, bool listed,
+             std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   int trn = m->actuator_trntype[u];
   int joint = m->actuator_trnid[2 * u];
@@ -293,7 +296,7 @@ bool Holding(const Model& model, const Data& data, int u, const Element& element
 // Step responses of up to kStepActuators actuators, within one dof-step budget for all.
 void StepResponses(const Model& original, const Model& model, const std::vector<Assignment>& sets,
                    const ReferencePose& ref, const AuditOptions& options,
-                   std::vector<Observed>* runs, std::vector<Finding>* out) {
+                   std::vector<Observed>* runs, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   int count = std::min(compat::ActuatorCount(m), kStepActuators);
   double duration = Duration(m, 1.0, kDofStepBudget / count);
@@ -302,8 +305,8 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
   Data step_data(work);
   for (int i = 0; i < count; ++i) {
     int u = static_cast<int>(static_cast<long>(i) * compat::ActuatorCount(m) / count);
-    Element element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
-    StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, element.text);
+    CheckElement element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, ElementLabel(element));
     runs->push_back(r.run);
     if (r.run.result.diverged) {
       out->push_back(Make(L, "actuator.step_response", element, "diverged", "stays finite",
@@ -329,7 +332,7 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
 void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const std::vector<Assignment>& sets, const ReferencePose& ref,
                    const AuditOptions& options, std::vector<Observed>* runs,
-                   std::vector<Finding>* out) {
+                   std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   if (compat::ActuatorCount(m) == 0) {
     out->push_back(Make(L, "actuator.none", "", "no actuators", "", CheckStatus::kSkip,
@@ -341,7 +344,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   data.Forward();
   int holding_rows = 0;
   for (int u = 0; u < compat::ActuatorCount(m); ++u) {
-    Element element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    CheckElement element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
     Limits(m, u, element, out);
     TargetRange(m, u, element, out);
     if (Holding(model, data, u, element, holding_rows < kMaxListed, out)) ++holding_rows;

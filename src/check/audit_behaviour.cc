@@ -17,7 +17,7 @@ constexpr const char* L = "behaviour";
 
 // A run is bounded when its total energy stays within `allowed_rise` x max(1 J, |E0|)
 // above where it started: a passive run has no energy source, a driven one does.
-Finding RunFinding(const char* check, const std::string& what, const Observed& o,
+CheckRow RunFinding(const char* check, const std::string& what, const Observed& o,
                    double allowed_rise) {
   if (o.result.diverged) {
     return Make(L, check, what, "diverged", "stays finite", CheckStatus::kFail, DivergedFix(o));
@@ -41,7 +41,7 @@ Finding RunFinding(const char* check, const std::string& what, const Observed& o
 // Menagerie's tests drive a model.
 void ControlNoise(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
                   const AuditOptions& options, std::vector<Observed>* runs,
-                  std::vector<Finding>* out) {
+                  std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   auto control = [m](mjData* d, double t) {
     long k = static_cast<long>(t / 0.1);
@@ -65,7 +65,7 @@ void ControlNoise(const Model& model, const std::vector<Assignment>& sets, const
 // of its paths at every step.
 void RunScenario(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
                  const Scenario& sc, const AuditOptions& options, std::vector<Observed>* runs,
-                 std::vector<Finding>* out) {
+                 std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   ReferencePose start = ref;
   if (sc.keyframe >= 0) {
@@ -122,7 +122,7 @@ void RunScenario(const Model& model, const std::vector<Assignment>& sets, const 
 
 void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
                     const ReferencePose& ref, const Observed& settle, const AuditOptions& options,
-                    std::vector<Observed>* runs, std::vector<Finding>* out) {
+                    std::vector<Observed>* runs, std::vector<CheckRow>* out) {
   out->push_back(
       RunFinding("behaviour.passive_settle", "zero control from " + ref.description, settle, 0.5));
   if (model->nu > 0) ControlNoise(model, sets, ref, options, runs, out);

@@ -11,45 +11,39 @@
 
 namespace plumb::audit {
 
-Element ElementOf(const Model& model, int obj, int id, const char* noun) {
-  Element e;
-  e.type = noun;
-  e.name = model.Name(obj, id);
-  e.id = id;
-  e.text = e.name.empty() ? fmt::format("{} #{}", noun, id)
-                          : fmt::format("{} '{}' (id {})", noun, e.name, id);
-  return e;
+CheckElement ElementOf(const Model& model, int obj, int id, const char* noun) {
+  return CheckElement{noun, model.Name(obj, id), id};
 }
 
 std::string Elem(const Model& model, int obj, int id, const char* noun) {
-  return ElementOf(model, obj, id, noun).text;
+  return ElementLabel(ElementOf(model, obj, id, noun));
 }
 
-Finding Make(const char* layer, std::string check, const Element& element, std::string measured,
-             std::string threshold, CheckStatus status, std::string fix) {
-  Finding f = Make(layer, std::move(check), element.text, std::move(measured), std::move(threshold),
-                   status, std::move(fix));
-  f.element_type = element.type;
-  f.element_name = element.name;
-  f.element_id = element.id;
-  return f;
+CheckRow Make(const char* layer, std::string check, const CheckElement& element,
+              std::string measured, std::string threshold, CheckStatus status, std::string fix) {
+  CheckRow row = Make(layer, std::move(check), std::string(), std::move(measured),
+                      std::move(threshold), status, std::move(fix));
+  row.element = element;
+  return row;
 }
 
-Finding Make(const char* layer, std::string check, std::string element, std::string measured,
-             std::string threshold, CheckStatus status, std::string fix) {
-  Finding f;
-  f.layer = layer;
-  f.check = std::move(check);
-  f.element = std::move(element);
-  f.measured = std::move(measured);
-  f.threshold = std::move(threshold);
-  f.status = status;
-  f.fix = std::move(fix);
-  return f;
+CheckRow Make(const char* layer, std::string check, std::string subject, std::string measured,
+              std::string threshold, CheckStatus status, std::string fix) {
+  CheckRow row;
+  row.section = layer;
+  row.id = std::move(check);
+  row.subject = std::move(subject);
+  row.measured_text = std::move(measured);
+  row.reference_text = std::move(threshold);
+  row.threshold = !row.reference_text.empty();
+  row.status = status;
+  bool finding = status == CheckStatus::kWarn || status == CheckStatus::kFail;
+  (finding ? row.fix : row.explanation) = std::move(fix);
+  return row;
 }
 
 void ListedNote(const char* layer, const char* check, const char* noun, int total,
-                std::vector<Finding>* out, int shown) {
+                std::vector<CheckRow>* out, int shown) {
   if (total <= shown) return;
   out->push_back(
       Make(layer, check, "", fmt::format("{} of {} {} listed", shown, total, noun), "",

@@ -17,7 +17,7 @@ constexpr const char* L = "contact";
 
 // Per body: whether it can collide at all, and with what (visual-only geoms beside separate
 // collision geoms, as in the Menagerie, are normal).
-void CollidesWith(const Model& model, const CollisionGraph& graph, std::vector<Finding>* out) {
+void CollidesWith(const Model& model, const CollisionGraph& graph, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   for (int b = 1; b < m->nbody; ++b) {
     std::vector<std::string> names;
@@ -42,7 +42,7 @@ void CollidesWith(const Model& model, const CollisionGraph& graph, std::vector<F
 // forever (under gravity; <flag gravity="disable"/> means nothing falls); one that rests on
 // the ground only through a much lighter free body loads that body's contacts far beyond
 // their own weight.
-void Grounding(const Model& model, const CollisionGraph& graph, std::vector<Finding>* out) {
+void Grounding(const Model& model, const CollisionGraph& graph, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   for (int b = 1; b < m->nbody && GravityNorm(m) > 0; ++b) {
     if (m->body_parentid[b] != 0 || m->body_jntnum[b] == 0 ||
@@ -88,7 +88,7 @@ void Grounding(const Model& model, const CollisionGraph& graph, std::vector<Find
 // still moving when the settle budget ran out. At rest, a contact deeper than a tenth of the
 // smaller geom is judged against the depth its softness explains (SoftDepth): only a contact
 // beyond 3x that is a warning, beyond 10x (and half the geom) a failure.
-void Penetration(const Observed& settle, std::vector<Finding>* out) {
+void Penetration(const Observed& settle, std::vector<CheckRow>* out) {
   bool at_rest = settle.max_speed_end < kRestSpeed;
   double late = settle.deepest_late;
   double soft = settle.deepest_late_soft;
@@ -127,7 +127,7 @@ void Penetration(const Observed& settle, std::vector<Finding>* out) {
 }
 
 // At rest: do the contacts carry the free bodies' weight, and do resting contacts stick?
-void SupportAndSlip(const Observed& settle, std::vector<Finding>* out) {
+void SupportAndSlip(const Observed& settle, std::vector<CheckRow>* out) {
   bool at_rest = settle.max_speed_end < kRestSpeed;
   if (std::isfinite(settle.support_ratio) && at_rest) {
     double r = settle.support_ratio;
@@ -155,7 +155,7 @@ void SupportAndSlip(const Observed& settle, std::vector<Finding>* out) {
 }
 
 // How often the constraint solver stops at its iteration limit.
-void Solver(const mjModel* m, const Observed& settle, std::vector<Finding>* out) {
+void Solver(const mjModel* m, const Observed& settle, std::vector<CheckRow>* out) {
   bool any_contact =
       settle.deepest > 0 || !settle.deepest_pair.empty() || settle.max_iterations > 0;
   if (m->nv == 0 || (!any_contact && m->neq == 0)) return;
@@ -174,7 +174,7 @@ void Solver(const mjModel* m, const Observed& settle, std::vector<Finding>* out)
 }
 
 // Contacts or constraints dropped for want of room.
-void Buffers(const Observed& settle, std::vector<Finding>* out) {
+void Buffers(const Observed& settle, std::vector<CheckRow>* out) {
   for (const WarningSummary& w : settle.result.warnings) {
     if (w.kind == "CONTACTFULL" || w.kind == "CNSTRFULL") {
       out->push_back(Make(L, "contact.buffer", "", fmt::format("{} x{}", w.kind, w.count), "0",
@@ -187,7 +187,7 @@ void Buffers(const Observed& settle, std::vector<Finding>* out) {
 
 }  // namespace
 
-void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out) {
+void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out) {
   CollisionGraph graph = MakeCollisionGraph(model.get());
   CollidesWith(model, graph, out);
   Grounding(model, graph, out);

@@ -93,7 +93,7 @@ constexpr double kSpreadWarn = 3;
 constexpr double kSpreadFail = 10;
 
 // Sum of the body masses.
-double TotalMass(const mjModel* m, std::vector<Finding>* out) {
+double TotalMass(const mjModel* m, std::vector<CheckRow>* out) {
   double total = 0;
   for (int b = 1; b < m->nbody; ++b) total += m->body_mass[b];
   out->push_back(Make(L, "inertia.total_mass", "", fmt::format("{:.6g} kg", total), "> 0 kg",
@@ -119,7 +119,7 @@ struct WeldGroups {
 // What the per-body checks know of one moving body.
 struct BodyInertia {
   int b;
-  Element element;
+  CheckElement element;
   const mjtNum* I;  // principal moments
   double mass;
   bool marker = false;    // massless, inertia-less and welded to its parent
@@ -142,7 +142,7 @@ BodyInertia ReadBody(const Model& model, int b) {
   return body;
 }
 
-void Principal(const BodyInertia& body, std::vector<Finding>* out) {
+void Principal(const BodyInertia& body, std::vector<CheckRow>* out) {
   if (body.positive && body.triangle) return;
   const mjtNum* I = body.I;
   out->push_back(Make(L, "inertia.principal", body.element,
@@ -156,7 +156,7 @@ void Principal(const BodyInertia& body, std::vector<Finding>* out) {
 // Tiny weld groups and extreme ratios between a group and the group it hangs from make the
 // mass matrix ill-conditioned.
 void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& groups, double total,
-               std::vector<Finding>* out) {
+               std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   int b = body.b;
   if (m->body_weldid[b] != b) return;
@@ -196,7 +196,7 @@ double PrimitiveGeomVolume(const mjModel* m, int b) {
 }
 
 // The density the mass implies in the volume of the body's primitive geoms.
-void Density(const BodyInertia& body, double volume, std::vector<Finding>* out) {
+void Density(const BodyInertia& body, double volume, std::vector<CheckRow>* out) {
   if (!(volume > 0) || !(body.mass > 0)) return;
   double density = body.mass / volume;
   if (density >= 1 && density <= 25000) return;
@@ -212,7 +212,7 @@ void Density(const BodyInertia& body, double volume, std::vector<Finding>* out) 
 // com on average (I1 + I2 + I3 = 2 * sum m r^2); the body's geoms say how far it can lie. A
 // factor kSpreadFail beyond them is no solid of this shape (a 1000 kg pole with the 0.0094
 // kg*m^2 of a light one), kSpreadWarn is suspect.
-void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<Finding>* out) {
+void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<CheckRow>* out) {
   const mjtNum* I = body.I;
   auto [lo, hi] = GeomSpread(m, body.b, m->body_ipos + 3 * body.b);
   double implied = std::sqrt((I[0] + I[1] + I[2]) / (2 * body.mass));
@@ -236,7 +236,7 @@ void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<F
 }
 
 // A centre of mass far outside the body's geoms.
-void ComOutside(const mjModel* m, const BodyInertia& body, std::vector<Finding>* out) {
+void ComOutside(const mjModel* m, const BodyInertia& body, std::vector<CheckRow>* out) {
   int b = body.b;
   if (m->body_geomnum[b] == 0) return;
   const mjtNum* com = m->body_ipos + 3 * b;
@@ -259,7 +259,7 @@ void ComOutside(const mjModel* m, const BodyInertia& body, std::vector<Finding>*
 }
 
 // The condition number of the mass matrix at the reference pose.
-void MassMatrix(const mjModel* m, Data& data, std::vector<Finding>* out) {
+void MassMatrix(const mjModel* m, Data& data, std::vector<CheckRow>* out) {
   if (m->nv == 0) return;
   mj_forward(m, data.get());
   auto [lo, hi] = MassMatrixExtremes(m, data.get());
@@ -276,7 +276,7 @@ void MassMatrix(const mjModel* m, Data& data, std::vector<Finding>* out) {
 
 }  // namespace
 
-void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out) {
+void InertiaLayer(const Model& model, Data& data, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   double total = TotalMass(m, out);
   WeldGroups groups(m);

@@ -28,31 +28,24 @@ constexpr double kDofStepBudget = 4e5;
 // Max |qvel| below which a model counts as at rest.
 constexpr double kRestSpeed = 0.05;
 
-// One element as a finding names it: text "body 'hand' (id 3)" (or "body #3" when unnamed),
-// and its parts.
-struct Element {
-  std::string text;
-  std::string type;  // the noun: "body", "joint", "actuator", ...
-  std::string name;  // "" when unnamed
-  int id = -1;
-};
+CheckElement ElementOf(const Model& model, int obj, int id, const char* noun);
 
-Element ElementOf(const Model& model, int obj, int id, const char* noun);
-
-// ElementOf(...).text, for rows that name several elements.
+// ElementLabel(ElementOf(...)), for rows that name several elements.
 std::string Elem(const Model& model, int obj, int id, const char* noun);
 
-// A finding about one element (its parts filled in).
-Finding Make(const char* layer, std::string check, const Element& element, std::string measured,
-             std::string threshold, CheckStatus status, std::string fix);
+// A row about one element. `measured` and `threshold` are the row's texts (the threshold a
+// bound; "" for an informational row); `fix` is what to do about a WARN or FAIL, and for a
+// PASS or SKIP what the row shows or why it was skipped (its explanation).
+CheckRow Make(const char* layer, std::string check, const CheckElement& element,
+              std::string measured, std::string threshold, CheckStatus status, std::string fix);
 
-// A finding about the whole model ("") or several elements (free text).
-Finding Make(const char* layer, std::string check, std::string element, std::string measured,
-             std::string threshold, CheckStatus status, std::string fix);
+// A row about the whole model (`subject` "") or several elements (`subject` names them).
+CheckRow Make(const char* layer, std::string check, std::string subject, std::string measured,
+              std::string threshold, CheckStatus status, std::string fix);
 
 // When a check has more rows than `shown`, one row saying how many were listed.
 void ListedNote(const char* layer, const char* check, const char* noun, int total,
-                std::vector<Finding>* out, int shown = kMaxListed);
+                std::vector<CheckRow>* out, int shown = kMaxListed);
 
 // |gravity|, 0 when <flag gravity="disable"/> switches it off.
 double GravityNorm(const mjModel* m);
@@ -108,16 +101,16 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
 
 // The layers, in the order the audit runs them; each appends its findings to `out` and
 // the runs it made to `runs`.
-void StructureLayer(const Model& model, std::vector<Finding>* out);
-void InertiaLayer(const Model& model, Data& data, std::vector<Finding>* out);
+void StructureLayer(const Model& model, std::vector<CheckRow>* out);
+void InertiaLayer(const Model& model, Data& data, std::vector<CheckRow>* out);
 void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const std::vector<Assignment>& sets, const ReferencePose& ref,
                    const AuditOptions& options, std::vector<Observed>* runs,
-                   std::vector<Finding>* out);
-void ContactLayer(const Model& model, const Observed& settle, std::vector<Finding>* out);
+                   std::vector<CheckRow>* out);
+void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out);
 void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
                     const ReferencePose& ref, const Observed& settle, const AuditOptions& options,
-                    std::vector<Observed>* runs, std::vector<Finding>* out);
+                    std::vector<Observed>* runs, std::vector<CheckRow>* out);
 
 }  // namespace plumb::audit
 

@@ -15,7 +15,7 @@ namespace {
 
 constexpr const char* L = "structure";
 
-void Counts(const mjModel* m, std::vector<Finding>* out) {
+void Counts(const mjModel* m, std::vector<CheckRow>* out) {
   out->push_back(
       Make(L, "structure.counts", "",
            fmt::format("nbody {} njnt {} nq {} nv {} nu {} na {} nsensor {} ngeom {}", m->nbody,
@@ -24,7 +24,7 @@ void Counts(const mjModel* m, std::vector<Finding>* out) {
 }
 
 // Names matter where people and code refer to elements.
-void UnnamedElements(const Model& model, std::vector<Finding>* out) {
+void UnnamedElements(const Model& model, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   struct Kind {
     const char* noun;
@@ -58,7 +58,7 @@ void UnnamedElements(const Model& model, std::vector<Finding>* out) {
 
 // A limited joint's range: empty (FAIL), wider than it can turn or slide (WARN), or a hinge
 // range so narrow that radians were probably written as degrees (WARN).
-void JointRange(const mjModel* m, int j, const Element& element, std::vector<Finding>* out) {
+void JointRange(const mjModel* m, int j, const CheckElement& element, std::vector<CheckRow>* out) {
   int type = m->jnt_type[j];
   double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
   bool limited = m->jnt_limited[j];
@@ -89,11 +89,11 @@ void JointRange(const mjModel* m, int j, const Element& element, std::vector<Fin
 }
 
 // Joints: type, axis, addresses, range; a range warning comes with the joint's row.
-void Joints(const Model& model, std::vector<Finding>* out) {
+void Joints(const Model& model, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   for (int j = 0; j < m->njnt; ++j) {
     int type = m->jnt_type[j];
-    Element element = ElementOf(model, mjOBJ_JOINT, j, "joint");
+    CheckElement element = ElementOf(model, mjOBJ_JOINT, j, "joint");
     JointRange(m, j, element, out);
     std::string range = m->jnt_limited[j] ? fmt::format("[{:.4g}, {:.4g}]", m->jnt_range[2 * j],
                                                         m->jnt_range[2 * j + 1])
@@ -112,7 +112,7 @@ void Joints(const Model& model, std::vector<Finding>* out) {
 }
 
 // nq against nv: which joints make them differ.
-void NqNv(const Model& model, std::vector<Finding>* out) {
+void NqNv(const Model& model, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   if (m->nq != m->nv) {
     std::vector<std::string> causes;
@@ -130,7 +130,7 @@ void NqNv(const Model& model, std::vector<Finding>* out) {
 }
 
 // Actuators -> transmission targets, sensors -> sensordata layout.
-void ActuatorsAndSensors(const Model& model, std::vector<Finding>* out) {
+void ActuatorsAndSensors(const Model& model, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   for (int u = 0; u < compat::ActuatorCount(m) && u < kMaxListed; ++u) {
     int trn = m->actuator_trntype[u];
@@ -156,7 +156,7 @@ void ActuatorsAndSensors(const Model& model, std::vector<Finding>* out) {
 }
 
 // MuJoCo's compiler takes "nan" and "inf" in most attributes with at most a warning.
-void FiniteParameters(const Model& model, std::vector<Finding>* out) {
+void FiniteParameters(const Model& model, std::vector<CheckRow>* out) {
   NonFiniteValues bad = NonFiniteParameters(model);
   if (bad.total == 0) {
     out->push_back(Make(L, "structure.finite", "", "all finite", "finite", CheckStatus::kPass,
@@ -174,7 +174,7 @@ void FiniteParameters(const Model& model, std::vector<Finding>* out) {
 
 }  // namespace
 
-void StructureLayer(const Model& model, std::vector<Finding>* out) {
+void StructureLayer(const Model& model, std::vector<CheckRow>* out) {
   Counts(model.get(), out);
   FiniteParameters(model, out);
   UnnamedElements(model, out);

@@ -84,24 +84,7 @@ double NominalLength(const VerifyOptions& options, const mjModel* m, double dt, 
 
 }  // namespace
 
-const char* CheckStatusName(CheckStatus status) {
-  switch (status) {
-    case CheckStatus::kPass:
-      return "PASS";
-    case CheckStatus::kWarn:
-      return "WARN";
-    case CheckStatus::kFail:
-      return "FAIL";
-    case CheckStatus::kSkip:
-      return "SKIP";
-  }
-  return "?";
-}
-
-int VerifyReport::Count(CheckStatus status) const {
-  return static_cast<int>(std::count_if(checks.begin(), checks.end(),
-                                        [&](const CheckResult& c) { return c.status == status; }));
-}
+int VerifyReport::Count(CheckStatus status) const { return CountStatus(checks, status); }
 
 VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   if (!(options.tol > 0 && std::isfinite(options.tol))) {
@@ -110,6 +93,7 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   }
   VerifyReport report;
   report.model = model.file();
+  report.tol = options.tol;
   verify::VerifyScenario s(model, options);
   const Model& nominal = s.Nominal();
   const mjModel* m = nominal.get();

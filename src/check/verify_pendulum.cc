@@ -73,7 +73,7 @@ std::vector<Assignment> Exact(const VerifyScenario& s, int dof, double theta) {
 
 }  // namespace
 
-CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckAnalyticPeriod(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6) return Skip(r.id, r.title, "the pendulum starts at rest at equilibrium");
@@ -84,7 +84,7 @@ CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r) {
   SetNumbers(&r, run.period, exact, " s", "{:.12g}");
   r.status = r.rel_error <= 1e-6 ? CheckStatus::kPass : CheckStatus::kFail;
   DampingAnalysis damping = AnalyseDamping(p.inertia, p.stiffness, p.damping);
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "from the compiled model: I = {:.6g} kg*m^2 about the hinge, m = {:.6g} kg, d = {:.6g} m, "
       "g = {:.6g} m/s^2. Small-angle T0 = 2*pi*sqrt(I/(m*g*d)) = {:.10g} s; at amplitude "
       "{:.4g} rad the exact period is T0*(2/pi)*K(sin(theta0/2)) = {:.10g} s ({:.4f} T0). "
@@ -98,7 +98,7 @@ CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r) {
   return r;
 }
 
-CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckModelPeriod(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6 || amplitude >= M_PI - 1e-6) {
@@ -124,7 +124,7 @@ CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r) {
   }
   SetNumbers(&r, own.period, exact.period, " s", "{:.8g}");
   r.status = r.rel_error <= tol ? CheckStatus::kPass : CheckStatus::kWarn;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "mean period of the first 2 swings with the model's {} at dt = {:g} s: {:.8g} s; with RK4 "
       "at dt = {:g} s: {:.8g} s. The difference, {:.2g} relative, is the integration error ({} "
       "tol {:g}). Damping shortens the swings as the amplitude falls (undamped exact: {:.8g} s).",
@@ -133,7 +133,7 @@ CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r) {
   return r;
 }
 
-CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckDamping(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   DampingAnalysis damping = AnalyseDamping(p.inertia, p.stiffness, p.damping);
   double amplitude = Amplitude(theta0, p);
@@ -155,11 +155,11 @@ CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r) {
   bool oscillates = crossings >= 2;
   bool should =
       damping.kind == DampingClass::kUnderdamped || damping.kind == DampingClass::kUndamped;
-  r.measured = fmt::format("{} crossings of equilibrium", crossings);
-  r.reference = should ? "oscillates" : "at most one crossing";
-  r.measured_value = crossings;  // JSON "measured": the crossings; zeta is in the detail
+  r.measured_text = fmt::format("{} crossings of equilibrium", crossings);
+  r.reference_text = should ? "oscillates" : "at most one crossing";
+  r.measured.value = crossings;  // JSON "measured": the crossings; zeta is in the detail
   r.status = oscillates == should ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "zeta = c/(2*sqrt(I*m*g*d)) = {:g}/(2*sqrt({:.5g}*{:.5g})) = {:.4g}: {}; in {:.3g} s the "
       "hinge crossed equilibrium {} times.",
       p.damping, p.inertia, p.stiffness, damping.zeta, DampingClassName(damping.kind), window,
@@ -169,12 +169,13 @@ CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r) {
 
 // ---- the chapter's three experiments ----------------------------------------------------
 
-CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExperimentAmplitude(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double t0 = SmallAnglePeriod(p);
   std::vector<std::string> parts;
   double previous = 0, worst = 0;
   bool growing = true;
+  PendulumFigures figures;
   for (double theta : {0.1, 0.7, 2.8}) {
     double exact = LargeAnglePeriod(p, theta);
     PendulumRun run = RunPendulum(s, p, Exact(s, dof, p.equilibrium + theta), exact, 1);
@@ -182,31 +183,32 @@ CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r) {
     worst = std::max(worst, RelError(run.period, exact));
     growing = growing && run.period > previous;
     previous = run.period;
-    if (ctx.figures != nullptr) ctx.figures->periods.push_back({theta, run.period, exact});
+    figures.periods.push_back({theta, run.period, exact});
     parts.push_back(fmt::format("{:g} rad: T = {:.8g} s = {:.4f} T0 (elliptic {:.4f} T0)", theta,
                                 run.period, run.period / t0, exact / t0));
   }
   if (ctx.figures != nullptr) {
-    ctx.figures->small_angle_period = t0;
+    figures.small_angle_period = t0;
     for (int i = 1; i <= 60; ++i) {
       double theta = 3.0 * i / 60;  // up to 3 rad, where the period grows steeply
-      ctx.figures->exact_curve.push_back({theta, kNaN, LargeAnglePeriod(p, theta)});
+      figures.exact_curve.push_back({theta, kNaN, LargeAnglePeriod(p, theta)});
     }
+    ctx.figures->pendulum = std::move(figures);
   }
-  r.measured = fmt::format("worst {:.2g} rel. to elliptic", worst);
-  r.reference = "<= 1e-06";
-  r.measured_value = worst;
-  r.reference_value = 1e-6;
+  r.measured_text = fmt::format("worst {:.2g} rel. to elliptic", worst);
+  r.reference_text = "<= 1e-06";
+  r.measured.value = worst;
+  r.reference.value = 1e-6;
   r.rel_error = worst;
   r.status = growing && worst <= 1e-6 ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "T0 = {:.8g} s. {}. The small-angle formula holds only for small swings: the period "
       "grows with amplitude, as the elliptic integral predicts (RK4, dt = {:g} s, undamped).",
       t0, fmt::join(parts, "; "), kReferenceDt);
   return r;
 }
 
-CheckResult ExperimentDamping(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExperimentDamping(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double theta = ExperimentStart(theta0, p);
   std::vector<std::string> parts;
@@ -239,21 +241,21 @@ CheckResult ExperimentDamping(const VerifyContext& ctx, CheckResult r) {
     losses.push_back(loss);
   }
   bool ordered = losses[1] > 0 && losses[2] > losses[1];
-  r.measured = fmt::format("loss {:.3g} / {:.3g} / {:.3g}", losses[0], losses[1], losses[2]);
-  r.reference = "~0 / >0 / larger";
+  r.measured_text = fmt::format("loss {:.3g} / {:.3g} / {:.3g}", losses[0], losses[1], losses[2]);
+  r.reference_text = "~0 / >0 / larger";
   // damping that does not remove energy is wrong physics; an undamped run that strays is
   // the timestep's error, which the convergence check judges
   r.status = !ordered        ? CheckStatus::kFail
              : drift0 <= tol ? CheckStatus::kPass
                              : CheckStatus::kWarn;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "{}. More damping removes energy faster; whether c = 1 is overdamped "
       "depends on the inertia and the gravity stiffness m*g*d = {:.4g} N*m/rad.",
       fmt::join(parts, "; "), p.stiffness);
   return r;
 }
 
-CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExperimentTimestep(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double theta = ExperimentStart(theta0, p);
   std::vector<Assignment> start = {s.Set(fmt::format("qpos[{}]={:.17g}", dof, theta)),
@@ -279,14 +281,14 @@ CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r) {
                                 error <= tol * scale ? "converged" : "NOT converged"));
   }
   bool shrinking = errors[0] < errors[1] && errors[1] < errors[2];
-  r.measured = fmt::format("errors {:.2g} / {:.2g} / {:.2g}", errors[0], errors[1], errors[2]);
-  r.reference = fmt::format("q(2) = {:.8f} (RK4)", reference);
+  r.measured_text = fmt::format("errors {:.2g} / {:.2g} / {:.2g}", errors[0], errors[1], errors[2]);
+  r.reference_text = fmt::format("q(2) = {:.8f} (RK4)", reference);
   // JSON: measured is q(2) at the chapter's dt = 0.002 s, reference the converged q(2)
   SetNumbers(&r, values[1], reference, "", "{:.8f}");
-  r.measured = fmt::format("errors {:.2g} / {:.2g} / {:.2g}", errors[0], errors[1], errors[2]);
-  r.reference = fmt::format("q(2) = {:.8f} (RK4)", reference);
+  r.measured_text = fmt::format("errors {:.2g} / {:.2g} / {:.2g}", errors[0], errors[1], errors[2]);
+  r.reference_text = fmt::format("q(2) = {:.8f} (RK4)", reference);
   r.status = shrinking ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "{} (tol {:g} x amplitude {:.3g}). Different timesteps give different discrete "
       "trajectories; judge a timestep by halving it until the answer stops changing, not by "
       "how smooth an animation looks.",
@@ -296,7 +298,7 @@ CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r) {
 
 // ---- the chapter's exercises -------------------------------------------------------------
 
-CheckResult ExerciseMoon(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExerciseMoon(const VerifyContext& ctx, CheckRow r) {
   const auto& [s, p, dof, theta0, tol] = Pendulum(ctx);
   double amplitude = Amplitude(theta0, p);
   if (amplitude < 1e-6 || amplitude >= M_PI - 1e-6) amplitude = 0.7;
@@ -314,14 +316,14 @@ CheckResult ExerciseMoon(const VerifyContext& ctx, CheckResult r) {
   }
   SetNumbers(&r, there.period / here.period, std::sqrt(9.81 / 1.62), "", "{:.8g}");
   r.status = r.rel_error <= 1e-6 ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "periods scale as 1/sqrt(g) at any amplitude: {:.8g} s here, {:.8g} s with gravity scaled "
       "to 1.62/9.81 of the model's; the ratio {:.8g} vs sqrt(9.81/1.62) = {:.8g}.",
       here.period, there.period, there.period / here.period, std::sqrt(9.81 / 1.62));
   return r;
 }
 
-CheckResult ExerciseDensity(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExerciseDensity(const VerifyContext& ctx, CheckRow r) {
   const Model& model = ctx.nominal;
   const PendulumParams& p = *ctx.pendulum;
   const mjModel* m = model.get();
@@ -341,7 +343,7 @@ CheckResult ExerciseDensity(const VerifyContext& ctx, CheckResult r) {
       "density exercise");
   SetNumbers(&r, variant->body_mass[1], 1000 * volume, " kg", "{:.10g}");
   r.status = r.rel_error <= 1e-9 ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "the compiler turns density into mass through the geom's volume: this {} (size {:.4g}, "
       "{:.4g}) has V = {:.6g} m^3, so density 1000 kg/m^3 gives {:.6g} kg; inertia follows from "
       "the same solid shape.",

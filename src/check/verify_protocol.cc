@@ -53,28 +53,31 @@ double RelError(double measured, double reference) {
   return std::fabs(measured - reference) / std::max(std::fabs(reference), 1e-300);
 }
 
-CheckResult Row(std::string id, std::string title) {
-  CheckResult r;
+CheckRow Row(std::string id, std::string title) {
+  CheckRow r;
   r.id = std::move(id);
   r.title = std::move(title);
-  r.measured_value = r.reference_value = r.rel_error = kNaN;
   return r;
 }
 
-CheckResult Skip(std::string id, std::string title, std::string why) {
-  CheckResult r = Row(std::move(id), std::move(title));
+CheckRow Skip(std::string id, std::string title, std::string why) {
+  CheckRow r = Row(std::move(id), std::move(title));
   r.status = CheckStatus::kSkip;
-  r.detail = std::move(why);
+  r.explanation = std::move(why);
   return r;
 }
 
-void SetNumbers(CheckResult* r, double measured, double reference, const char* unit,
+void SetNumbers(CheckRow* r, double measured, double reference, const char* unit,
                 const char* spec) {
-  r->measured_value = measured;
-  r->reference_value = reference;
+  r->measured.value = measured;
+  r->reference.value = reference;
   r->rel_error = RelError(measured, reference);
-  r->measured = fmt::format(fmt::runtime(spec), measured) + unit;
-  r->reference = fmt::format(fmt::runtime(spec), reference) + unit;
+  r->measured_text = fmt::format(fmt::runtime(spec), measured) + unit;
+  r->reference_text = fmt::format(fmt::runtime(spec), reference) + unit;
+  // the unit as a name: " s" -> "s"
+  std::string name(unit);
+  name.erase(0, name.find_first_not_of(' '));
+  r->measured.unit = r->reference.unit = name;
 }
 
 std::string Seconds(double t) { return fmt::format("{:g} s", t); }
@@ -141,7 +144,7 @@ Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double 
 
 // ---- load --------------------------------------------------------------------------------
 
-CheckResult CheckLoad(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r) {
   const Model& model = ctx.model;
   const mjModel* m = model.get();
   double total = 0;
@@ -150,8 +153,8 @@ CheckResult CheckLoad(const VerifyContext& ctx, CheckResult r) {
     total += m->body_mass[b];
     if (m->body_weldid[b] != 0) ++moving;
   }
-  r.measured = fmt::format("{:.6g} kg in {} bodies", total, m->nbody - 1);
-  r.measured_value = total;
+  r.measured_text = fmt::format("{:.6g} kg in {} bodies", total, m->nbody - 1);
+  r.measured = {total, "kg"};
   std::string bodies;
   for (int b = 1; b < m->nbody && b <= 6; ++b) {
     std::string name = model.Name(mjOBJ_BODY, b);
@@ -164,26 +167,26 @@ CheckResult CheckLoad(const VerifyContext& ctx, CheckResult r) {
   NonFiniteValues bad = NonFiniteParameters(model);
   if (bad.total > 0) {
     r.status = CheckStatus::kFail;
-    r.measured = fmt::format("{} NaN or infinite parameter(s)", bad.total);
-    r.detail = fmt::format(
+    r.measured_text = fmt::format("{} NaN or infinite parameter(s)", bad.total);
+    r.explanation = fmt::format(
         "the compiled model holds {}{}: MuJoCo's compiler accepts NaN and infinity with at most "
         "a warning, and such a value poisons the steps that use it. Give a finite value to the "
         "MJCF attribute that sets each one.",
         fmt::join(bad.first, ", "), bad.total > static_cast<long>(bad.first.size()) ? ", ..." : "");
   } else if (model.compile_warnings().empty()) {
     r.status = CheckStatus::kPass;
-    r.detail = fmt::format("compiled cleanly: {} moving bodies, {} dofs. As compiled: {}.", moving,
+    r.explanation = fmt::format("compiled cleanly: {} moving bodies, {} dofs. As compiled: {}.", moving,
                            m->nv, bodies);
   } else {
     r.status = CheckStatus::kWarn;
-    r.detail = "MuJoCo's compiler warned: " + model.compile_warnings();
+    r.explanation = "MuJoCo's compiler warned: " + model.compile_warnings();
   }
   return r;
 }
 
 // ---- determinism -----------------------------------------------------------------------
 
-CheckResult CheckDeterminism(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckDeterminism(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   const Trace& first = ctx.trace;
   double until = ctx.until;
@@ -194,10 +197,10 @@ CheckResult CheckDeterminism(const VerifyContext& ctx, CheckResult r) {
               first.energy.size() == second.energy.size() &&
               std::memcmp(first.energy.data(), second.energy.data(),
                           first.energy.size() * sizeof(double)) == 0;
-  r.measured = same ? "identical" : "different";
-  r.reference = "identical";
+  r.measured_text = same ? "identical" : "different";
+  r.reference_text = "identical";
   r.status = same ? CheckStatus::kPass : CheckStatus::kFail;
-  r.detail = same ? fmt::format("two runs of {} gave the same state and energy to the last bit",
+  r.explanation = same ? fmt::format("two runs of {} gave the same state and energy to the last bit",
                                 Seconds(until))
                   : "two runs from the same state differ: something non-deterministic (a "
                     "callback, uninitialised memory or threads) enters the simulation";
@@ -206,21 +209,21 @@ CheckResult CheckDeterminism(const VerifyContext& ctx, CheckResult r) {
 
 // ---- warnings ----------------------------------------------------------------------------
 
-CheckResult CheckWarnings(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r) {
   const Trace& nominal = ctx.trace;
   double until = ctx.until;
-  r.reference = "none";
+  r.reference_text = "none";
   if (nominal.result.diverged) {
     r.status = CheckStatus::kFail;
-    r.measured = "diverged";
-    r.detail = nominal.result.divergence->reason +
+    r.measured_text = "diverged";
+    r.explanation = nominal.result.divergence->reason +
                " Shrink the timestep and check masses and inertias (plumb run writes a repro).";
     return r;
   }
   if (nominal.result.warnings.empty()) {
     r.status = CheckStatus::kPass;
-    r.measured = "none";
-    r.detail = fmt::format("{} of simulation raised no warning and stayed finite", Seconds(until));
+    r.measured_text = "none";
+    r.explanation = fmt::format("{} of simulation raised no warning and stayed finite", Seconds(until));
     return r;
   }
   std::vector<std::string> kinds;
@@ -229,15 +232,15 @@ CheckResult CheckWarnings(const VerifyContext& ctx, CheckResult r) {
         fmt::format("{} x{} (first at t = {:g} s: {})", w.kind, w.count, w.first_time, w.message));
   }
   r.status = CheckStatus::kWarn;
-  r.measured = fmt::format("{} kind(s)", kinds.size());
-  r.detail = "MuJoCo warned: " + fmt::format("{}", fmt::join(kinds, "; ")) +
+  r.measured_text = fmt::format("{} kind(s)", kinds.size());
+  r.explanation = "MuJoCo warned: " + fmt::format("{}", fmt::join(kinds, "; ")) +
              ". A warning means results were truncated or reset; it is not a log line to ignore.";
   return r;
 }
 
 // ---- convergence -------------------------------------------------------------------------
 
-CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   const std::optional<PendulumParams>& pendulum = ctx.pendulum;
   const Trace& nominal = ctx.trace;
@@ -268,14 +271,14 @@ CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
     bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
                          std::isfinite(c.levels[1].value);
     r.status = CheckStatus::kWarn;
-    r.measured = "a level diverged";
-    r.detail = c.problem;
+    r.measured_text = "a level diverged";
+    r.explanation = c.problem;
     if (!only_coarsest) r.status = CheckStatus::kFail;
     return r;
   }
   const ConvergenceLevel& own = c.levels[1];  // the model's own timestep
-  r.reference = fmt::format("tol {:g} x scale {:.3g}", tol, c.scale);
-  r.reference_value = tol * c.scale;
+  r.reference_text = fmt::format("tol {:g} x scale {:.3g}", tol, c.scale);
+  r.reference.value = tol * c.scale;
   std::string levels;
   for (const ConvergenceLevel& l : c.levels) {
     levels += fmt::format("{}dt={:g}: {:.10g}", levels.empty() ? "" : ", ", l.dt, l.value);
@@ -283,19 +286,19 @@ CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
   if (!c.estimate.resolved) {
     if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
       r.status = CheckStatus::kPass;
-      r.measured = "round-off";
-      r.detail = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
+      r.measured_text = "round-off";
+      r.explanation = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
                              metric_text, levels, c.estimate.note, caveat);
     } else {
       r.status = CheckStatus::kWarn;
-      r.measured = "no order visible";
-      r.detail = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
+      r.measured_text = "no order visible";
+      r.explanation = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
     }
     return r;
   }
-  r.measured =
+  r.measured_text =
       fmt::format("error {:.3g} at dt = {:g} s (order {:.2f})", own.error, dt, c.estimate.order);
-  r.measured_value = own.error;
+  r.measured.value = own.error;
   r.rel_error = own.error / c.scale;
   bool order_as_expected = std::fabs(c.estimate.order - expected) <= 0.5;
   std::string advice =
@@ -305,17 +308,17 @@ CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r) {
           : std::string("no tested timestep passes");
   if (own.error <= tol * c.scale) {
     r.status = CheckStatus::kPass;
-    r.detail = fmt::format(
+    r.explanation = fmt::format(
         "{} with {} at dt = {:g} s is within {:.2g}% of the extrapolated {:.10g}; observed order "
         "{:.2f} (expected {:g} for {}). Levels {}.",
         metric_text, integrator, dt, 100 * own.error / c.scale, c.estimate.extrapolated,
         c.estimate.order, expected, integrator, levels);
-    if (!order_as_expected) r.detail += " The order differs from the integrator's.";
-    r.detail += caveat;
+    if (!order_as_expected) r.explanation += " The order differs from the integrator's.";
+    r.explanation += caveat;
   } else {
     // a clean asymptotic sequence proves the error; contacts or an odd order only suggest it
     r.status = order_as_expected && !contacts ? CheckStatus::kFail : CheckStatus::kWarn;
-    r.detail = fmt::format(
+    r.explanation = fmt::format(
         "not converged: {} at dt = {:g} s is off by {:.3g} ({:.2g}% of its scale {:.3g}), more "
         "than tol {:g}; {}. Observed order {:.2f} (expected {:g} for {}).{} Levels {}.",
         metric_text, dt, own.error, 100 * own.error / c.scale, c.scale, tol, advice,
@@ -372,7 +375,7 @@ double LargestRise(const std::vector<double>& energy) {
   return rise;
 }
 
-CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r) {
+CheckRow CheckEnergy(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   const Trace& nominal = ctx.energy_trace;
   double until = ctx.energy_until;
@@ -389,14 +392,14 @@ CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r) {
   if (!Dissipative(m)) {
     // conservative: the relative drift of total energy is integration error
     double drift = std::max(std::fabs(*hi - e0), std::fabs(*lo - e0)) / max_kinetic;
-    r.measured = fmt::format("{:.3g} of max KE", drift);
-    r.reference = fmt::format("<= {:g}", tol);
-    r.measured_value = drift;
-    r.reference_value = tol;
+    r.measured_text = fmt::format("{:.3g} of max KE", drift);
+    r.reference_text = fmt::format("<= {:g}", tol);
+    r.measured.value = drift;
+    r.reference.value = tol;
     r.status = drift <= tol        ? CheckStatus::kPass
                : drift <= 10 * tol ? CheckStatus::kWarn
                                    : CheckStatus::kFail;
-    r.detail = fmt::format(
+    r.explanation = fmt::format(
         "nothing dissipates energy, so E = potential + kinetic should stay at {:.6g} J; it "
         "strays by {:.3g} of the largest kinetic energy {:.4g} J over {}. A discrete integrator "
         "never conserves it exactly; a smaller timestep or RK4 shrinks the drift.",
@@ -431,15 +434,15 @@ CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r) {
                             nominal.coord_names[c], peaks.size(), falling ? "fall" : "DO NOT fall",
                             peaks.front(), peaks.back());
   }
-  r.measured = fmt::format("largest rise {:.3g} J", rise);
-  r.reference = fmt::format("<= {:.3g} J", allowed);
-  r.measured_value = rise;
-  r.reference_value = allowed;
+  r.measured_text = fmt::format("largest rise {:.3g} J", rise);
+  r.reference_text = fmt::format("<= {:.3g} J", allowed);
+  r.measured = {rise, "J"};
+  r.reference = {allowed, "J"};
   r.status = rise <= allowed && envelope_ok ? CheckStatus::kPass : CheckStatus::kFail;
   std::string peaks = m->nv > 1          ? "Peaks are not compared: the coordinates are coupled."
                       : envelope.empty() ? "The coordinate did not swing twice to compare peaks."
                                          : "Peak envelope: " + envelope + ".";
-  r.detail = fmt::format(
+  r.explanation = fmt::format(
       "damping only removes energy: E went from {:.6g} J to {:.6g} J over {}; its largest rise "
       "{:.3g} J {} the integrator's own wobble allowance ({:.3g} J, from the undamped twin). {}",
       e0, nominal.energy.back(), Seconds(until), rise, rise <= allowed ? "stays within" : "EXCEEDS",
@@ -447,7 +450,7 @@ CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r) {
   return r;
 }
 
-CheckResult ExerciseRadians(const VerifyContext& ctx, CheckResult r) {
+CheckRow ExerciseRadians(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   const mjModel* m = s.model().get();
   std::vector<std::string> seen;
@@ -471,9 +474,9 @@ CheckResult ExerciseRadians(const VerifyContext& ctx, CheckResult r) {
   }
   if (seen.empty()) return Skip(r.id, r.title, "no hinge angle was set with --set");
   r.status = suspicious ? CheckStatus::kWarn : CheckStatus::kPass;
-  r.measured = suspicious ? "looks like degrees" : "plausible radians";
-  r.reference = "|angle| <= 2*pi";
-  r.detail = fmt::format(
+  r.measured_text = suspicious ? "looks like degrees" : "plausible radians";
+  r.reference_text = "|angle| <= 2*pi";
+  r.explanation = fmt::format(
       "{}. MuJoCo's C API uses radians whatever the MJCF <compiler angle> "
       "says.",
       fmt::join(seen, "; "));

@@ -26,12 +26,12 @@ constexpr double kReferenceDt = 1e-4;
 double RelError(double measured, double reference);
 
 // An empty row: every number NaN until a check fills it in.
-CheckResult Row(std::string id, std::string title);
+CheckRow Row(std::string id, std::string title);
 
-CheckResult Skip(std::string id, std::string title, std::string why);
+CheckRow Skip(std::string id, std::string title, std::string why);
 
 // Fills in the measured and reference values, their relative error and their text.
-void SetNumbers(CheckResult* r, double measured, double reference, const char* unit,
+void SetNumbers(CheckRow* r, double measured, double reference, const char* unit,
                 const char* spec = "{:.10g}");
 
 std::string Seconds(double t);
@@ -113,25 +113,25 @@ inline PendulumCase Pendulum(const VerifyContext& ctx) {
 }
 
 // Each check fills in `r` (its id and title already set, from the table in verify.cc).
-using CheckFunction = CheckResult (*)(const VerifyContext& ctx, CheckResult r);
+using CheckFunction = CheckRow (*)(const VerifyContext& ctx, CheckRow r);
 
 // Any model (verify_protocol.cc).
-CheckResult CheckLoad(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckDeterminism(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckWarnings(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckConvergence(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckEnergy(const VerifyContext& ctx, CheckResult r);
-CheckResult ExerciseRadians(const VerifyContext& ctx, CheckResult r);
+CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckDeterminism(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckEnergy(const VerifyContext& ctx, CheckRow r);
+CheckRow ExerciseRadians(const VerifyContext& ctx, CheckRow r);
 
 // A single hinge pendulum under gravity (verify_pendulum.cc).
-CheckResult CheckAnalyticPeriod(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckModelPeriod(const VerifyContext& ctx, CheckResult r);
-CheckResult CheckDamping(const VerifyContext& ctx, CheckResult r);
-CheckResult ExperimentAmplitude(const VerifyContext& ctx, CheckResult r);
-CheckResult ExperimentDamping(const VerifyContext& ctx, CheckResult r);
-CheckResult ExperimentTimestep(const VerifyContext& ctx, CheckResult r);
-CheckResult ExerciseMoon(const VerifyContext& ctx, CheckResult r);
-CheckResult ExerciseDensity(const VerifyContext& ctx, CheckResult r);
+CheckRow CheckAnalyticPeriod(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckModelPeriod(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckDamping(const VerifyContext& ctx, CheckRow r);
+CheckRow ExperimentAmplitude(const VerifyContext& ctx, CheckRow r);
+CheckRow ExperimentDamping(const VerifyContext& ctx, CheckRow r);
+CheckRow ExperimentTimestep(const VerifyContext& ctx, CheckRow r);
+CheckRow ExerciseMoon(const VerifyContext& ctx, CheckRow r);
+CheckRow ExerciseDensity(const VerifyContext& ctx, CheckRow r);
 
 }  // namespace plumb::verify
 

@@ -16,9 +16,9 @@ namespace {
 constexpr std::size_t kMostThumbnails = 40;
 constexpr std::size_t kMostPoints = 1500;
 
-bool Drawable(const Finding& f) {
-  return !f.element_name.empty() &&
-         (f.element_type == "body" || f.element_type == "geom" || f.element_type == "joint");
+bool Drawable(const CheckRow& f) {
+  const CheckElement& e = f.element;
+  return !e.name.empty() && (e.kind == "body" || e.kind == "geom" || e.kind == "joint");
 }
 
 std::vector<double> Pick(const std::vector<double>& v, const std::vector<std::size_t>& at) {
@@ -101,11 +101,11 @@ void WriteAuditReport(const std::string& path, const Model& model,
 
   // one thumbnail per element named by a finding that is not a PASS
   std::vector<std::string> elements;
-  for (const Finding& f : result.findings) {
+  for (const CheckRow& f : result.findings) {
     if (f.status == CheckStatus::kPass || !Drawable(f)) continue;
-    if (std::find(elements.begin(), elements.end(), f.element_name) == elements.end() &&
+    if (std::find(elements.begin(), elements.end(), f.element.name) == elements.end() &&
         elements.size() < kMostThumbnails) {
-      elements.push_back(f.element_name);
+      elements.push_back(f.element.name);
     }
   }
   std::string why;
@@ -130,25 +130,26 @@ void WriteAuditReport(const std::string& path, const Model& model,
         rows + "</table>\n");
     rows.clear();
   };
-  for (const Finding& f : result.findings) {
-    if (f.layer != layer) {
+  for (const CheckRow& f : result.findings) {
+    if (f.section != layer) {
       flush();
-      layer = f.layer;
+      layer = f.section;
     }
-    auto thumb = thumb_of.find(f.element_name);
+    auto thumb = thumb_of.find(f.element.name);
     std::string picture =
         Drawable(f) && thumb != thumb_of.end() && f.status != CheckStatus::kPass
             ? fmt::format(
                   "<img class=\"thumb\" alt=\"{0} highlighted\" title=\"{0} highlighted\" "
                   "src=\"{1}\">",
-                  report::Escape(f.element), report::PngDataUri(thumb->second))
+                  report::Escape(f.About()), report::PngDataUri(thumb->second))
             : "";
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td>"
         "<td class=\"detail\">{}</td><td>{}</td></tr>\n",
-        CheckStatusName(f.status), report::StatusCell(f.status), report::Escape(f.check),
-        report::Escape(f.element), report::Escape(f.measured), report::Escape(f.threshold),
-        report::Escape(f.fix), picture);
+        CheckStatusName(f.status), report::StatusCell(f.status), report::Escape(f.id),
+        report::Escape(f.About()), report::Escape(f.measured_text),
+        report::Escape(f.reference_text), report::Escape(f.fix.empty() ? f.explanation : f.fix),
+        picture);
   }
   flush();
 

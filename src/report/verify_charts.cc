@@ -118,7 +118,7 @@ void AddConvergenceChart(Page* page, const std::string& metric, const Convergenc
   if (!c.caveat.empty()) page->Paragraph("Caveat: " + c.caveat, "note");
 }
 
-void AddPeriodChart(Page* page, const VerifyFigures& f) {
+void AddPeriodChart(Page* page, const PendulumFigures& f) {
   if (f.periods.empty()) return;
   page->Heading("Period against amplitude");
   Chart chart("Period of the free swing against its amplitude", {"amplitude (rad)"},

@@ -24,7 +24,7 @@ void AddConvergenceChart(Page* page, const std::string& metric, const Convergenc
 
 // Simulated periods against the elliptic-integral curve and the small-angle period.
 // Nothing when no period was measured.
-void AddPeriodChart(Page* page, const VerifyFigures& figures);
+void AddPeriodChart(Page* page, const PendulumFigures& figures);
 
 }  // namespace plumb::report
 

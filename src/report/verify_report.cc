@@ -21,13 +21,14 @@ void WriteVerifyReport(const std::string& path, const Model& model,
   page.StatusSummary(result.Count(CheckStatus::kPass), result.Count(CheckStatus::kWarn),
                      result.Count(CheckStatus::kFail), result.Count(CheckStatus::kSkip));
   std::string rows;
-  for (const CheckResult& c : result.checks) {
+  for (const CheckRow& c : result.checks) {
     const char* status = CheckStatusName(c.status);
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td><code>{}</code><br>{}</td><td>{}</td><td>{}</td>"
         "<td class=\"detail\">{}</td></tr>\n",
         status, report::StatusCell(c.status), report::Escape(c.id), report::Escape(c.title),
-        report::Escape(c.measured), report::Escape(c.reference), report::Escape(c.detail));
+        report::Escape(c.measured_text), report::Escape(c.reference_text),
+        report::Escape(c.explanation));
   }
   page.Html(
       "<table><tr><th>status</th><th>check</th><th>measured</th><th>reference</th>"
@@ -37,7 +38,7 @@ void WriteVerifyReport(const std::string& path, const Model& model,
   report::AddRunCharts(&page, result.figures);
   report::AddConvergenceChart(&page, result.figures.convergence_metric, result.figures.convergence,
                               result.figures.expected_order);
-  report::AddPeriodChart(&page, result.figures);
+  if (result.figures.pendulum) report::AddPeriodChart(&page, *result.figures.pendulum);
   report::WritePage(page, path);
 }
 

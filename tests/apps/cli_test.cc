@@ -356,7 +356,7 @@ TEST(CliVerifyTest, JsonHasTheDocumentedShape) {
   ASSERT_TRUE(j["checks"].is_array());
   for (const nlohmann::json& c : j["checks"]) {
     for (const char* key :
-         {"id", "title", "status", "measured", "reference", "rel_error", "detail"}) {
+         {"id", "title", "status", "measured", "reference", "rel_error", "explanation"}) {
       EXPECT_TRUE(c.contains(key)) << key;
     }
   }
@@ -507,7 +507,7 @@ TEST(CliAuditTest, PlantedDefectExits1AndJsonMirrorsTheTable) {
   nlohmann::json j = nlohmann::json::parse(r.out);
   bool found = false;
   for (const nlohmann::json& f : j["layers"]["contact"]) {
-    found = found || (f["check"] == "contact.free_fall" && f["status"] == "FAIL" &&
+    found = found || (f["id"] == "contact.free_fall" && f["status"] == "FAIL" &&
                       f["element"].get<std::string>().find("ghost") != std::string::npos);
   }
   EXPECT_TRUE(found) << r.out;

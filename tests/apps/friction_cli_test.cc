@@ -250,7 +250,7 @@ TEST(FrictionCliTest, VerifyTableShowsFindingsAndGroupsSkipsThatShareAReason) {
   nlohmann::json j = nlohmann::json::parse(json.out);
   int pass = j["summary"]["pass"], skipped_alike = 0;
   for (const nlohmann::json& c : j["checks"]) {
-    skipped_alike += c["detail"].get<std::string>().rfind("not a single hinge pendulum", 0) == 0;
+    skipped_alike += c["explanation"].get<std::string>().rfind("not a single hinge pendulum", 0) == 0;
   }
   ASSERT_GE(pass, 3);
   ASSERT_GE(skipped_alike, 2);
@@ -326,7 +326,7 @@ TEST(FrictionCliTest, AuditTableGroupsTheSameFindingAboutSeveralElements) {
   nlohmann::json j = nlohmann::json::parse(json.out);
   std::vector<std::string> limited;  // the actuators actuator.limits warns about, in order
   for (const nlohmann::json& f : j["layers"]["actuator"]) {
-    if (f["check"] == "actuator.limits" && f["status"] == "WARN") {
+    if (f["id"] == "actuator.limits" && f["status"] == "WARN") {
       limited.push_back(f["element_name"]);
     }
   }

@@ -37,11 +37,11 @@ TEST_P(AuditModelsTest, NoCrashAndNoUnexplainedFailure) {
   fs::path path(GetParam());
   std::string key = path.parent_path().filename().string() + "/" + path.filename().string();
   std::set<std::string> failed;
-  for (const Finding& f : report.findings) {
+  for (const CheckRow& f : report.findings) {
     if (f.status != CheckStatus::kFail) continue;
-    failed.insert(key + ":" + f.check);
-    EXPECT_TRUE(kKnownFailures.count(key + ":" + f.check))
-        << key << " " << f.check << " " << f.element << ": " << f.measured;
+    failed.insert(key + ":" + f.id);
+    EXPECT_TRUE(kKnownFailures.count(key + ":" + f.id))
+        << key << " " << f.id << " " << f.About() << ": " << f.measured_text;
   }
   for (const auto& [known, why] : kKnownFailures) {
     if (known.rfind(key + ":", 0) != 0) continue;

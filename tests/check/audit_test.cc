@@ -16,18 +16,18 @@ using testing::TempDir;
 using testing::WriteFile;
 
 // The first finding of `check` that names `element`, or nullptr.
-const Finding* Find(const AuditReport& report, const std::string& check,
+const CheckRow* Find(const AuditReport& report, const std::string& check,
                     const std::string& element = "") {
-  for (const Finding& f : report.findings) {
-    if (f.check == check && f.element.find(element) != std::string::npos) return &f;
+  for (const CheckRow& f : report.findings) {
+    if (f.id == check && f.About().find(element) != std::string::npos) return &f;
   }
   return nullptr;
 }
 
 std::string Failures(const AuditReport& report) {
   std::string out;
-  for (const Finding& f : report.findings) {
-    if (f.status == CheckStatus::kFail) out += f.check + " " + f.element + ": " + f.measured + "\n";
+  for (const CheckRow& f : report.findings) {
+    if (f.status == CheckStatus::kFail) out += f.id + " " + f.About() + ": " + f.measured_text + "\n";
   }
   return out;
 }
@@ -48,13 +48,13 @@ TEST_F(AuditTest, CollisionlessFreeBodyFallsForever) {
       <body name="ghost" pos="0 0 1"><freejoint/>
         <geom type="box" size="0.1 0.1 0.1" contype="0" conaffinity="0"/></body>
     </worldbody></mujoco>)");
-  const Finding* f = Find(r, "contact.free_fall", "'ghost'");
+  const CheckRow* f = Find(r, "contact.free_fall", "'ghost'");
   ASSERT_NE(f, nullptr) << Failures(r);
-  EXPECT_EQ(f->layer, "contact");
+  EXPECT_EQ(f->section, "contact");
   EXPECT_EQ(f->status, CheckStatus::kFail);
-  EXPECT_EQ(f->element_type, "body");
-  EXPECT_EQ(f->element_name, "ghost");
-  EXPECT_EQ(f->element_id, 1);
+  EXPECT_EQ(f->element.kind, "body");
+  EXPECT_EQ(f->element.name, "ghost");
+  EXPECT_EQ(f->element.id, 1);
 }
 
 TEST_F(AuditTest, ARobotWithoutAFloorWarnsNotFails) {
@@ -64,10 +64,10 @@ TEST_F(AuditTest, ARobotWithoutAFloorWarnsNotFails) {
       <body name="base" pos="0 0 1"><freejoint/>
         <geom type="box" size="0.1 0.1 0.1"/></body>
     </worldbody></mujoco>)");
-  const Finding* f = Find(r, "contact.free_fall", "'base'");
+  const CheckRow* f = Find(r, "contact.free_fall", "'base'");
   ASSERT_NE(f, nullptr) << Failures(r);
   EXPECT_EQ(f->status, CheckStatus::kWarn);
-  EXPECT_NE(f->measured.find("no floor"), std::string::npos) << f->measured;
+  EXPECT_NE(f->measured_text.find("no floor"), std::string::npos) << f->measured_text;
   EXPECT_NE(f->fix.find("audit the scene"), std::string::npos) << f->fix;
 }
 
@@ -83,10 +83,10 @@ TEST_F(AuditTest, AHeavyBodyRestingOnlyOnALightOneIsAFinding) {
   char text[1024];
   std::snprintf(text, sizeof(text), xml, "0.1", "50");
   AuditReport heavy = AuditXml(text);
-  const Finding* f = Find(heavy, "contact.heavy_on_light", "'crate'");
+  const CheckRow* f = Find(heavy, "contact.heavy_on_light", "'crate'");
   ASSERT_NE(f, nullptr) << Failures(heavy);
   EXPECT_EQ(f->status, CheckStatus::kWarn);
-  EXPECT_NE(f->measured.find("body 'plate'"), std::string::npos) << f->measured;
+  EXPECT_NE(f->measured_text.find("body 'plate'"), std::string::npos) << f->measured_text;
   EXPECT_EQ(Find(heavy, "contact.free_fall"), nullptr);
   // the other way round is how things rest: no finding
   std::snprintf(text, sizeof(text), xml, "50", "0.1");
@@ -104,14 +104,14 @@ TEST_F(AuditTest, EveryBodySaysWhatItCanCollideWith) {
           <geom type="capsule" fromto="0 0 0 0 0 0.1" size="0.01" contype="0" conaffinity="0"/>
         </body></body>
     </worldbody></mujoco>)");
-  const Finding* torso = Find(r, "contact.collides_with", "'torso'");
+  const CheckRow* torso = Find(r, "contact.collides_with", "'torso'");
   ASSERT_NE(torso, nullptr);
   EXPECT_EQ(torso->status, CheckStatus::kPass);
-  EXPECT_EQ(torso->measured, "collides with the world");
-  const Finding* antenna = Find(r, "contact.collides_with", "'antenna'");
+  EXPECT_EQ(torso->measured_text, "collides with the world");
+  const CheckRow* antenna = Find(r, "contact.collides_with", "'antenna'");
   ASSERT_NE(antenna, nullptr);
   EXPECT_EQ(antenna->status, CheckStatus::kPass);
-  EXPECT_NE(antenna->measured.find("visual geoms only"), std::string::npos) << antenna->measured;
+  EXPECT_NE(antenna->measured_text.find("visual geoms only"), std::string::npos) << antenna->measured_text;
 }
 
 TEST_F(AuditTest, PenetrationIsJudgedAgainstTheSoftContactDepth) {
@@ -122,20 +122,20 @@ TEST_F(AuditTest, PenetrationIsJudgedAgainstTheSoftContactDepth) {
       <body name="ball" pos="0 0 0.0102"><freejoint/>
         <geom name="foot" type="sphere" size="0.01" mass="1"/></body>
     </worldbody></mujoco>)");
-  const Finding* f = Find(rest, "contact.penetration");
+  const CheckRow* f = Find(rest, "contact.penetration");
   ASSERT_NE(f, nullptr) << Failures(rest);
-  EXPECT_EQ(f->status, CheckStatus::kPass) << f->measured;
-  EXPECT_NE(f->measured.find("mm its solref/solimp soften it by"), std::string::npos)
-      << f->measured;
+  EXPECT_EQ(f->status, CheckStatus::kPass) << f->measured_text;
+  EXPECT_NE(f->measured_text.find("mm its solref/solimp soften it by"), std::string::npos)
+      << f->measured_text;
   // a hard drop at a coarse step sinks far beyond that softness: still a finding
   AuditReport drop = AuditXml(R"(<mujoco><option timestep="0.01"/><worldbody>
       <geom name="floor" type="plane" size="5 5 0.1"/>
       <body name="ball" pos="0 0 5"><freejoint/>
         <geom name="foot" type="sphere" size="0.01" mass="1"/></body>
     </worldbody></mujoco>)");
-  const Finding* g = Find(drop, "contact.penetration");
+  const CheckRow* g = Find(drop, "contact.penetration");
   ASSERT_NE(g, nullptr) << Failures(drop);
-  EXPECT_NE(g->status, CheckStatus::kPass) << g->measured;
+  EXPECT_NE(g->status, CheckStatus::kPass) << g->measured_text;
 }
 
 TEST_F(AuditTest, FreeBodiesTouchingOnlyEachOtherStillFall) {
@@ -177,15 +177,15 @@ TEST_F(AuditTest, FeatherweightBodyOnAHeavyBaseIsFlagged) {
         <body name="feather" pos="0.4 0 0"><joint name="j2" axis="0 1 0"/>
           <geom type="sphere" size="0.02" mass="1e-6"/></body>
       </body></worldbody></mujoco>)");
-  const Finding* tiny = Find(r, "inertia.tiny_mass", "'feather'");
+  const CheckRow* tiny = Find(r, "inertia.tiny_mass", "'feather'");
   ASSERT_NE(tiny, nullptr);
-  EXPECT_EQ(tiny->layer, "inertia");
+  EXPECT_EQ(tiny->section, "inertia");
   EXPECT_EQ(tiny->status, CheckStatus::kWarn);
-  const Finding* ratio = Find(r, "inertia.mass_ratio", "'feather'");
+  const CheckRow* ratio = Find(r, "inertia.mass_ratio", "'feather'");
   ASSERT_NE(ratio, nullptr);
   EXPECT_EQ(ratio->status, CheckStatus::kFail);  // 1e7: beyond any conditioning
-  EXPECT_NE(ratio->measured.find("'base'"), std::string::npos);
-  EXPECT_EQ(ratio->element_name, "feather");
+  EXPECT_NE(ratio->measured_text.find("'base'"), std::string::npos);
+  EXPECT_EQ(ratio->element.name, "feather");
 }
 
 TEST_F(AuditTest, MarkerBodiesWeldedToTheirParentAreNotTinyBodies) {
@@ -196,7 +196,7 @@ TEST_F(AuditTest, MarkerBodiesWeldedToTheirParentAreNotTinyBodies) {
         <body name="marker" pos="0.3 0 0"><site name="tip"/></body>
         <body name="label" pos="0.3 0 0"><geom type="sphere" size="0.01" mass="1e-6"/></body>
       </body></worldbody></mujoco>)");
-  EXPECT_EQ(Find(r, "inertia.tiny_mass"), nullptr) << Find(r, "inertia.tiny_mass")->element;
+  EXPECT_EQ(Find(r, "inertia.tiny_mass"), nullptr) << Find(r, "inertia.tiny_mass")->About();
   EXPECT_EQ(Find(r, "inertia.mass_ratio"), nullptr);
   EXPECT_EQ(Find(r, "inertia.principal"), nullptr) << Failures(r);
 }
@@ -217,23 +217,23 @@ std::string HeavyPole(const std::string& inertial) {
 TEST_F(AuditTest, InertiaImplausibleForMassAndSizeFails) {
   AuditReport r = AuditXml(
       HeavyPole(R"(<inertial pos="0 0 0.5" mass="1000" diaginertia="0.0094 0.0094 0.0001"/>)"));
-  const Finding* f = Find(r, "inertia.size", "'pole'");
+  const CheckRow* f = Find(r, "inertia.size", "'pole'");
   ASSERT_NE(f, nullptr) << Failures(r);
   EXPECT_EQ(f->status, CheckStatus::kFail);
-  EXPECT_NE(f->measured.find("1000 kg"), std::string::npos) << f->measured;
+  EXPECT_NE(f->measured_text.find("1000 kg"), std::string::npos) << f->measured_text;
   EXPECT_NE(f->fix.find("too small"), std::string::npos) << f->fix;
   // the same pole as the compiler derives it, and a mass set on it, are plausible
   AuditReport nominal = AuditXml(HeavyPole(""));
-  EXPECT_EQ(Find(nominal, "inertia.size"), nullptr) << Find(nominal, "inertia.size")->measured;
+  EXPECT_EQ(Find(nominal, "inertia.size"), nullptr) << Find(nominal, "inertia.size")->measured_text;
   AuditOptions heavier;
   Model model = Model::FromXmlString(HeavyPole(""), "pole.xml");
   heavier.sets = {ParseAssignment(model, "body_mass[pole]=1000")};
   AuditReport set = AuditXml(HeavyPole(""), heavier);
-  EXPECT_EQ(Find(set, "inertia.size"), nullptr) << Find(set, "inertia.size")->measured;
+  EXPECT_EQ(Find(set, "inertia.size"), nullptr) << Find(set, "inertia.size")->measured_text;
   // a mass spread about 5 times wider than the geoms allow (inertia x24) is a warning
   AuditReport wide =
       AuditXml(HeavyPole(R"(<inertial pos="0 0 0.5" mass="0.1" diaginertia="0.2 0.2 0.001"/>)"));
-  const Finding* w = Find(wide, "inertia.size", "'pole'");
+  const CheckRow* w = Find(wide, "inertia.size", "'pole'");
   ASSERT_NE(w, nullptr);
   EXPECT_EQ(w->status, CheckStatus::kWarn);
 }
@@ -243,12 +243,12 @@ TEST_F(AuditTest, MotorWithoutLimitsIsFlagged) {
       <body name="arm" pos="0 0 1"><joint name="shoulder" axis="0 1 0"/>
         <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.03" mass="1"/></body>
     </worldbody><actuator><motor name="strong" joint="shoulder" gear="50"/></actuator></mujoco>)");
-  const Finding* f = Find(r, "actuator.limits", "'strong'");
+  const CheckRow* f = Find(r, "actuator.limits", "'strong'");
   ASSERT_NE(f, nullptr);
-  EXPECT_EQ(f->layer, "actuator");
+  EXPECT_EQ(f->section, "actuator");
   EXPECT_EQ(f->status, CheckStatus::kWarn);
-  EXPECT_NE(f->measured.find("gear 50"), std::string::npos) << f->measured;
-  EXPECT_EQ(f->element_name, "strong");
+  EXPECT_NE(f->measured_text.find("gear 50"), std::string::npos) << f->measured_text;
+  EXPECT_EQ(f->element.name, "strong");
 }
 
 TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
@@ -259,12 +259,12 @@ TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
     </worldbody><actuator>
       <motor name="weak" joint="shoulder" gear="1" ctrllimited="true" ctrlrange="-1 1"/>
     </actuator></mujoco>)");
-  const Finding* f = Find(r, "actuator.holding", "'weak'");
+  const CheckRow* f = Find(r, "actuator.holding", "'weak'");
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kWarn);
-  EXPECT_NE(f->measured.find("9.81"), std::string::npos) << f->measured;
-  EXPECT_EQ(f->element_type, "actuator");
-  EXPECT_EQ(f->element_name, "weak");
+  EXPECT_NE(f->measured_text.find("9.81"), std::string::npos) << f->measured_text;
+  EXPECT_EQ(f->element.kind, "actuator");
+  EXPECT_EQ(f->element.name, "weak");
   EXPECT_EQ(Find(r, "actuator.limits", "'weak'"), nullptr);  // its ctrl is limited
 }
 
@@ -280,12 +280,12 @@ TEST_F(AuditTest, HoldingRespectsTheSignOfTheTorque) {
                     range + R"("/></actuator></mujoco>)");
   };
   AuditReport up = audit("0 100"), down = audit("-100 0");
-  const Finding* a = Find(up, "actuator.holding", "'m'");
-  const Finding* b = Find(down, "actuator.holding", "'m'");
+  const CheckRow* a = Find(up, "actuator.holding", "'m'");
+  const CheckRow* b = Find(down, "actuator.holding", "'m'");
   ASSERT_NE(a, nullptr);
   ASSERT_NE(b, nullptr);
   // exactly one of the two one-sided motors holds the arm
-  EXPECT_NE(a->status, b->status) << a->measured << " | " << b->measured;
+  EXPECT_NE(a->status, b->status) << a->measured_text << " | " << b->measured_text;
 }
 
 TEST_F(AuditTest, MusclesAreBoundedByTheirPeakForce) {
@@ -295,10 +295,10 @@ TEST_F(AuditTest, MusclesAreBoundedByTheirPeakForce) {
         <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03" mass="1"/></body>
     </worldbody><actuator><muscle name="biceps" joint="elbow"/></actuator></mujoco>)");
   EXPECT_EQ(Find(r, "actuator.limits", "'biceps'"), nullptr)
-      << Find(r, "actuator.limits")->measured;
-  const Finding* step = Find(r, "actuator.step_response", "'biceps'");
+      << Find(r, "actuator.limits")->measured_text;
+  const CheckRow* step = Find(r, "actuator.step_response", "'biceps'");
   ASSERT_NE(step, nullptr);
-  EXPECT_NE(step->measured.find("no setpoint (muscle)"), std::string::npos) << step->measured;
+  EXPECT_NE(step->measured_text.find("no setpoint (muscle)"), std::string::npos) << step->measured_text;
 }
 
 TEST_F(AuditTest, StepResponsesFitTheActuatorKind) {
@@ -311,13 +311,13 @@ TEST_F(AuditTest, StepResponsesFitTheActuatorKind) {
       <position name="servo" joint="ja" kp="20" ctrllimited="true" ctrlrange="-1 1"/>
       <motor name="motor" joint="jb" ctrllimited="true" ctrlrange="-1 1"/>
     </actuator></mujoco>)");
-  const Finding* servo = Find(r, "actuator.step_response", "'servo'");
-  const Finding* motor = Find(r, "actuator.step_response", "'motor'");
+  const CheckRow* servo = Find(r, "actuator.step_response", "'servo'");
+  const CheckRow* motor = Find(r, "actuator.step_response", "'motor'");
   ASSERT_NE(servo, nullptr);
   ASSERT_NE(motor, nullptr);
-  EXPECT_NE(servo->measured.find("position servo: rise "), std::string::npos) << servo->measured;
-  EXPECT_NE(servo->measured.find("steady-state error"), std::string::npos) << servo->measured;
-  EXPECT_NE(motor->measured.find("no setpoint (motor)"), std::string::npos) << motor->measured;
+  EXPECT_NE(servo->measured_text.find("position servo: rise "), std::string::npos) << servo->measured_text;
+  EXPECT_NE(servo->measured_text.find("steady-state error"), std::string::npos) << servo->measured_text;
+  EXPECT_NE(motor->measured_text.find("no setpoint (motor)"), std::string::npos) << motor->measured_text;
 }
 
 TEST_F(AuditTest, DivergingStepResponseIsAFinding) {
@@ -329,10 +329,10 @@ TEST_F(AuditTest, DivergingStepResponseIsAFinding) {
     </worldbody><actuator>
       <position name="stiff" joint="ja" kp="1e6" ctrllimited="true" ctrlrange="-1 1"/>
     </actuator></mujoco>)");
-  const Finding* f = Find(r, "actuator.step_response", "'stiff'");
+  const CheckRow* f = Find(r, "actuator.step_response", "'stiff'");
   ASSERT_NE(f, nullptr);
-  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured;
-  EXPECT_EQ(f->measured, "diverged");
+  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured_text;
+  EXPECT_EQ(f->measured_text, "diverged");
   EXPECT_NE(f->fix.find("smaller timestep"), std::string::npos) << f->fix;
 }
 
@@ -364,13 +364,13 @@ TEST_F(AuditTest, RadiansWrittenWhereMjcfExpectsDegreesAreFlagged) {
     </worldbody><actuator>
       <position name="servo" joint="shoulder" kp="50" ctrlrange="-1.5 1.5"/>
     </actuator></mujoco>)");
-  const Finding* range = Find(r, "structure.joint_range", "'shoulder'");
+  const CheckRow* range = Find(r, "structure.joint_range", "'shoulder'");
   ASSERT_NE(range, nullptr);
   EXPECT_EQ(range->status, CheckStatus::kWarn);
   EXPECT_NE(range->fix.find("angle=\"radian\""), std::string::npos) << range->fix;
-  const Finding* target = Find(r, "actuator.target_range", "'servo'");
+  const CheckRow* target = Find(r, "actuator.target_range", "'servo'");
   ASSERT_NE(target, nullptr);
-  EXPECT_EQ(target->layer, "actuator");
+  EXPECT_EQ(target->section, "actuator");
 }
 
 TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
@@ -386,10 +386,10 @@ TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
       <body name="mass"><joint name="spring" type="slide" axis="1 0 0" stiffness="1e6" ref="0.01"/>
         <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)",
                            options);
-  const Finding* f = Find(r, "behaviour.passive_settle");
+  const CheckRow* f = Find(r, "behaviour.passive_settle");
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kFail);
-  EXPECT_EQ(f->measured, "diverged");
+  EXPECT_EQ(f->measured_text, "diverged");
   EXPECT_NE(f->fix.find("joint 'spring'"), std::string::npos) << f->fix;
   EXPECT_NE(f->fix.find("smaller timestep"), std::string::npos) << f->fix;
   ASSERT_FALSE(r.repro_folders.empty());
@@ -410,9 +410,9 @@ TEST_F(AuditTest, ADivergedRunIsReportedWithoutWritingAnything) {
         <geom type="sphere" size="0.05" mass="1"/></body></worldbody></mujoco>)",
                            {});
   std::filesystem::current_path(before);
-  const Finding* f = Find(r, "behaviour.passive_settle");
+  const CheckRow* f = Find(r, "behaviour.passive_settle");
   ASSERT_NE(f, nullptr);
-  EXPECT_EQ(f->measured, "diverged");
+  EXPECT_EQ(f->measured_text, "diverged");
   EXPECT_TRUE(r.repro_folders.empty());
   EXPECT_EQ(f->fix.find("Repro folder"), std::string::npos) << f->fix;
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
@@ -425,12 +425,12 @@ TEST_F(AuditTest, HumanoidHasNoFailure) {
   for (const char* layer :
        {"structure", "inertia", "actuator", "contact", "behaviour", "warnings"}) {
     bool seen = false;
-    for (const Finding& f : r.findings) seen = seen || f.layer == layer;
+    for (const CheckRow& f : r.findings) seen = seen || f.section == layer;
     EXPECT_TRUE(seen) << layer;
   }
-  const Finding* nq = Find(r, "structure.nq_nv", "'root'");
+  const CheckRow* nq = Find(r, "structure.nq_nv", "'root'");
   ASSERT_NE(nq, nullptr);
-  EXPECT_NE(nq->measured.find("nq 28 != nv 27"), std::string::npos);
+  EXPECT_NE(nq->measured_text.find("nq 28 != nv 27"), std::string::npos);
 }
 
 TEST_F(AuditTest, BoxComesToRestOnItsWeight) {
@@ -438,9 +438,9 @@ TEST_F(AuditTest, BoxComesToRestOnItsWeight) {
       <geom name="floor" type="plane" size="5 5 0.1"/>
       <body name="box" pos="0 0 0.2"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="3"/></body>
     </worldbody></mujoco>)");
-  const Finding* support = Find(r, "contact.support");
+  const CheckRow* support = Find(r, "contact.support");
   ASSERT_NE(support, nullptr);
-  EXPECT_EQ(support->status, CheckStatus::kPass) << support->measured;
+  EXPECT_EQ(support->status, CheckStatus::kPass) << support->measured_text;
   EXPECT_EQ(Find(r, "contact.slip")->status, CheckStatus::kPass);
   EXPECT_EQ(r.Count(CheckStatus::kFail), 0) << Failures(r);
 }
@@ -473,15 +473,15 @@ at = 0.5
   AuditOptions options;
   options.scenario = LoadScenario(model, dir.File("lift.toml"));
   AuditReport r = Audit(model, options);
-  std::vector<const Finding*> rows;
-  for (const Finding& f : r.findings) {
-    if (f.check == "behaviour.assertion") rows.push_back(&f);
+  std::vector<const CheckRow*> rows;
+  for (const CheckRow& f : r.findings) {
+    if (f.id == "behaviour.assertion") rows.push_back(&f);
   }
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0]->status, CheckStatus::kPass) << rows[0]->measured;
-  EXPECT_EQ(rows[1]->status, CheckStatus::kPass) << rows[1]->measured;
+  EXPECT_EQ(rows[0]->status, CheckStatus::kPass) << rows[0]->measured_text;
+  EXPECT_EQ(rows[1]->status, CheckStatus::kPass) << rows[1]->measured_text;
   EXPECT_EQ(rows[2]->status, CheckStatus::kFail);
-  EXPECT_NE(rows[2]->measured.find("at t = 2"), std::string::npos) << rows[2]->measured;
+  EXPECT_NE(rows[2]->measured_text.find("at t = 2"), std::string::npos) << rows[2]->measured_text;
 }
 
 TEST_F(AuditTest, JsonScenarioWithRampAndSine) {
@@ -499,9 +499,9 @@ TEST_F(AuditTest, JsonScenarioWithRampAndSine) {
   options.scenario = sc;
   AuditReport r = Audit(model, options);
   TakeMujocoWarnings();
-  for (const Finding& f : r.findings) {
-    if (f.check == "behaviour.assertion") {
-      EXPECT_EQ(f.status, CheckStatus::kPass) << f.element;
+  for (const CheckRow& f : r.findings) {
+    if (f.id == "behaviour.assertion") {
+      EXPECT_EQ(f.status, CheckStatus::kPass) << f.About();
     }
   }
 }
@@ -559,9 +559,9 @@ end = 1.5
   options.scenario = ramp;
   AuditReport r = Audit(model, options);
   TakeMujocoWarnings();
-  for (const Finding& f : r.findings) {
-    if (f.check == "behaviour.assertion") {
-      EXPECT_EQ(f.status, CheckStatus::kPass) << f.measured;
+  for (const CheckRow& f : r.findings) {
+    if (f.id == "behaviour.assertion") {
+      EXPECT_EQ(f.status, CheckStatus::kPass) << f.measured_text;
     }
   }
   // a constant control holds the servo at -0.4 instead: the same assertions fail
@@ -573,8 +573,8 @@ end = 1.5
   AuditReport c = Audit(model, options);
   TakeMujocoWarnings();
   std::vector<CheckStatus> statuses;
-  for (const Finding& f : c.findings) {
-    if (f.check == "behaviour.assertion") statuses.push_back(f.status);
+  for (const CheckRow& f : c.findings) {
+    if (f.id == "behaviour.assertion") statuses.push_back(f.status);
   }
   EXPECT_EQ(statuses, (std::vector<CheckStatus>{CheckStatus::kFail, CheckStatus::kPass}));
 }
@@ -600,10 +600,10 @@ TEST_F(AuditTest, FinalChecksEveryPath) {
   options.scenario = LoadScenario(model, dir.File("f.json"));
   AuditReport r = Audit(model, options);
   TakeMujocoWarnings();
-  const Finding* f = Find(r, "behaviour.assertion");
+  const CheckRow* f = Find(r, "behaviour.assertion");
   ASSERT_NE(f, nullptr);
-  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured;
-  EXPECT_NE(f->measured.find("qpos[ja]"), std::string::npos) << f->measured;
+  EXPECT_EQ(f->status, CheckStatus::kFail) << f->measured_text;
+  EXPECT_NE(f->measured_text.find("qpos[ja]"), std::string::npos) << f->measured_text;
 }
 
 // The message of the ValueError LoadScenario throws for `text` in `name`.
@@ -670,11 +670,11 @@ TEST_F(AuditTest, AssertionsParse) {
 // Found by tests/hostile/hostile_models.py: a NaN the compiler let through was no finding.
 TEST_F(AuditTest, ANaNParameterIsAStructureFailureNamingItsPath) {
   AuditReport r = AuditXml(testing::kNonFiniteXml);
-  const Finding* f = Find(r, "structure.finite");
+  const CheckRow* f = Find(r, "structure.finite");
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kFail);
-  EXPECT_NE(f->element.find("dof_damping[hinge] = nan"), std::string::npos) << f->element;
-  EXPECT_NE(f->element.find("geom_rgba[rod][1] = inf"), std::string::npos) << f->element;
+  EXPECT_NE(f->About().find("dof_damping[hinge] = nan"), std::string::npos) << f->About();
+  EXPECT_NE(f->About().find("geom_rgba[rod][1] = inf"), std::string::npos) << f->About();
   EXPECT_GT(r.Count(CheckStatus::kFail), 0);
   AuditReport clean = Audit(Model::Load(testing::kPendulum), {});
   ASSERT_NE(Find(clean, "structure.finite"), nullptr);

@@ -39,13 +39,13 @@ TEST_P(VerifyModelsTest, NoCrashAndNoUnexplainedFailure) {
   TakeMujocoWarnings();
   ASSERT_GE(report.checks.size(), 5u);
   std::string file = fs::path(GetParam()).filename().string();
-  for (const CheckResult& c : report.checks) {
+  for (const CheckRow& c : report.checks) {
     std::string key = file + ":" + c.id;
     if (c.status == CheckStatus::kFail) {
-      EXPECT_TRUE(kKnownFailures.count(key)) << key << " failed: " << c.detail;
+      EXPECT_TRUE(kKnownFailures.count(key)) << key << " failed: " << c.explanation;
     } else if (kKnownFailures.count(key)) {
       // the list must not rot: a known failure that went away is removed from it
-      ADD_FAILURE() << key << " (" << kKnownFailures.at(key) << ") no longer fails: " << c.detail;
+      ADD_FAILURE() << key << " (" << kKnownFailures.at(key) << ") no longer fails: " << c.explanation;
     }
   }
 }

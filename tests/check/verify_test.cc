@@ -10,19 +10,19 @@
 namespace plumb {
 namespace {
 
-const CheckResult& Find(const VerifyReport& report, const std::string& id) {
-  for (const CheckResult& c : report.checks) {
+const CheckRow& Find(const VerifyReport& report, const std::string& id) {
+  for (const CheckRow& c : report.checks) {
     if (c.id == id) return c;
   }
-  static CheckResult missing;
+  static CheckRow missing;
   ADD_FAILURE() << "no check " << id;
   return missing;
 }
 
 std::string Failures(const VerifyReport& report) {
   std::string out;
-  for (const CheckResult& c : report.checks) {
-    if (c.status == CheckStatus::kFail) out += c.id + ": " + c.detail + "\n";
+  for (const CheckRow& c : report.checks) {
+    if (c.status == CheckStatus::kFail) out += c.id + ": " + c.explanation + "\n";
   }
   return out;
 }
@@ -45,7 +45,7 @@ TEST_F(VerifyTest, ChaptersPendulumPassesEveryCheck) {
        {"load", "determinism", "warnings", "convergence", "energy", "analytic.period",
         "analytic.damping", "experiment.A", "experiment.B", "experiment.C", "exercise.moon_gravity",
         "exercise.density", "exercise.radians"}) {
-    EXPECT_EQ(Find(report, id).status, CheckStatus::kPass) << id << ": " << Find(report, id).detail;
+    EXPECT_EQ(Find(report, id).status, CheckStatus::kPass) << id << ": " << Find(report, id).explanation;
   }
   // RK4 at dt = 1e-4 against the elliptic integral: far inside 1e-6
   EXPECT_LT(Find(report, "analytic.period").rel_error, 1e-9);
@@ -54,47 +54,47 @@ TEST_F(VerifyTest, ChaptersPendulumPassesEveryCheck) {
 
 TEST_F(VerifyTest, MoonGravityStretchesThePeriodBy2_461) {
   VerifyReport report = VerifyPendulum({"qpos[hinge]=0.7"});
-  const CheckResult& moon = Find(report, "exercise.moon_gravity");
-  EXPECT_NEAR(moon.measured_value, std::sqrt(9.81 / 1.62), 1e-6);
-  EXPECT_NEAR(moon.measured_value, 2.461, 1e-3);
+  const CheckRow& moon = Find(report, "exercise.moon_gravity");
+  EXPECT_NEAR(moon.measured.value, std::sqrt(9.81 / 1.62), 1e-6);
+  EXPECT_NEAR(moon.measured.value, 2.461, 1e-3);
 }
 
 TEST_F(VerifyTest, DensityCompilesToDensityTimesCapsuleVolume) {
   VerifyReport report = VerifyPendulum({"qpos[hinge]=0.7"});
-  const CheckResult& density = Find(report, "exercise.density");
+  const CheckRow& density = Find(report, "exercise.density");
   // capsule radius 0.05, cylinder length 1: V = pi r^2 L + 4/3 pi r^3
   double volume = M_PI * 0.05 * 0.05 * 1.0 + 4.0 / 3 * M_PI * std::pow(0.05, 3);
-  EXPECT_NEAR(density.measured_value, 1000 * volume, 1e-9);
+  EXPECT_NEAR(density.measured.value, 1000 * volume, 1e-9);
   EXPECT_EQ(density.status, CheckStatus::kPass);
 }
 
 TEST_F(VerifyTest, LargeTimestepIsFlaggedAsNotConverged) {
   VerifyReport report = VerifyPendulum({"qpos[hinge]=0.7", "opt.timestep=0.02"});
-  const CheckResult& convergence = Find(report, "convergence");
-  EXPECT_EQ(convergence.status, CheckStatus::kFail) << convergence.detail;
-  EXPECT_NE(convergence.detail.find("largest timestep that would pass"), std::string::npos);
+  const CheckRow& convergence = Find(report, "convergence");
+  EXPECT_EQ(convergence.status, CheckStatus::kFail) << convergence.explanation;
+  EXPECT_NE(convergence.explanation.find("largest timestep that would pass"), std::string::npos);
   EXPECT_TRUE(report.failed());
 }
 
 TEST_F(VerifyTest, AngleThatLooksLikeDegreesIsFlagged) {
   VerifyReport report = VerifyPendulum({"qpos[hinge]=30"});
-  const CheckResult& radians = Find(report, "exercise.radians");
+  const CheckRow& radians = Find(report, "exercise.radians");
   EXPECT_EQ(radians.status, CheckStatus::kWarn);
-  EXPECT_NE(radians.detail.find("4.77 turns"), std::string::npos) << radians.detail;
+  EXPECT_NE(radians.explanation.find("4.77 turns"), std::string::npos) << radians.explanation;
   EXPECT_FALSE(report.failed()) << Failures(report);
 }
 
 TEST_F(VerifyTest, NegativeDampingThatAddsEnergyFails) {
   VerifyReport report = VerifyPendulum({"qpos[hinge]=0.7", "dof_damping[hinge]=-0.05"});
-  EXPECT_EQ(Find(report, "energy").status, CheckStatus::kFail) << Find(report, "energy").detail;
+  EXPECT_EQ(Find(report, "energy").status, CheckStatus::kFail) << Find(report, "energy").explanation;
 }
 
 TEST_F(VerifyTest, UndampedRk4ConservesEnergy) {
   VerifyReport report =
       VerifyPendulum({"qpos[hinge]=0.7", "dof_damping[hinge]=0", "opt.integrator=RK4"});
-  const CheckResult& energy = Find(report, "energy");
-  EXPECT_EQ(energy.status, CheckStatus::kPass) << energy.detail;
-  EXPECT_LT(energy.measured_value, 1e-6);
+  const CheckRow& energy = Find(report, "energy");
+  EXPECT_EQ(energy.status, CheckStatus::kPass) << energy.explanation;
+  EXPECT_LT(energy.measured.value, 1e-6);
 }
 
 TEST_F(VerifyTest, AtRestPendulumSkipsWhatNeedsASwing) {
@@ -123,16 +123,16 @@ TEST_F(VerifyTest, EveryCheckIsOneRowInProtocolOrder) {
   for (const VerifyReport& report :
        {VerifyPendulum({"qpos[hinge]=0.7"}), Verify(Model::Load(testing::kHumanoid), {})}) {
     std::vector<std::string> ids;
-    for (const CheckResult& c : report.checks) {
+    for (const CheckRow& c : report.checks) {
       ids.push_back(c.id);
       EXPECT_FALSE(c.title.empty()) << c.id;
     }
     EXPECT_EQ(ids, order);
   }
   VerifyReport humanoid = Verify(Model::Load(testing::kHumanoid), {});
-  EXPECT_NE(Find(humanoid, "experiment.B").detail.find("not a single hinge pendulum"),
+  EXPECT_NE(Find(humanoid, "experiment.B").explanation.find("not a single hinge pendulum"),
             std::string::npos)
-      << Find(humanoid, "experiment.B").detail;
+      << Find(humanoid, "experiment.B").explanation;
 }
 
 TEST_F(VerifyTest, HumanoidHasNoFailure) {
@@ -152,7 +152,7 @@ TEST_F(VerifyTest, FreeBoxOnAPlaneGetsWhatApplies) {
   EXPECT_FALSE(report.failed()) << Failures(report);
   EXPECT_EQ(Find(report, "determinism").status, CheckStatus::kPass);
   EXPECT_EQ(Find(report, "energy").status, CheckStatus::kSkip);  // contacts
-  EXPECT_NE(Find(report, "energy").detail.find("contacts"), std::string::npos);
+  EXPECT_NE(Find(report, "energy").explanation.find("contacts"), std::string::npos);
 }
 
 // Regression: converge printed orders like -3.12 on contact-rich models with no word,
@@ -164,10 +164,10 @@ TEST_F(VerifyTest, ConvergenceGivesTheContactCaveat) {
     </worldbody></mujoco>)",
                                    "box.xml");
   VerifyReport report = Verify(box, {});
-  const CheckResult& convergence = Find(report, "convergence");
-  EXPECT_NE(convergence.detail.find("Caveat: contacts occur (up to"), std::string::npos)
-      << convergence.detail;
-  EXPECT_EQ(Find(VerifyPendulum({"qpos[hinge]=0.7"}), "convergence").detail.find("Caveat"),
+  const CheckRow& convergence = Find(report, "convergence");
+  EXPECT_NE(convergence.explanation.find("Caveat: contacts occur (up to"), std::string::npos)
+      << convergence.explanation;
+  EXPECT_EQ(Find(VerifyPendulum({"qpos[hinge]=0.7"}), "convergence").explanation.find("Caveat"),
             std::string::npos);
 }
 
@@ -190,8 +190,8 @@ TEST_F(VerifyTest, AnEngagedLimitIsNotAConservativeSystem) {
   options.sets = {ParseAssignment(model, "qpos[hinge]=0.25"),
                   ParseAssignment(model, "qvel[hinge]=2")};
   VerifyReport report = Verify(model, options);
-  EXPECT_EQ(Find(report, "energy").status, CheckStatus::kSkip) << Find(report, "energy").detail;
-  EXPECT_NE(Find(report, "energy").detail.find("limit"), std::string::npos);
+  EXPECT_EQ(Find(report, "energy").status, CheckStatus::kSkip) << Find(report, "energy").explanation;
+  EXPECT_NE(Find(report, "energy").explanation.find("limit"), std::string::npos);
   EXPECT_EQ(Find(report, "analytic.period").status, CheckStatus::kSkip);
   EXPECT_FALSE(report.failed()) << Failures(report);
 }
@@ -209,9 +209,9 @@ TEST_F(VerifyTest, CoupledJointsAreNotHeldToFallingPeaks) {
   options.sets = {ParseAssignment(model, "qpos[shoulder]=0.9")};
   options.until = 4;
   VerifyReport report = Verify(model, options);
-  const CheckResult& energy = Find(report, "energy");
-  EXPECT_EQ(energy.status, CheckStatus::kPass) << energy.detail;
-  EXPECT_NE(energy.detail.find("coupled"), std::string::npos) << energy.detail;
+  const CheckRow& energy = Find(report, "energy");
+  EXPECT_EQ(energy.status, CheckStatus::kPass) << energy.explanation;
+  EXPECT_NE(energy.explanation.find("coupled"), std::string::npos) << energy.explanation;
 }
 
 TEST_F(VerifyTest, ConvergenceIsJudgedOnTheSwingNotTheOffset) {
@@ -222,11 +222,11 @@ TEST_F(VerifyTest, ConvergenceIsJudgedOnTheSwingNotTheOffset) {
                ParseAssignment(pendulum_, "opt.timestep=0.02")};
   far.sets = {ParseAssignment(pendulum_, "qpos[hinge]=" + std::to_string(0.7 + 32 * M_PI)),
               ParseAssignment(pendulum_, "opt.timestep=0.02")};
-  const CheckResult a = Find(Verify(pendulum_, near), "convergence");
-  const CheckResult b = Find(Verify(pendulum_, far), "convergence");
-  EXPECT_EQ(a.status, b.status) << a.detail << "\n" << b.detail;
-  EXPECT_NE(a.status, CheckStatus::kPass) << a.detail;
-  EXPECT_NEAR(a.reference_value, b.reference_value, 1e-6 * a.reference_value);
+  const CheckRow a = Find(Verify(pendulum_, near), "convergence");
+  const CheckRow b = Find(Verify(pendulum_, far), "convergence");
+  EXPECT_EQ(a.status, b.status) << a.explanation << "\n" << b.explanation;
+  EXPECT_NE(a.status, CheckStatus::kPass) << a.explanation;
+  EXPECT_NEAR(a.reference.value, b.reference.value, 1e-6 * a.reference.value);
 }
 
 // Found by tests/hostile/hostile_models.py: the load check passed a model with a NaN.
@@ -234,9 +234,9 @@ TEST_F(VerifyTest, ANaNParameterFailsTheLoadCheck) {
   Model model = Model::FromXmlString(testing::kNonFiniteXml, "nan.xml");
   TakeMujocoWarnings();
   VerifyReport report = Verify(model, {});
-  const CheckResult& load = Find(report, "load");
+  const CheckRow& load = Find(report, "load");
   EXPECT_EQ(load.status, CheckStatus::kFail);
-  EXPECT_NE(load.detail.find("dof_damping[hinge] = nan"), std::string::npos) << load.detail;
+  EXPECT_NE(load.explanation.find("dof_damping[hinge] = nan"), std::string::npos) << load.explanation;
 }
 
 TEST_F(VerifyTest, StopsWhenItsCallerAsks) {

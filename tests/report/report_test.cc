@@ -78,10 +78,12 @@ TEST(ReportTest, VerifyKeepsWhatItsChecksMeasured) {
   EXPECT_NEAR(f.qdot[0][at], testing::kChapterDq[0], 5e-6);
   ASSERT_GE(f.convergence.levels.size(), 3u);
   EXPECT_NEAR(f.expected_order, 1, 1e-12);  // Euler
-  ASSERT_EQ(f.periods.size(), 3u);
-  for (const auto& p : f.periods) EXPECT_NEAR(p.period / p.exact, 1, 1e-6);
-  EXPECT_EQ(f.exact_curve.size(), 60u);
-  EXPECT_GT(f.exact_curve.back().exact, 1.5 * f.small_angle_period);  // 3 rad: much longer
+  ASSERT_TRUE(f.pendulum.has_value());
+  const PendulumFigures& pendulum = *f.pendulum;
+  ASSERT_EQ(pendulum.periods.size(), 3u);
+  for (const auto& p : pendulum.periods) EXPECT_NEAR(p.period / p.exact, 1, 1e-6);
+  EXPECT_EQ(pendulum.exact_curve.size(), 60u);
+  EXPECT_GT(pendulum.exact_curve.back().exact, 1.5 * pendulum.small_angle_period);  // 3 rad: much longer
 }
 
 TEST(ReportTest, AuditReportHasStepResponsesSettleAndThumbnails) {
@@ -103,8 +105,8 @@ TEST(ReportTest, AuditReportHasStepResponsesSettleAndThumbnails) {
   ASSERT_EQ(result.settle.size(), 2u);
   EXPECT_GT(result.settle[0].t.size(), 10u);
   bool names_hand = false;
-  for (const Finding& f : result.findings) {
-    names_hand = names_hand || (f.element_name == "hand" && f.status != CheckStatus::kPass);
+  for (const CheckRow& f : result.findings) {
+    names_hand = names_hand || (f.element.name == "hand" && f.status != CheckStatus::kPass);
   }
   ASSERT_TRUE(names_hand) << "the light hand should be flagged";
   testing::TempDir dir;

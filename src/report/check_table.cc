@@ -1,0 +1,172 @@
+// The check tables of verify and audit (include/plumb/check_table.h).
+
+#include "plumb/check_table.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "plumb/model.h"
+#include "plumb/strings.h"
+
+namespace plumb {
+namespace {
+
+constexpr std::size_t kWidth = 94;
+const char* const kIndent = "      ";
+
+// "actuator" -> "actuators", "body" -> "bodies".
+std::string Plural(const std::string& kind) {
+  if (kind.back() == 'y') return kind.substr(0, kind.size() - 1) + "ies";
+  return kind + (kind.back() == 's' ? "es" : "s");
+}
+
+// One row for the `members` (indices into `rows`, two or more) that make the same finding: the
+// first row's status and check, how many elements and their names, then the first row's
+// text as the example.
+std::string GroupText(const std::vector<CheckRow>& rows, const std::vector<std::string>& texts,
+                      const std::vector<std::size_t>& members) {
+  const CheckRow& first = rows[members.front()];
+  std::string label = ElementLabel(first.element);
+  std::vector<std::string> names;
+  for (std::size_t i : members) {
+    names.push_back(rows[i].element.name.empty() ? ElementLabel(rows[i].element)
+                                                  : rows[i].element.name);
+  }
+  // the first line without its element, then the count and the names
+  const std::string& own = texts[members.front()];
+  std::size_t end = own.find('\n');
+  std::string head = own.substr(0, end), body = own.substr(end + 1);
+  if (head.size() >= label.size() &&
+      head.compare(head.size() - label.size(), std::string::npos, label) == 0) {
+    head.erase(head.size() - label.size());
+  } else {
+    head += " ";
+  }
+  std::string text =
+      fmt::format("{}{} {} alike:\n", head, members.size(), Plural(first.element.kind)) +
+      Wrap(Join(names, ", "), kWidth, kIndent);
+  // the example: the first row's text, named
+  std::size_t start = body.find_first_not_of(' ');
+  if (start == std::string::npos) return text + kIndent + "e.g. " + label + "\n";
+  return text + kIndent + "e.g. " + label + ": " + body.substr(start);
+}
+
+}  // namespace
+
+std::string Wrap(const std::string& text, std::size_t width, const std::string& indent) {
+  std::string out, line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(start, end - start);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += indent + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    start = end + 1;
+  }
+  if (!line.empty()) out += indent + line + "\n";
+  return out;
+}
+
+std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
+                       const std::vector<std::string>& texts, TableDetail detail) {
+  std::map<CheckStatus, long> count;
+  // the SKIPs of each reason: their ids and the row that shows them
+  std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> skipped;
+  // the FAIL and WARN rows of each finding made about several elements
+  using Finding = std::tuple<std::string, std::string, CheckStatus, std::string, std::string>;
+  std::map<Finding, std::vector<std::size_t>> alike;
+  std::vector<Finding> finding_of(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CheckRow& row = rows[i];
+    ++count[row.status];
+    if ((row.status == CheckStatus::kFail || row.status == CheckStatus::kWarn) &&
+        !row.element.empty()) {
+      finding_of[i] = {row.section, row.id, row.status, row.finding, row.element.kind};
+      alike[finding_of[i]].push_back(i);
+    }
+    if (row.status != CheckStatus::kSkip) continue;
+    auto it = skipped.try_emplace(row.explanation, i, std::vector<std::string>()).first;
+    it->second.second.push_back(row.id);
+  }
+  std::string counts =
+      fmt::format("{} passed, {} warned, {} failed, {} skipped", count[CheckStatus::kPass],
+                  count[CheckStatus::kWarn], count[CheckStatus::kFail], count[CheckStatus::kSkip]);
+  if (detail == TableDetail::kQuiet) return counts + "\n";
+
+  std::string out = title + "\n";
+  std::string section = "\n";  // no section yet; a blank line after the title
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CheckRow& row = rows[i];
+    // by default PASS rows are counted, and SKIPs sharing a reason show as one row
+    std::string text = texts[i];
+    if (detail == TableDetail::kFindings) {
+      if (row.status == CheckStatus::kPass) continue;
+      if (row.status == CheckStatus::kSkip) {
+        const auto& [shown_at, ids] = skipped[row.explanation];
+        if (ids.size() > 1 && shown_at != i) continue;  // shown with the first
+        if (ids.size() > 1) {
+          text = fmt::format("SKIP  {} checks skipped: {}\n", ids.size(), row.explanation) +
+                 Wrap(Join(ids, ", "), kWidth, kIndent);
+        }
+      }
+      auto group = alike.find(finding_of[i]);
+      if (group != alike.end() && group->second.size() > 1) {
+        if (group->second.front() != i) continue;  // shown with the first
+        text = GroupText(rows, texts, group->second);
+      }
+    }
+    if (row.section != section) {
+      section = row.section;
+      out += section.empty() ? "\n" : "\n== " + section + "\n";
+    }
+    out += text;
+  }
+  out += "\n" + counts;
+  if (detail == TableDetail::kFindings && count[CheckStatus::kPass] > 0) {
+    out += " (passed checks not listed: --all shows every check)";
+  }
+  return out + "\n";
+}
+
+std::string VerifyTable(const VerifyReport& report, TableDetail detail) {
+  std::vector<std::string> texts;
+  for (const CheckRow& c : report.checks) {
+    std::string text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
+    if (c.status != CheckStatus::kSkip) {
+      std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
+      if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
+      if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
+      text += Wrap(numbers, kWidth, kIndent);
+    }
+    texts.push_back(text + Wrap(c.explanation, kWidth, kIndent));
+  }
+  return CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
+                                MujocoVersion(), report.tol),
+                    report.checks, texts, detail);
+}
+
+std::string AuditTable(const AuditReport& report, TableDetail detail) {
+  std::vector<std::string> texts;
+  for (const CheckRow& f : report.findings) {
+    std::string about = f.About();
+    std::string text = fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.id,
+                                   about.empty() ? "(model)" : about);
+    std::string numbers = kIndent + f.measured_text;
+    if (!f.reference_text.empty()) numbers += "   threshold " + f.reference_text;
+    text += numbers + "\n";
+    if (!f.fix.empty()) text += kIndent + ("fix: " + f.fix) + "\n";
+    if (f.status == CheckStatus::kSkip) text += Wrap(f.explanation, kWidth, kIndent);
+    texts.push_back(text);
+  }
+  return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()),
+                    report.findings, texts, detail);
+}
+
+}  // namespace plumb
