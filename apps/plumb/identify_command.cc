@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "cli_common.h"
 #include "log_options.h"
@@ -13,6 +12,8 @@
 #include "plumb/identify.h"
 #include "plumb/model_edit.h"
 #include "plumb/report.h"
+#include "plumb/result_json.h"
+#include "plumb/result_table.h"
 
 namespace plumb::cli {
 namespace {
@@ -29,134 +30,6 @@ struct IdentifyCommandOptions {
   std::string format = "table";
   std::string report;  // --report FILE.html
 };
-
-std::string Changes(const IdentifyResult& r) {
-  std::string out;
-  for (const Estimate& e : r.estimates) {
-    if (e.value == e.nominal) continue;
-    out += fmt::format("  {}: {:.6g} -> {:.6g}", e.path, e.nominal, e.value);
-    if (e.nominal != 0) out += fmt::format(" ({:+.1f} %)", 100 * (e.value / e.nominal - 1));
-    out += "\n";
-  }
-  return out.empty() ? "  (nothing)\n" : out;
-}
-
-std::string Table(const IdentifyResult& r, const std::vector<RobotLog>& logs,
-                  const IdentifyCommandOptions& o, const HeldOutLog* v) {
-  long samples = 0;
-  for (const RobotLog& log : logs) {
-    for (const LogSignal& s : log.measured) samples += static_cast<long>(s.value.size());
-  }
-  std::string out = fmt::format("identify on {} from {} log(s), {} measured samples\n\n", o.model,
-                                logs.size(), samples);
-  std::size_t width = 10;
-  for (const Estimate& e : r.estimates) width = std::max(width, e.path.size());
-  out += fmt::format("{:<{}} {:>12} {:>12} {:>11} {:>25}\n", "parameter", width, "nominal",
-                     "estimate", "std error", "95 % interval");
-  for (const Estimate& e : r.estimates) {
-    std::string interval = std::isfinite(e.std_error)
-                               ? fmt::format("[{:.5g}, {:.5g}]", e.value - 1.96 * e.std_error,
-                                             e.value + 1.96 * e.std_error)
-                               : std::string("-");
-    out += fmt::format("{:<{}} {:>12.6g} {:>12.6g} {:>11.3g} {:>25}{}\n", e.path, width, e.nominal,
-                       e.value, e.std_error, interval, e.at_bound ? "  (on its bound)" : "");
-  }
-  if (o.identify.delay != DelayKind::kNone) {
-    out += fmt::format(
-        "{:<{}} {:>12} {:>12.6g} {:>11} {:>25}\n",
-        o.identify.delay == DelayKind::kInput ? "input delay [s]" : "sensor delay [s]", width, "0",
-        r.delay, "-",
-        fmt::format("(resolution {:g} s)", r.delay_scan.size() > 1 ? r.delay_scan[1].first : 0.0));
-  }
-  if (r.estimates.size() > 1) {
-    out += "\ncorrelation\n";
-    for (std::size_t i = 0; i < r.estimates.size(); ++i) {
-      out += fmt::format("  {:<{}}", r.estimates[i].path, width);
-      for (std::size_t j = 0; j <= i; ++j) out += fmt::format(" {:>7.3f}", r.correlation[i][j]);
-      out += "\n";
-    }
-  }
-  out += fmt::format(
-      "\nsolver: {}\nresidual variance {:.3g} (about 1 when the model explains all but the "
-      "noise)\n",
-      DescribeSolves(r), r.residual_variance);
-  out += "\nnoise per signal (rms of the residuals):\n";
-  for (std::size_t l = 0; l < logs.size(); ++l) {
-    for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {
-      out += fmt::format("  {}  {}: {:.4g}\n", logs[l].source, logs[l].measured[i].column,
-                         r.noise[l][i]);
-    }
-  }
-  out += "\nfit per log (%): nominal -> fitted\n";
-  for (std::size_t l = 0; l < logs.size(); ++l) {
-    out += fmt::format("  {}: {:.2f} -> {:.2f}\n", logs[l].source, r.before[l].fit, r.after[l].fit);
-  }
-  if (v != nullptr) {
-    out +=
-        fmt::format("validation on {} (not used for the fit): nominal {:.2f} %, fitted {:.2f} %\n",
-                    o.validate, v->nominal.fit, v->fitted.fit);
-  }
-  out += "\nchanged:\n" + Changes(r);
-  for (const std::string& w : r.warnings) out += "warning: " + w + "\n";
-  return out;
-}
-
-std::string Json(const IdentifyResult& r, const std::vector<RobotLog>& logs,
-                 const IdentifyCommandOptions& o, const HeldOutLog* v) {
-  nlohmann::ordered_json j;
-  j["model"] = o.model;
-  nlohmann::ordered_json estimates = nlohmann::ordered_json::array();
-  for (const Estimate& e : r.estimates) {
-    estimates.push_back({{"path", e.path},
-                         {"nominal", e.nominal},
-                         {"value", e.value},
-                         {"std_error", JsonNumber(e.std_error)},
-                         {"lo", JsonNumber(e.lo)},
-                         {"hi", JsonNumber(e.hi)},
-                         {"at_bound", e.at_bound},
-                         {"sensitivity", JsonNumber(e.sensitivity)}});
-  }
-  j["estimates"] = estimates;
-  nlohmann::ordered_json correlation = nlohmann::ordered_json::array();
-  for (const std::vector<double>& row : r.correlation) {
-    nlohmann::ordered_json cells = nlohmann::ordered_json::array();
-    for (double c : row) cells.push_back(JsonNumber(c));
-    correlation.push_back(cells);
-  }
-  j["correlation"] = correlation;
-  j["singular_values"] = r.singular_values;
-  if (o.identify.delay != DelayKind::kNone) {
-    j["delay"] = {{"kind", o.delay}, {"value", r.delay}};
-  }
-  j["first_solve"] = {{"iterations", r.first_pass_iterations}, {"cost", r.first_pass_cost}};
-  j["iterations"] = r.iterations;  // of the noise-weighted solve
-  j["solved_again"] = r.solved_again;
-  j["weight_change"] = r.weight_change;
-  j["converged"] = r.converged;
-  j["termination"] = r.termination;
-  j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
-  j["cost"] = r.cost;
-  j["residual_variance"] = JsonNumber(r.residual_variance);
-  nlohmann::ordered_json per_log = nlohmann::ordered_json::array();
-  for (std::size_t l = 0; l < logs.size(); ++l) {
-    nlohmann::ordered_json noise;
-    for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {
-      noise[logs[l].measured[i].column] = JsonNumber(r.noise[l][i]);
-    }
-    per_log.push_back({{"log", logs[l].source},
-                       {"fit_nominal", JsonNumber(r.before[l].fit)},
-                       {"fit_fitted", JsonNumber(r.after[l].fit)},
-                       {"noise", noise}});
-  }
-  j["logs"] = per_log;
-  if (v != nullptr) {
-    j["validation"] = {{"log", o.validate},
-                       {"fit_nominal", JsonNumber(v->nominal.fit)},
-                       {"fit_fitted", JsonNumber(v->fitted.fit)}};
-  }
-  j["warnings"] = r.warnings;
-  return j.dump(2) + "\n";
-}
 
 int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   Model model = LoadModel(o.model);
@@ -206,7 +79,8 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   const HeldOutLog* shown = validation.empty() ? nullptr : &v;
-  WriteStdout(o.format == "json" ? Json(r, logs, o, shown) : Table(r, logs, o, shown));
+  WriteStdout(o.format == "json" ? IdentifyToJson(o.model, r, logs, o.identify.delay, shown)
+                                 : IdentifyTable(o.model, r, logs, o.identify.delay, shown));
   for (const ReplayResult& after : r.after) {
     if (after.simulated.diverged) return kExitDiverged;
   }

@@ -44,16 +44,4 @@ void ApplyParameterSets(Model& model, const std::vector<std::string>& sets) {
   if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
 }
 
-std::string FitTable(const std::vector<SignalFit>& fits) {
-  std::size_t width = 16;
-  for (const SignalFit& f : fits) width = std::max(width, f.column.size());
-  std::string out = fmt::format("{:<{}} {:>8} {:>12} {:>12} {:>10} {:>8}\n", "signal", width,
-                                "samples", "rms error", "max error", "at t [s]", "fit %");
-  for (const SignalFit& f : fits) {
-    out += fmt::format("{:<{}} {:>8} {:>12.4g} {:>12.4g} {:>10.4f} {:>8.2f}\n", f.column, width,
-                       f.samples, f.rms, f.max_abs, f.worst_time, f.fit);
-  }
-  return out;
-}
-
 }  // namespace plumb::cli

@@ -22,9 +22,6 @@ std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string
 // when an array changed). @throws ValueError for a state or input path.
 void ApplyParameterSets(Model& model, const std::vector<std::string>& sets);
 
-// The per-signal comparison as the table a person reads.
-std::string FitTable(const std::vector<SignalFit>& fits);
-
 }  // namespace plumb::cli
 
 #endif  // PLUMB_APPS_PLUMB_LOG_OPTIONS_H_

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_common.h"
@@ -14,6 +13,8 @@
 #include "plumb/error.h"
 #include "plumb/file_kind.h"
 #include "plumb/regression.h"
+#include "plumb/result_json.h"
+#include "plumb/result_table.h"
 
 namespace plumb::cli {
 namespace {
@@ -102,75 +103,7 @@ int RunDiff(const DiffOptions& o) {
                      ". The file is not a snapshot or was damaged: write a fresh one with "
                      "plumb snapshot MODEL -o FILE (or restore it from version control).");
   }
-  std::string out;
-  if (o.format == "json") {
-    using nlohmann::ordered_json;
-    ordered_json j;
-    j["snapshot"] = o.snapshot;
-    j["model"] = o.model;
-    j["identical"] = !diff.changed();
-    j["tol"] = o.tol;
-    j["snapshot_plumb_version"] = diff.snapshot_plumb_version;
-    j["snapshot_mujoco_version"] = diff.snapshot_mujoco_version;
-    j["mujoco_version"] = MujocoVersion();
-    j["snapshot_sets"] = diff.sets;
-    j["sets"] = o.sets;
-    j["diverged"] = diff.diverged;
-    j["notes"] = diff.notes;
-    ordered_json changes = ordered_json::array();
-    for (const SnapshotChange& c : diff.changes) {
-      ordered_json one = {{"path", c.path},
-                          {"old", ordered_json::parse(c.old_value)},
-                          {"new", ordered_json::parse(c.new_value)},
-                          {"kind", c.kind}};
-      if (c.step > 0) one["step"] = c.step;
-      one["what"] = c.what;
-      changes.push_back(one);
-    }
-    j["changes"] = changes;
-    ordered_json compiler = ordered_json::array();
-    for (const SnapshotChange& c : diff.compiler) {
-      compiler.push_back({{"path", c.path},
-                          {"old", ordered_json::parse(c.old_value)},
-                          {"new", ordered_json::parse(c.new_value)},
-                          {"kind", c.kind},
-                          {"what", c.what}});
-    }
-    j["compiler_changes"] = compiler;
-    out = j.dump(2) + "\n";
-  } else {
-    for (const std::string& n : diff.notes) out += "note: " + n + "\n";
-    if (!diff.compiler.empty()) {
-      out += fmt::format(
-          "note: {} value(s) that MuJoCo's compiler derives from mesh files (fitted geom size, "
-          "frame, bounds) came out differently under {} than under {}; the model did not "
-          "change them (plumb diff --format json lists them):\n",
-          diff.compiler.size(), MujocoVersion(), diff.snapshot_mujoco_version);
-      for (std::size_t i = 0; i < diff.compiler.size() && i < 3; ++i) {
-        out += "  " + diff.compiler[i].what + "\n";
-      }
-      if (diff.compiler.size() > 3)
-        out += fmt::format("  ... and {} more\n", diff.compiler.size() - 3);
-    }
-    for (const SnapshotChange& c : diff.changes) out += c.what + "\n";
-    out += diff.changed()
-               ? fmt::format("{} change(s) beyond tol {:g}\n", diff.changes.size(), o.tol)
-               : fmt::format("identical to {} within tol {:g}\n", o.snapshot, o.tol);
-    if (diff.snapshot_mujoco_version != MujocoVersion()) {
-      // the question of an upgrade, answered in one line
-      bool trajectory = std::any_of(diff.changes.begin(), diff.changes.end(),
-                                    [](const SnapshotChange& c) { return c.kind == "trajectory"; });
-      out += diff.changed()
-                 ? fmt::format("upgrade {} -> {}: behaviour changed ({}); see the changes above\n",
-                               diff.snapshot_mujoco_version, MujocoVersion(),
-                               trajectory ? "the golden trajectory departs"
-                                          : "structure or parameters differ")
-                 : fmt::format(
-                       "upgrade {} -> {}: same structure and parameters, trajectory "
-                       "within cross-version round-off (tol {:g})\n",
-                       diff.snapshot_mujoco_version, MujocoVersion(), o.tol);
-    }
-  }
+  std::string out = o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot);
   std::fwrite(out.data(), 1, out.size(), stdout);
   if (diff.diverged) return kExitDiverged;
   return diff.changed() ? kExitCheckFailed : kExitOk;

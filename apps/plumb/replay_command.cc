@@ -5,13 +5,14 @@
 
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "cli_common.h"
 #include "log_options.h"
 #include "plumb/error.h"
 #include "plumb/replay.h"
 #include "plumb/report.h"
+#include "plumb/result_json.h"
+#include "plumb/result_table.h"
 
 namespace plumb::cli {
 namespace {
@@ -25,54 +26,6 @@ struct ReplayCommandOptions {
   std::string format = "table";
   std::string report;  // --report FILE.html
 };
-
-std::string Json(const ReplayResult& r, const RobotLog& log, const ReplayCommandOptions& o) {
-  nlohmann::ordered_json j;
-  j["model"] = o.model;
-  j["log"] = log.source;
-  j["window"] = o.replay.window;
-  j["input_delay"] = o.replay.input_delay;
-  j["sensor_delay"] = o.replay.sensor_delay;
-  nlohmann::ordered_json signals = nlohmann::ordered_json::array();
-  for (const SignalFit& f : r.signals) {
-    signals.push_back({{"column", f.column},
-                       {"path", f.path},
-                       {"samples", f.samples},
-                       {"rms", JsonNumber(f.rms)},
-                       {"max_abs", JsonNumber(f.max_abs)},
-                       {"worst_time", f.worst_time},
-                       {"fit", JsonNumber(f.fit)}});
-  }
-  j["signals"] = signals;
-  j["fit"] = JsonNumber(r.fit);
-  j["diverged"] = r.simulated.diverged;
-  j["problem"] = r.simulated.problem;
-  j["notes"] = r.notes;
-  return j.dump(2) + "\n";
-}
-
-std::string Table(const ReplayResult& r, const RobotLog& log, const ReplayCommandOptions& o) {
-  std::string inputs;
-  for (const LogSignal& s : log.inputs) inputs += (inputs.empty() ? "" : ", ") + s.column;
-  std::string out =
-      fmt::format("replay of {} on {}: {:g} s from t = {:g} s; inputs: {}\n", log.source, o.model,
-                  log.end - log.start, log.start, inputs.empty() ? "none" : inputs);
-  if (o.replay.window > 0) {
-    out += fmt::format("restarted from the logged state every {:g} s\n", o.replay.window);
-  }
-  if (o.replay.input_delay != 0 || o.replay.sensor_delay != 0) {
-    out += fmt::format("input delay {:g} s, sensor delay {:g} s\n", o.replay.input_delay,
-                       o.replay.sensor_delay);
-  }
-  out += "\n" + FitTable(r.signals) + "\n";
-  out += fmt::format(
-      "overall fit {:.2f} % (mean of the signals; 100: the log exactly, 0: no "
-      "better than each signal's mean)\n",
-      r.fit);
-  for (const std::string& note : r.notes) out += "note: " + note + "\n";
-  if (r.simulated.diverged) out += r.simulated.problem + "\n";
-  return out;
-}
 
 int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
@@ -91,7 +44,8 @@ int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
     WriteReplayReport(o.report, model, log, r, replay, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  WriteStdout(o.format == "json" ? Json(r, log, o) : Table(r, log, o));
+  WriteStdout(o.format == "json" ? ReplayToJson(o.model, log, o.replay, r)
+                                 : ReplayTable(o.model, log, o.replay, r));
   return r.simulated.diverged ? kExitDiverged : kExitOk;
 }
 

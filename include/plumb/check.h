@@ -61,7 +61,7 @@ struct CheckRow {
   CheckElement element;
   std::string subject;  // what the row is about when it is not one element ("" for the model)
   Quantity measured;
-  Quantity reference;    // the reference value, or the threshold, it is held against
+  Quantity reference;      // the reference value, or the threshold, it is held against
   bool threshold = false;  // the reference is a bound to respect, not a value to match
   double rel_error = NAN;  // |measured - reference| / |reference| where that applies
   // The measurement and the reference as a reader sees them: the numbers with the check's

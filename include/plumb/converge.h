@@ -52,7 +52,10 @@ struct ConvergenceLevel {
 };
 
 struct ConvergenceResult {
+  std::string model;  // the model's file
   std::string metric;
+  double until = 0;                      // s, the run length of every level
+  double expected_order = 0;             // the integrator's order (ExpectedOrder), after `sets`
   std::vector<ConvergenceLevel> levels;  // coarsest first
   OrderEstimate estimate;
   double scale = 1;   // the metric's magnitude, errors are compared with tol * scale
@@ -73,8 +76,8 @@ struct ConvergenceResult {
 // @throws ValueError for halvings < 2 or a dt that does not divide the run; ValueError /
 // PathError when the model refuses `sets`; Interrupted when `stop` asks; MujocoError.
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
-                           const Metric& metric, double dt0, int halvings, double tol,
-                           double until, const StopToken& stop = {});
+                           const Metric& metric, double dt0, int halvings, double tol, double until,
+                           const StopToken& stop = {});
 
 // The caveat every convergence report (converge's table and JSON, verify's convergence
 // check) gives when contacts occur: contacts make trajectories non-smooth in time, so

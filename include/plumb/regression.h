@@ -58,6 +58,9 @@ struct SnapshotChange {
 };
 
 struct SnapshotDiff {
+  std::string model;                    // the current model's file
+  std::vector<std::string> model_sets;  // the caller's `sets` (their text), applied last
+  double tol = 0;
   std::vector<SnapshotChange> changes;  // only changes beyond tolerance are listed
   // Under another MuJoCo release than the snapshot's: values its compiler derives from mesh
   // files (kind "compiler": a mesh geom's fitted size, pos, quat, aabb, rbound, and the

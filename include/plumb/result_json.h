@@ -18,8 +18,15 @@
 #define PLUMB_INCLUDE_PLUMB_RESULT_JSON_H_
 
 #include <string>
+#include <vector>
 
 #include "plumb/audit.h"
+#include "plumb/converge.h"
+#include "plumb/identify.h"
+#include "plumb/regression.h"
+#include "plumb/replay.h"
+#include "plumb/report.h"
+#include "plumb/robot_log.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -29,6 +36,29 @@ std::string VerifyToJson(const VerifyReport& report);
 
 // {"model", "mujoco_version", "layers": {layer: [row...]}, "repro_folders", "summary"}
 std::string AuditToJson(const AuditReport& report);
+
+// {"metric", "model", "integrator_expected_order", "levels": [{dt, value, diff, order, error,
+//  error_is_richardson, roundoff}], "observed_order", "order_resolved", "extrapolated", "scale",
+//  "tol", "recommended_dt", "contacts", "caveat", "note"}
+std::string ConvergeToJson(const ConvergenceResult& result);
+
+// {"snapshot" (the path given), "model", "identical", "tol", the versions, "snapshot_sets",
+//  "sets", "diverged", "notes", "changes": [{path, old, new, kind, step?, what}],
+//  "compiler_changes"}
+std::string DiffToJson(const SnapshotDiff& diff, const std::string& snapshot);
+
+// {"model", "log", "window", "input_delay", "sensor_delay", "signals": [{column, path, samples,
+//  rms, max_abs, worst_time, fit}], "fit", "diverged", "problem", "notes"}
+std::string ReplayToJson(const std::string& model, const RobotLog& log,
+                         const ReplayOptions& options, const ReplayResult& result);
+
+// {"model", "estimates", "correlation", "singular_values", "delay"?, "first_solve",
+//  "iterations", ..., "logs": [{log, fit_nominal, fit_fitted, noise}], "validation"?,
+//  "warnings"}. `delay` is the kind of delay that was estimated; `validation` the held-out log's
+// replays (nullptr: none).
+std::string IdentifyToJson(const std::string& model, const IdentifyResult& result,
+                           const std::vector<RobotLog>& logs, DelayKind delay,
+                           const HeldOutLog* validation);
 
 }  // namespace plumb
 

@@ -17,6 +17,10 @@ namespace plumb {
 // Joins `parts` with `separator` between them.
 std::string Join(const std::vector<std::string>& parts, std::string_view separator);
 
+// The plural of an English noun as plumb's messages name elements: "body" -> "bodies",
+// "actuator" -> "actuators", "contact exclude" -> "contact excludes", "class" -> "classes".
+std::string Plural(std::string_view noun);
+
 // Parses the whole of `text` (surrounding blanks allowed) as a finite or non-finite
 // double; nullopt when anything else is left over or nothing is a number.
 std::optional<double> ParseNumber(std::string_view text);

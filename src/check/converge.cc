@@ -176,13 +176,21 @@ void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* 
 }  // namespace
 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
-                           const Metric& metric, double dt0, int halvings, double tol,
-                           double until, const StopToken& stop) {
+                           const Metric& metric, double dt0, int halvings, double tol, double until,
+                           const StopToken& stop) {
   if (halvings < 2) throw ValueError("--halvings must be at least 2 to estimate an order");
   if (!(dt0 > 0)) throw ValueError("--dt must be a positive number of seconds");
   ConvergenceResult out;
+  out.model = model.file();
   out.metric = metric.text;
+  out.until = until;
   out.tol = tol;
+  {
+    Model nominal = model.Clone();  // `sets` may choose the integrator
+    Data data(nominal);
+    ApplyAssignments(nominal, data, sets);
+    out.expected_order = ExpectedOrder(nominal->opt.integrator);
+  }
   std::vector<Measurement> measured;
   for (int k = 0; k <= halvings; ++k) {
     double dt = dt0 / std::pow(2.0, k);

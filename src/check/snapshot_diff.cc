@@ -472,6 +472,9 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
     throw ValueError("not a plumb snapshot (no plumb_snapshot entry)");
   }
   SnapshotDiff diff;
+  diff.model = model.file();
+  diff.tol = tol;
+  for (const Assignment& a : sets) diff.model_sets.push_back(a.text);
   // the snapshot's own --set values first, then the caller's (which win)
   std::vector<std::pair<std::string, std::string>> refused;  // text, reason
   std::vector<Assignment> all = SnapshotSets(model, parsed, &diff, &refused);

@@ -383,7 +383,8 @@ std::pair<long, long> SelectRows(const Model& model, std::string_view text, cons
                               ? std::string(" This model has no named ") + kind->noun + "."
                               : " " + DidYouMean(row, names);
     throw PathError("path '" + std::string(text) + "': no " + kind->noun + " named '" + row +
-                    "' (the rows of '" + field.name + "' are " + kind->noun + "s)." + listing);
+                    "' (the rows of '" + field.name + "' are " + Plural(kind->noun) + ")." +
+                    listing);
   }
   auto [first, count] = RowsOf(m, *kind, id);
   if (count == 0) {

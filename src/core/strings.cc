@@ -8,6 +8,19 @@
 
 namespace plumb {
 
+std::string Plural(std::string_view noun) {
+  std::string out(noun);
+  if (out.empty()) return out;
+  auto ends = [&out](std::string_view tail) {
+    return out.size() >= tail.size() &&
+           out.compare(out.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  bool vowel_y = ends("ay") || ends("ey") || ends("oy") || ends("uy");
+  if (ends("y") && !vowel_y) return out.substr(0, out.size() - 1) + "ies";
+  if (ends("s") || ends("x") || ends("ch") || ends("sh")) return out + "es";
+  return out + "s";
+}
+
 std::string Join(const std::vector<std::string>& parts, std::string_view separator) {
   std::string out;
   for (std::size_t i = 0; i < parts.size(); ++i) {

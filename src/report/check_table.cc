@@ -17,12 +17,6 @@ namespace {
 constexpr std::size_t kWidth = 94;
 const char* const kIndent = "      ";
 
-// "actuator" -> "actuators", "body" -> "bodies".
-std::string Plural(const std::string& kind) {
-  if (kind.back() == 'y') return kind.substr(0, kind.size() - 1) + "ies";
-  return kind + (kind.back() == 's' ? "es" : "s");
-}
-
 // One row for the `members` (indices into `rows`, two or more) that make the same finding: the
 // first row's status and check, how many elements and their names, then the first row's
 // text as the example.
@@ -33,7 +27,7 @@ std::string GroupText(const std::vector<CheckRow>& rows, const std::vector<std::
   std::vector<std::string> names;
   for (std::size_t i : members) {
     names.push_back(rows[i].element.name.empty() ? ElementLabel(rows[i].element)
-                                                  : rows[i].element.name);
+                                                 : rows[i].element.name);
   }
   // the first line without its element, then the count and the names
   const std::string& own = texts[members.front()];
@@ -161,8 +155,9 @@ std::string AuditTable(const AuditReport& report, TableDetail detail) {
     std::string numbers = kIndent + f.measured_text;
     if (!f.reference_text.empty()) numbers += "   threshold " + f.reference_text;
     text += numbers + "\n";
-    if (!f.fix.empty()) text += kIndent + ("fix: " + f.fix) + "\n";
-    if (f.status == CheckStatus::kSkip) text += Wrap(f.explanation, kWidth, kIndent);
+    // a SKIP's reason shows where a finding's fix does
+    const std::string& fix = f.status == CheckStatus::kSkip ? f.explanation : f.fix;
+    if (!fix.empty()) text += kIndent + ("fix: " + fix) + "\n";
     texts.push_back(text);
   }
   return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()),

@@ -2,6 +2,7 @@
 
 #include "plumb/result_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -72,6 +73,160 @@ std::string AuditToJson(const AuditReport& report) {
   j["layers"] = layers;
   j["repro_folders"] = report.repro_folders;
   j["summary"] = Summary(report.findings);
+  return j.dump(2) + "\n";
+}
+
+std::string ConvergeToJson(const ConvergenceResult& r) {
+  Json j;
+  j["metric"] = r.metric;
+  j["model"] = r.model;
+  j["integrator_expected_order"] = r.expected_order;
+  Json levels = Json::array();
+  for (const ConvergenceLevel& l : r.levels) {
+    levels.push_back({{"dt", l.dt},
+                      {"value", Number(l.value)},
+                      {"diff", Number(l.diff)},
+                      {"order", Number(l.order)},
+                      {"error", Number(l.error)},
+                      {"error_is_richardson", l.error_is_richardson},
+                      {"roundoff", l.roundoff}});
+  }
+  j["levels"] = levels;
+  j["observed_order"] = r.estimate.resolved ? Number(r.estimate.order) : nullptr;
+  j["order_resolved"] = r.estimate.resolved;
+  j["extrapolated"] = Number(r.estimate.extrapolated);  // an estimate, not a measured level
+  j["scale"] = r.scale;
+  j["tol"] = r.tol;
+  j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
+  j["contacts"] = r.max_contacts;
+  j["caveat"] = r.caveat.empty() ? Json(nullptr) : Json(r.caveat);
+  j["note"] = r.ok ? r.estimate.note : r.problem;
+  return j.dump(2) + "\n";
+}
+
+std::string DiffToJson(const SnapshotDiff& diff, const std::string& snapshot) {
+  Json j;
+  j["snapshot"] = snapshot;
+  j["model"] = diff.model;
+  j["identical"] = !diff.changed();
+  j["tol"] = diff.tol;
+  j["snapshot_plumb_version"] = diff.snapshot_plumb_version;
+  j["snapshot_mujoco_version"] = diff.snapshot_mujoco_version;
+  j["mujoco_version"] = MujocoVersion();
+  j["snapshot_sets"] = diff.sets;
+  j["sets"] = diff.model_sets;
+  j["diverged"] = diff.diverged;
+  j["notes"] = diff.notes;
+  Json changes = Json::array();
+  for (const SnapshotChange& c : diff.changes) {
+    Json one = {{"path", c.path},
+                {"old", Json::parse(c.old_value)},
+                {"new", Json::parse(c.new_value)},
+                {"kind", c.kind}};
+    if (c.step > 0) one["step"] = c.step;
+    one["what"] = c.what;
+    changes.push_back(one);
+  }
+  j["changes"] = changes;
+  Json compiler = Json::array();
+  for (const SnapshotChange& c : diff.compiler) {
+    compiler.push_back({{"path", c.path},
+                        {"old", Json::parse(c.old_value)},
+                        {"new", Json::parse(c.new_value)},
+                        {"kind", c.kind},
+                        {"what", c.what}});
+  }
+  j["compiler_changes"] = compiler;
+  return j.dump(2) + "\n";
+}
+
+std::string ReplayToJson(const std::string& model, const RobotLog& log,
+                         const ReplayOptions& options, const ReplayResult& r) {
+  Json j;
+  j["model"] = model;
+  j["log"] = log.source;
+  j["window"] = options.window;
+  j["input_delay"] = options.input_delay;
+  j["sensor_delay"] = options.sensor_delay;
+  Json signals = Json::array();
+  for (const SignalFit& f : r.signals) {
+    signals.push_back({{"column", f.column},
+                       {"path", f.path},
+                       {"samples", f.samples},
+                       {"rms", Number(f.rms)},
+                       {"max_abs", Number(f.max_abs)},
+                       {"worst_time", f.worst_time},
+                       {"fit", Number(f.fit)}});
+  }
+  j["signals"] = signals;
+  j["fit"] = Number(r.fit);
+  j["diverged"] = r.simulated.diverged;
+  j["problem"] = r.simulated.problem;
+  j["notes"] = r.notes;
+  return j.dump(2) + "\n";
+}
+
+namespace {
+
+Json NumberArray(const std::vector<double>& values) {
+  Json out = Json::array();
+  for (double v : values) out.push_back(Number(v));
+  return out;
+}
+
+}  // namespace
+
+std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
+                           const std::vector<RobotLog>& logs, DelayKind delay,
+                           const HeldOutLog* validation) {
+  Json j;
+  j["model"] = model;
+  Json estimates = Json::array();
+  for (const Estimate& e : r.estimates) {
+    estimates.push_back({{"path", e.path},
+                         {"nominal", e.nominal},
+                         {"value", e.value},
+                         {"std_error", Number(e.std_error)},
+                         {"lo", Number(e.lo)},
+                         {"hi", Number(e.hi)},
+                         {"at_bound", e.at_bound},
+                         {"sensitivity", Number(e.sensitivity)}});
+  }
+  j["estimates"] = estimates;
+  Json correlation = Json::array();
+  for (const std::vector<double>& row : r.correlation) correlation.push_back(NumberArray(row));
+  j["correlation"] = correlation;
+  j["singular_values"] = r.singular_values;
+  if (delay != DelayKind::kNone) {
+    j["delay"] = {{"kind", delay == DelayKind::kInput ? "ctrl" : "sensor"}, {"value", r.delay}};
+  }
+  j["first_solve"] = {{"iterations", r.first_pass_iterations}, {"cost", r.first_pass_cost}};
+  j["iterations"] = r.iterations;  // of the noise-weighted solve
+  j["solved_again"] = r.solved_again;
+  j["weight_change"] = r.weight_change;
+  j["converged"] = r.converged;
+  j["termination"] = r.termination;
+  j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
+  j["cost"] = r.cost;
+  j["residual_variance"] = Number(r.residual_variance);
+  Json per_log = Json::array();
+  for (std::size_t l = 0; l < logs.size(); ++l) {
+    Json noise;
+    for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {
+      noise[logs[l].measured[i].column] = Number(r.noise[l][i]);
+    }
+    per_log.push_back({{"log", logs[l].source},
+                       {"fit_nominal", Number(r.before[l].fit)},
+                       {"fit_fitted", Number(r.after[l].fit)},
+                       {"noise", noise}});
+  }
+  j["logs"] = per_log;
+  if (validation != nullptr) {
+    j["validation"] = {{"log", validation->log->source},
+                       {"fit_nominal", Number(validation->nominal.fit)},
+                       {"fit_fitted", Number(validation->fitted.fit)}};
+  }
+  j["warnings"] = r.warnings;
   return j.dump(2) + "\n";
 }
 

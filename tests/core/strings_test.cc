@@ -63,3 +63,18 @@ TEST(StringsTest, TrimTakesEveryKindOfWhiteSpace) {
 
 }  // namespace
 }  // namespace plumb
+
+namespace plumb {
+namespace {
+
+TEST(StringsTest, PluralsOfTheNounsThatNameElements) {
+  EXPECT_EQ(Plural("body"), "bodies");
+  EXPECT_EQ(Plural("actuator"), "actuators");
+  EXPECT_EQ(Plural("contact exclude"), "contact excludes");
+  EXPECT_EQ(Plural("key"), "keys");
+  EXPECT_EQ(Plural("class"), "classes");
+  EXPECT_EQ(Plural("mesh"), "meshes");
+}
+
+}  // namespace
+}  // namespace plumb
