@@ -65,6 +65,7 @@ ActuatorKind KindOf(const mjModel* m, int u) {
 struct StepResponse {
   Observed run;
   std::string measured;  // in words
+  double rise = NAN;     // rise time to 63% in s; NaN for a motor or when never reached
   bool moved = false;
 };
 
@@ -134,9 +135,10 @@ std::string DescribeMotor(const mjModel* m, int u, const CtrlStep& step, double 
 
 // Servos reach for their setpoint: rise time to 63%, overshoot, steady-state error. Other
 // actuators' force settles where it settles: how fast it follows. "" when nothing changed.
+// `*rise_time` is the rise time in s (NaN when the step never reached 63%).
 std::string DescribeResponse(const mjModel* m, int u, const CtrlStep& step,
                              const std::vector<double>& t, const std::vector<double>& y, double y0,
-                             double duration) {
+                             double duration, double* rise_time) {
   bool servo = step.kind != ActuatorKind::kOther;
   double goal = servo ? step.after : y.back();
   double change = goal - y0;
@@ -147,6 +149,7 @@ std::string DescribeResponse(const mjModel* m, int u, const CtrlStep& step,
     if (std::isnan(rise) && share >= 0.63) rise = t[i] - t.front() + m->opt.timestep;
     peak = std::max(peak, share);
   }
+  *rise_time = rise;
   std::string rise_text =
       std::isfinite(rise) ? fmt::format("{:.3g} s", rise) : fmt::format("> {:g} s", duration);
   if (servo) {
@@ -210,7 +213,7 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
     out.measured = DescribeMotor(m, u, step, moved, max_speed, duration);
     return out;
   }
-  out.measured = DescribeResponse(m, u, step, t, y, y0, duration);
+  out.measured = DescribeResponse(m, u, step, t, y, y0, duration, &out.rise);
   out.moved = !out.measured.empty();
   return out;
 }
@@ -280,16 +283,20 @@ bool Holding(const Model& model, const Data& data, int u, const CheckElement& el
   if (!std::isfinite(bound)) return false;
   if (!listed) return true;
   bool weak = need > thi || need < tlo;
-  out->push_back(Make(L, "actuator.holding", element,
-                      fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo, thi,
-                                  need, Elem(model, mjOBJ_JOINT, joint, "joint")),
-                      fmt::format("{} {:.4g}", need >= 0 ? ">=" : "<=", need),
-                      weak ? CheckStatus::kWarn : CheckStatus::kPass,
-                      weak ? "it cannot hold its limb against gravity at the reference pose (in "
-                             "this direction): raise the gear or the force/ctrl range on that "
-                             "side, or lighten the limb"
-                           : "gear x force range covers the gravity torque at the reference "
-                             "pose"));
+  // as numbers: what it delivers on the side gravity needs, against that need
+  const char* unit = m->jnt_type[joint] == mjJNT_HINGE ? "N*m" : "N";
+  out->push_back(
+      WithNumbers(Make(L, "actuator.holding", element,
+                       fmt::format("delivers {:.4g} .. {:.4g}, gravity needs {:.4g} at {}", tlo,
+                                   thi, need, Elem(model, mjOBJ_JOINT, joint, "joint")),
+                       fmt::format("{} {:.4g}", need >= 0 ? ">=" : "<=", need),
+                       weak ? CheckStatus::kWarn : CheckStatus::kPass,
+                       weak ? "it cannot hold its limb against gravity at the reference pose (in "
+                              "this direction): raise the gear or the force/ctrl range on that "
+                              "side, or lighten the limb"
+                            : "gear x force range covers the gravity torque at the reference "
+                              "pose"),
+                  {bound, unit}, {need, unit}));
   return true;
 }
 
@@ -319,9 +326,12 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
                                       "range",
                                       duration)));
     } else {
-      out->push_back(Make(L, "actuator.step_response", element, r.measured, "", CheckStatus::kPass,
-                          "a step of 10% of ctrlrange from the reference pose, gravity and "
-                          "contacts off"));
+      // as a number: the rise time (none for a motor, which has no setpoint)
+      out->push_back(
+          WithNumbers(Make(L, "actuator.step_response", element, r.measured, "", CheckStatus::kPass,
+                           "a step of 10% of ctrlrange from the reference pose, gravity and "
+                           "contacts off"),
+                      {r.rise, std::isnan(r.rise) ? "" : "s"}));
     }
   }
   ListedNote(L, "actuator.step_response", "actuators", compat::ActuatorCount(m), out, count);

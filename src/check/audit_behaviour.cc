@@ -27,14 +27,17 @@ CheckRow RunFinding(const char* check, const std::string& what, const Observed& 
   CheckStatus status = rise > 20 * allowed_rise ? CheckStatus::kFail
                        : rise > allowed_rise    ? CheckStatus::kWarn
                                                 : CheckStatus::kPass;
-  return Make(
-      L, check, what,
-      fmt::format("{:g} s, energy {:.4g} -> max {:.4g} J", o.duration, o.energy0, o.energy_max),
-      fmt::format("no NaN; energy rise <= {:g} x max(1 J, |E0|)", allowed_rise), status,
-      status == CheckStatus::kPass
-          ? "stays finite and bounded"
-          : "energy grows without a matching source: check contact parameters, the "
-            "timestep and actuator gains");
+  // as numbers: the peak energy against the highest it may reach
+  return WithNumbers(
+      Make(
+          L, check, what,
+          fmt::format("{:g} s, energy {:.4g} -> max {:.4g} J", o.duration, o.energy0, o.energy_max),
+          fmt::format("no NaN; energy rise <= {:g} x max(1 J, |E0|)", allowed_rise), status,
+          status == CheckStatus::kPass
+              ? "stays finite and bounded"
+              : "energy grows without a matching source: check contact parameters, the "
+                "timestep and actuator gains"),
+      {o.energy_max, "J"}, {o.energy0 + allowed_rise * scale, "J"});
 }
 
 // Smoothed Halton noise within half of each ctrlrange, as MuJoCo's testspeed and

@@ -42,6 +42,12 @@ CheckRow Make(const char* layer, std::string check, std::string subject, std::st
   return row;
 }
 
+CheckRow WithNumbers(CheckRow row, Quantity measured, Quantity reference) {
+  row.measured = std::move(measured);
+  row.reference = std::move(reference);
+  return row;
+}
+
 void ListedNote(const char* layer, const char* check, const char* noun, int total,
                 std::vector<CheckRow>* out, int shown) {
   if (total <= shown) return;

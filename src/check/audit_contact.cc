@@ -71,14 +71,15 @@ void Grounding(const Model& model, const CollisionGraph& graph, std::vector<Chec
     int s = graph.support[b];
     double mass = m->body_subtreemass[b];
     if (s > 0 && graph.support_mass[b] > 0 && mass > 10 * graph.support_mass[b]) {
-      out->push_back(
+      out->push_back(WithNumbers(
           Make(L, "contact.heavy_on_light", ElementOf(model, mjOBJ_BODY, b, "body"),
                fmt::format("{:.3g} kg reaches the ground only through {} ({:.3g} kg)", mass,
                            Elem(model, mjOBJ_BODY, s, "body"), graph.support_mass[b]),
                "<= 10 x the lightest body on its way to the ground", CheckStatus::kWarn,
                "a heavy body that can rest only on a much lighter one loads that body's contacts "
                "far beyond its own weight: let the heavy body's geoms collide with the floor, or "
-               "check the lighter body's mass"));
+               "check the lighter body's mass"),
+          {mass, "kg"}, {10 * graph.support_mass[b], "kg"}));
     }
   }
 }
@@ -112,18 +113,26 @@ void Penetration(const Observed& settle, std::vector<CheckRow>* out) {
     measured += fmt::format("; did not settle in {:g} s (max |qvel| {:.3g} at the end)",
                             settle.duration, settle.max_speed_end);
   }
-  out->push_back(Make(
-      L, "contact.penetration", late > 0.1 ? settle.deepest_late_pair : settle.deepest_pair,
-      measured,
-      "<= 0.1 of the geom or <= 3x the soft-contact depth at the end (FAIL > 0.5 and > 10x at "
-      "rest); <= 0.5 of the geom or <= 10x the soft depth at impacts",
-      status,
-      status == CheckStatus::kPass
-          ? fmt::format("deepest contact penetration during a {:g} s settle", settle.duration)
-      : at_rest ? "geoms sink deep into each other: stiffen solref (smaller time constant, at "
-                  "least 2 timesteps), raise solimp, or shrink the timestep"
-                : "geoms sink deep into each other while the model still moves: judge again at "
-                  "rest (plumb run for longer), or stiffen solref / raise solimp"));
+  // as numbers: the penetration at the end (a share of the smaller geom's size) against its
+  // bound (0.5 when it fails, else 0.1), or the worst impact's against 0.5 when that alone
+  // made the warning
+  bool impact = status == CheckStatus::kWarn && !(late > 0.1 && excess > 3);
+  Quantity depth{impact ? settle.deepest : late, ""};
+  Quantity bound{impact || status == CheckStatus::kFail ? 0.5 : 0.1, ""};
+  out->push_back(WithNumbers(
+      Make(L, "contact.penetration", late > 0.1 ? settle.deepest_late_pair : settle.deepest_pair,
+           measured,
+           "<= 0.1 of the geom or <= 3x the soft-contact depth at the end (FAIL > 0.5 and > 10x at "
+           "rest); <= 0.5 of the geom or <= 10x the soft depth at impacts",
+           status,
+           status == CheckStatus::kPass
+               ? fmt::format("deepest contact penetration during a {:g} s settle", settle.duration)
+           : at_rest
+               ? "geoms sink deep into each other: stiffen solref (smaller time constant, at "
+                 "least 2 timesteps), raise solimp, or shrink the timestep"
+               : "geoms sink deep into each other while the model still moves: judge again at "
+                 "rest (plumb run for longer), or stiffen solref / raise solimp"),
+      depth, bound));
 }
 
 // At rest: do the contacts carry the free bodies' weight, and do resting contacts stick?
@@ -131,19 +140,25 @@ void SupportAndSlip(const Observed& settle, std::vector<CheckRow>* out) {
   bool at_rest = settle.max_speed_end < kRestSpeed;
   if (std::isfinite(settle.support_ratio) && at_rest) {
     double r = settle.support_ratio;
-    out->push_back(Make(L, "contact.support", "",
-                        fmt::format("contact normal force / weight = {:.3f}", r), "0.9 .. 1.1",
-                        r > 0.9 && r < 1.1 ? CheckStatus::kPass : CheckStatus::kWarn,
-                        r > 0.9 && r < 1.1 ? "at rest, the ground carries the free bodies' weight"
-                                           : "at rest but the contacts do not carry the weight: "
-                                             "check contact softness (solref/solimp) and "
-                                             "equality constraints"));
-    out->push_back(Make(
-        L, "contact.slip", settle.slip_pair, fmt::format("{:.3g} m/s", settle.max_slip),
-        "<= 0.01 m/s", settle.max_slip <= 0.01 ? CheckStatus::kPass : CheckStatus::kWarn,
-        settle.max_slip <= 0.01 ? "contacts that should stick do not slide at rest"
-                                : "a resting contact still slides: raise friction, use condim 4-6 "
-                                  "or an elliptic cone, or more solver iterations"));
+    bool carried = r > 0.9 && r < 1.1;
+    // the bound of 0.9 .. 1.1 it crossed; none when inside
+    Quantity crossed{carried ? NAN : r <= 0.9 ? 0.9 : 1.1, ""};
+    out->push_back(WithNumbers(
+        Make(L, "contact.support", "", fmt::format("contact normal force / weight = {:.3f}", r),
+             "0.9 .. 1.1", carried ? CheckStatus::kPass : CheckStatus::kWarn,
+             carried ? "at rest, the ground carries the free bodies' weight"
+                     : "at rest but the contacts do not carry the weight: "
+                       "check contact softness (solref/solimp) and "
+                       "equality constraints"),
+        {r, ""}, crossed));
+    out->push_back(WithNumbers(
+        Make(L, "contact.slip", settle.slip_pair, fmt::format("{:.3g} m/s", settle.max_slip),
+             "<= 0.01 m/s", settle.max_slip <= 0.01 ? CheckStatus::kPass : CheckStatus::kWarn,
+             settle.max_slip <= 0.01 ? "contacts that should stick do not slide at rest"
+                                     : "a resting contact still slides: raise friction, use "
+                                       "condim 4-6 or an elliptic cone, or more solver "
+                                       "iterations"),
+        {settle.max_slip, "m/s"}, {0.01, "m/s"}));
   } else if (!std::isnan(settle.support_ratio)) {
     out->push_back(Make(L, "contact.support", "",
                         fmt::format("did not settle in {:g} s: max |qvel| {:.3g} at the end",
@@ -162,25 +177,29 @@ void Solver(const mjModel* m, const Observed& settle, std::vector<CheckRow>* out
   double share = settle.result.steps > 0
                      ? static_cast<double>(settle.steps_at_limit) / settle.result.steps
                      : 0;
-  out->push_back(Make(L, "contact.solver", "",
-                      fmt::format("max {} of {} iterations; at the limit in {:.0f}% of steps",
-                                  settle.max_iterations, m->opt.iterations, 100 * share),
-                      "at the limit in <= 10% of steps",
-                      share > 0.1 ? CheckStatus::kWarn : CheckStatus::kPass,
-                      share > 0.1 ? "the constraint solver often stops at its iteration "
-                                    "limit: raise <option iterations>, use the Newton solver, "
-                                    "or loosen tolerance"
-                                  : "the solver converges within its iteration limit"));
+  // as numbers: the share of steps at the limit (a fraction, as its 10% bound)
+  out->push_back(WithNumbers(
+      Make(L, "contact.solver", "",
+           fmt::format("max {} of {} iterations; at the limit in {:.0f}% of steps",
+                       settle.max_iterations, m->opt.iterations, 100 * share),
+           "at the limit in <= 10% of steps", share > 0.1 ? CheckStatus::kWarn : CheckStatus::kPass,
+           share > 0.1 ? "the constraint solver often stops at its iteration "
+                         "limit: raise <option iterations>, use the Newton solver, "
+                         "or loosen tolerance"
+                       : "the solver converges within its iteration limit"),
+      {share, ""}, {0.1, ""}));
 }
 
 // Contacts or constraints dropped for want of room.
 void Buffers(const Observed& settle, std::vector<CheckRow>* out) {
   for (const WarningSummary& w : settle.result.warnings) {
     if (w.kind == "CONTACTFULL" || w.kind == "CNSTRFULL") {
-      out->push_back(Make(L, "contact.buffer", "", fmt::format("{} x{}", w.kind, w.count), "0",
-                          CheckStatus::kFail,
-                          "contacts or constraints were dropped: raise <size nconmax/njmax> "
-                          "(MuJoCo 2.x) or memory (3.x)"));
+      out->push_back(
+          WithNumbers(Make(L, "contact.buffer", "", fmt::format("{} x{}", w.kind, w.count), "0",
+                           CheckStatus::kFail,
+                           "contacts or constraints were dropped: raise <size nconmax/njmax> "
+                           "(MuJoCo 2.x) or memory (3.x)"),
+                      {static_cast<double>(w.count), ""}, {0, ""}));
     }
   }
 }

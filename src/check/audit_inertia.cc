@@ -96,10 +96,12 @@ constexpr double kSpreadFail = 10;
 double TotalMass(const mjModel* m, std::vector<CheckRow>* out) {
   double total = 0;
   for (int b = 1; b < m->nbody; ++b) total += m->body_mass[b];
-  out->push_back(Make(L, "inertia.total_mass", "", fmt::format("{:.6g} kg", total), "> 0 kg",
-                      total > 0 || m->nv == 0 ? CheckStatus::kPass : CheckStatus::kFail,
-                      total > 0 ? "sum of body masses as compiled"
-                                : "nothing has mass: give geoms a mass or density"));
+  out->push_back(
+      WithNumbers(Make(L, "inertia.total_mass", "", fmt::format("{:.6g} kg", total), "> 0 kg",
+                       total > 0 || m->nv == 0 ? CheckStatus::kPass : CheckStatus::kFail,
+                       total > 0 ? "sum of body masses as compiled"
+                                 : "nothing has mass: give geoms a mass or density"),
+                  {total, "kg"}, {0, "kg"}));
   return total;
 }
 
@@ -165,24 +167,27 @@ void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& gr
                                                       group, groups.size[b] - 1)
                                         : fmt::format("{:.3g} kg", group);
   if (total > 0 && group < 1e-4 * total) {
-    out->push_back(Make(L, "inertia.tiny_mass", body.element,
-                        fmt::format("{} = {:.2g} of total", what, group / total),
-                        ">= 1e-4 of total", CheckStatus::kWarn,
-                        "a moving body this light makes the dynamics stiff and slow or "
-                        "unstable: give it a realistic mass, add armature to its joint, or "
-                        "weld it to its parent"));
+    out->push_back(WithNumbers(Make(L, "inertia.tiny_mass", body.element,
+                                    fmt::format("{} = {:.2g} of total", what, group / total),
+                                    ">= 1e-4 of total", CheckStatus::kWarn,
+                                    "a moving body this light makes the dynamics stiff and slow "
+                                    "or unstable: give it a realistic mass, add armature to its "
+                                    "joint, or weld it to its parent"),
+                               {group / total, ""}, {1e-4, ""}));
   }
   int parent = m->body_weldid[m->body_parentid[b]];
   double parent_mass = groups.mass[parent];
   if (parent <= 0 || group <= 0 || parent_mass <= 0) return;
   double ratio = std::max(group / parent_mass, parent_mass / group);
   if (ratio <= 1e3) return;
-  out->push_back(Make(L, "inertia.mass_ratio", body.element,
-                      fmt::format("{} vs parent {} {:.3g} kg: ratio {:.3g}", what,
-                                  Elem(model, mjOBJ_BODY, parent, "body"), parent_mass, ratio),
-                      "<= 1e3", ratio > 1e6 ? CheckStatus::kFail : CheckStatus::kWarn,
-                      "extreme mass ratios between a body and its parent ill-condition "
-                      "the mass matrix: rebalance masses or add joint armature"));
+  out->push_back(
+      WithNumbers(Make(L, "inertia.mass_ratio", body.element,
+                       fmt::format("{} vs parent {} {:.3g} kg: ratio {:.3g}", what,
+                                   Elem(model, mjOBJ_BODY, parent, "body"), parent_mass, ratio),
+                       "<= 1e3", ratio > 1e6 ? CheckStatus::kFail : CheckStatus::kWarn,
+                       "extreme mass ratios between a body and its parent ill-condition "
+                       "the mass matrix: rebalance masses or add joint armature"),
+                  {ratio, ""}, {1e3, ""}));
 }
 
 // The volume of the body's geoms when every one is a primitive, else NaN.
@@ -200,12 +205,13 @@ void Density(const BodyInertia& body, double volume, std::vector<CheckRow>* out)
   if (!(volume > 0) || !(body.mass > 0)) return;
   double density = body.mass / volume;
   if (density >= 1 && density <= 25000) return;
-  out->push_back(
+  out->push_back(WithNumbers(
       Make(L, "inertia.density", body.element,
            fmt::format("{:.4g} kg/m^3 ({:.4g} kg in {:.3g} m^3)", density, body.mass, volume),
            "1 .. 25000 kg/m^3", CheckStatus::kWarn,
            "no solid is this light or heavy (water 1000, steel 7850): check "
-           "the mass, the geom sizes and their units"));
+           "the mass, the geom sizes and their units"),
+      {density, "kg/m^3"}, {density < 1 ? 1.0 : 25000.0, "kg/m^3"}));
 }
 
 // Inertia against mass and size: the principal moments say how far the mass lies from the
@@ -221,7 +227,9 @@ void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<C
   bool low = implied < lo;
   std::string range =
       lo < hi ? fmt::format("{:.3g} .. {:.3g} m", lo, hi) : fmt::format("{:.3g} m", lo);
-  out->push_back(
+  // the numbers: the rms distance against the bound of the geoms' range it crossed
+  double bound = low ? lo / kSpreadWarn : hi * kSpreadWarn;
+  out->push_back(WithNumbers(
       Make(L, "inertia.size", body.element,
            fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg puts the mass "
                        "{:.3g} m (rms) from the com; its geoms, filled uniformly: {}",
@@ -232,7 +240,8 @@ void InertiaAgainstSize(const mjModel* m, const BodyInertia& body, std::vector<C
                        "changed without the inertia (it scales with the mass at fixed shape), or "
                        "<inertial diaginertia> given in other units? Omit <inertial> to let the "
                        "compiler derive both from the geoms",
-                       factor * factor, low ? "small" : "large")));
+                       factor * factor, low ? "small" : "large")),
+      {implied, "m"}, {bound, "m"}));
 }
 
 // A centre of mass far outside the body's geoms.
@@ -251,11 +260,12 @@ void ComOutside(const mjModel* m, const BodyInertia& body, std::vector<CheckRow>
     reach = std::max(reach, m->geom_rbound[g]);
   }
   if (!std::isfinite(nearest) || reach <= 0 || nearest <= reach) return;
-  out->push_back(Make(L, "inertia.com_outside", body.element,
-                      fmt::format("com {:.3g} m outside its geoms", nearest),
-                      fmt::format("<= {:.3g} m", reach), CheckStatus::kWarn,
-                      "the centre of mass lies far outside the body's shape: check "
-                      "<inertial pos> and the body frame"));
+  out->push_back(WithNumbers(Make(L, "inertia.com_outside", body.element,
+                                  fmt::format("com {:.3g} m outside its geoms", nearest),
+                                  fmt::format("<= {:.3g} m", reach), CheckStatus::kWarn,
+                                  "the centre of mass lies far outside the body's shape: check "
+                                  "<inertial pos> and the body frame"),
+                             {nearest, "m"}, {reach, "m"}));
 }
 
 // The condition number of the mass matrix at the reference pose.
@@ -264,14 +274,15 @@ void MassMatrix(const mjModel* m, Data& data, std::vector<CheckRow>* out) {
   mj_forward(m, data.get());
   auto [lo, hi] = MassMatrixExtremes(m, data.get());
   double cond = hi / std::max(lo, 1e-300);
-  out->push_back(
+  out->push_back(WithNumbers(
       Make(L, "inertia.mass_matrix", "",
            fmt::format("condition number {:.3g} (eigenvalues {:.3g} .. {:.3g})", cond, lo, hi),
            "<= 1e8", cond > 1e8 ? CheckStatus::kWarn : CheckStatus::kPass,
            cond > 1e8 ? "an ill-conditioned mass matrix slows the solver and loses "
                         "digits: add armature to light joints, rebalance masses"
                       : "mass matrix at the reference pose (mj_fullM) is "
-                        "well-conditioned"));
+                        "well-conditioned"),
+      {cond, ""}, {1e8, ""}));
 }
 
 }  // namespace

@@ -43,6 +43,10 @@ CheckRow Make(const char* layer, std::string check, const CheckElement& element,
 CheckRow Make(const char* layer, std::string check, std::string subject, std::string measured,
               std::string threshold, CheckStatus status, std::string fix);
 
+// `row` with its measurement and the reference (the threshold) it is held against as numbers
+// with units ({NaN, ""} where a row has none); its texts, status and fix stay as they are.
+CheckRow WithNumbers(CheckRow row, Quantity measured, Quantity reference = {});
+
 // When a check has more rows than `shown`, one row saying how many were listed.
 void ListedNote(const char* layer, const char* check, const char* noun, int total,
                 std::vector<CheckRow>* out, int shown = kMaxListed);

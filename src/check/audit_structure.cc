@@ -46,13 +46,13 @@ void UnnamedElements(const Model& model, std::vector<CheckRow>* out) {
         "{}",
         fmt::join(unnamed.begin(), unnamed.begin() + std::min<size_t>(8, unnamed.size()), ", "));
     if (unnamed.size() > 8) list += fmt::format(", ... ({} in all)", unnamed.size());
-    out->push_back(Make(L, std::string("structure.unnamed_") + k.plural,
-                        fmt::format("{} {}", k.plural, list),
-                        fmt::format("{} unnamed", unnamed.size()), "0", CheckStatus::kWarn,
-                        fmt::format("name every {}: controllers, logs and plumb paths "
-                                    "(qpos[name]) refer to {} by name, ids shift when the "
-                                    "model changes",
-                                    k.noun, k.plural)));
+    out->push_back(WithNumbers(
+        Make(L, std::string("structure.unnamed_") + k.plural, fmt::format("{} {}", k.plural, list),
+             fmt::format("{} unnamed", unnamed.size()), "0", CheckStatus::kWarn,
+             fmt::format("name every {}: controllers, logs and plumb paths (qpos[name]) refer "
+                         "to {} by name, ids shift when the model changes",
+                         k.noun, k.plural)),
+        {static_cast<double>(unnamed.size()), ""}, {0, ""}));
   }
 }
 
@@ -64,27 +64,32 @@ void JointRange(const mjModel* m, int j, const CheckElement& element, std::vecto
   bool limited = m->jnt_limited[j];
   std::string range = limited ? fmt::format("[{:.4g}, {:.4g}]", lo, hi) : "unlimited";
   bool rotational = type == mjJNT_HINGE || type == mjJNT_BALL;
+  // as numbers: the span hi - lo, which each bound limits
+  Quantity span{hi - lo, rotational ? "rad" : "m"};
   if (limited && hi <= lo) {
-    out->push_back(Make(L, "structure.joint_range", element, range, "lower < upper",
-                        CheckStatus::kFail,
-                        "a limited joint with an empty range is locked: give range=\"lo hi\" "
-                        "or drop limited"));
+    out->push_back(WithNumbers(
+        Make(L, "structure.joint_range", element, range, "lower < upper", CheckStatus::kFail,
+             "a limited joint with an empty range is locked: give range=\"lo hi\" "
+             "or drop limited"),
+        span, {0, span.unit}));
   } else if (limited &&
              ((rotational && hi - lo > 4 * M_PI) || (type == mjJNT_SLIDE && hi - lo > 100))) {
-    out->push_back(Make(L, "structure.joint_range", element, range,
-                        rotational ? "<= 4*pi rad" : "<= 100 m", CheckStatus::kWarn,
-                        rotational ? "a range wider than two turns never engages: was it "
-                                     "written in degrees with <compiler angle=\"radian\">?"
-                                   : "a slide range this long never engages: check units"));
+    out->push_back(
+        WithNumbers(Make(L, "structure.joint_range", element, range,
+                         rotational ? "<= 4*pi rad" : "<= 100 m", CheckStatus::kWarn,
+                         rotational ? "a range wider than two turns never engages: was it "
+                                      "written in degrees with <compiler angle=\"radian\">?"
+                                    : "a slide range this long never engages: check units"),
+                    span, {rotational ? 4 * M_PI : 100.0, span.unit}));
   } else if (limited && type == mjJNT_HINGE && hi - lo < 0.1) {
     // MJCF angles are degrees unless <compiler angle="radian">: radians written there
     // become a range 57 times too narrow
-    out->push_back(Make(L, "structure.joint_range", element, range + " rad", ">= 0.1 rad",
-                        CheckStatus::kWarn,
-                        fmt::format("a hinge range of {:.2g} degrees barely moves: MJCF reads "
-                                    "angles in degrees unless <compiler angle=\"radian\">; "
-                                    "were radians written?",
-                                    (hi - lo) * 180 / M_PI)));
+    out->push_back(WithNumbers(
+        Make(L, "structure.joint_range", element, range + " rad", ">= 0.1 rad", CheckStatus::kWarn,
+             fmt::format("a hinge range of {:.2g} degrees barely moves: MJCF reads angles in "
+                         "degrees unless <compiler angle=\"radian\">; were radians written?",
+                         (hi - lo) * 180 / M_PI)),
+        span, {0.1, "rad"}));
   }
 }
 
@@ -163,13 +168,14 @@ void FiniteParameters(const Model& model, std::vector<CheckRow>* out) {
                         "every floating-point parameter of the compiled model is finite"));
     return;
   }
-  out->push_back(
+  out->push_back(WithNumbers(
       Make(L, "structure.finite",
            fmt::format("{}{}", fmt::join(bad.first, ", "),
                        bad.total > static_cast<long>(bad.first.size()) ? ", ..." : ""),
            fmt::format("{} NaN or infinite", bad.total), "finite", CheckStatus::kFail,
            "give a finite value to the MJCF attribute that sets each one: MuJoCo compiles NaN and "
-           "infinity without an error, and such a value poisons the steps that use it"));
+           "infinity without an error, and such a value poisons the steps that use it"),
+      {static_cast<double>(bad.total), ""}));
 }
 
 }  // namespace

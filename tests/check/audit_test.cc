@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -181,6 +182,15 @@ TEST_F(AuditTest, FeatherweightBodyOnAHeavyBaseIsFlagged) {
   ASSERT_NE(tiny, nullptr);
   EXPECT_EQ(tiny->section, "inertia");
   EXPECT_EQ(tiny->status, CheckStatus::kWarn);
+  // the numbers beside the text: a share of the total mass against its bound
+  EXPECT_NEAR(tiny->measured.value, 1e-7, 1e-12) << tiny->measured_text;
+  EXPECT_EQ(tiny->measured.unit, "");
+  EXPECT_EQ(tiny->reference.value, 1e-4);
+  EXPECT_TRUE(tiny->threshold);
+  const CheckRow* total = Find(r, "inertia.total_mass");
+  ASSERT_NE(total, nullptr);
+  EXPECT_NEAR(total->measured.value, 10.000001, 1e-9) << total->measured_text;
+  EXPECT_EQ(total->measured.unit, "kg");
   const CheckRow* ratio = Find(r, "inertia.mass_ratio", "'feather'");
   ASSERT_NE(ratio, nullptr);
   EXPECT_EQ(ratio->status, CheckStatus::kFail);  // 1e7: beyond any conditioning
@@ -263,6 +273,11 @@ TEST_F(AuditTest, ActuatorTooWeakToHoldItsArm) {
   ASSERT_NE(f, nullptr);
   EXPECT_EQ(f->status, CheckStatus::kWarn);
   EXPECT_NE(f->measured_text.find("9.81"), std::string::npos) << f->measured_text;
+  // as numbers: what the motor delivers on gravity's side (1 N*m) against the need
+  EXPECT_NEAR(std::fabs(f->reference.value), 9.81, 0.01) << f->reference_text;
+  EXPECT_EQ(std::fabs(f->measured.value), 1.0) << f->measured_text;
+  EXPECT_EQ(f->measured.unit, "N*m");
+  EXPECT_EQ(f->reference.unit, "N*m");
   EXPECT_EQ(f->element.kind, "actuator");
   EXPECT_EQ(f->element.name, "weak");
   EXPECT_EQ(Find(r, "actuator.limits", "'weak'"), nullptr);  // its ctrl is limited
@@ -441,7 +456,10 @@ TEST_F(AuditTest, BoxComesToRestOnItsWeight) {
   const CheckRow* support = Find(r, "contact.support");
   ASSERT_NE(support, nullptr);
   EXPECT_EQ(support->status, CheckStatus::kPass) << support->measured_text;
+  EXPECT_NEAR(support->measured.value, 1.0, 0.1) << support->measured_text;
+  EXPECT_FALSE(support->reference.known());  // inside 0.9 .. 1.1: no bound crossed
   EXPECT_EQ(Find(r, "contact.slip")->status, CheckStatus::kPass);
+  EXPECT_EQ(Find(r, "contact.slip")->measured.unit, "m/s");
   EXPECT_EQ(r.Count(CheckStatus::kFail), 0) << Failures(r);
 }
 
