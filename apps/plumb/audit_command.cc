@@ -53,7 +53,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
     WriteAuditReport(o.report, model, start, report, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail);
+  std::string text = o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
   bool failed =
       report.Count(CheckStatus::kFail) > 0 || (o.strict && report.Count(CheckStatus::kWarn) > 0);

@@ -189,6 +189,14 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
                           "and the model.");
     return kExitInternal;
   }
+  if (const auto* bad = dynamic_cast<const ArgumentError*>(&error)) {
+    // the library names its argument ("ctrl_noise"); the user typed the flag (--ctrl-noise)
+    std::string flag = "--" + bad->argument();
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    std::fprintf(stderr, "plumb: error: %s%s: %s\n", flag.c_str(),
+                 bad->value().empty() ? "" : (" " + bad->value()).c_str(), bad->problem().c_str());
+    return kExitBadInput;
+  }
   std::fprintf(stderr, "plumb: error: %s\n", error.what());
   if (const auto* load = dynamic_cast<const LoadError*>(&error)) {
     if (!load->hint().empty()) std::fprintf(stderr, "plumb: %s\n", load->hint().c_str());
@@ -214,7 +222,7 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
   for (const std::string& s : sets) {
     out.push_back(ParseAssignment(model, s));
     for (const std::string& w : out.back().warnings) {
-      std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+      std::fprintf(stderr, "plumb: warning: --set '%s': %s\n", s.c_str(), w.c_str());
     }
   }
   return out;

@@ -76,6 +76,9 @@ void AddReportOption(CLI::App* cmd, std::string* report);
 // every --set applied on top. Commands read it with StartAssignments.
 void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
 
+// What a check table says about the PASS rows it leaves out.
+inline constexpr const char* kSeeAllRows = "--all shows every check";
+
 // Adds --all and --quiet (mutually exclusive) to `cmd`, setting `*detail`.
 void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail);
 

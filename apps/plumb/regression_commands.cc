@@ -103,7 +103,8 @@ int RunDiff(const DiffOptions& o) {
                      ". The file is not a snapshot or was damaged: write a fresh one with "
                      "plumb snapshot MODEL -o FILE (or restore it from version control).");
   }
-  std::string out = o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot);
+  std::string out =
+      o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot, "--set ");
   std::fwrite(out.data(), 1, out.size(), stdout);
   if (diff.diverged) return kExitDiverged;
   return diff.changed() ? kExitCheckFailed : kExitOk;

@@ -162,8 +162,10 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   std::optional<AtomicFile> file;
   if (!o.output.empty()) file.emplace(o.output);
   std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
-  for (const std::string& hint : StartHints(model, data)) {
-    std::fprintf(stderr, "plumb: %s\n", hint.c_str());
+  for (const StartHint& hint : StartHints(model, data)) {
+    std::string evidence = hint.evidence.empty() ? "" : " (" + hint.evidence + ")";
+    std::fprintf(stderr, "plumb: hint: %s %s, e.g. --set '%s'%s.\n", hint.problem.c_str(),
+                 hint.advice.c_str(), hint.assignment.c_str(), evidence.c_str());
   }
   // a bar only where it cannot interleave with the rows: output to a file or a pipe
   bool bar = estimate.seconds > 2 && (to_file || isatty(fileno(stdout)) == 0);

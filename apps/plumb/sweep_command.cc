@@ -279,11 +279,12 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   for (const std::string& v : o.vary) {
     spec.axes.push_back(ParseSweepAxis(model, v));
     for (const std::string& w : spec.axes.back().prototype.warnings) {
-      std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+      std::fprintf(stderr, "plumb: warning: --vary '%s': %s\n", v.c_str(), w.c_str());
     }
     for (const Assignment& a : spec.axes.back().listed) {
-      for (const std::string& w : a.warnings)
-        std::fprintf(stderr, "plumb: warning: %s\n", w.c_str());
+      for (const std::string& w : a.warnings) {
+        std::fprintf(stderr, "plumb: warning: --vary '%s': %s\n", v.c_str(), w.c_str());
+      }
     }
   }
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
@@ -405,7 +406,8 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
   WallClockBudget budget(o.max_seconds);
-  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit, CommandStop().token()); }, progress, stored, flush,
+  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit, CommandStop().token()); },
+                     progress, stored, flush,
                      [&] { return fmt::format("the {} finished cases were printed", emitted); },
                      o.db, budget);
   progress.Finish();

@@ -40,7 +40,7 @@ int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
     WriteVerifyReport(o.report, model, options.sets, report, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? VerifyToJson(report) : VerifyTable(report, o.detail);
+  std::string text = o.format == "json" ? VerifyToJson(report) : VerifyTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.failed() ? kExitCheckFailed : kExitOk;
 }

@@ -22,7 +22,8 @@ namespace plumb {
 enum class TableDetail { kFindings, kAll, kQuiet };
 
 // A table: `title` (a line), the rows `detail` asks for, and the count line "N passed, W
-// warned, F failed, S skipped", saying how to see rows it left out (kQuiet: that line alone).
+// warned, F failed, S skipped", saying that PASS rows were left out and `how_to_see_all`
+// (kQuiet: that line alone).
 // `texts[i]` is how rows[i] prints on its own (status first, lines each ending in a newline);
 // a row with an element names it at the end of its first line. A section heading "== section"
 // starts where rows[i].section changes. By default SKIPs sharing a reason (their explanation)
@@ -31,15 +32,18 @@ enum class TableDetail { kFindings, kAll, kQuiet };
 // elements of one kind become one row, "WARN  actuator.limits  12 actuators alike: NAMES",
 // then the first row's text as the example ("e.g. actuator 'hip' (id 0): ...").
 std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
-                       const std::vector<std::string>& texts, TableDetail detail);
+                       const std::vector<std::string>& texts, TableDetail detail,
+                       const std::string& how_to_see_all = "");
 
 // verify's table: each check's id and title, its measured value, reference and relative
 // error, and its explanation.
-std::string VerifyTable(const VerifyReport& report, TableDetail detail);
+std::string VerifyTable(const VerifyReport& report, TableDetail detail,
+                        const std::string& how_to_see_all = "");
 
 // audit's table, one section per layer: each finding's id and element, what was measured
 // against which threshold, and the fix of a WARN or FAIL.
-std::string AuditTable(const AuditReport& report, TableDetail detail);
+std::string AuditTable(const AuditReport& report, TableDetail detail,
+                       const std::string& how_to_see_all = "");
 
 // Wraps `text` at `width` columns, each line prefixed with `indent` and ending in a newline.
 std::string Wrap(const std::string& text, std::size_t width, const std::string& indent);

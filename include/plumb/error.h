@@ -54,6 +54,27 @@ class ValueError : public Error {
   using Error::Error;
 };
 
+// A value the caller passed as one of a function's arguments is unusable. argument() names
+// that argument in the library's words, the same as the field of the options struct (and
+// the Python keyword): "set", "vary", "randomize", "until", "every", "keyframe", "metric",
+// "ctrl_noise", ...; value() is what was passed, as the message shows it ("'qpos[hinge]=x'",
+// "0.5"; "" when the argument as a whole is wrong); problem() what is wrong with it and what to
+// do. what() is "ARGUMENT VALUE: PROBLEM". The command-line tool names the flag instead
+// (--set, --ctrl-noise: "--" and the argument with '-' for '_').
+class ArgumentError : public ValueError {
+ public:
+  ArgumentError(std::string argument, std::string value, std::string problem);
+  const std::string& argument() const { return argument_; }
+  const std::string& value() const { return value_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string argument_, value_, problem_;
+};
+
+// `text` in single quotes, as an ArgumentError's value shows a text the caller passed.
+std::string Quoted(const std::string& text);
+
 // MuJoCo reported a fatal error through mju_error (e.g. out of stack memory). The
 // mjData involved is left in an undefined state and must be reset before reuse.
 class MujocoError : public Error {

@@ -105,15 +105,18 @@ struct Assignment {
   std::vector<double> values;  // path.count values
   // What MuJoCo will silently do differently from what was asked, one sentence each
   // (a ctrl or act outside its actuator's range, which MuJoCo clamps; a free or ball
-  // joint's quaternion whose norm is not 1, which MuJoCo normalises). Commands
-  // print them to stderr as "plumb: warning: ...".
+  // joint's quaternion whose norm is not 1, which MuJoCo normalises), about this
+  // assignment (they do not repeat its text). The command-line tool prints them to stderr as
+  // "plumb: warning: --set 'TEXT': ...".
   std::vector<std::string> warnings;
 };
 
 // Parses and validates `text`. A block takes exactly as many values as it has elements
 // (`qpos[root]` of a free joint takes 7); set a single element by its index
 // (`qpos[root][2]=1`).
-// @throws PathError / ValueError with the option text quoted, naming the block's size.
+// @throws PathError for an unknown path; ArgumentError (argument "set", `text` quoted) for a
+//         value the path cannot take, naming the block's size; ValueError for a path that
+//         cannot be set.
 Assignment ParseAssignment(const Model& model, std::string_view text);
 
 // Throws ValueError unless `value` may be written to `path`: finite, fits the element
@@ -122,10 +125,10 @@ Assignment ParseAssignment(const Model& model, std::string_view text);
 void CheckAssignable(const Path& path, double value);
 
 // The two halves of PATH=VALUE text: the path and the value, split at the first '='.
-// @throws ValueError naming `option` ("--set", "--vary", "--randomize") and quoting `text`
-//         with `example` when there is no '='.
+// @throws ArgumentError for `argument` ("set", "vary", "randomize"), quoting `text` and
+//         `example`, when there is no '='.
 std::pair<std::string_view, std::string_view> SplitAssignment(std::string_view text,
-                                                              const char* option,
+                                                              const char* argument,
                                                               const char* example);
 
 // The compiled model's parameters (mjModel arrays and options, floating point) that are NaN

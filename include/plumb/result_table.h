@@ -25,10 +25,12 @@ namespace plumb {
 // order, the value, the recommended timestep and the contact caveat.
 std::string ConvergeTable(const ConvergenceResult& result);
 
-// The notes, the compiler's changes (three of them), every change, the count, and under
-// another MuJoCo than the snapshot's a line answering the upgrade's question. `snapshot` is
-// the snapshot's path as given.
-std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot);
+// The assignments the model ran with and the notes, the compiler's changes (three of them),
+// every change, the count, and under another MuJoCo than the snapshot's a line answering the
+// upgrade's question. `snapshot` is the snapshot's path as given; `set_prefix` comes before
+// each quoted assignment (the command-line tool's "--set ").
+std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot,
+                      const std::string& set_prefix = "");
 
 // Per signal: samples, rms and max error, when the worst was, the fit in percent.
 std::string FitTable(const std::vector<SignalFit>& fits);

@@ -1,7 +1,10 @@
 // Advice before a run starts, from the chapter's common-error table.
 //
 // Example:
-//   for (const std::string& hint : plumb::StartHints(model, data)) std::puts(hint.c_str());
+//   for (const plumb::StartHint& hint : plumb::StartHints(model, data)) {
+//     std::printf("%s %s, e.g. %s\n", hint.problem.c_str(), hint.advice.c_str(),
+//                 hint.assignment.c_str());
+//   }
 //
 // Thread-safety: StartHints only reads `model` and `data` (it tries offsets on a copy of the
 // data) and keeps no state, so it may run while other threads read them too, but not while
@@ -17,12 +20,21 @@
 
 namespace plumb {
 
-// The chapter's common-error table, for the state a run is about to start from: one
-// line of advice per problem found (empty when nothing looks wrong). Today: a system
-// at rest in equilibrium with nothing driving it will not move; the advice names a
-// --set that plumb tried and found to make it accelerate (so following it never
-// repeats the hint), or a velocity when no offset does. @throws MujocoError.
-std::vector<std::string> StartHints(const Model& model, const Data& data);
+// One problem with a start state, and what to do about it.
+struct StartHint {
+  std::string problem;     // "the model starts at rest in equilibrium ...: it will not move ..."
+  std::string advice;      // "Start it away from equilibrium"
+  std::string assignment;  // the assignment that does it (ParseAssignment's text), e.g.
+                           // "qpos[hinge]=0.7"; "" when there is none to give
+  std::string evidence;    // why it works ("plumb tried it: it gives |qacc| up to 3.2"), or ""
+};
+
+// The chapter's common-error table, for the state a run is about to start from: one hint
+// per problem found (empty when nothing looks wrong). Today: a system at rest in
+// equilibrium with nothing driving it will not move; the hint's assignment is one plumb
+// tried and found to make it accelerate (so following it never repeats the hint), or a
+// velocity when no offset does. @throws MujocoError.
+std::vector<StartHint> StartHints(const Model& model, const Data& data);
 
 }  // namespace plumb
 

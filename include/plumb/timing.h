@@ -5,7 +5,7 @@
 //
 // Example:
 //   double dt = plumb::RunTimestep(model, sets);           // after --set opt.timestep=...
-//   long stride = plumb::RequireWholeSteps(0.1, dt, "--every");
+//   long stride = plumb::RequireWholeSteps(0.1, dt, "every", "0.1");
 //   double every = plumb::DefaultEvery(dt);                // 0.1 s on whole steps
 //
 // Thread-safety: every function is pure (RunTimestep only reads the model): call them from any
@@ -34,14 +34,15 @@ double RunTimestep(const Model& model, const std::vector<Assignment>& sets);
 // the timestep is not positive.
 std::optional<long> WholeSteps(double time, double timestep);
 
-// The checked form of WholeSteps, with the one error wording all commands use. `what`
-// names the time as the user gave it ("--every 0.1", "--metric 'qpos[hinge]@2'"), and
-// `source` where the timestep comes from ("the model's timestep", "--vary '...'"; empty
-// for the timestep the run uses). Returns the number of steps.
-// @throws ValueError when `time` is not a whole number of steps, or is fewer than
+// The checked form of WholeSteps, with the one error wording all commands use. `argument`
+// and `value` name the time as the caller gave it ("every", "0.1"; "metric",
+// "'qpos[hinge]@2'"), and `source` where the timestep comes from ("the model's timestep";
+// empty for the timestep the run uses). Returns the number of steps.
+// @throws ArgumentError when `time` is not a whole number of steps, or is fewer than
 //         `min_steps` steps; the message names the two nearest times that are.
-long RequireWholeSteps(double time, double timestep, const std::string& what,
-                       const std::string& source = "", long min_steps = 1);
+long RequireWholeSteps(double time, double timestep, const std::string& argument,
+                       const std::string& value, const std::string& source = "",
+                       long min_steps = 1);
 
 // The number of steps a run to `until` s takes at `timestep`, as the chapter's loop
 // `while (d->time < until) mj_step(m, d);` does: the whole number of steps when `until`

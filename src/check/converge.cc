@@ -178,8 +178,13 @@ void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol, double until,
                            const StopToken& stop) {
-  if (halvings < 2) throw ValueError("--halvings must be at least 2 to estimate an order");
-  if (!(dt0 > 0)) throw ValueError("--dt must be a positive number of seconds");
+  if (halvings < 2) {
+    throw ArgumentError("halvings", std::to_string(halvings),
+                        "must be at least 2 to estimate an order");
+  }
+  if (!(dt0 > 0)) {
+    throw ArgumentError("dt", fmt::format("{:g}", dt0), "must be a positive number of seconds");
+  }
   ConvergenceResult out;
   out.model = model.file();
   out.metric = metric.text;

@@ -346,7 +346,8 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   options.callbacks.push_back(&log);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  if (f.stop().stop_requested()) throw Interrupted("plumb identify stopped before the fit finished");
+  if (f.stop().stop_requested())
+    throw Interrupted("plumb identify stopped before the fit finished");
   return summary;
 }
 
@@ -449,13 +450,14 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
     for (const Path& block : ExpandPath(model, text)) {
       for (const Path& p : ScalarPaths(block)) {
         if (p.role != Role::kParameter || p.field.rfind("opt.", 0) == 0 || !p.writable) {
-          throw ValueError(fmt::format(
-              "--fit '{}': {} is {}, not a model parameter that can be fitted (dof_damping[...], "
-              "body_mass[...], geom_friction[...][0], actuator_gear[...][0], ...)",
-              text, p.text, p.role == Role::kParameter ? "not writable" : RoleName(p.role)));
+          throw ArgumentError(
+              "fit", Quoted(text),
+              fmt::format("{} is {}, not a model parameter that can be fitted (dof_damping[...], "
+                          "body_mass[...], geom_friction[...][0], actuator_gear[...][0], ...)",
+                          p.text, p.role == Role::kParameter ? "not writable" : RoleName(p.role)));
         }
         if (!seen.insert(fmt::format("{}:{}", p.field_index, p.first)).second) {
-          throw ValueError(fmt::format("--fit '{}': {} is fitted twice", text, p.text));
+          throw ArgumentError("fit", Quoted(text), p.text + " is fitted twice");
         }
         FitParameter f;
         f.path = p;
@@ -465,15 +467,14 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
       }
     }
   }
-  if (params.empty()) throw ValueError("--fit: name at least one parameter to fit");
+  if (params.empty()) throw ArgumentError("fit", "", "name at least one parameter to fit");
   for (const std::string& text : bounds) {
-    auto [path_text, range] = SplitAssignment(text, "--bounds", "'dof_damping[hinge]=0:1'");
+    auto [path_text, range] = SplitAssignment(text, "bounds", "'dof_damping[hinge]=0:1'");
     Path p = ResolvePath(model, path_text);
     auto it = std::find_if(params.begin(), params.end(),
                            [&](const FitParameter& f) { return f.path.text == p.text; });
     if (it == params.end()) {
-      throw ValueError(
-          fmt::format("--bounds '{}': {} is not among the --fit parameters", text, p.text));
+      throw ArgumentError("bounds", Quoted(text), p.text + " is not among the parameters to fit");
     }
     std::string r(range);
     auto colon = r.find(':');
@@ -483,14 +484,14 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
     double hi = colon == std::string::npos ? NAN : std::strtod(r.c_str() + colon + 1, &end);
     bool hi_ok = lo_ok && *end == '\0' && end != r.c_str() + colon + 1;
     if (!lo_ok || !hi_ok || !(lo < hi)) {
-      throw ValueError(
-          fmt::format("--bounds '{}': give LO:HI with LO < HI, e.g. '{}=0:1'", text, p.text));
+      throw ArgumentError("bounds", Quoted(text),
+                          fmt::format("give LO:HI with LO < HI, e.g. '{}=0:1'", p.text));
     }
     if (it->nominal < lo || it->nominal > hi) {
-      throw ValueError(
-          fmt::format("--bounds '{}': the model's {} = {:g} lies outside; start "
-                      "inside the bounds (--set {}=...)",
-                      text, p.text, it->nominal, p.text));
+      throw ArgumentError("bounds", Quoted(text),
+                          fmt::format("the model's {} = {:g} lies outside; start inside the "
+                                      "bounds (set {}=... first)",
+                                      p.text, it->nominal, p.text));
     }
     it->lo = lo;
     it->hi = hi;
@@ -520,9 +521,10 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   }
   if (options.delay == DelayKind::kInput &&
       std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
-    throw ValueError(
-        "--delay ctrl: the logs have no input column (ctrl[...], qfrc_applied[...]): there is "
-        "no input to delay; name the commanded input with a column map, or leave --delay out");
+    throw ArgumentError(
+        "delay", "ctrl",
+        "the logs have no input column (ctrl[...], qfrc_applied[...]): there is no input to "
+        "delay; name the commanded input with a column map, or estimate no delay");
   }
   IdentifyResult result;
   double dt = model->opt.timestep;
@@ -561,8 +563,8 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
         "the start states were taken as logged, not fitted: with these windows and logs they "
-        "would add more than {} unknowns; their measurement noise may bias the estimates (use a "
-        "longer --window)",
+        "would add more than {} unknowns; their measurement noise may bias the estimates (use "
+        "longer windows)",
         kMostStartUnknowns));
   }
   Model fitted = model.Clone();

@@ -96,7 +96,7 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
   if (metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt) {
     until = metric.time;
   }
-  RequireWholeSteps(until, timestep, "metric '" + metric.text + "'", "", 0);
+  RequireWholeSteps(until, timestep, "metric", Quoted(metric.text), "", 0);
   std::vector<Assignment> all = sets;
   Assignment dt;
   dt.text = "opt.timestep";

@@ -140,7 +140,7 @@ Measurement MetricProbe::Result(std::size_t k, double until) const {
         out.value = kNaN;
         out.problem = "'" + metric.path.text +
                       "' crossed its mid-range upward fewer than twice in " + FormatNumber(until) +
-                      " s; run longer (--until) or it does not oscillate";
+                      " s; run longer or it does not oscillate";
         return out;
       }
       out.value = *period;

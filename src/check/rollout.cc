@@ -90,7 +90,7 @@ Distribution ParseDistribution(std::string_view raw) {
 
 Randomization ParseRandomization(const Model& model, std::string_view text) {
   auto [path_text, dist_text] =
-      SplitAssignment(text, "--randomize", "PATH=DIST, e.g. 'body_mass[*]=*U(0.9,1.1)'");
+      SplitAssignment(text, "randomize", "PATH=DIST, e.g. 'body_mass[*]=*U(0.9,1.1)'");
   Randomization r;
   r.text = std::string(text);
   r.dist = ParseDistribution(dist_text);
@@ -229,7 +229,7 @@ class OneRollout {
   // A draw MuJoCo cannot take (a negative mass from N(mu, sigma), a fraction for an integer
   // field) is this rollout's problem, recorded; the batch goes on.
   RolloutResult Refuse(const Randomization& r) {
-    out_.problem = fmt::format("rollout {}: --randomize '{}' drew a value MuJoCo cannot take: {}",
+    out_.problem = fmt::format("rollout {}: randomize '{}' drew a value MuJoCo cannot take: {}",
                                index_, r.text, refusal_);
     out_.metrics.assign(spec_.metrics.size(), kNaN);
     return out_;
@@ -323,15 +323,20 @@ bool NeedsEnergy(const RolloutSpec& spec) {
 }  // namespace
 
 void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
-  if (spec.count < 0) throw ValueError("--count must be >= 0");
-  if (spec.threads < 1) throw ValueError("--threads must be at least 1");
-  if (spec.shard_count < 1 || spec.shard_index < 0 || spec.shard_index >= spec.shard_count) {
-    throw ValueError("--shard I/N needs 0 <= I < N, got " + std::to_string(spec.shard_index) + "/" +
-                     std::to_string(spec.shard_count));
+  if (spec.count < 0) throw ArgumentError("count", std::to_string(spec.count), "must be >= 0");
+  if (spec.threads < 1) {
+    throw ArgumentError("threads", std::to_string(spec.threads), "must be at least 1");
   }
-  if (!(spec.until > 0) || !std::isfinite(spec.until)) throw ValueError("--until must be > 0 s");
+  if (spec.shard_count < 1 || spec.shard_index < 0 || spec.shard_index >= spec.shard_count) {
+    throw ArgumentError("shard",
+                        std::to_string(spec.shard_index) + "/" + std::to_string(spec.shard_count),
+                        "a shard I/N needs 0 <= I < N");
+  }
+  if (!(spec.until > 0) || !std::isfinite(spec.until)) {
+    throw ArgumentError("until", fmt::format("{:g}", spec.until), "must be > 0 s");
+  }
   if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1) {
-    throw ValueError("--ctrl-noise must be in [0, 1]");
+    throw ArgumentError("ctrl_noise", fmt::format("{:g}", spec.ctrl_noise), "must be in [0, 1]");
   }
   // each element drawn once: a second draw of the same element would silently win, and two
   // columns would carry one name
@@ -340,9 +345,10 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
     for (const Path& p : r.paths) {
       auto [it, fresh] = drawn.try_emplace({p.field_index, p.first}, &r);
       if (fresh) continue;
-      throw ValueError("--randomize '" + r.text + "' and --randomize '" + it->second->text +
-                       "' both draw " + p.text +
-                       ": the later draw would silently win. Give each element one --randomize.");
+      throw ArgumentError("randomize", Quoted(r.text) + " and " + Quoted(it->second->text),
+                          "both draw " + p.text +
+                              ": the later draw would silently win. Give each element one "
+                              "distribution.");
     }
   }
   // the one timing rule: a metric's time falls on whole steps of every timestep a rollout
@@ -356,20 +362,20 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   }
   for (const Metric& metric : spec.metrics) {
     if (metric.kind != MetricKind::kValueAt && metric.kind != MetricKind::kStateAt) continue;
-    std::string what = "--metric '" + metric.text + "'";
     if (!random_dt.empty()) {
-      throw ValueError(what +
-                       ": a metric at a fixed time needs a whole number of steps, and "
-                       "--randomize '" +
-                       random_dt +
-                       "' draws timesteps that do not divide it. "
-                       "Use period(...), maxabs(...) or energy_drift, or vary the timestep over "
-                       "listed values with plumb sweep --vary.");
+      throw ArgumentError("metric", Quoted(metric.text),
+                          "a metric at a fixed time needs a whole number of steps, and the "
+                          "randomization " +
+                              Quoted(random_dt) +
+                              " draws timesteps that do not divide it. Use period(...), "
+                              "maxabs(...) or energy_drift, or vary the timestep over listed "
+                              "values in a sweep.");
     }
-    RequireWholeSteps(metric.time, dt, what, "", 0);
+    RequireWholeSteps(metric.time, dt, "metric", Quoted(metric.text), "", 0);
     if (metric.time > spec.until + 1e-12) {
-      throw ValueError(fmt::format("{}: {:g} s is after the end of the run (--until {:g} s).", what,
-                                   metric.time, spec.until));
+      throw ArgumentError("metric", Quoted(metric.text),
+                          fmt::format("{:g} s is after the end of the run (until {:g} s).",
+                                      metric.time, spec.until));
     }
   }
 }
@@ -416,13 +422,11 @@ void RolloutPool::Run(const std::vector<long>& indices,
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
   };
-  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop,
-                               interrupted);
+  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop, interrupted);
 }
 
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
-                  const std::function<void(const RolloutResult&)>& emit,
-                  const StopToken& stop) {
+                  const std::function<void(const RolloutResult&)>& emit, const StopToken& stop) {
   RolloutPool pool(model, spec);
   pool.Run(indices, emit, stop);
 }

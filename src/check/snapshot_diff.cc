@@ -149,8 +149,8 @@ void ValidateSnapshot(const ordered_json& before, const ordered_json& after) {
                      " is not one this plumb reads (1)");
   }
   Member(before, "", "mujoco_version", &J::is_string, "a string");
-  if (before.contains("sets")) {  // snapshots before the --set values were recorded lack it
-    const J& sets = Member(before, "", "sets", &J::is_array, "an array of --set values");
+  if (before.contains("sets")) {  // snapshots written before assignments were recorded lack it
+    const J& sets = Member(before, "", "sets", &J::is_array, "an array of assignments");
     for (std::size_t i = 0; i < sets.size(); ++i) {
       if (!sets[i].is_string()) Damaged("sets[" + std::to_string(i) + "]", "a string", sets[i]);
     }
@@ -442,14 +442,9 @@ std::vector<Assignment> SnapshotSets(const Model& model, const ordered_json& par
   return out;
 }
 
-// The notes above the changes: the --set the model ran with, another MuJoCo.
+// The notes above the changes: another MuJoCo (the assignments the model ran with are
+// SnapshotDiff::sets, which the writers show).
 void Notes(const ordered_json& before, const ordered_json& after, SnapshotDiff* diff) {
-  if (!diff->sets.empty()) {
-    std::string list;
-    for (const std::string& t : diff->sets)
-      list += (list.empty() ? "--set '" : " --set '") + t + "'";
-    diff->notes.push_back("the model is simulated with the snapshot's " + list);
-  }
   if (before["mujoco_version"] != after["mujoco_version"]) {
     diff->notes.push_back("the snapshot was written with MuJoCo " +
                           before["mujoco_version"].get<std::string>() + ", this is " +
@@ -492,7 +487,7 @@ SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
   Differ differ(before, after, tol, &diff);
   for (const auto& [text, reason] : refused) {
     differ.Change("set", text, text, nullptr,
-                  "the snapshot's --set '" + text + "' does not apply to the current model (" +
+                  "the snapshot's assignment '" + text + "' does not apply to the current model (" +
                       reason + "); compared without it");
   }
   Notes(before, after, &diff);

@@ -24,18 +24,17 @@ constexpr long kCheckedRange = 100000;
 
 SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
   auto [path_view, values_view] =
-      SplitAssignment(text, "--vary",
+      SplitAssignment(text, "vary",
                       "PATH=V1,V2,... or PATH=START:STOP:COUNT, e.g. "
                       "dof_damping[hinge]=0,0.05,1 or qpos[hinge]=0.1:2.8:10");
   SweepAxis axis;
   axis.text = std::string(text);
   std::string path_text(path_view);
-  // errors from the path and value parsers speak of --set; here the user wrote --vary
+  // what the path and value parsers say is about this axis: an assignment's problem as it
+  // is, anything else whole
   auto as_vary = [&](const Error& e) {
-    std::string message = e.what();
-    std::size_t colon = message.rfind("--set '", 0) == 0 ? message.find("': ") : std::string::npos;
-    if (colon != std::string::npos) message = message.substr(colon + 3);
-    return ValueError("--vary '" + axis.text + "': " + message);
+    const auto* bad = dynamic_cast<const ArgumentError*>(&e);
+    return ArgumentError("vary", Quoted(axis.text), bad ? bad->problem() : e.what());
   };
   try {
     axis.path = ResolvePath(model, path_text);
@@ -43,9 +42,9 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
     throw as_vary(e);
   }
   if (axis.path.count != 1) {
-    throw ValueError("--vary '" + axis.text + "': '" + axis.path.text + "' has " +
-                     std::to_string(axis.path.count) + " elements; vary one, e.g. " +
-                     axis.path.text + "[0].");
+    throw ArgumentError("vary", Quoted(axis.text),
+                        "'" + axis.path.text + "' has " + std::to_string(axis.path.count) +
+                            " elements; vary one, e.g. " + axis.path.text + "[0].");
   }
   std::string values(values_view);
   std::vector<std::string> range = Split(values, ':');
@@ -54,8 +53,8 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
     std::optional<long> count = ParseIndex(range[2]);
     if (!start || !stop || !count || *count < 1 || !std::isfinite(*start) ||
         !std::isfinite(*stop)) {
-      throw ValueError("--vary '" + axis.text +
-                       "': START:STOP:COUNT needs two numbers and a whole count >= 1.");
+      throw ArgumentError("vary", Quoted(axis.text),
+                          "START:STOP:COUNT needs two numbers and a whole count >= 1.");
     }
     axis.start = *start;
     axis.stop = *stop;
@@ -76,7 +75,7 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
     return axis;
   }
   if (range.size() != 1)
-    throw ValueError("--vary '" + axis.text + "': a range is START:STOP:COUNT.");
+    throw ArgumentError("vary", Quoted(axis.text), "a range is START:STOP:COUNT.");
   for (const std::string& label : Split(values, ',')) {
     try {
       axis.listed.push_back(ParseAssignment(model, path_text + "=" + label));
@@ -131,9 +130,9 @@ long CaseCount(const std::vector<SweepAxis>& axes) {
   for (const SweepAxis& a : axes) {
     long size = static_cast<long>(a.size());
     if (size > 0 && n > kMostCases / size) {
-      throw ValueError(
-          "--vary: the product of the axes passes 2^53 cases; no sweep can run that "
-          "many. Use fewer values, or plumb rollout to sample the space at random.");
+      throw ArgumentError("vary", "",
+                          "the product of the axes passes 2^53 cases; no sweep can run that "
+                          "many. Use fewer values, or a rollout to sample the space at random.");
     }
     n *= size;
   }
@@ -147,10 +146,10 @@ void RequireDistinctAxes(const std::vector<SweepAxis>& axes) {
           axes[a].path.first != axes[b].path.first) {
         continue;
       }
-      throw ValueError("--vary '" + axes[a].text + "' and --vary '" + axes[b].text +
-                       "' both vary " + axes[b].path.text +
-                       ": the later value would silently win in every case. Give each element "
-                       "one --vary with all its values.");
+      throw ArgumentError("vary", Quoted(axes[a].text) + " and " + Quoted(axes[b].text),
+                          "both vary " + axes[b].path.text +
+                              ": the later value would silently win in every case. Give each "
+                              "element one axis with all its values.");
     }
   }
 }
@@ -167,8 +166,10 @@ std::vector<std::size_t> CaseChoice(const std::vector<SweepAxis>& axes, long ind
 }
 
 void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
-  if (spec.metrics.empty()) throw ValueError("a sweep needs at least one --metric");
-  if (spec.threads < 1) throw ValueError("--threads must be at least 1");
+  if (spec.metrics.empty()) throw ArgumentError("metric", "", "a sweep needs at least one metric");
+  if (spec.threads < 1) {
+    throw ArgumentError("threads", std::to_string(spec.threads), "must be at least 1");
+  }
   RequireDistinctAxes(spec.axes);
   CaseCount(spec.axes);
   // every case's runs must end on whole steps of its timestep: checked for all cases
@@ -179,14 +180,14 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
     if (axis.path.field != "opt.timestep") continue;
     timesteps.clear();
     for (std::size_t v = 0; v < axis.size(); ++v) {
-      timesteps.push_back({axis.Value(v).values[0], "--vary '" + axis.text + "'"});
+      timesteps.push_back({axis.Value(v).values[0], "varied by " + Quoted(axis.text)});
     }
   }
   for (const Metric& metric : spec.metrics) {
     bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
     double until = at_time ? metric.time : spec.until > 0 ? spec.until : DefaultDuration(metric);
     for (const auto& [step, source] : timesteps) {
-      RequireWholeSteps(until, step, "--metric '" + metric.text + "'", source);
+      RequireWholeSteps(until, step, "metric", Quoted(metric.text), source);
     }
   }
 }

@@ -66,17 +66,16 @@ constexpr Check kChecks[] = {
 double NominalLength(const VerifyOptions& options, const mjModel* m, double dt, bool pendulum) {
   if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
     // a run of zero steps would pass determinism and warnings without testing anything
-    throw ValueError(
-        fmt::format("--until {:g}: the nominal run length must be a positive number "
-                    "of seconds (a run of zero steps checks nothing).",
-                    *options.until));
+    throw ArgumentError("until", fmt::format("{:g}", *options.until),
+                        "the nominal run length must be a positive number of seconds (a run of "
+                        "zero steps checks nothing).");
   }
   double max_steps =
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
   double until = options.until ? *options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
   if (options.until) {
     // the convergence ladder runs at 2*dt too, so the run must end on a whole 2*dt
-    RequireWholeSteps(*options.until, 2 * dt, fmt::format("--until {:g}", *options.until),
+    RequireWholeSteps(*options.until, 2 * dt, "until", fmt::format("{:g}", *options.until),
                       "twice the timestep: the convergence ladder's coarsest level");
   }
   return std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
@@ -88,8 +87,8 @@ int VerifyReport::Count(CheckStatus status) const { return CountStatus(checks, s
 
 VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   if (!(options.tol > 0 && std::isfinite(options.tol))) {
-    throw ValueError(fmt::format("--tol {:g}: the relative tolerance must be positive and finite.",
-                                 options.tol));
+    throw ArgumentError("tol", fmt::format("{:g}", options.tol),
+                        "the relative tolerance must be positive and finite.");
   }
   VerifyReport report;
   report.model = model.file();

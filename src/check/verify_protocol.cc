@@ -175,8 +175,8 @@ CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r) {
         fmt::join(bad.first, ", "), bad.total > static_cast<long>(bad.first.size()) ? ", ..." : "");
   } else if (model.compile_warnings().empty()) {
     r.status = CheckStatus::kPass;
-    r.explanation = fmt::format("compiled cleanly: {} moving bodies, {} dofs. As compiled: {}.", moving,
-                           m->nv, bodies);
+    r.explanation = fmt::format("compiled cleanly: {} moving bodies, {} dofs. As compiled: {}.",
+                                moving, m->nv, bodies);
   } else {
     r.status = CheckStatus::kWarn;
     r.explanation = "MuJoCo's compiler warned: " + model.compile_warnings();
@@ -200,10 +200,11 @@ CheckRow CheckDeterminism(const VerifyContext& ctx, CheckRow r) {
   r.measured_text = same ? "identical" : "different";
   r.reference_text = "identical";
   r.status = same ? CheckStatus::kPass : CheckStatus::kFail;
-  r.explanation = same ? fmt::format("two runs of {} gave the same state and energy to the last bit",
-                                Seconds(until))
-                  : "two runs from the same state differ: something non-deterministic (a "
-                    "callback, uninitialised memory or threads) enters the simulation";
+  r.explanation = same
+                      ? fmt::format("two runs of {} gave the same state and energy to the last bit",
+                                    Seconds(until))
+                      : "two runs from the same state differ: something non-deterministic (a "
+                        "callback, uninitialised memory or threads) enters the simulation";
   return r;
 }
 
@@ -216,14 +217,16 @@ CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r) {
   if (nominal.result.diverged) {
     r.status = CheckStatus::kFail;
     r.measured_text = "diverged";
-    r.explanation = nominal.result.divergence->reason +
-               " Shrink the timestep and check masses and inertias (plumb run writes a repro).";
+    r.explanation =
+        nominal.result.divergence->reason +
+        " Shrink the timestep and check masses and inertias (plumb run writes a repro).";
     return r;
   }
   if (nominal.result.warnings.empty()) {
     r.status = CheckStatus::kPass;
     r.measured_text = "none";
-    r.explanation = fmt::format("{} of simulation raised no warning and stayed finite", Seconds(until));
+    r.explanation =
+        fmt::format("{} of simulation raised no warning and stayed finite", Seconds(until));
     return r;
   }
   std::vector<std::string> kinds;
@@ -233,8 +236,9 @@ CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r) {
   }
   r.status = CheckStatus::kWarn;
   r.measured_text = fmt::format("{} kind(s)", kinds.size());
-  r.explanation = "MuJoCo warned: " + fmt::format("{}", fmt::join(kinds, "; ")) +
-             ". A warning means results were truncated or reset; it is not a log line to ignore.";
+  r.explanation =
+      "MuJoCo warned: " + fmt::format("{}", fmt::join(kinds, "; ")) +
+      ". A warning means results were truncated or reset; it is not a log line to ignore.";
   return r;
 }
 
@@ -287,12 +291,14 @@ CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
     if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
       r.status = CheckStatus::kPass;
       r.measured_text = "round-off";
-      r.explanation = fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
-                             metric_text, levels, c.estimate.note, caveat);
+      r.explanation =
+          fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
+                      metric_text, levels, c.estimate.note, caveat);
     } else {
       r.status = CheckStatus::kWarn;
       r.measured_text = "no order visible";
-      r.explanation = fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
+      r.explanation =
+          fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
     }
     return r;
   }
@@ -338,7 +344,7 @@ std::string NotPassive(const VerifyScenario& s, const Trace& nominal) {
     bool input = a.path.field == "ctrl" || a.path.field == "qfrc_applied" ||
                  a.path.field == "xfrc_applied" || a.path.field == "mocap_pos";
     if (input && std::any_of(a.values.begin(), a.values.end(), [](double v) { return v != 0; }))
-      return "--set '" + a.text + "' drives it";
+      return "the assignment '" + a.text + "' drives it";
   }
   if (m->neq > 0) return "it has equality constraints";
   if (nominal.max_ncon > 0)
@@ -472,7 +478,7 @@ CheckRow ExerciseRadians(const VerifyContext& ctx, CheckRow r) {
       }
     }
   }
-  if (seen.empty()) return Skip(r.id, r.title, "no hinge angle was set with --set");
+  if (seen.empty()) return Skip(r.id, r.title, "no hinge angle was set by an assignment");
   r.status = suspicious ? CheckStatus::kWarn : CheckStatus::kPass;
   r.measured_text = suspicious ? "looks like degrees" : "plausible radians";
   r.reference_text = "|angle| <= 2*pi";

@@ -198,7 +198,7 @@ ModelDescription Describe(const Model& model) {
       {"parameter", "mjModel",
        "opt.timestep, opt.gravity, body_mass, body_inertia, dof_damping, geom_size, "
        "actuator_gear, ...",
-       "the MJCF compiler; fixed while the simulation runs (--set before a run)"},
+       "the MJCF compiler; fixed while the simulation runs (assign before a run)"},
       {"state", "mjData",
        "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na),
        "mj_step, which advances it; you may also set it, then call mj_forward"},

@@ -18,6 +18,14 @@ std::string FromProjectRoot(const char* file) {
 
 }  // namespace
 
+ArgumentError::ArgumentError(std::string argument, std::string value, std::string problem)
+    : ValueError(argument + (value.empty() ? "" : " " + value) + ": " + problem),
+      argument_(std::move(argument)),
+      value_(std::move(value)),
+      problem_(std::move(problem)) {}
+
+std::string Quoted(const std::string& text) { return "'" + text + "'"; }
+
 InternalError::InternalError(const char* file, int line, const std::string& condition)
     : std::logic_error("plumb internal error at " + FromProjectRoot(file) + ":" +
                        std::to_string(line) + ": '" + condition +

@@ -20,14 +20,16 @@ int FindKeyframe(const Model& model, const std::string& name) {
     if (names.back() == name) return k;
   }
   if (names.empty()) {
-    throw ValueError("--keyframe '" + name + "': the model '" + model.file() +
-                     "' has no keyframes (MJCF <keyframe><key name=... qpos=.../></keyframe>). "
-                     "Set the start state with --set instead.");
+    throw ArgumentError(
+        "keyframe", Quoted(name),
+        "the model '" + model.file() +
+            "' has no keyframes (MJCF <keyframe><key name=... qpos=.../></keyframe>). "
+            "Set the start state with assignments (qpos[...]=...) instead.");
   }
   std::string hint = DidYouMean(name, names);
-  throw ValueError("--keyframe '" + name + "': no such keyframe in '" + model.file() +
-                   "'. Its keyframes: " + Join(names, ", ") + "." +
-                   (hint.empty() ? "" : " " + hint));
+  throw ArgumentError("keyframe", Quoted(name),
+                      "no such keyframe in '" + model.file() + "'. Its keyframes: " +
+                          Join(names, ", ") + "." + (hint.empty() ? "" : " " + hint));
 }
 
 std::vector<Assignment> KeyframeAssignments(const Model& model, const std::string& name) {
@@ -58,7 +60,7 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named) {
   ReferencePose pose;
   if (!named.empty()) {
     pose.keyframe = FindKeyframe(model, named);
-    pose.description = "keyframe '" + named + "' (--keyframe)";
+    pose.description = "keyframe '" + named + "' (named by the caller)";
     return pose;
   }
   for (const char* name : {"home", "test"}) {

@@ -194,7 +194,9 @@ void CheckDomain(const Path& path, const std::string& text, const std::vector<do
   std::size_t enum_size = 0;
   const compat::EnumName* names = EnumTable(path.field, &enum_size);
   const std::string& field = path.field;
-  auto fail = [&](const std::string& why) { throw ValueError(text + ": " + why + "."); };
+  auto fail = [&](const std::string& why) {
+    throw ValueError((text.empty() ? "" : text + ": ") + why + ".");
+  };
   for (double v : values) {
     if (names) {
       bool known = false;
@@ -271,7 +273,7 @@ std::vector<std::string> QuaternionWarnings(const Model& model, const Assignment
     double norm = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
     if (std::fabs(norm - 1) <= 1e-4) continue;
     std::string name = model.Name(mjOBJ_JOINT, j);
-    warnings.push_back("--set '" + a.text + "': the orientation quaternion of joint " +
+    warnings.push_back("the orientation quaternion of joint " +
                        (name.empty() ? "#" + std::to_string(j) : "'" + name + "'") + " (qpos[" +
                        std::to_string(q) + "..." + std::to_string(q + 3) + "]) has norm " +
                        FormatNumber(norm) +
@@ -305,9 +307,9 @@ std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignme
     std::string name = model.Name(mjOBJ_ACTUATOR, id);
     std::string actuator = name.empty() ? "#" + std::to_string(id) : "'" + name + "'";
     double clamped = std::clamp(v, range[0], range[1]);
-    warnings.push_back("--set '" + a.text + "': " + FormatNumber(v) + " is outside the " +
-                       (is_ctrl ? "ctrlrange" : "actrange") + " [" + FormatNumber(range[0]) + ", " +
-                       FormatNumber(range[1]) + "] of actuator " + actuator +
+    warnings.push_back(FormatNumber(v) + " is outside the " + (is_ctrl ? "ctrlrange" : "actrange") +
+                       " [" + FormatNumber(range[0]) + ", " + FormatNumber(range[1]) +
+                       "] of actuator " + actuator +
                        "; MuJoCo clamps it, so the actuator acts as if " + a.path.field + " = " +
                        FormatNumber(clamped) + ".");
   }
@@ -318,7 +320,7 @@ std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignme
 
 Assignment ParseAssignment(const Model& model, std::string_view text) {
   auto [path_text, value_view] =
-      SplitAssignment(text, "--set", "PATH=VALUE, e.g. qpos[hinge]=0.7 or opt.gravity=0,0,-1.62");
+      SplitAssignment(text, "set", "PATH=VALUE, e.g. qpos[hinge]=0.7 or opt.gravity=0,0,-1.62");
   Assignment a;
   a.text = std::string(text);
   a.path = ResolvePath(model, path_text);
@@ -334,28 +336,34 @@ Assignment ParseAssignment(const Model& model, std::string_view text) {
       if (!v) {
         std::vector<std::string> valid;
         for (std::size_t i = 0; i < enum_size; ++i) valid.push_back(names[i].name);
-        throw ValueError("--set '" + a.text + "': '" + item + "' is not a valid " + a.path.field +
-                         "; valid names: " + Join(valid, ", ") + ".");
+        throw ArgumentError("set", Quoted(a.text),
+                            "'" + item + "' is not a valid " + a.path.field +
+                                "; valid names: " + Join(valid, ", ") + ".");
       }
     }
     if (!v) {
-      throw ValueError("--set '" + a.text + "': '" + item + "' is not a number.");
+      throw ArgumentError("set", Quoted(a.text), "'" + item + "' is not a number.");
     }
     if (!std::isfinite(*v)) {
-      throw ValueError("--set '" + a.text + "': " + item + " is not a finite number.");
+      throw ArgumentError("set", Quoted(a.text), item + " is not a finite number.");
     }
     a.values.push_back(*v);
   }
   if (static_cast<long>(a.values.size()) != a.path.count) {
-    throw ValueError("--set '" + a.text + "': '" + a.path.text + "' is " +
-                     BlockDescription(model, a.path) + "; give exactly " +
-                     std::to_string(a.path.count) + " values separated by commas (got " +
-                     std::to_string(a.values.size()) + "), or set one element, e.g. " +
-                     a.path.text + "[0]=" + FormatNumber(a.values.front()) + ".");
+    throw ArgumentError("set", Quoted(a.text),
+                        "'" + a.path.text + "' is " + BlockDescription(model, a.path) +
+                            "; give exactly " + std::to_string(a.path.count) +
+                            " values separated by commas (got " + std::to_string(a.values.size()) +
+                            "), or set one element, e.g. " + a.path.text +
+                            "[0]=" + FormatNumber(a.values.front()) + ".");
   }
   RequireWritable(a.path);
   for (double v : a.values) CheckValue(Fields()[a.path.field_index].type, a.text, v);
-  CheckDomain(a.path, "--set '" + a.text + "'", a.values);
+  try {
+    CheckDomain(a.path, "", a.values);
+  } catch (const ValueError& e) {
+    throw ArgumentError("set", Quoted(a.text), e.what());
+  }
   a.warnings = SilentChangeWarnings(model, a);
   return a;
 }
@@ -366,12 +374,12 @@ void CheckAssignable(const Path& path, double value) {
 }
 
 std::pair<std::string_view, std::string_view> SplitAssignment(std::string_view text,
-                                                              const char* option,
+                                                              const char* argument,
                                                               const char* example) {
   std::size_t eq = text.find('=');
   if (eq == std::string_view::npos) {
-    throw ValueError(std::string(option) + " '" + std::string(text) + "': expected " + example +
-                     ".");
+    throw ArgumentError(argument, Quoted(std::string(text)),
+                        std::string("expected ") + example + ".");
   }
   return {text.substr(0, eq), text.substr(eq + 1)};
 }

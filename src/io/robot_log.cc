@@ -187,7 +187,7 @@ class LogReader {
       p = ResolvePath(model_, target);
     } catch (const PathError& e) {
       Fail(1, name,
-           fmt::format("{}{} (rename the robot's columns with a column map: --columns FILE)",
+           fmt::format("{}{} (rename the robot's columns with a column map)",
                        target == name ? std::string() : "mapped to '" + target + "': ", e.what()));
     }
     if (p.count != 1) {

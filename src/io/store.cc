@@ -45,7 +45,7 @@ json Encoded(const std::string& text, const std::string& where) {
     throw IoError(where + " is not a JSON array (" +
                   (j.is_discarded() ? std::string("not JSON") : std::string(j.type_name())) +
                   "); the store was edited or damaged: restore it from a copy or start a new "
-                  "--db file.");
+                  "store file.");
   }
   return j;
 }
@@ -237,7 +237,7 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
       std::string verdict = check.Step() ? check.Text(0) : "no answer";
       if (verdict != "ok") {
         throw IoError("results store '" + path + "' is damaged (SQLite quick_check: " + verdict +
-                      "); restore it from a copy or start a new --db file.");
+                      "); restore it from a copy or start a new store file.");
       }
     }
     SwitchToWriteAheadLog(impl_->db, path);
@@ -450,8 +450,7 @@ void RequireCompleteIfFinished(ResultsStore& in, const RunInfo& run, const std::
   }
   throw ValueError(fmt::format(
       "merge: '{}' says run {} is complete, but it holds {} of its {} rollouts (missing: {}{}); "
-      "the store was edited or damaged. Run the rollouts again with --resume on that store "
-      "before merging.",
+      "the store was edited or damaged. Resume the run on that store before merging.",
       input, run.id, done.size(), run.count, fmt::join(missing, ", "),
       static_cast<long>(done.size()) + static_cast<long>(missing.size()) < run.count ? ", ..."
                                                                                      : ""));

@@ -53,9 +53,10 @@ void AddHighlight(const Model& model, const std::string& name, std::set<int>* ge
     *joint = true;
   }
   if (body < 0) {
-    throw ValueError("--highlight '" + name + "' names no body, geom or joint of the model. " +
-                     "Bodies: " + Names(model, mjOBJ_BODY, m->nbody) +
-                     ". Joints: " + Names(model, mjOBJ_JOINT, m->njnt) + ".");
+    throw ArgumentError(
+        "highlight", Quoted(name),
+        "names no body, geom or joint of the model. Bodies: " + Names(model, mjOBJ_BODY, m->nbody) +
+            ". Joints: " + Names(model, mjOBJ_JOINT, m->njnt) + ".");
   }
   for (int g = 0; g < m->ngeom; ++g) {
     if (m->geom_bodyid[g] == body) geoms->insert(g);
@@ -110,9 +111,10 @@ void Renderer::Impl::ChooseCamera() {
     camera_text = "fixed: whole model";
   } else if (name == "track") {
     if (free_body < 0) {
-      throw ValueError("--camera track follows a free-floating body, and '" + model.file() +
-                       "' has none: use --camera fixed or a camera of the model (" +
-                       Names(model, mjOBJ_CAMERA, m->ncam) + ")");
+      throw ArgumentError("camera", "track",
+                          "follows a free-floating body, and '" + model.file() +
+                              "' has none: use the fixed camera or a camera of the model (" +
+                              Names(model, mjOBJ_CAMERA, m->ncam) + ")");
     }
     mjv_defaultFreeCamera(m, &camera);
     camera.type = mjCAMERA_TRACKING;
@@ -121,9 +123,10 @@ void Renderer::Impl::ChooseCamera() {
   } else {
     int id = mj_name2id(m, mjOBJ_CAMERA, name.c_str());
     if (id < 0) {
-      throw ValueError(
-          "--camera '" + name + "' is not auto, track, fixed or a camera of '" + model.file() +
-          "' (its cameras: " + (m->ncam > 0 ? Names(model, mjOBJ_CAMERA, m->ncam) : "none") + ")");
+      throw ArgumentError("camera", Quoted(name),
+                          "is not auto, track, fixed or a camera of '" + model.file() +
+                              "' (its cameras: " +
+                              (m->ncam > 0 ? Names(model, mjOBJ_CAMERA, m->ncam) : "none") + ")");
     }
     camera.type = mjCAMERA_FIXED;
     camera.fixedcamid = id;

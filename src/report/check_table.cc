@@ -69,7 +69,8 @@ std::string Wrap(const std::string& text, std::size_t width, const std::string& 
 }
 
 std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
-                       const std::vector<std::string>& texts, TableDetail detail) {
+                       const std::vector<std::string>& texts, TableDetail detail,
+                       const std::string& how_to_see_all) {
   std::map<CheckStatus, long> count;
   // the SKIPs of each reason: their ids and the row that shows them
   std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> skipped;
@@ -124,12 +125,14 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
   }
   out += "\n" + counts;
   if (detail == TableDetail::kFindings && count[CheckStatus::kPass] > 0) {
-    out += " (passed checks not listed: --all shows every check)";
+    out +=
+        " (passed checks not listed" + (how_to_see_all.empty() ? "" : ": " + how_to_see_all) + ")";
   }
   return out + "\n";
 }
 
-std::string VerifyTable(const VerifyReport& report, TableDetail detail) {
+std::string VerifyTable(const VerifyReport& report, TableDetail detail,
+                        const std::string& how_to_see_all) {
   std::vector<std::string> texts;
   for (const CheckRow& c : report.checks) {
     std::string text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
@@ -143,10 +146,11 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail) {
   }
   return CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
                                 MujocoVersion(), report.tol),
-                    report.checks, texts, detail);
+                    report.checks, texts, detail, how_to_see_all);
 }
 
-std::string AuditTable(const AuditReport& report, TableDetail detail) {
+std::string AuditTable(const AuditReport& report, TableDetail detail,
+                       const std::string& how_to_see_all) {
   std::vector<std::string> texts;
   for (const CheckRow& f : report.findings) {
     std::string about = f.About();
@@ -161,7 +165,7 @@ std::string AuditTable(const AuditReport& report, TableDetail detail) {
     texts.push_back(text);
   }
   return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()),
-                    report.findings, texts, detail);
+                    report.findings, texts, detail, how_to_see_all);
 }
 
 }  // namespace plumb

@@ -162,7 +162,7 @@ void SolveSection(report::Page* page, const IdentifyResult& r) {
                          final_x, r.cost, report::Series::kLine});
   cost.how_to_read =
       "Half the sum of squared weighted residuals after each accepted step. Healthy: a fast "
-      "drop, then flat. Sick: still falling at the last iteration (raise --max-iterations), or "
+      "drop, then flat. Sick: still falling at the last iteration (allow more iterations), or "
       "flat from the start far above the number of samples (a wrong model structure).";
   page->BeginGrid();
   page->Add(cost);

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "plumb/model.h"
+#include "plumb/strings.h"
 
 namespace plumb {
 namespace {
@@ -112,8 +113,15 @@ std::string ConvergeTable(const ConvergenceResult& r) {
   return out + "\n" + ConvergeVerdict(r);
 }
 
-std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot) {
+std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot,
+                      const std::string& set_prefix) {
   std::string out;
+  if (!diff.sets.empty()) {
+    std::vector<std::string> sets;
+    for (const std::string& t : diff.sets) sets.push_back(set_prefix + "'" + t + "'");
+    out += "note: the model is simulated with the snapshot's " +
+           Join(sets, set_prefix.empty() ? ", " : " ") + "\n";
+  }
   for (const std::string& n : diff.notes) out += "note: " + n + "\n";
   if (!diff.compiler.empty()) {
     out += fmt::format(

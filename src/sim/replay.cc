@@ -197,10 +197,12 @@ std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
   if (options.window <= 0) return starts;
   std::vector<const LogSignal*> state = StateSignals(log);
   if (static_cast<int>(state.size()) < m->nq + m->nv) {
-    throw ValueError(fmt::format(
-        "--window restarts the simulation from the logged state, but {} holds {} of the "
-        "model's {} qpos and qvel elements: log them all, or replay without --window",
-        log.source, state.size(), m->nq + m->nv));
+    throw ArgumentError(
+        "window", fmt::format("{:g}", options.window),
+        fmt::format("a window restarts the simulation from the logged state, but {} holds {} of "
+                    "the model's {} qpos and qvel elements: log them all, or replay without "
+                    "windows",
+                    log.source, state.size(), m->nq + m->nv));
   }
   const std::vector<double>& times = state.front()->time;
   for (int j = 1;; ++j) {

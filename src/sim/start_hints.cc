@@ -14,12 +14,12 @@
 namespace plumb {
 namespace {
 
-// A --set that takes the model out of the equilibrium `data` holds, found by trying
+// An assignment that takes the model out of the equilibrium `data` holds, found by trying
 // it: the first hinge or slide coordinate whose offset (0.7 rad, 0.1 m, kept inside the
 // joint's range) makes some |qacc| exceed 1e-3, so following the advice always moves
 // the model (a slider under a balanced pole does not, the pole's hinge does). When no
 // offset does (no gravity, no springs), a velocity.
-std::string EquilibriumBreaker(const Model& model, const Data& data) {
+void EquilibriumBreaker(const Model& model, const Data& data, StartHint* hint) {
   const mjModel* m = model.get();
   Data probe = data.Clone();
   auto label = [&](int j, int adr) {
@@ -49,8 +49,10 @@ std::string EquilibriumBreaker(const Model& model, const Data& data) {
     if (largest > 1e-3) {
       char text[64];
       std::snprintf(text, sizeof(text), "%.6g", value);
-      return "Start it away from equilibrium, e.g. --set 'qpos[" + label(j, adr) + "]=" + text +
-             "' (plumb tried it: it gives |qacc| up to " + fmt::format("{:.3g}", largest) + ").";
+      hint->advice = "Start it away from equilibrium";
+      hint->assignment = "qpos[" + label(j, adr) + "]=" + text;
+      hint->evidence = "plumb tried it: it gives |qacc| up to " + fmt::format("{:.3g}", largest);
+      return;
     }
   }
   // a velocity of the first joint's first dof (an element, also of a free or ball joint)
@@ -58,17 +60,18 @@ std::string EquilibriumBreaker(const Model& model, const Data& data) {
   std::string dof = label(j, m->jnt_dofadr[j]);
   bool block = m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL;
   if (block && !model.Name(mjOBJ_JOINT, j).empty()) dof += "][0";
-  return "No single offset of a hinge or slide makes it accelerate (no gravity or springs "
-         "act on it): give it a velocity instead, e.g. --set 'qvel[" +
-         dof + "]=1'.";
+  hint->advice =
+      "No single offset of a hinge or slide makes it accelerate (no gravity or springs act on "
+      "it): give it a velocity instead";
+  hint->assignment = "qvel[" + dof + "]=1";
 }
 
 }  // namespace
 
-std::vector<std::string> StartHints(const Model& model, const Data& data) {
+std::vector<StartHint> StartHints(const Model& model, const Data& data) {
   const mjModel* m = model.get();
   const mjData* d = data.get();
-  std::vector<std::string> hints;
+  std::vector<StartHint> hints;
   if (m->nv == 0) return hints;
   auto all_below = [](const mjtNum* v, int n, double limit) {
     for (int i = 0; i < n; ++i) {
@@ -82,11 +85,13 @@ std::vector<std::string> StartHints(const Model& model, const Data& data) {
                   all_below(d->xfrc_applied, 6 * m->nbody, 0.0) &&
                   all_below(d->qfrc_actuator, m->nv, 0.0);
   if (at_rest && in_equilibrium && undriven) {
-    hints.push_back(
-        "hint: the model starts at rest in equilibrium (qvel = 0, |qacc| < 1e-9) and nothing "
-        "drives it (no control, no applied force): it will not move, and every sample will "
-        "repeat the initial state. " +
-        EquilibriumBreaker(model, data));
+    StartHint hint;
+    hint.problem =
+        "the model starts at rest in equilibrium (qvel = 0, |qacc| < 1e-9) and nothing drives "
+        "it (no control, no applied force): it will not move, and every sample will repeat the "
+        "initial state.";
+    EquilibriumBreaker(model, data, &hint);
+    hints.push_back(hint);
   }
   return hints;
 }

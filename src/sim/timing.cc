@@ -15,7 +15,7 @@ double RunTimestep(const Model& model, const std::vector<Assignment>& sets) {
   for (const Assignment& a : sets) {
     if (a.path.field == "opt.timestep" && !a.values.empty()) {
       dt = a.values[0];
-      source = "--set '" + a.text + "'";
+      source = "set to " + Quoted(a.text);
     }
   }
   if (!(dt > 0) || !std::isfinite(dt)) {
@@ -35,8 +35,8 @@ std::optional<long> WholeSteps(double time, double timestep) {
   return static_cast<long>(nearest);
 }
 
-long RequireWholeSteps(double time, double timestep, const std::string& what,
-                       const std::string& source, long min_steps) {
+long RequireWholeSteps(double time, double timestep, const std::string& argument,
+                       const std::string& value, const std::string& source, long min_steps) {
   std::optional<long> steps = WholeSteps(time, timestep);
   if (steps && *steps >= min_steps) return *steps;
   std::string from = source.empty() ? "" : source + "; ";
@@ -47,14 +47,16 @@ long RequireWholeSteps(double time, double timestep, const std::string& what,
                             ? fmt::format("{:.10g}", low * timestep)
                             : fmt::format("{:.10g} or {:.10g}", low * timestep, high * timestep);
   if (steps) {
-    throw ValueError(
-        fmt::format("{}: {:g} s is {} step(s) of {:g} s ({}at least {} needed). Use {}.", what,
-                    time, *steps, timestep, from, min_steps, nearest));
+    throw ArgumentError(
+        argument, value,
+        fmt::format("{:g} s is {} step(s) of {:g} s ({}at least {} needed). Use {}.", time, *steps,
+                    timestep, from, min_steps, nearest));
   }
-  throw ValueError(fmt::format(
-      "{}: {:g} s is not a whole number of timesteps of {:g} s ({}it is {:.4g} steps); times "
-      "must fall on exact steps. Use {}, or change opt.timestep.",
-      what, time, timestep, from, ratio, nearest));
+  throw ArgumentError(
+      argument, value,
+      fmt::format("{:g} s is not a whole number of timesteps of {:g} s ({}it is {:.4g} steps); "
+                  "times must fall on exact steps. Use {}, or change opt.timestep.",
+                  time, timestep, from, ratio, nearest));
 }
 
 long StepsToReach(double until, double timestep) {

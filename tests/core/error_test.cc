@@ -5,6 +5,8 @@
 #include <string>
 
 #include "core/demand.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
 
 namespace plumb {
 namespace {
@@ -46,6 +48,26 @@ TEST(InternalErrorTest, ABugIsNotBadInput) {
   }
   EXPECT_FALSE(as_bad_input);
   EXPECT_TRUE(as_bug);
+}
+
+// A library caller learns which of its arguments was wrong, in the library's words: no
+// command-line flag in the message.
+TEST(ArgumentErrorTest, NamesTheArgumentItsValueAndTheProblemWithoutAFlag) {
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody><body>
+      <joint name="hinge" axis="0 1 0"/><geom size="0.1" mass="1"/></body></worldbody></mujoco>)");
+  try {
+    ParseAssignment(model, "qpos[hinge]=x");
+    FAIL() << "'x' is not a number";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "set");
+    EXPECT_EQ(e.value(), "'qpos[hinge]=x'");
+    EXPECT_EQ(e.problem(), "'x' is not a number.");
+    EXPECT_EQ(std::string(e.what()), "set 'qpos[hinge]=x': 'x' is not a number.");
+  }
+  // it is a ValueError: code that handles bad values handles it
+  EXPECT_THROW(ParseAssignment(model, "qpos[hinge]"), ValueError);
+  ArgumentError whole("metric", "", "a sweep needs at least one metric");
+  EXPECT_EQ(std::string(whole.what()), "metric: a sweep needs at least one metric");
 }
 
 }  // namespace

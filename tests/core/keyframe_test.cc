@@ -36,7 +36,7 @@ TEST_F(KeyframeTest, TheReferencePoseIsNamedThenHomeThenTestThenQpos0) {
   EXPECT_EQ(home.description, "keyframe 'home'");
   ReferencePose away = FindReferencePose(keyed, "away");
   EXPECT_EQ(away.keyframe, FindKeyframe(keyed, "away"));
-  EXPECT_EQ(away.description, "keyframe 'away' (--keyframe)");
+  EXPECT_EQ(away.description, "keyframe 'away' (named by the caller)");
   EXPECT_THROW(FindReferencePose(keyed, "nowhere"), ValueError);
   const char* test_only = R"(<mujoco><worldbody><body><joint name="s" type="slide"/>
       <geom type="box" size="0.1 0.1 0.1"/></body></worldbody>

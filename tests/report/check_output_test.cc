@@ -55,7 +55,7 @@ TEST(CheckTableTest, TheSameFindingAboutSeveralElementsIsOneRowNamingThem) {
   report.findings[2].finding = "ctrl limited";  // another finding of the same check
   report.findings[3].reference_text = "";       // informational: no threshold
   report.findings[3].threshold = false;
-  std::string table = AuditTable(report, TableDetail::kFindings);
+  std::string table = AuditTable(report, TableDetail::kFindings, "--all shows every check");
   EXPECT_NE(table.find("== actuator\n"
                        "WARN  actuator.limits            2 actuators alike:\n"
                        "      shoulder, actuator #1\n"

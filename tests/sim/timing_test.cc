@@ -15,7 +15,7 @@ TEST_F(TimingTest, TheExampleInTheHeader) {
   Model model = Model::Load(kPendulum);
   double dt = RunTimestep(model, {ParseAssignment(model, "opt.timestep=0.001")});
   EXPECT_EQ(dt, 0.001);
-  EXPECT_EQ(RequireWholeSteps(0.1, dt, "--every"), 100);
+  EXPECT_EQ(RequireWholeSteps(0.1, dt, "every", "0.1"), 100);
   EXPECT_DOUBLE_EQ(DefaultEvery(dt), 0.1);
 }
 
@@ -38,17 +38,17 @@ TEST_F(TimingTest, WholeStepsToleratesRoundingOnly) {
 
 TEST_F(TimingTest, RequireWholeStepsNamesTheNearestTimes) {
   try {
-    RequireWholeSteps(0.1, 0.03, "--every 0.1", "the model's timestep");
+    RequireWholeSteps(0.1, 0.03, "every", "0.1", "the model's timestep");
     FAIL() << "0.1 s is not a whole number of 0.03 s steps";
   } catch (const ValueError& e) {
     std::string what = e.what();
-    EXPECT_NE(what.find("--every 0.1: 0.1 s is not a whole number of timesteps of 0.03 s"),
+    EXPECT_NE(what.find("every 0.1: 0.1 s is not a whole number of timesteps of 0.03 s"),
               std::string::npos)
         << what;
     EXPECT_NE(what.find("0.09 or 0.12"), std::string::npos) << what;
   }
-  EXPECT_THROW(RequireWholeSteps(0, 0.01, "--every 0"), ValueError);  // fewer than one step
-  EXPECT_EQ(RequireWholeSteps(0, 0.01, "metric 'x@0'", "", 0), 0);
+  EXPECT_THROW(RequireWholeSteps(0, 0.01, "every", "0"), ArgumentError);  // fewer than one step
+  EXPECT_EQ(RequireWholeSteps(0, 0.01, "metric", "'x@0'", "", 0), 0);
 }
 
 TEST_F(TimingTest, DefaultEveryIsTheNearestWholeNumberOfStepsToATenth) {
