@@ -87,9 +87,9 @@ test-asan: deps
 # the one without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or OSMesa):
 # render and the reports' pictures must build, say so and exit 5 (make test-norender does that
 # part alone)
-TSAN_TARGETS := worker_pool_test sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli \
+TSAN_TARGETS := worker_pool_test stop_test sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli \
   render_test report_test render_cli_test
-TSAN_TESTS   := ^(WorkerPoolTest|SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.?
+TSAN_TESTS   := ^(WorkerPoolTest|StopTimerTest|SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.?
 # the memory benchmarks among them (10^6 cases) take minutes under TSan and share no code
 # path the others do not run
 TSAN_SKIP    := SweepMemoryDoesNotGrowWithTheNumberOfCases|AHugeSweepSaysItsCost

@@ -45,10 +45,6 @@ void InstallSignalHandlers() {
   std::signal(SIGPIPE, SIG_IGN);
 }
 
-nlohmann::ordered_json JsonNumber(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
 void WriteStdout(const std::string& text) {
   if (text.empty()) return;
   errno = 0;
@@ -191,7 +187,7 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
   }
   if (const auto* bad = dynamic_cast<const ArgumentError*>(&error)) {
     // the library names its argument ("ctrl_noise"); the user typed the flag (--ctrl-noise)
-    std::string flag = "--" + bad->argument();
+    std::string flag = bad->argument() == "store" ? "--db" : "--" + bad->argument();
     std::replace(flag.begin(), flag.end(), '_', '-');
     std::fprintf(stderr, "plumb: error: %s%s: %s\n", flag.c_str(),
                  bad->value().empty() ? "" : (" " + bad->value()).c_str(), bad->problem().c_str());

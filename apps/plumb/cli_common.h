@@ -9,7 +9,6 @@
 #include <chrono>
 #include <functional>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,9 +43,6 @@ class OutputClosed : public std::runtime_error {
 // Writes and flushes `text` to stdout, so rows reach a pipe as they are made.
 // @throws OutputClosed when the reader has gone; IoError for another failed write.
 void WriteStdout(const std::string& text);
-
-// A JSON number, or null where `v` is NaN or infinite (JSON has no such numbers).
-nlohmann::ordered_json JsonNumber(double v);
 
 // Shared state of one invocation.
 struct Context {
@@ -124,7 +120,7 @@ class ProgressBar {
 // The stop request of the command this process runs: each command passes its token to
 // the library calls it makes. SIGINT/SIGTERM request it once InstallSignalHandlers ran
 // (main installs them for every command); a second signal ends the process at once.
-// --max-seconds requests it too (WallClockBudget). SIGPIPE is ignored: WriteStdout reports
+// --max-seconds requests it too (a StopTimer). SIGPIPE is ignored: WriteStdout reports
 // a closed stdout instead.
 const StopSource& CommandStop();
 void InstallSignalHandlers();

@@ -129,11 +129,11 @@ StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Mo
     // the compiled model's hash names the run in the store; hashing a big mesh model costs
     // a tenth of a second, so only when there is a store
     std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-    RunInfo info = NewRunInfo("rollout", Config(o, model_hash), ctx, o.model, model_hash);
+    RunInfo info = NewRunInfo("rollout", Config(o, model_hash), ctx.argv, o.model, model_hash);
     info.parameters = params;
     info.metrics = o.metrics;
     info.count = o.count;
-    stored = OpenStoredRun(o.db, o.resume, info);
+    stored = OpenBatchStore(o.db, o.resume, info);
   } catch (...) {
     MpiGo(false);
     throw;
@@ -349,7 +349,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     if (stored.store) stored.store->Add(stored.id, r);
     writer.Row(r);
   };
-  WallClockBudget budget(o.max_seconds);
+  StopTimer budget(CommandStop(), o.max_seconds);  // --max-seconds
   KeepFinishedOnStop([&] { RunShard(model, spec, total, progress, emit); }, progress, stored,
                      [&] { writer.Flush(); },
                      [&] { return fmt::format("{} rollouts finished", tally.run_now); }, o.db,

@@ -299,11 +299,11 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
 StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
                          const SweepSpec& spec, long total) {
   std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-  RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx, o.model, model_hash);
+  RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx.argv, o.model, model_hash);
   for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
   info.metrics = o.metrics;
   info.count = total;
-  return OpenStoredRun(o.db, o.resume, info);
+  return OpenBatchStore(o.db, o.resume, info);
 }
 
 // Measurements that could not be made: each reason said once, as it first happens, and how
@@ -405,7 +405,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     eta.See(emitted, total - static_cast<long>(stored.done.size()) - emitted);
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
-  WallClockBudget budget(o.max_seconds);
+  StopTimer budget(CommandStop(), o.max_seconds);  // --max-seconds
   KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit, CommandStop().token()); },
                      progress, stored, flush,
                      [&] { return fmt::format("the {} finished cases were printed", emitted); },

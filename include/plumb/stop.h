@@ -8,14 +8,19 @@
 // Thread-safety: RequestStop, Clear and stop_requested may be called from any thread, at
 // any time, on copies of one source or token. RequestStop is async-signal-safe (one
 // lock-free atomic store): a signal handler may call it on a StopSource that outlives it
-// (the plumb command stops the call it runs this way on SIGINT and SIGTERM). Nothing here
-// throws, except the allocation in StopSource's constructor (std::bad_alloc).
+// (the plumb command stops the call it runs this way on SIGINT and SIGTERM). A StopTimer is
+// used from the thread that made it. Nothing here throws, except the allocation in
+// StopSource's constructor (std::bad_alloc) and StopTimer's std::system_error when no thread
+// can be started.
 
 #ifndef PLUMB_INCLUDE_PLUMB_STOP_H_
 #define PLUMB_INCLUDE_PLUMB_STOP_H_
 
 #include <atomic>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <utility>
 
 namespace plumb {
@@ -54,6 +59,32 @@ class StopSource {
   static_assert(std::atomic<bool>::is_always_lock_free,
                 "RequestStop must be async-signal-safe: a lock-free store");
   std::shared_ptr<std::atomic<bool>> flag_;
+};
+
+// A time budget: requests `source`'s stop once `seconds` of wall-clock time have passed, so
+// a long call ends as if its caller had stopped it, keeping what it finished. A watcher thread
+// waits for the deadline; Finish (or the destructor) ends the watch.
+class StopTimer {
+ public:
+  StopTimer(StopSource source, double seconds);  // seconds <= 0: no budget, no thread
+  ~StopTimer();
+  StopTimer(const StopTimer&) = delete;
+  StopTimer& operator=(const StopTimer&) = delete;
+  // Ends the watch (the call is over). When the deadline passed at that very moment, the
+  // request it made stays: Spent() says so, and the caller may Clear it.
+  void Finish();
+  // Whether the deadline passed and the timer requested the stop.
+  bool Spent() const { return spent_.load(); }
+  double seconds() const { return seconds_; }
+
+ private:
+  StopSource source_;
+  double seconds_;
+  std::atomic<bool> spent_{false};
+  std::mutex mutex_;
+  std::condition_variable done_;
+  bool finished_ = false;
+  std::thread watcher_;
 };
 
 }  // namespace plumb

@@ -1,0 +1,74 @@
+// A batch's place in a results store (plumb/store.h): the protocol of resumable batches.
+//
+// A batch (a rollout, a sweep) describes itself by its config, the canonical text of
+// everything that decides its results. Opening it in a store finds that run or begins it:
+//   - the run exists: resuming continues it (`done` lists what it already holds); without
+//     resuming it is refused, so a finished batch is never silently run twice;
+//   - no such run: it is begun. When resuming, that is a fresh start if the store holds no run
+//     of this kind (a preemptible job's first attempt, started the way every later attempt
+//     is); if it holds another run of this kind, the refusal names every part of the config
+//     that differs and the stored command.
+//
+// Example:
+//   plumb::StoredRun run = plumb::OpenStoredRun("r.sqlite", /*resume=*/true,
+//                                               plumb::NewRunInfo("rollout", config, argv,
+//                                                                 "arm.xml", hash));
+//   ... store rows for the indices not in run.done ...
+//   plumb::CompleteStoredRun(run, count);
+//
+// Thread-safety: as ResultsStore: one StoredRun per thread. Opening is one transaction, so
+// processes that start the same batch at once begin one run.
+
+#ifndef PLUMB_INCLUDE_PLUMB_STORED_RUN_H_
+#define PLUMB_INCLUDE_PLUMB_STORED_RUN_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plumb/error.h"
+#include "plumb/store.h"
+
+namespace plumb {
+
+struct StoredRun {
+  std::unique_ptr<ResultsStore> store;  // empty when the batch is not stored
+  long id = 0;
+  std::vector<long> done;  // indices already stored (sorted): what a resumed batch skips
+  // Resuming found no run of this kind and began one (the first attempt of a resumable job).
+  bool fresh_start = false;
+};
+
+// The store holds this batch already, and it was not resumed (argument "store"): run() is the
+// stored run, done() how many of its indices it holds.
+class RunAlreadyStored : public ArgumentError {
+ public:
+  RunAlreadyStored(const std::string& path, RunInfo run, long done);
+  const RunInfo& run() const { return run_; }
+  long done() const { return done_; }
+
+ private:
+  RunInfo run_;
+  long done_;
+};
+
+// The record of a new run: `kind` and `config` as given, `command` (the words of the command
+// line, quoted so the line can be pasted), the model file and hash, and the versions of plumb
+// and MuJoCo.
+RunInfo NewRunInfo(const std::string& kind, const std::string& config,
+                   const std::vector<std::string>& command, const std::string& model_file,
+                   const std::string& model_hash);
+
+// Opens the store at `path` (nothing when it is empty) and finds the run `info.config`
+// describes or begins it, as the header says.
+// @throws ArgumentError "resume" when resuming without a store; RunAlreadyStored when the
+// store holds this run and `resume` is false; ArgumentError "store" (the path) when resuming
+// and it holds another run of this kind; IoError from the store.
+StoredRun OpenStoredRun(const std::string& path, bool resume, const RunInfo& info);
+
+// Commits the store and marks the run finished when it holds all `total` indices.
+void CompleteStoredRun(StoredRun& stored, long total);
+
+}  // namespace plumb
+
+#endif  // PLUMB_INCLUDE_PLUMB_STORED_RUN_H_
