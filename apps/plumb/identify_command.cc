@@ -33,7 +33,7 @@ struct IdentifyCommandOptions {
 
 int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   Model model = LoadModel(o.model);
-  ApplyParameterSets(model, o.sets);
+  ApplyParameterAssignments(model, o.sets);
   if (o.delay == "ctrl") o.identify.delay = DelayKind::kInput;
   if (o.delay == "sensor") o.identify.delay = DelayKind::kSensor;
   if (!(o.identify.replay.window >= 0 && std::isfinite(o.identify.replay.window))) {

@@ -1,5 +1,5 @@
-// What plumb replay and plumb identify share: logs with an optional column map, and --set
-// limited to model parameters (the state comes from the log).
+// What plumb replay and plumb identify share: logs with an optional column map, saying on
+// stderr which were cut short.
 
 #ifndef PLUMB_APPS_PLUMB_LOG_OPTIONS_H_
 #define PLUMB_APPS_PLUMB_LOG_OPTIONS_H_
@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "plumb/model.h"
-#include "plumb/path.h"
 #include "plumb/replay.h"
 #include "plumb/robot_log.h"
 
@@ -17,10 +16,6 @@ namespace plumb::cli {
 // Reads every log against `model` (the column map, when given, applies to each).
 std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string>& paths,
                                const std::string& column_map);
-
-// Applies --set PATH=VALUE edits, which must be model parameters, to `model` (mj_setConst
-// when an array changed). @throws ValueError for a state or input path.
-void ApplyParameterSets(Model& model, const std::vector<std::string>& sets);
 
 }  // namespace plumb::cli
 

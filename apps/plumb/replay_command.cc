@@ -29,7 +29,7 @@ struct ReplayCommandOptions {
 
 int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
-  ApplyParameterSets(model, o.sets);
+  ApplyParameterAssignments(model, o.sets);
   if (!(o.replay.window >= 0 && std::isfinite(o.replay.window))) {
     throw ValueError(
         fmt::format("--window {:g}: give a positive number of seconds (or leave it "

@@ -86,6 +86,12 @@ Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
                    const ReplayOptions& options,
                    const std::vector<double>* start_offsets = nullptr);
 
+// Applies `sets` (assignment texts, ParseAssignment) to `model`, mj_setConst when an array
+// changed. In a replay the state and the inputs come from the log, so only model parameters may
+// be set. @throws PathError / ArgumentError as ParseAssignment does, and ArgumentError "set"
+// for a state or input path.
+void ApplyParameterAssignments(Model& model, const std::vector<std::string>& sets);
+
 // Simulates and compares. @throws as Simulate does.
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);
 

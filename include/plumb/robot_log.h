@@ -74,6 +74,12 @@ ColumnMap LoadColumnMap(const std::string& path);
 RobotLog LoadRobotLog(const Model& model, const std::string& path, double timestep,
                       const ColumnMap& map = {});
 
+// Every log of `paths` at the model's timestep, with the column map at `column_map` (none when
+// empty) applied to each. A log whose last line was cut short says so (last_line_cut).
+// @throws as LoadColumnMap and LoadRobotLog do.
+std::vector<RobotLog> LoadRobotLogs(const Model& model, const std::vector<std::string>& paths,
+                                    const std::string& column_map);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_ROBOT_LOG_H_

@@ -264,6 +264,17 @@ ColumnMap LoadColumnMap(const std::string& path) {
   return map;
 }
 
+std::vector<RobotLog> LoadRobotLogs(const Model& model, const std::vector<std::string>& paths,
+                                    const std::string& column_map) {
+  ColumnMap map;
+  if (!column_map.empty()) map = LoadColumnMap(column_map);
+  std::vector<RobotLog> logs;
+  for (const std::string& path : paths) {
+    logs.push_back(LoadRobotLog(model, path, model->opt.timestep, map));
+  }
+  return logs;
+}
+
 RobotLog LoadRobotLog(const Model& model, const std::string& path, double timestep,
                       const ColumnMap& map) {
   return LogReader(model, path, map).Read(timestep);

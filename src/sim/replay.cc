@@ -265,4 +265,23 @@ ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions
   return r;
 }
 
+void ApplyParameterAssignments(Model& model, const std::vector<std::string>& sets) {
+  std::vector<Assignment> edits;
+  for (const std::string& text : sets) {
+    Assignment a = ParseAssignment(model, text);
+    if (a.path.role != Role::kParameter) {
+      throw ArgumentError(
+          "set", Quoted(text),
+          fmt::format("{} is {} {}; here the state and the inputs come from the log, and "
+                      "assignments take model parameters (dof_damping[...], body_mass[...], "
+                      "opt.timestep, ...)",
+                      a.path.text, a.path.role == Role::kInput ? "an" : "a",
+                      RoleName(a.path.role)));
+    }
+    edits.push_back(std::move(a));
+  }
+  Data scratch(model);
+  if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
+}
+
 }  // namespace plumb

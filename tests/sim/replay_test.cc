@@ -102,6 +102,20 @@ TEST_F(ReplayTest, ASensorDelayShiftsTheComparison) {
   EXPECT_LT(r.signals[0].max_abs, 1e-12);
 }
 
+// the state and the inputs come from the log: only parameters may be set beside it
+TEST_F(ReplayTest, OnlyParametersAreSetBesideALog) {
+  Model model = model_.Clone();
+  ApplyParameterAssignments(model, {"dof_damping[hinge]=0.3"});
+  EXPECT_EQ(model->dof_damping[0], 0.3);
+  try {
+    ApplyParameterAssignments(model, {"qpos[hinge]=0.7"});
+    FAIL() << "a state was set beside the log";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "set");
+    EXPECT_NE(e.problem().find("come from the log"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(ReplayTest, WindowsNeedTheWholeState) {
   testing::LogSpec spec;
   spec.measured = {"qpos[hinge]"};
