@@ -4,9 +4,9 @@
 #include <exception>
 
 #include "cli_common.h"
-#include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
+#include "plumb/mpi_rollout.h"
 #include "plumb/version.h"
 
 int main(int argc, char** argv) {
@@ -45,9 +45,9 @@ int main(int argc, char** argv) {
   SetupResultsCommands(app, ctx);
   AcceptIntegerNotation(&app);
 
-  MpiInit(&argc, &argv);
+  plumb::MpiInit(&argc, &argv);
   struct Finalize {
-    ~Finalize() { MpiFinalize(); }
+    ~Finalize() { plumb::MpiFinalize(); }
   } finalize;
   try {
     app.parse(argc, argv);
@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     return ctx.action ? ctx.action() : kExitBadInput;
   } catch (const std::exception& e) {
     int code = ReportError(e, ctx.argv);
-    MpiAbortOnError(code);  // other ranks may be waiting for this one
+    plumb::MpiAbortOnError(code);  // other ranks may be waiting for this one
     return code;
   }
 }

@@ -16,9 +16,9 @@
 
 #include "budget.h"
 #include "cli_common.h"
-#include "mpi.h"
 #include "plumb/error.h"
 #include "plumb/hash.h"
+#include "plumb/mpi_rollout.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
 #include "plumb/rollout_csv.h"
@@ -291,7 +291,8 @@ void RunShard(const Model& model, const RolloutSpec& spec, long total, ProgressB
   };
   if (MpiActive()) {
     // rank 0 hands the list out in small chunks; it holds the whole list (8 bytes each)
-    MpiRollout(model, spec, next_indices(static_cast<std::size_t>(total)), emit);
+    MpiRollout(model, spec, next_indices(static_cast<std::size_t>(total)), emit,
+               CommandStop().token());
     return;
   }
   RolloutSpec chunked = spec;
@@ -315,7 +316,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   // under MPI, ranks other than 0 only compute what rank 0 hands them
   if (MpiActive() && MpiRank() != 0) {
     if (!MpiGo(true)) return kExitBadInput;  // rank 0 reports the error
-    MpiRollout(model, spec, {}, nullptr);
+    MpiRollout(model, spec, {}, nullptr, CommandStop().token());
     return kExitOk;
   }
   StoredRun stored = OpenRolloutStore(o, ctx, model, params);

@@ -1,4 +1,6 @@
-#include "mpi.h"
+// Rollouts across MPI ranks (include/plumb/mpi_rollout.h).
+
+#include "plumb/mpi_rollout.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -12,7 +14,7 @@
 #include <mpi.h>
 #endif
 
-namespace plumb::cli {
+namespace plumb {
 
 #ifdef PLUMB_WITH_MPI
 
@@ -118,7 +120,7 @@ void MpiAbortOnError(int code) {
 }
 
 void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
-                const std::function<void(const RolloutResult&)>& emit) {
+                const std::function<void(const RolloutResult&)>& emit, const StopToken& stop) {
   if (MpiRank() != 0) {
     // a worker: ask for work with the results of the last chunk, until told to stop
     std::vector<RolloutResult> results;
@@ -139,7 +141,8 @@ void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<l
       std::vector<long> chunk(work.size() / sizeof(long));
       std::memcpy(chunk.data(), work.data(), chunk.size() * sizeof(long));
       results.clear();
-      pool.Run(chunk, [&](const RolloutResult& r) { results.push_back(r); }, CommandStop().token());
+      pool.Run(
+          chunk, [&](const RolloutResult& r) { results.push_back(r); }, stop);
     }
   }
   // the root: hand out chunks in index order as workers ask, emit results in order
@@ -181,10 +184,10 @@ int MpiRank() { return 0; }
 bool MpiGo(bool ok) { return ok; }
 void MpiAbortOnError(int) {}
 void MpiRollout(const Model&, const RolloutSpec&, const std::vector<long>&,
-                const std::function<void(const RolloutResult&)>&) {
+                const std::function<void(const RolloutResult&)>&, const StopToken&) {
   throw Error("plumb was built without MPI (PLUMB_WITH_MPI=OFF)");
 }
 
 #endif
 
-}  // namespace plumb::cli
+}  // namespace plumb

@@ -1,19 +1,22 @@
-// Multi-node rollouts over MPI (built with PLUMB_WITH_MPI; without it these say "not
-// active" and plumb runs in one process).
+// Multi-node rollouts over MPI: an optional part, its own library (plumb::mpi, link it beside
+// plumb::plumb). Built with OpenMPI when PLUMB_WITH_MPI is on and MPI is found; otherwise these
+// say "not active" and a program runs in one process.
 //
 // Under `mpirun -np K plumb rollout ...`, rank 0 hands out chunks of rollout indices to
 // ranks 1..K-1 as they ask for work (so slow nodes never hold the batch back), gathers
 // their results, and emits them in index order: output and results store are the same as
 // a single-process run's.
 
-#ifndef PLUMB_APPS_PLUMB_MPI_H_
-#define PLUMB_APPS_PLUMB_MPI_H_
+#ifndef PLUMB_INCLUDE_PLUMB_MPI_ROLLOUT_H_
+#define PLUMB_INCLUDE_PLUMB_MPI_ROLLOUT_H_
 
 #include <functional>
+#include <vector>
 
 #include "plumb/rollout.h"
+#include "plumb/stop.h"
 
-namespace plumb::cli {
+namespace plumb {
 
 // Initialises MPI when the process was started by an MPI launcher; a no-op otherwise.
 void MpiInit(int* argc, char*** argv);
@@ -34,9 +37,11 @@ bool MpiGo(bool ok);
 // or before MpiGo(true): until then every rank meets the same errors.
 void MpiAbortOnError(int code);
 
+// A worker rank stops its current chunk when `stop` asks (Interrupted), as RolloutPool::Run
+// does. @throws Error without MPI, or when a message between ranks is damaged.
 void MpiRollout(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
-                const std::function<void(const RolloutResult&)>& emit);
+                const std::function<void(const RolloutResult&)>& emit, const StopToken& stop = {});
 
-}  // namespace plumb::cli
+}  // namespace plumb
 
-#endif  // PLUMB_APPS_PLUMB_MPI_H_
+#endif  // PLUMB_INCLUDE_PLUMB_MPI_ROLLOUT_H_
