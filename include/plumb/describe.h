@@ -7,7 +7,8 @@
 //   d.sizes  // {{"nbody", 2}, {"njnt", 1}, {"nq", 1}, {"nv", 1}, {"nu", 0}, ...}
 //
 // Thread-safety: Describe and ActuatorPositionUnit only read the model and keep no state: they
-// may be called from several threads at once, also on one Model.
+// may be called from several threads at once, also on one Model. They throw nothing of plumb's
+// own (only std::bad_alloc).
 
 #ifndef PLUMB_INCLUDE_PLUMB_DESCRIBE_H_
 #define PLUMB_INCLUDE_PLUMB_DESCRIBE_H_

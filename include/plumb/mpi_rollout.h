@@ -6,6 +6,11 @@
 // ranks 1..K-1 as they ask for work (so slow nodes never hold the batch back), gathers
 // their results, and emits them in index order: output and results store are the same as
 // a single-process run's.
+//
+// Thread-safety: MPI's world is one per process: call these from the thread that called
+// MpiInit (MpiRollout runs its rollouts on the rollout pool's threads itself). They throw
+// plumb::Error for a damaged message between ranks, and MpiRollout what RolloutPool::Run
+// throws (Interrupted when `stop` asks).
 
 #ifndef PLUMB_INCLUDE_PLUMB_MPI_ROLLOUT_H_
 #define PLUMB_INCLUDE_PLUMB_MPI_ROLLOUT_H_

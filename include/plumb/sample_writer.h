@@ -2,7 +2,9 @@
 // CSV number and field rules every plumb command follows.
 //
 // Thread-safety: the CSV functions are pure. A sink from MakeSampleWriter serves one run at a
-// time; sinks writing to different streams may run on different threads.
+// time; sinks writing to different streams may run on different threads. A sink's Sample and
+// End @throws IoError when the stream cannot be written (disk full, a closed pipe); the CSV
+// functions throw nothing.
 
 #ifndef PLUMB_INCLUDE_PLUMB_SAMPLE_WRITER_H_
 #define PLUMB_INCLUDE_PLUMB_SAMPLE_WRITER_H_
