@@ -4,13 +4,9 @@
 #ifndef PLUMB_APPS_PLUMB_BUDGET_H_
 #define PLUMB_APPS_PLUMB_BUDGET_H_
 
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "cli_common.h"

@@ -213,13 +213,18 @@ Model LoadModel(const std::string& path) {
   return model;
 }
 
+void WarnAboutAssignment(const char* flag, const std::string& text,
+                         const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) {
+    std::fprintf(stderr, "plumb: warning: %s '%s': %s\n", flag, text.c_str(), w.c_str());
+  }
+}
+
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets) {
   std::vector<Assignment> out;
   for (const std::string& s : sets) {
     out.push_back(ParseAssignment(model, s));
-    for (const std::string& w : out.back().warnings) {
-      std::fprintf(stderr, "plumb: warning: --set '%s': %s\n", s.c_str(), w.c_str());
-    }
+    WarnAboutAssignment("--set", s, out.back().warnings);
   }
   return out;
 }

@@ -75,6 +75,11 @@ void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";
 
+// Prints an assignment's warnings (Assignment::warnings) on stderr, naming it as the user
+// wrote it: "plumb: warning: --set 'ctrl[hip]=5': ...".
+void WarnAboutAssignment(const char* flag, const std::string& text,
+                         const std::vector<std::string>& warnings);
+
 // Adds --all and --quiet (mutually exclusive) to `cmd`, setting `*detail`.
 void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail);
 

@@ -278,14 +278,9 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   spec.sets = StartAssignments(model, o.keyframe, o.sets);
   for (const std::string& v : o.vary) {
     spec.axes.push_back(ParseSweepAxis(model, v));
-    for (const std::string& w : spec.axes.back().prototype.warnings) {
-      std::fprintf(stderr, "plumb: warning: --vary '%s': %s\n", v.c_str(), w.c_str());
-    }
-    for (const Assignment& a : spec.axes.back().listed) {
-      for (const std::string& w : a.warnings) {
-        std::fprintf(stderr, "plumb: warning: --vary '%s': %s\n", v.c_str(), w.c_str());
-      }
-    }
+    WarnAboutAssignment("--vary", v, spec.axes.back().prototype.warnings);
+    for (const Assignment& a : spec.axes.back().listed)
+      WarnAboutAssignment("--vary", v, a.warnings);
   }
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.threads = o.threads;

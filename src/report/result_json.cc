@@ -2,7 +2,6 @@
 
 #include "plumb/result_json.h"
 
-#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -41,6 +40,23 @@ Json RowJson(const CheckRow& row) {
           {"rel_error", Number(row.rel_error)},
           {"explanation", row.explanation},
           {"fix", row.fix}};
+}
+
+Json NumberArray(const std::vector<double>& values) {
+  Json out = Json::array();
+  for (double v : values) out.push_back(Number(v));
+  return out;
+}
+
+// One change of a diff: a trajectory's departure also says at which step.
+Json ChangeJson(const SnapshotChange& c) {
+  Json one = {{"path", c.path},
+              {"old", Json::parse(c.old_value)},
+              {"new", Json::parse(c.new_value)},
+              {"kind", c.kind}};
+  if (c.step > 0) one["step"] = c.step;
+  one["what"] = c.what;
+  return one;
 }
 
 Json Summary(const std::vector<CheckRow>& rows) {
@@ -118,24 +134,10 @@ std::string DiffToJson(const SnapshotDiff& diff, const std::string& snapshot) {
   j["diverged"] = diff.diverged;
   j["notes"] = diff.notes;
   Json changes = Json::array();
-  for (const SnapshotChange& c : diff.changes) {
-    Json one = {{"path", c.path},
-                {"old", Json::parse(c.old_value)},
-                {"new", Json::parse(c.new_value)},
-                {"kind", c.kind}};
-    if (c.step > 0) one["step"] = c.step;
-    one["what"] = c.what;
-    changes.push_back(one);
-  }
+  for (const SnapshotChange& c : diff.changes) changes.push_back(ChangeJson(c));
   j["changes"] = changes;
-  Json compiler = Json::array();
-  for (const SnapshotChange& c : diff.compiler) {
-    compiler.push_back({{"path", c.path},
-                        {"old", Json::parse(c.old_value)},
-                        {"new", Json::parse(c.new_value)},
-                        {"kind", c.kind},
-                        {"what", c.what}});
-  }
+  Json compiler = Json::array();  // a compiler's change is never a trajectory's: no step
+  for (const SnapshotChange& c : diff.compiler) compiler.push_back(ChangeJson(c));
   j["compiler_changes"] = compiler;
   return j.dump(2) + "\n";
 }
@@ -165,16 +167,6 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
   j["notes"] = r.notes;
   return j.dump(2) + "\n";
 }
-
-namespace {
-
-Json NumberArray(const std::vector<double>& values) {
-  Json out = Json::array();
-  for (double v : values) out.push_back(Number(v));
-  return out;
-}
-
-}  // namespace
 
 std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
                            const std::vector<RobotLog>& logs, DelayKind delay,

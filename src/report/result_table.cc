@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "plumb/error.h"
 #include "plumb/model.h"
 #include "plumb/strings.h"
 
@@ -118,7 +119,7 @@ std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot,
   std::string out;
   if (!diff.sets.empty()) {
     std::vector<std::string> sets;
-    for (const std::string& t : diff.sets) sets.push_back(set_prefix + "'" + t + "'");
+    for (const std::string& t : diff.sets) sets.push_back(set_prefix + Quoted(t));
     out += "note: the model is simulated with the snapshot's " +
            Join(sets, set_prefix.empty() ? ", " : " ") + "\n";
   }
