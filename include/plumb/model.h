@@ -59,6 +59,10 @@ class Model {
   // The file this model was loaded from ("<string>" style name for FromXmlString).
   const std::string& file() const { return file_; }
 
+  // The MJCF text a model made by FromXmlString was compiled from ("" for a model loaded from
+  // a file, whose text is the file's).
+  const std::string& xml_text() const;
+
   // Text MuJoCo's compiler left in the error buffer although it succeeded (compile
   // warnings); empty when it had nothing to say.
   const std::string& compile_warnings() const { return compile_warnings_; }

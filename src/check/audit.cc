@@ -50,7 +50,7 @@ AuditReport Audit(const Model& model, const AuditOptions& options) {
 
   std::vector<audit::Observed> runs;
   audit::StructureLayer(nominal, &report.findings);
-  audit::InertiaLayer(nominal, data, &report.findings);
+  audit::InertiaLayer(model, nominal, data, &report.findings);
   audit::ActuatorLayer(model, nominal, data, options.sets, ref, options, &runs, &report.findings);
 
   const mjModel* m = nominal.get();

@@ -106,11 +106,18 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
 // The layers, in the order the audit runs them; each appends its findings to `out` and
 // the runs it made to `runs`.
 void StructureLayer(const Model& model, std::vector<CheckRow>* out);
-void InertiaLayer(const Model& model, Data& data, std::vector<CheckRow>* out);
+// `original` is the model as loaded, `model` after --set.
+void InertiaLayer(const Model& original, const Model& model, Data& data,
+                  std::vector<CheckRow>* out);
 void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const std::vector<Assignment>& sets, const ReferencePose& ref,
                    const AuditOptions& options, std::vector<Observed>* runs,
                    std::vector<CheckRow>* out);
+// The stability margin of every servo (audit_servo.cc); `data` after mj_forward at the
+// reference pose.
+void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// Whether rotor-like actuators on a free body can act independently (audit_rank.cc).
+void ActuatorRank(const Model& model, const Data& data, std::vector<CheckRow>* out);
 void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out);
 void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
                     const ReferencePose& ref, const Observed& settle, const AuditOptions& options,

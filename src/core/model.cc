@@ -266,6 +266,11 @@ Model Model::FromXmlString(std::string_view xml, std::string_view name) {
   return model;
 }
 
+const std::string& Model::xml_text() const {
+  static const std::string kNone;
+  return xml_source_ ? *xml_source_ : kNone;
+}
+
 Model Model::Clone() const {
   mjModel* copy = mj_copyModel(nullptr, m_.get());
   if (!copy) throw MujocoError("MuJoCo could not copy the model (out of memory?)");

@@ -406,6 +406,80 @@ inline void ResetState(const mjModel* m, mjData* d) {
 #endif
 }
 
+// Per body id, whether its mass and inertia were written in an <inertial> element (true) or
+// derived by the compiler from its geoms (false), read with mjSpec from the MJCF text `xml`,
+// else from the file `path`. nullopt when that cannot be told: MuJoCo 2.x has no mjSpec, a
+// binary model has no source, or the parsed bodies do not line up with the compiled ones.
+inline std::optional<std::vector<bool>> ExplicitInertials(const std::string& xml,
+                                                          const std::string& path,
+                                                          const mjModel* m) {
+#if PLUMB_MUJOCO_HAS_SPEC
+  char error[500] = "";
+  mjSpec* spec = xml.empty() ? mj_parseXML(path.c_str(), nullptr, error, sizeof(error))
+                             : mj_parseXMLString(xml.c_str(), nullptr, error, sizeof(error));
+  if (!spec) return std::nullopt;
+  std::vector<bool> out;
+  bool aligned = true;
+  for (mjsElement* e = mjs_firstElement(spec, mjOBJ_BODY); e; e = mjs_nextElement(spec, e)) {
+    int id = static_cast<int>(out.size());
+    const char* name = mjs_getString(mjs_getName(e));
+    const char* compiled = id < m->nbody ? mj_id2name(m, mjOBJ_BODY, id) : nullptr;
+    if (id >= m->nbody || (name && *name && (!compiled || std::strcmp(name, compiled) != 0))) {
+      aligned = false;
+      break;
+    }
+    bool explicit_inertial = mjs_asBody(e)->explicitinertial;
+    if (spec->compiler.inertiafromgeom == mjINERTIAFROMGEOM_TRUE) explicit_inertial = false;
+    out.push_back(explicit_inertial);
+  }
+  mj_deleteSpec(spec);
+  if (!aligned || static_cast<int>(out.size()) != m->nbody) return std::nullopt;
+  return out;
+#else
+  (void)xml;
+  (void)path;
+  (void)m;
+  return std::nullopt;
+#endif
+}
+
+// The bound a joint puts on the total actuator force at its dofs (actuatorfrcrange, 3.x);
+// nullopt when it has none (and always on 2.x, which has no such attribute).
+inline std::optional<std::pair<double, double>> JointActuatorForceRange(const mjModel* m, int j) {
+#if mjVERSION_HEADER >= 300
+  if (!m->jnt_actfrclimited[j]) return std::nullopt;
+  return std::make_pair(m->jnt_actfrcrange[2 * j], m->jnt_actfrcrange[2 * j + 1]);
+#else
+  (void)m;
+  (void)j;
+  return std::nullopt;
+#endif
+}
+
+namespace detail {
+template <typename D>
+auto MomentRow(const mjModel* m, const D* d, int out, std::vector<mjtNum>* row, int)
+    -> decltype(d->moment_rownnz, void()) {
+  for (int k = 0; k < d->moment_rownnz[out]; ++k) {
+    int adr = d->moment_rowadr[out] + k;
+    (*row)[d->moment_colind[adr]] = d->actuator_moment[adr];
+  }
+  (void)m;
+}
+template <typename D>
+void MomentRow(const mjModel* m, const D* d, int out, std::vector<mjtNum>* row, long) {
+  for (int i = 0; i < m->nv; ++i) (*row)[i] = d->actuator_moment[out * m->nv + i];
+}
+}  // namespace detail
+
+// Row `out` of the actuator moment (the generalized force of a unit actuator force), dense,
+// after mj_forward: sparse on 3.x, dense nu x nv on 2.x.
+inline std::vector<mjtNum> ActuatorMomentRow(const mjModel* m, const mjData* d, int out) {
+  std::vector<mjtNum> row(m->nv, 0.0);
+  detail::MomentRow(m, d, out, &row, 0);
+  return row;
+}
+
 }  // namespace plumb::compat
 
 #endif  // PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
