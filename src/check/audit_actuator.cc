@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "check/audit_layers.h"
 #include "core/mujoco_compat.h"
@@ -16,12 +18,46 @@ namespace {
 
 constexpr const char* L = "actuator";
 
+// Where actuator u's first control sits in ctrl and the nu-row arrays (ctrlrange), and its
+// first force output in the nout-row arrays (gear, length, force): MuJoCo 3.12+ actuators may
+// take several controls (a pid takes two), so these are not u.
+int Ctrl(const mjModel* m, int u) { return static_cast<int>(compat::ActuatorControls(m, u).first); }
+int Out(const mjModel* m, int u) { return static_cast<int>(compat::ActuatorOutputs(m, u).first); }
+bool CtrlLimited(const mjModel* m, int u) {
+  return compat::ActuatorControls(m, u).second > 0 && m->actuator_ctrllimited[Ctrl(m, u)];
+}
+const mjtNum* CtrlRange(const mjModel* m, int u) { return m->actuator_ctrlrange + 2 * Ctrl(m, u); }
+double Gear(const mjModel* m, int u) { return m->actuator_gear[6 * Out(m, u)]; }
+
+// The gear as a row prints it: one number for a joint or tendon, the wrench for a site.
+std::string GearText(const mjModel* m, int u) {
+  const mjtNum* g = m->actuator_gear + 6 * Out(m, u);
+  if (g[1] == 0 && g[2] == 0 && g[3] == 0 && g[4] == 0 && g[5] == 0) return fmt::format("{:g}", g[0]);
+  return fmt::format("({:g} {:g} {:g} {:g} {:g} {:g})", g[0], g[1], g[2], g[3], g[4], g[5]);
+}
+
+// The bound MuJoCo puts on the total actuator force at actuator u's joint (actuatorfrcrange),
+// as a bound on u's own force (divided by its gear); nullopt when there is none.
+std::optional<std::pair<double, double>> TransmissionBound(const mjModel* m, int u) {
+  int trn = m->actuator_trntype[u];
+  double gear = Gear(m, u);
+  if ((trn != mjTRN_JOINT && trn != mjTRN_JOINTINPARENT) || gear == 0) return std::nullopt;
+  auto range = compat::JointActuatorForceRange(m, m->actuator_trnid[2 * u]);
+  if (!range) return std::nullopt;
+  double a = range->first / gear, b = range->second / gear;
+  return std::make_pair(std::min(a, b), std::max(a, b));
+}
+
 // The force interval [lo, hi] actuator u can produce; infinite where nothing bounds it.
 std::pair<double, double> ForceRange(const mjModel* m, int u) {
   double lo = -INFINITY, hi = INFINITY;
   if (m->actuator_forcelimited[u]) {
     lo = m->actuator_forcerange[2 * u];
     hi = m->actuator_forcerange[2 * u + 1];
+  }
+  if (auto bound = TransmissionBound(m, u)) {
+    lo = std::max(lo, bound->first);
+    hi = std::min(hi, bound->second);
   }
   const mjtNum* gain = m->actuator_gainprm + mjNGAIN * u;
   if (m->actuator_gaintype[u] == mjGAIN_MUSCLE) {
@@ -33,11 +69,10 @@ std::pair<double, double> ForceRange(const mjModel* m, int u) {
       lo = std::max(lo, -f0 * (gain[8] + gain[7]));
       hi = std::min(hi, 0.0);
     }
-  } else if (m->actuator_ctrllimited[u] && m->actuator_gaintype[u] == mjGAIN_FIXED &&
+  } else if (CtrlLimited(m, u) && m->actuator_gaintype[u] == mjGAIN_FIXED &&
              m->actuator_biastype[u] == mjBIAS_NONE && m->actuator_dyntype[u] == mjDYN_NONE) {
     // a fixed-gain, bias-free actuator: force = gain * ctrl
-    double a = gain[0] * m->actuator_ctrlrange[2 * u],
-           b = gain[0] * m->actuator_ctrlrange[2 * u + 1];
+    double a = gain[0] * CtrlRange(m, u)[0], b = gain[0] * CtrlRange(m, u)[1];
     lo = std::max(lo, std::min(a, b));
     hi = std::min(hi, std::max(a, b));
   }
@@ -66,37 +101,85 @@ struct StepResponse {
   Observed run;
   std::string measured;  // in words
   double rise = NAN;     // rise time to 63% in s; NaN for a motor or when never reached
+  double overshoot = NAN, settle = NAN, error = NAN;  // a servo's (shares of the step; s)
   bool moved = false;
 };
 
-// The ctrl step: from `before` to `after`, and what it is measured in.
+// The ctrl a servo needs to hold its actuator at `value` (a position servo's length, a
+// velocity servo's velocity): force = gain * ctrl + b0 + b1 * length + b2 * velocity = 0.
+double HoldingCtrl(const mjModel* m, int u, ActuatorKind kind, double value) {
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  double gain = m->actuator_gainprm[mjNGAIN * u];
+  if (gain == 0) return 0;
+  double b = kind == ActuatorKind::kPositionServo ? bias[1] : bias[2];
+  double b0 = kind == ActuatorKind::kPositionServo ? bias[0] : 0;
+  return -(b0 + b * value) / gain;
+}
+
+// The inverse: where a servo's ctrl holds its actuator.
+double ServoTarget(const mjModel* m, int u, ActuatorKind kind, double ctrl) {
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  double gain = m->actuator_gainprm[mjNGAIN * u];
+  double b = kind == ActuatorKind::kPositionServo ? bias[1] : bias[2];
+  double b0 = kind == ActuatorKind::kPositionServo ? bias[0] : 0;
+  return b == 0 ? NAN : -(gain * ctrl + b0) / b;
+}
+
+// The ctrl step: from `before` to `after` (ctrl units), what it is measured in, and for a
+// servo where it should end (`goal`, in the measured quantity's units).
 struct CtrlStep {
-  ActuatorKind kind;
+  ActuatorKind kind = ActuatorKind::kOther;
   double before = 0, after = 0;
+  double goal = NAN;
   double length0 = 0;  // the actuator length before the step
-  double Quantity(const mjData* d, int u) const {
+  int ctrl = 0, out = 0;  // its control and force output (Ctrl, Out)
+  std::vector<int> held;  // joints held at the reference pose (qpos, qvel reset every step)
+  std::vector<mjtNum> qpos;  // the reference pose
+  double Quantity(const mjData* d) const {
     switch (kind) {
       case ActuatorKind::kPositionServo:
-        return d->actuator_length[u];
+        return d->actuator_length[out];
       case ActuatorKind::kVelocityServo:
-        return d->actuator_velocity[u];
+        return d->actuator_velocity[out];
       default:
-        return d->actuator_force[u];
+        return d->actuator_force[out];
+    }
+  }
+  // Puts the held joints back at the reference pose, at rest.
+  void Hold(const mjModel* m, mjData* d) const {
+    for (int j : held) {
+      int q = m->jnt_qposadr[j], v = m->jnt_dofadr[j];
+      int nq = m->jnt_type[j] == mjJNT_FREE ? 7 : m->jnt_type[j] == mjJNT_BALL ? 4 : 1;
+      int nv = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+      for (int k = 0; k < nq; ++k) d->qpos[q + k] = qpos[q + k];
+      for (int k = 0; k < nv; ++k) d->qvel[v + k] = 0;
     }
   }
 };
 
-// Resets `data` to the reference pose with every ctrl at its middle and chooses the step of
-// actuator u: 10% of its range (0.1 when unlimited), servos from where they are.
+double Clamp(const mjModel* m, int i, double ctrl) {
+  if (!m->actuator_ctrllimited[i]) return ctrl;
+  return std::clamp(ctrl, m->actuator_ctrlrange[2 * i], m->actuator_ctrlrange[2 * i + 1]);
+}
+
+// Resets `data` to the reference pose with every other servo holding it (position servos at
+// their length there, velocity servos at rest, other ctrls at the middle of their range),
+// and, when u is a servo, every joint that no position servo and not u moves held there
+// kinematically (its qpos and qvel put back before every step), and
+// chooses the step of actuator u: 10% of its range (0.1 when unlimited), servos from where
+// they are.
 CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& sets,
                      const ReferencePose& ref, int u) {
   const mjModel* m = work.get();
   mj_resetData(m, data.get());
   StartAtPose(work, data, ref, sets);
-  CtrlStep step{KindOf(m, u)};
-  bool limited = m->actuator_ctrllimited[u] || m->actuator_gaintype[u] == mjGAIN_MUSCLE;
-  double lo = m->actuator_ctrllimited[u] ? m->actuator_ctrlrange[2 * u] : 0;
-  double hi = m->actuator_ctrllimited[u]                 ? m->actuator_ctrlrange[2 * u + 1]
+  CtrlStep step;
+  step.kind = KindOf(m, u);
+  step.ctrl = Ctrl(m, u);
+  step.out = Out(m, u);
+  bool limited = CtrlLimited(m, u) || m->actuator_gaintype[u] == mjGAIN_MUSCLE;
+  double lo = CtrlLimited(m, u) ? CtrlRange(m, u)[0] : 0;
+  double hi = CtrlLimited(m, u)                          ? CtrlRange(m, u)[1]
               : m->actuator_gaintype[u] == mjGAIN_MUSCLE ? 1
                                                          : 0;
   for (int i = 0; i < m->nu; ++i) {
@@ -105,14 +188,38 @@ CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& set
                         : 0;
   }
   data.Forward();
+  std::vector<bool> moved(m->nv, false);
+  for (int i = 0; i < compat::ActuatorCount(m); ++i) {
+    ActuatorKind kind = KindOf(m, i);
+    if (kind == ActuatorKind::kPositionServo || kind == ActuatorKind::kVelocityServo) {
+      double value = kind == ActuatorKind::kPositionServo ? data->actuator_length[Out(m, i)] : 0;
+      data->ctrl[Ctrl(m, i)] = Clamp(m, Ctrl(m, i), HoldingCtrl(m, i, kind, value));
+    }
+    if (kind != ActuatorKind::kPositionServo && i != u) continue;
+    std::vector<mjtNum> row = compat::ActuatorMomentRow(m, data.get(), Out(m, i));
+    for (int v = 0; v < m->nv; ++v) moved[v] = moved[v] || row[v] != 0;
+  }
+  // a servo's step is judged on its own joint: the rest hold still. A motor's is not (with
+  // nothing holding it, a constant torque on a held base spins its limb ever faster)
+  bool servo = step.kind == ActuatorKind::kPositionServo || step.kind == ActuatorKind::kVelocityServo;
+  for (int j = 0; j < m->njnt && servo; ++j) {
+    if (!moved[m->jnt_dofadr[j]]) step.held.push_back(j);
+  }
+  step.qpos.assign(data->qpos, data->qpos + m->nq);
+  data.Forward();
   double size = limited ? 0.1 * (hi - lo) : 0.1;
-  step.length0 = data->actuator_length[u];
-  step.before = data->ctrl[u];
-  if (step.kind == ActuatorKind::kPositionServo) step.before = step.length0;  // hold where it is
-  if (step.kind == ActuatorKind::kVelocityServo) step.before = 0;
+  step.length0 = data->actuator_length[step.out];
+  step.before = data->ctrl[step.ctrl];
+  if (step.kind == ActuatorKind::kPositionServo) {
+    step.before = HoldingCtrl(m, u, step.kind, step.length0);  // hold where it is
+  }
+  if (step.kind == ActuatorKind::kVelocityServo) step.before = HoldingCtrl(m, u, step.kind, 0);
   step.after = step.before + size;
   if (limited && step.after > hi) step.after = step.before - size;  // stay inside ctrlrange
-  data->ctrl[u] = step.before;
+  if (step.kind == ActuatorKind::kPositionServo || step.kind == ActuatorKind::kVelocityServo) {
+    step.goal = ServoTarget(m, u, step.kind, step.after);
+  }
+  data->ctrl[step.ctrl] = step.before;
   data.Forward();
   return step;
 }
@@ -120,8 +227,17 @@ CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& set
 // A motor has no setpoint: how far and how fast the step moved the actuator.
 std::string DescribeMotor(const mjModel* m, int u, const CtrlStep& step, double moved,
                           double max_speed, double duration) {
+  int trn = m->actuator_trntype[u];
+  if (trn != mjTRN_JOINT && trn != mjTRN_JOINTINPARENT && trn != mjTRN_TENDON) {
+    // a site or body transmission pushes a body: its length is no position to report
+    return fmt::format(
+        "no setpoint (motor on a {}): ctrl {:.3g} -> {:.3g} moves its site at up to {:.3g} "
+        "along its gear {} in {:g} s",
+        trn == mjTRN_SITE ? "site" : "body", step.before, step.after, max_speed,
+        GearText(m, u), duration);
+  }
   // the actuator length is gear x the joint (tendon) position
-  double gear = m->actuator_gear[6 * u];
+  double gear = Gear(m, u);
   std::string unit = ActuatorPositionUnit(m, u);
   std::string by = gear == 1 ? fmt::format("{:.3g} {}", moved, unit)
                              : fmt::format("{:.3g} (gear {:g} x {:.3g} {} at the joint)", moved,
@@ -138,26 +254,35 @@ std::string DescribeMotor(const mjModel* m, int u, const CtrlStep& step, double 
 // `*rise_time` is the rise time in s (NaN when the step never reached 63%).
 std::string DescribeResponse(const mjModel* m, int u, const CtrlStep& step,
                              const std::vector<double>& t, const std::vector<double>& y, double y0,
-                             double duration, double* rise_time) {
-  bool servo = step.kind != ActuatorKind::kOther;
-  double goal = servo ? step.after : y.back();
+                             double duration, StepResponse* r) {
+  bool servo = !std::isnan(step.goal);
+  double goal = servo ? step.goal : y.back();
   double change = goal - y0;
   if (std::fabs(change) < 1e-12) return "";
-  double rise = NAN, peak = 0;
+  double rise = NAN, peak = 0, settle = 0;
   for (std::size_t i = 0; i < y.size(); ++i) {
     double share = (y[i] - y0) / change;
     if (std::isnan(rise) && share >= 0.63) rise = t[i] - t.front() + m->opt.timestep;
     peak = std::max(peak, share);
+    // settled: within 5% of the step from here on
+    if (std::fabs(share - 1) > 0.05) settle = t[i] - t.front() + m->opt.timestep;
   }
-  *rise_time = rise;
+  r->rise = rise;
+  if (servo) {
+    r->overshoot = std::max(0.0, peak - 1);
+    r->error = std::fabs(goal - y.back()) / std::fabs(change);
+    r->settle = settle;
+  }
   std::string rise_text =
       std::isfinite(rise) ? fmt::format("{:.3g} s", rise) : fmt::format("> {:g} s", duration);
   if (servo) {
+    std::string settle_text = settle >= duration - m->opt.timestep / 2
+                                  ? fmt::format("not within 5% by {:g} s", duration)
+                                  : fmt::format("settles (5%) in {:.3g} s", settle);
     return fmt::format(
-        "{} servo: rise {}, overshoot {:.1f}%, steady-state error {:.1f}% after {:g} s",
+        "{} servo: rise {}, overshoot {:.1f}%, {}, steady-state error {:.1f}%",
         step.kind == ActuatorKind::kPositionServo ? "position" : "velocity", rise_text,
-        100 * std::max(0.0, peak - 1), 100 * std::fabs(goal - y.back()) / std::fabs(change),
-        duration);
+        100 * r->overshoot, settle_text, 100 * r->error);
   }
   return fmt::format("no setpoint ({}): force {:.3g} -> {:.3g}, rise {}",
                      m->actuator_gaintype[u] == mjGAIN_MUSCLE ? "muscle" : "actuator", y0, y.back(),
@@ -174,18 +299,21 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
   StepResponse out;
   const mjModel* m = work.get();
   CtrlStep step = PrepareStep(work, data, sets, ref, u);
-  double y0 = step.Quantity(data.get(), u);
+  double y0 = step.Quantity(data.get());
   std::vector<double> t, y;
   double max_speed = 0;
   RunSpec spec;
   spec.stop = options.stop;
   spec.until = duration;
   spec.every = m->opt.timestep;
-  spec.before_step = [&](mjData* d, long) { d->ctrl[u] = step.after; };
+  spec.before_step = [&](mjData* d, long) {
+    d->ctrl[step.ctrl] = step.after;
+    step.Hold(m, d);
+  };
   spec.after_step = [&](const mjData* d, long) {
     t.push_back(d->time);
-    y.push_back(step.Quantity(d, u));
-    max_speed = std::max(max_speed, std::fabs(d->actuator_velocity[u]));
+    y.push_back(step.Quantity(d));
+    max_speed = std::max(max_speed, std::fabs(d->actuator_velocity[step.out]));
   };
   NullSink sink;
   out.run.label = "step response of " + element;
@@ -204,16 +332,16 @@ StepResponse MeasureStep(Model& work, Data& data, const std::vector<Assignment>&
   curve.start = y0;
   bool servo = step.kind == ActuatorKind::kPositionServo ||
                step.kind == ActuatorKind::kVelocityServo;
-  curve.target = servo ? step.after : NAN;
+  curve.target = servo ? step.goal : NAN;
   out.run.curves.push_back(std::move(curve));
   if (out.run.result.diverged || y.size() < 2) return out;
   if (step.kind == ActuatorKind::kMotor) {
-    double moved = data->actuator_length[u] - step.length0;
+    double moved = data->actuator_length[step.out] - step.length0;
     out.moved = std::fabs(moved) > 1e-9 || max_speed > 1e-9;
     out.measured = DescribeMotor(m, u, step, moved, max_speed, duration);
     return out;
   }
-  out.measured = DescribeResponse(m, u, step, t, y, y0, duration, &out.rise);
+  out.measured = DescribeResponse(m, u, step, t, y, y0, duration, &out);
   out.moved = !out.measured.empty();
   return out;
 }
@@ -227,14 +355,13 @@ void Limits(const mjModel* m, int u, const CheckElement& element, std::vector<Ch
   if (std::isfinite(flo) && std::isfinite(fhi)) return;
   CheckRow& row = out->emplace_back(Make(
       L, "actuator.limits", element,
-      fmt::format("ctrl {}, force {}, gear {:g}",
-                  m->actuator_ctrllimited[u] ? "limited" : "unlimited",
-                  m->actuator_forcelimited[u] ? "limited" : "unlimited", m->actuator_gear[6 * u]),
+      fmt::format("ctrl {}, force {}, gear {}", CtrlLimited(m, u) ? "limited" : "unlimited",
+                  m->actuator_forcelimited[u] ? "limited" : "unlimited", GearText(m, u)),
       "a force bound", CheckStatus::kWarn,
       "a real motor saturates: set ctrllimited/ctrlrange (and forcerange) "
       "from the motor's datasheet, torque = gear x force"));
   // the same finding: the same of ctrl and force bounded (the gears may differ)
-  row.finding = fmt::format("ctrl {}, force {}", m->actuator_ctrllimited[u] ? "limited" : "unlimited",
+  row.finding = fmt::format("ctrl {}, force {}", CtrlLimited(m, u) ? "limited" : "unlimited",
                             m->actuator_forcelimited[u] ? "limited" : "unlimited");
 }
 
@@ -242,13 +369,13 @@ void Limits(const mjModel* m, int u, const CheckElement& element, std::vector<Ch
 void TargetRange(const mjModel* m, int u, const CheckElement& element, std::vector<CheckRow>* out) {
   int trn = m->actuator_trntype[u];
   int joint = m->actuator_trnid[2 * u];
-  double gear = m->actuator_gear[6 * u];
+  double gear = Gear(m, u);
   bool joint_trn = trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT;
   if (KindOf(m, u) != ActuatorKind::kPositionServo || !joint_trn || !m->jnt_limited[joint] ||
-      !m->actuator_ctrllimited[u] || gear == 0) {
+      !CtrlLimited(m, u) || gear == 0) {
     return;
   }
-  double lo = m->actuator_ctrlrange[2 * u] / gear, hi = m->actuator_ctrlrange[2 * u + 1] / gear;
+  double lo = CtrlRange(m, u)[0] / gear, hi = CtrlRange(m, u)[1] / gear;
   double jlo = m->jnt_range[2 * joint], jhi = m->jnt_range[2 * joint + 1];
   double margin = 0.5 * (jhi - jlo);
   if (std::min(lo, hi) >= jlo - margin && std::max(lo, hi) <= jhi + margin) return;
@@ -274,7 +401,7 @@ bool Holding(const Model& model, const Data& data, int u, const CheckElement& el
   if (!joint_trn || (m->jnt_type[joint] != mjJNT_HINGE && m->jnt_type[joint] != mjJNT_SLIDE)) {
     return false;
   }
-  double gear = m->actuator_gear[6 * u];
+  double gear = Gear(m, u);
   auto [flo, fhi] = ForceRange(m, u);
   double need = data->qfrc_bias[m->jnt_dofadr[joint]];
   double tlo = std::min(gear * flo, gear * fhi), thi = std::max(gear * flo, gear * fhi);
@@ -298,6 +425,35 @@ bool Holding(const Model& model, const Data& data, int u, const CheckElement& el
                               "pose"),
                   {bound, unit}, {need, unit}));
   return true;
+}
+
+// A servo's step response against its thresholds: overshoot beyond kOvershootFail swings past
+// the target by more than the step (an oscillating or unstable servo: one arm rang at 3,300%);
+// beyond kOvershootWarn, or a steady-state error beyond kErrorWarn (it misses most of the
+// step), is suspect. The settling time is shown, not judged: a slow servo is a choice. Clean
+// robots: overshoot 0%, errors up to 32% (the Robotiq 2F-85's spring-loaded linkage).
+constexpr double kOvershootWarn = 0.3, kOvershootFail = 1, kErrorWarn = 0.5;
+
+CheckRow ServoStepRow(const CheckElement& element, const StepResponse& r) {
+  CheckStatus status = r.overshoot > kOvershootFail                       ? CheckStatus::kFail
+                       : r.overshoot > kOvershootWarn || r.error > kErrorWarn ? CheckStatus::kWarn
+                                                                              : CheckStatus::kPass;
+  bool rings = r.overshoot > kOvershootWarn;
+  std::string fix =
+      status == CheckStatus::kPass
+          ? "a step of 10% of ctrlrange from the reference pose, gravity and contacts off, the "
+            "other servos holding the pose and the other joints held there"
+      : rings ? "the servo overshoots: its gains are too stiff or too little damped for the "
+                "link it moves (see actuator.stability): raise kv or dampratio, add armature, "
+                "or lower kp"
+              : "the servo stops far from its target: a load (a spring, a coupled joint, a "
+                "limit) stronger than kp, or a forcerange that saturates";
+  // as numbers: the overshoot (a share of the step) against its bound
+  return WithNumbers(Make(L, "actuator.step_response", element, r.measured,
+                          fmt::format("overshoot <= {:g}%, steady-state error <= {:g}%",
+                                      100 * kOvershootWarn, 100 * kErrorWarn),
+                          status, fix),
+                     {r.overshoot, ""}, {kOvershootWarn, ""});
 }
 
 // Step responses of up to kStepActuators actuators, within one dof-step budget for all.
@@ -325,6 +481,8 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
                                       "contacts off): check the transmission, gain and ctrl "
                                       "range",
                                       duration)));
+    } else if (!std::isnan(r.overshoot)) {
+      out->push_back(ServoStepRow(element, r));
     } else {
       // as a number: the rise time (none for a motor, which has no setpoint)
       out->push_back(
@@ -360,6 +518,8 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
     if (Holding(model, data, u, element, holding_rows < kMaxListed, out)) ++holding_rows;
   }
   ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
+  ServoStability(model, data, out);
+  ActuatorRank(model, data, out);
   StepResponses(original, model, sets, ref, options, runs, out);
 }
 

@@ -69,9 +69,16 @@ double SoftDepth(const mjModel* m, const mjContact& c) {
   return std::max(k > 0 && g > 0 ? g / k : 0.0, c.solimp[2]);
 }
 
+// A geom as a row names it; an unnamed one by its body too, which a reader can find.
+std::string GeomLabel(const Model& model, int g) {
+  std::string label = Elem(model, mjOBJ_GEOM, g, "geom");
+  int b = model->geom_bodyid[g];
+  if (!model.Name(mjOBJ_GEOM, g).empty() || b == 0) return label;
+  return label + " of " + Elem(model, mjOBJ_BODY, b, "body");
+}
+
 std::string GeomPair(const Model& model, const mjContact& c) {
-  return Elem(model, mjOBJ_GEOM, c.geom1, "geom") + " / " +
-         Elem(model, mjOBJ_GEOM, c.geom2, "geom");
+  return GeomLabel(model, c.geom1) + " / " + GeomLabel(model, c.geom2);
 }
 
 // After each step: energy, solver effort and the deepest contacts so far.

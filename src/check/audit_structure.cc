@@ -36,10 +36,20 @@ void UnnamedElements(const Model& model, std::vector<CheckRow>* out) {
                {"sensor", "sensors", mjOBJ_SENSOR, static_cast<int>(m->nsensor)},
                {"body", "bodies", mjOBJ_BODY, static_cast<int>(m->nbody)}};
   for (const Kind& k : kinds) {
-    std::vector<std::string> unnamed;
+    std::vector<std::string> unnamed, free;
     for (int i = 0; i < k.count; ++i) {
       if (k.obj == mjOBJ_BODY && !Moves(m, i)) continue;
-      if (model.Name(k.obj, i).empty()) unnamed.push_back("#" + std::to_string(i));
+      if (!model.Name(k.obj, i).empty()) continue;
+      // a free joint is its body's: qpos[body] and logs name it by the body (a scene's loose
+      // object often has an unnamed one), so it is only shown
+      bool loose = k.obj == mjOBJ_JOINT && m->jnt_type[i] == mjJNT_FREE;
+      (loose ? free : unnamed).push_back("#" + std::to_string(i));
+    }
+    if (!free.empty()) {
+      out->push_back(Make(L, "structure.unnamed_free_joints",
+                          fmt::format("joints {}", fmt::join(free, ", ")),
+                          fmt::format("{} unnamed", free.size()), "", CheckStatus::kPass,
+                          "free joints without a name: their bodies name them"));
     }
     if (unnamed.empty()) continue;
     std::string list = fmt::format(
@@ -72,15 +82,19 @@ void JointRange(const mjModel* m, int j, const CheckElement& element, std::vecto
              "a limited joint with an empty range is locked: give range=\"lo hi\" "
              "or drop limited"),
         span, {0, span.unit}));
-  } else if (limited &&
-             ((rotational && hi - lo > 4 * M_PI) || (type == mjJNT_SLIDE && hi - lo > 100))) {
-    out->push_back(
-        WithNumbers(Make(L, "structure.joint_range", element, range,
-                         rotational ? "<= 4*pi rad" : "<= 100 m", CheckStatus::kWarn,
-                         rotational ? "a range wider than two turns never engages: was it "
-                                      "written in degrees with <compiler angle=\"radian\">?"
-                                    : "a slide range this long never engages: check units"),
-                    span, {rotational ? 4 * M_PI : 100.0, span.unit}));
+  } else if (limited && rotational && std::max(-lo, hi) > 4 * M_PI * (1 + 1e-6)) {
+    // a bound more than two turns from zero: degrees read as radians (range="-90 90"); ranges
+    // of exactly +-2*pi or +-3*pi, as printed with rounding (6.28319), are meant
+    out->push_back(WithNumbers(
+        Make(L, "structure.joint_range", element, range, "|bound| <= 4*pi rad", CheckStatus::kWarn,
+             "a bound more than two turns from zero: was the range written in degrees with "
+             "<compiler angle=\"radian\">?"),
+        {std::max(-lo, hi), "rad"}, {4 * M_PI, "rad"}));
+  } else if (limited && type == mjJNT_SLIDE && hi - lo > 100) {
+    out->push_back(WithNumbers(Make(L, "structure.joint_range", element, range, "<= 100 m",
+                                    CheckStatus::kWarn,
+                                    "a slide range this long never engages: check units"),
+                               span, {100.0, span.unit}));
   } else if (limited && type == mjJNT_HINGE && hi - lo < 0.1) {
     // MJCF angles are degrees unless <compiler angle="radian">: radians written there
     // become a range 57 times too narrow
