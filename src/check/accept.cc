@@ -167,8 +167,8 @@ CheckRow StaleRow(const AcceptList& list, const AcceptEntry& e, const std::vecto
   }
   bool checked = std::find(ids.begin(), ids.end(), e.check) != ids.end();
   if (!checked) {
-    row.measured_text = "no row of " + e.check;
-    row.fix = fmt::format("correct the check, or delete the entry ({}) if its check is gone{}",
+    row.measured_text = "no WARN or FAIL of " + e.check;
+    row.fix = fmt::format("delete the entry ({}) if its finding is gone, or correct its check{}",
                           where, Guess(e.check, ids));
   } else {
     row.measured_text = fmt::format("no WARN or FAIL of {} about {}", e.check,

@@ -218,7 +218,7 @@ TEST(AcceptTest, AStaleEntryIsAWarnRowNamingItsFileAndLine) {
   EXPECT_EQ(rows[5].measured_text, "now PASS");
   EXPECT_EQ(rows[5].fix, "the finding it accepted is gone: delete the entry (accept.toml:6)");
   EXPECT_EQ(rows[6].subject, "accept.toml:10: inertia.sise about body 'base_link'");
-  EXPECT_EQ(rows[6].measured_text, "no row of inertia.sise");
+  EXPECT_EQ(rows[6].measured_text, "no WARN or FAIL of inertia.sise");
   EXPECT_NE(rows[6].fix.find("did you mean: inertia.size?"), std::string::npos) << rows[6].fix;
   EXPECT_EQ(rows[7].measured_text, "no WARN or FAIL of inertia.size about body 'hand'");
   EXPECT_NE(rows[7].fix.find("; inertia.size is about: "), std::string::npos) << rows[7].fix;
