@@ -58,7 +58,8 @@ struct AcceptList {
 
 // Reads an accept list from a TOML file (the format above). Every entry needs `check` and a
 // non-empty `reason`; `element` names an element by kind and name, not by id ("body 'hand'
-// (id 3)" and an unnamed "body #3" are refused). @throws IoError when the file cannot be read,
+// (id 3)" is refused; an unnamed "body #3" is read but never accepts a row, and its stale row
+// says to name the element). @throws IoError when the file cannot be read,
 // ValueError naming the file, line and column of the problem for invalid TOML, an unknown key,
 // a missing or empty entry, a value of the wrong type or an entry that repeats another.
 AcceptList LoadAcceptList(const std::string& path);
