@@ -4,11 +4,13 @@
 #   enable_testing()
 #   plumb_add_model_test(NAME robot MODEL robot.xml
 #                        [SNAPSHOT robot.snap.json] [SCENARIO stand.toml]
-#                        [STRICT] [TOL 1e-6] [SET "qpos[hinge]=0.7" ...])
+#                        [ACCEPT accepted.toml] [STRICT] [TOL 1e-6] [SET "qpos[hinge]=0.7" ...])
 #
 # registers the CTest tests
-#   <NAME>.audit  plumb audit MODEL [--scenario SCENARIO] [--strict]: fails on any FAIL
-#                 (and on WARN with STRICT)
+#   <NAME>.audit  plumb audit MODEL [--scenario SCENARIO] [--accept ACCEPT] [--strict]: fails
+#                 on any FAIL (and on WARN with STRICT) that the accept list ACCEPT (reviewed
+#                 findings with their reasons) does not accept; an entry of ACCEPT that no
+#                 longer matches a finding is a WARN
 #   <NAME>.diff   plumb diff SNAPSHOT MODEL --tol TOL: fails on any change beyond TOL
 # and the target <NAME>.snapshot, which rewrites SNAPSHOT from the current model when a
 # change is intended (cmake --build . --target <NAME>.snapshot, then commit the file).
@@ -16,7 +18,7 @@
 # names the plumb tool (set by find_package(plumb)).
 
 function(plumb_add_model_test)
-  cmake_parse_arguments(ARG "STRICT" "NAME;MODEL;SNAPSHOT;SCENARIO;TOL" "SET" ${ARGN})
+  cmake_parse_arguments(ARG "STRICT" "NAME;MODEL;SNAPSHOT;SCENARIO;ACCEPT;TOL" "SET" ${ARGN})
   if(NOT ARG_NAME OR NOT ARG_MODEL)
     message(FATAL_ERROR "plumb_add_model_test: NAME and MODEL are required")
   endif()
@@ -43,6 +45,13 @@ function(plumb_add_model_test)
   if(ARG_SCENARIO)
     get_filename_component(scenario "${ARG_SCENARIO}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
     list(APPEND audit --scenario "${scenario}")
+  endif()
+  if(ARG_ACCEPT)
+    get_filename_component(accept "${ARG_ACCEPT}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+    if(NOT EXISTS "${accept}")
+      message(FATAL_ERROR "plumb_add_model_test(${ARG_NAME}): accept list ${accept} does not exist")
+    endif()
+    list(APPEND audit --accept "${accept}")
   endif()
   if(ARG_STRICT)
     list(APPEND audit --strict)

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -101,6 +102,16 @@ class TempDir {
 
 inline void WriteFile(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
+}
+
+// The message of the ValueError `f` throws, or "" when it throws none.
+inline std::string ValueErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ValueError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 inline std::string ReadFile(const std::string& path) {

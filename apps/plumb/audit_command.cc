@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "cli_common.h"
+#include "plumb/accept.h"
 #include "plumb/audit.h"
 #include "plumb/check_table.h"
 #include "plumb/keyframe.h"
@@ -21,6 +22,7 @@ struct AuditCommandOptions {
   std::vector<std::string> sets;
   std::string keyframe;
   std::string scenario;
+  std::string accept;  // --accept FILE.toml
   bool strict = false;
   std::string format = "table";
   std::string repro;
@@ -34,6 +36,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   options.sets = ParseAssignments(model, o.sets);
   options.keyframe = o.keyframe;
   if (!o.scenario.empty()) options.scenario = LoadScenario(model, o.scenario);
+  AcceptList accepted = o.accept.empty() ? AcceptList() : LoadAcceptList(o.accept);
   std::string repro_dir =
       o.repro.empty() ? "plumb-repro-" + std::filesystem::path(o.model).stem().string() : o.repro;
   options.keep_diverged = [&](const Model& work, const RunResult& run, const std::string& what) {
@@ -41,6 +44,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   };
   options.stop = CommandStop().token();
   AuditReport report = Audit(model, options);
+  ApplyAcceptList(accepted, &report.findings);
   if (!o.report.empty()) {
     // the pictures show the pose the audit judged the model in
     ReferencePose pose = FindReferencePose(model, o.keyframe);
@@ -55,8 +59,10 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   }
   std::string text = o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
-  bool failed =
-      report.Count(CheckStatus::kFail) > 0 || (o.strict && report.Count(CheckStatus::kWarn) > 0);
+  // accepted findings fail nothing; a stale entry is a WARN of its own
+  const std::vector<CheckRow>& findings = report.findings;
+  bool failed = CountUnaccepted(findings, CheckStatus::kFail) > 0 ||
+                (o.strict && CountUnaccepted(findings, CheckStatus::kWarn) > 0);
   return failed ? kExitCheckFailed : kExitOk;
 }
 
@@ -70,14 +76,26 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  plumb audit /usr/share/mujoco/model/humanoid/humanoid.xml\n"
       "  plumb audit robot.xml --scenario stand.toml --strict --format json\n"
+      "  plumb audit robot.xml --strict --accept accepted.toml\n"
       "Scenario files (JSON or TOML): name, duration, keyframe, initial {path = value},\n"
       "controls [{actuator, type = constant|step|ramp|sine, ...}], assertions\n"
       "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
-      "Exit codes: 0 nothing failed, 1 a check failed (or warned, with --strict), 2 bad input.");
+      "Accept lists (TOML), one table per reviewed finding:\n"
+      "  [[accept]]\n"
+      "  check = \"inertia.size\"           # the row's id\n"
+      "  element = \"body 'base_link'\"     # kind and name, no id; omitted: the whole model\n"
+      "  status = \"WARN\"                  # optional: only while it is a WARN\n"
+      "  reason = \"CAD inertia checked against the datasheet, 2026-10\"   # required\n"
+      "An accepted WARN or FAIL shows as ACCEPT with its reason and fails nothing; an entry that\n"
+      "matches no WARN or FAIL is reported as a WARN row accept.stale naming its file and line.\n"
+      "Exit codes: 0 nothing failed, 1 a check failed (or warned, with --strict), 2 bad input\n"
+      "(also a bad accept list).");
   AddModelOptions(cmd, &o->model, &o->sets, "before the audit");
   AddKeyframeOption(cmd, &o->keyframe);
   cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
   cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
+  cmd->add_option("--accept", o->accept,
+                  "a reviewed list of accepted findings (.toml): they fail nothing (see below)");
   AddFormatOption(cmd, &o->format, {"table", "json"});
   AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--repro", o->repro,

@@ -71,13 +71,23 @@ struct CheckRow {
   std::string reference_text;
   std::string explanation;  // what the result means; for a SKIP, why it was skipped
   std::string fix;          // what to do about a WARN or FAIL ("" when nothing to do)
+  // Why a reviewed accept list accepts this WARN or FAIL (plumb/accept.h); "" when it is not
+  // accepted. An accepted row keeps its status and counts apart: it fails no run.
+  std::string accepted;
 
   // What the row is about as text: the element's label, else the subject ("" for the model).
   std::string About() const;
 };
 
-// How many of `rows` have `status`.
+// How many of `rows` have `status`, accepted or not.
 int CountStatus(const std::vector<CheckRow>& rows, CheckStatus status);
+
+// How many of `rows` have `status` and are not accepted (CheckRow::accepted): the rows that
+// decide a run, and that the tables and JSON summaries count by status.
+int CountUnaccepted(const std::vector<CheckRow>& rows, CheckStatus status);
+
+// How many of `rows` are accepted.
+int CountAccepted(const std::vector<CheckRow>& rows);
 
 }  // namespace plumb
 

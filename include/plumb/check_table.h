@@ -31,17 +31,21 @@ enum class TableDetail { kFindings, kAll, kQuiet };
 // that make the same finding (section, id, status and CheckRow::finding) about several
 // elements of one kind become one row, "WARN  actuator.limits  12 actuators alike: NAMES",
 // then the first row's text as the example ("e.g. actuator 'hip' (id 0): ...").
+// An accepted row (CheckRow::accepted, plumb/accept.h) is never grouped, and counts apart: the
+// count line ends ", N accepted" when there are any, and W and F count the rest.
 std::string CheckTable(const std::string& title, const std::vector<CheckRow>& rows,
                        const std::vector<std::string>& texts, TableDetail detail,
                        const std::string& how_to_see_all = "");
 
 // verify's table: each check's id and title, its measured value, reference and relative
-// error, and its explanation.
+// error, and its explanation. An accepted row reads "ACCEPT" where its status would, and ends
+// with a line "WARN accepted: REASON".
 std::string VerifyTable(const VerifyReport& report, TableDetail detail,
                         const std::string& how_to_see_all = "");
 
 // audit's table, one section per layer: each finding's id and element, what was measured
-// against which threshold, and the fix of a WARN or FAIL.
+// against which threshold, and the fix of a WARN or FAIL; an accepted finding reads "ACCEPT"
+// where its status would, and "FAIL accepted: REASON" where its fix would.
 std::string AuditTable(const AuditReport& report, TableDetail detail,
                        const std::string& how_to_see_all = "");
 

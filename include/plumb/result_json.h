@@ -4,9 +4,13 @@
 // (a NaN where nothing could be measured) is null. Check rows have one shape everywhere:
 //   {"id", "section", "title", "status", "element", "element_type", "element_name",
 //    "element_id", "measured", "measured_unit", "measured_text", "reference",
-//    "reference_unit", "reference_text", "threshold", "rel_error", "explanation", "fix"}
-// where "element" is the element's label or the row's subject ("" for the whole model), and
-// "measured" and "reference" are the numbers, or the texts when the row has no number.
+//    "reference_unit", "reference_text", "threshold", "rel_error", "explanation", "fix",
+//    "accepted"}
+// where "element" is the element's label or the row's subject ("" for the whole model),
+// "measured" and "reference" are the numbers, or the texts when the row has no number, and
+// "accepted" is the reason an accept list gives for the row (plumb/accept.h), else null. A
+// summary counts the rows by status, the accepted ones apart: {"pass", "warn", "fail", "skip",
+// "accepted"}.
 //
 // Example:
 //   std::string json = plumb::VerifyToJson(plumb::Verify(model, options));
@@ -31,7 +35,8 @@
 
 namespace plumb {
 
-// {"model", "mujoco_version", "tol", "checks": [row...], "summary": {pass, warn, fail, skip}}
+// {"model", "mujoco_version", "tol", "checks": [row...], "summary": {pass, warn, fail, skip,
+//  accepted}}
 std::string VerifyToJson(const VerifyReport& report);
 
 // {"model", "mujoco_version", "layers": {layer: [row...]}, "repro_folders", "summary"}

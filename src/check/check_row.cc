@@ -35,4 +35,15 @@ int CountStatus(const std::vector<CheckRow>& rows, CheckStatus status) {
                                         [&](const CheckRow& r) { return r.status == status; }));
 }
 
+int CountUnaccepted(const std::vector<CheckRow>& rows, CheckStatus status) {
+  return static_cast<int>(std::count_if(rows.begin(), rows.end(), [&](const CheckRow& r) {
+    return r.status == status && r.accepted.empty();
+  }));
+}
+
+int CountAccepted(const std::vector<CheckRow>& rows) {
+  return static_cast<int>(std::count_if(rows.begin(), rows.end(),
+                                        [](const CheckRow& r) { return !r.accepted.empty(); }));
+}
+
 }  // namespace plumb

@@ -116,8 +116,17 @@ void WriteAuditReport(const std::string& path, const Model& model,
   for (std::size_t i = 0; i < thumbs.size(); ++i) thumb_of[elements[i]] = thumbs[i];
 
   page.Heading("Findings");
-  page.StatusSummary(result.Count(CheckStatus::kPass), result.Count(CheckStatus::kWarn),
-                     result.Count(CheckStatus::kFail), result.Count(CheckStatus::kSkip));
+  // accepted findings (plumb/accept.h) count apart, as in the table
+  const std::vector<CheckRow>& findings = result.findings;
+  page.StatusSummary(
+      CountUnaccepted(findings, CheckStatus::kPass), CountUnaccepted(findings, CheckStatus::kWarn),
+      CountUnaccepted(findings, CheckStatus::kFail), CountUnaccepted(findings, CheckStatus::kSkip));
+  if (int accepted = CountAccepted(findings); accepted > 0) {
+    page.Paragraph(fmt::format("{} accepted finding{} (an accept list): each shows its status and "
+                               "the reason it was accepted.",
+                               accepted, accepted == 1 ? "" : "s"),
+                   "note");
+  }
   if (!why.empty()) page.Paragraph("No thumbnails: " + why, "note");
   std::string layer;
   std::string rows;
@@ -143,13 +152,16 @@ void WriteAuditReport(const std::string& path, const Model& model,
                   "src=\"{1}\">",
                   report::Escape(f.About()), report::PngDataUri(thumb->second))
             : "";
+    // an accepted finding is not highlighted, and says why it was accepted
+    std::string what_to_do = !f.accepted.empty() ? "accepted: " + f.accepted
+                             : f.fix.empty()     ? f.explanation
+                                                 : f.fix;
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td>"
         "<td class=\"detail\">{}</td><td>{}</td></tr>\n",
-        CheckStatusName(f.status), report::StatusCell(f.status), report::Escape(f.id),
-        report::Escape(f.About()), report::Escape(f.measured_text),
-        report::Escape(f.reference_text), report::Escape(f.fix.empty() ? f.explanation : f.fix),
-        picture);
+        f.accepted.empty() ? CheckStatusName(f.status) : "accepted", report::StatusCell(f.status),
+        report::Escape(f.id), report::Escape(f.About()), report::Escape(f.measured_text),
+        report::Escape(f.reference_text), report::Escape(what_to_do), picture);
   }
   flush();
 

@@ -48,6 +48,20 @@ std::string GroupText(const std::vector<CheckRow>& rows, const std::vector<std::
   return text + kIndent + "e.g. " + label + ": " + body.substr(start);
 }
 
+// A row's first line up to its element: the status and the check id in a column `width` wide;
+// an accepted row says ACCEPT, its own status following on the line AcceptedLine adds.
+std::string Head(const CheckRow& row, int width) {
+  if (!row.accepted.empty()) return fmt::format("ACCEPT  {:<{}}", row.id, width - 2);
+  return fmt::format("{}  {:<{}}", CheckStatusName(row.status), row.id, width);
+}
+
+// "WARN accepted: REASON", wrapped; "" for a row that is not accepted.
+std::string AcceptedLine(const CheckRow& row) {
+  if (row.accepted.empty()) return "";
+  return Wrap(fmt::format("{} accepted: {}", CheckStatusName(row.status), row.accepted), kWidth,
+              kIndent);
+}
+
 }  // namespace
 
 std::string Wrap(const std::string& text, std::size_t width, const std::string& indent) {
@@ -78,8 +92,14 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
   using Finding = std::tuple<std::string, std::string, CheckStatus, std::string, std::string>;
   std::map<Finding, std::vector<std::size_t>> alike;
   std::vector<Finding> finding_of(rows.size());
+  long accepted = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const CheckRow& row = rows[i];
+    // an accepted row counts apart, and shows on its own with its reason
+    if (!row.accepted.empty()) {
+      ++accepted;
+      continue;
+    }
     ++count[row.status];
     if ((row.status == CheckStatus::kFail || row.status == CheckStatus::kWarn) &&
         !row.element.empty()) {
@@ -93,6 +113,7 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
   std::string counts =
       fmt::format("{} passed, {} warned, {} failed, {} skipped", count[CheckStatus::kPass],
                   count[CheckStatus::kWarn], count[CheckStatus::kFail], count[CheckStatus::kSkip]);
+  if (accepted > 0) counts += fmt::format(", {} accepted", accepted);
   if (detail == TableDetail::kQuiet) return counts + "\n";
 
   std::string out = title + "\n";
@@ -135,14 +156,14 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
                         const std::string& how_to_see_all) {
   std::vector<std::string> texts;
   for (const CheckRow& c : report.checks) {
-    std::string text = fmt::format("{}  {:<24} {}\n", CheckStatusName(c.status), c.id, c.title);
+    std::string text = Head(c, 24) + " " + c.title + "\n";
     if (c.status != CheckStatus::kSkip) {
       std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
       if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
       if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
       text += Wrap(numbers, kWidth, kIndent);
     }
-    texts.push_back(text + Wrap(c.explanation, kWidth, kIndent));
+    texts.push_back(text + Wrap(c.explanation, kWidth, kIndent) + AcceptedLine(c));
   }
   return CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
                                 MujocoVersion(), report.tol),
@@ -154,14 +175,17 @@ std::string AuditTable(const AuditReport& report, TableDetail detail,
   std::vector<std::string> texts;
   for (const CheckRow& f : report.findings) {
     std::string about = f.About();
-    std::string text = fmt::format("{}  {:<26} {}\n", CheckStatusName(f.status), f.id,
-                                   about.empty() ? "(model)" : about);
+    std::string text = Head(f, 26) + " " + (about.empty() ? "(model)" : about) + "\n";
     std::string numbers = kIndent + f.measured_text;
     if (!f.reference_text.empty()) numbers += "   threshold " + f.reference_text;
     text += numbers + "\n";
-    // a SKIP's reason shows where a finding's fix does
+    // a SKIP's reason shows where a finding's fix does, an accepted finding's reason in its place
     const std::string& fix = f.status == CheckStatus::kSkip ? f.explanation : f.fix;
-    if (!fix.empty()) text += kIndent + ("fix: " + fix) + "\n";
+    if (!f.accepted.empty()) {
+      text += AcceptedLine(f);
+    } else if (!fix.empty()) {
+      text += kIndent + ("fix: " + fix) + "\n";
+    }
     texts.push_back(text);
   }
   return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()),

@@ -39,7 +39,8 @@ Json RowJson(const CheckRow& row) {
           {"threshold", row.threshold},
           {"rel_error", Number(row.rel_error)},
           {"explanation", row.explanation},
-          {"fix", row.fix}};
+          {"fix", row.fix},
+          {"accepted", row.accepted.empty() ? Json(nullptr) : Json(row.accepted)}};
 }
 
 Json NumberArray(const std::vector<double>& values) {
@@ -59,11 +60,13 @@ Json ChangeJson(const SnapshotChange& c) {
   return one;
 }
 
+// The rows by status, the accepted ones apart (as the tables count them).
 Json Summary(const std::vector<CheckRow>& rows) {
-  return {{"pass", CountStatus(rows, CheckStatus::kPass)},
-          {"warn", CountStatus(rows, CheckStatus::kWarn)},
-          {"fail", CountStatus(rows, CheckStatus::kFail)},
-          {"skip", CountStatus(rows, CheckStatus::kSkip)}};
+  return {{"pass", CountUnaccepted(rows, CheckStatus::kPass)},
+          {"warn", CountUnaccepted(rows, CheckStatus::kWarn)},
+          {"fail", CountUnaccepted(rows, CheckStatus::kFail)},
+          {"skip", CountUnaccepted(rows, CheckStatus::kSkip)},
+          {"accepted", CountAccepted(rows)}};
 }
 
 }  // namespace

@@ -81,6 +81,17 @@ if(rc OR NOT out MATCHES "arm.audit" OR NOT out MATCHES "arm.diff")
   message(FATAL_ERROR "examples/model_ci's tests failed:\n${out}")
 endif()
 
+# an accept-list entry that matches no finding of the arm is stale: STRICT fails arm.audit
+file(READ "${ci_src}/accepted.toml" accepted)
+file(APPEND "${ci_src}/accepted.toml"
+  "[[accept]]\ncheck = \"inertia.size\"\nelement = \"body 'fore'\"\nreason = \"CAD\"\n")
+execute_process(COMMAND ${CMAKE_CTEST_COMMAND} --output-on-failure -R arm.audit
+  WORKING_DIRECTORY "${WORK_DIR}/model_ci" RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc OR NOT out MATCHES "accept\\.stale +[^ ]*accepted\\.toml:16: inertia\\.size about body 'fore'")
+  message(FATAL_ERROR "arm.audit did not report the stale accept entry:\n${out}")
+endif()
+file(WRITE "${ci_src}/accepted.toml" "${accepted}")
+
 # and it notices a change: more damping at the shoulder fails arm.diff, naming the field
 file(READ "${ci_src}/arm.xml" xml)
 string(REPLACE "damping=\"3\"" "damping=\"4\"" xml "${xml}")

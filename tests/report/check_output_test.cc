@@ -28,6 +28,25 @@ CheckRow Finding(CheckStatus status, const std::string& id, CheckElement element
   return row;
 }
 
+// A verify check's row: what the table shows of a check with no numbers.
+CheckRow Check(CheckStatus status, const std::string& id, const std::string& title,
+               const std::string& explanation) {
+  CheckRow row;
+  row.status = status;
+  row.id = id;
+  row.title = title;
+  row.explanation = explanation;
+  return row;
+}
+
+// audit's report of arm.xml with `findings`.
+AuditReport ArmAudit(std::vector<CheckRow> findings) {
+  AuditReport report;
+  report.model = "arm.xml";
+  report.findings = std::move(findings);
+  return report;
+}
+
 TEST(CheckRowTest, AnElementReadsWithItsNameAndIdOrItsNumberWhenUnnamed) {
   EXPECT_EQ(ElementLabel({"body", "hand", 3}), "body 'hand' (id 3)");
   EXPECT_EQ(ElementLabel({"body", "", 4}), "body #4");
@@ -80,25 +99,60 @@ TEST(CheckTableTest, TheSameFindingAboutSeveralElementsIsOneRowNamingThem) {
   EXPECT_EQ(AuditTable(report, TableDetail::kQuiet), "1 passed, 3 warned, 0 failed, 0 skipped\n");
 }
 
+TEST(CheckTableTest, AnAcceptedFindingShowsItsReasonStandsAloneAndCountsApart) {
+  AuditReport report =
+      ArmAudit({Finding(CheckStatus::kWarn, "actuator.limits", {"actuator", "shoulder", 0},
+                        "ctrl unlimited, gear 1", "a real motor saturates"),
+                Finding(CheckStatus::kWarn, "actuator.limits", {"actuator", "elbow", 1},
+                        "ctrl unlimited, gear 1", "a real motor saturates"),
+                Finding(CheckStatus::kFail, "actuator.step_response", {"actuator", "elbow", 1},
+                        "diverged", "bound it")});
+  report.findings[1].accepted = "the elbow's driver limits its current; judged 2026-10";
+  report.findings[2].accepted = "a test rig";
+  std::string table = AuditTable(report, TableDetail::kFindings);
+  // the accepted WARN does not group with the one that is not
+  EXPECT_NE(
+      table.find("== actuator\n"
+                 "WARN  actuator.limits            actuator 'shoulder' (id 0)\n"
+                 "      ctrl unlimited, gear 1   threshold a force bound\n"
+                 "      fix: a real motor saturates\n"
+                 "ACCEPT  actuator.limits          actuator 'elbow' (id 1)\n"
+                 "      ctrl unlimited, gear 1   threshold a force bound\n"
+                 "      WARN accepted: the elbow's driver limits its current; judged 2026-10\n"
+                 "ACCEPT  actuator.step_response   actuator 'elbow' (id 1)\n"
+                 "      diverged   threshold a force bound\n"
+                 "      FAIL accepted: a test rig\n"),
+      std::string::npos)
+      << table;
+  EXPECT_EQ(AuditTable(report, TableDetail::kQuiet),
+            "0 passed, 1 warned, 0 failed, 0 skipped, 2 accepted\n");
+
+  // verify's table marks an accepted row the same way
+  VerifyReport verify;
+  verify.model = "pendulum.xml";
+  verify.checks = {Check(CheckStatus::kWarn, "energy", "energy is conserved", "energy grew")};
+  verify.checks[0].accepted = "contacts";
+  EXPECT_NE(VerifyTable(verify, TableDetail::kFindings)
+                .find("ACCEPT  energy                 energy is conserved\n"
+                      "      measured -\n"
+                      "      energy grew\n"
+                      "      WARN accepted: contacts\n"),
+            std::string::npos)
+      << VerifyTable(verify, TableDetail::kFindings);
+}
+
 TEST(CheckTableTest, SkipsSharingAReasonAreOneRowListingTheirIds) {
   VerifyReport report;
   report.model = "humanoid.xml";
   report.tol = 0.01;
   for (const char* id : {"analytic.period", "experiment.A", "experiment.B"}) {
-    CheckRow row;
-    row.id = id;
-    row.title = "a pendulum's";
-    row.explanation = "not a single hinge pendulum";
-    report.checks.push_back(row);
+    report.checks.push_back(
+        Check(CheckStatus::kSkip, id, "a pendulum's", "not a single hinge pendulum"));
   }
-  CheckRow energy;
-  energy.id = "energy";
-  energy.title = "energy is conserved";
-  energy.status = CheckStatus::kFail;
+  CheckRow energy = Check(CheckStatus::kFail, "energy", "energy is conserved", "energy grew");
   energy.measured_text = "0.5 of max KE";
   energy.reference_text = "<= 0.01";
   energy.rel_error = 49;
-  energy.explanation = "energy grew";
   report.checks.push_back(energy);
   std::string table = VerifyTable(report, TableDetail::kFindings);
   EXPECT_NE(table.find("SKIP  3 checks skipped: not a single hinge pendulum\n"
@@ -142,7 +196,9 @@ TEST(ResultJsonTest, ARowKeepsItsNumbersAndUnitsAndNullWhereNothingWasMeasured) 
   EXPECT_TRUE(j["checks"][1]["reference"].is_null());
   EXPECT_TRUE(j["checks"][2]["rel_error"].is_null());
   EXPECT_EQ(j["checks"][2]["status"], "SKIP");
-  EXPECT_EQ(j["summary"], (nlohmann::json{{"pass", 2}, {"warn", 0}, {"fail", 0}, {"skip", 1}}));
+  EXPECT_EQ(j["summary"],
+            (nlohmann::json{{"pass", 2}, {"warn", 0}, {"fail", 0}, {"skip", 1}, {"accepted", 0}}));
+  EXPECT_TRUE(j["checks"][0]["accepted"].is_null());
 }
 
 TEST(ResultJsonTest, AuditRowsAreGroupedByLayerWithTheirElements) {
@@ -168,6 +224,21 @@ TEST(ResultJsonTest, AuditRowsAreGroupedByLayerWithTheirElements) {
   EXPECT_EQ(row["fix"], "bound it");
   EXPECT_EQ(j["repro_folders"][0], "plumb-repro-arm");
   EXPECT_EQ(j["summary"]["warn"], 1);
+}
+
+TEST(ResultJsonTest, AnAcceptedRowKeepsItsStatusAndTheSummaryCountsItApart) {
+  AuditReport report = ArmAudit({Finding(CheckStatus::kFail, "actuator.limits",
+                                         {"actuator", "hip", 3}, "ctrl unlimited", "bound it"),
+                                 Finding(CheckStatus::kWarn, "actuator.limits",
+                                         {"actuator", "knee", 4}, "ctrl unlimited", "bound it")});
+  report.findings[0].accepted = "the driver bounds it";
+  nlohmann::json j = nlohmann::json::parse(AuditToJson(report));
+  const nlohmann::json& rows = j["layers"]["actuator"];
+  EXPECT_EQ(rows[0]["status"], "FAIL");
+  EXPECT_EQ(rows[0]["accepted"], "the driver bounds it");
+  EXPECT_TRUE(rows[1]["accepted"].is_null());
+  EXPECT_EQ(j["summary"],
+            (nlohmann::json{{"pass", 0}, {"warn", 1}, {"fail", 0}, {"skip", 0}, {"accepted", 1}}));
 }
 
 }  // namespace
