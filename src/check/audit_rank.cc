@@ -4,10 +4,13 @@
 // (a multirotor's yaw when two rotors' drag-torque signs are swapped) is lost.
 //
 // Judged: site transmissions on a moving body whose gear has a torque part (a rotor's drag
-// torque with its thrust). Not judged, by design: pure forces at points (four parallel thrusts
-// always span only lift, roll and pitch), actuators on one direction (grouped as one), joints and
-// tendons (their columns in joint space are dependent only when they share a joint, a choice),
-// and the directions no actuator reaches (an underactuated base is not a finding).
+// torque with its thrust), by their rank against the largest rank other signs of those torques
+// would give: an octocopter's eight rotors span four directions, as any signs would, and a
+// model's spare body-wrench actuators add nothing others could; a quadrotor with two signs
+// swapped spans three where alternating signs span four. Not judged, by design: pure forces at
+// points, joints and tendons (their columns in joint space are dependent only when they share
+// a joint, a choice), and the directions no actuator reaches (an underactuated base is not a
+// finding).
 
 #include <fmt/format.h>
 
@@ -24,7 +27,7 @@ namespace plumb::audit {
 namespace {
 
 constexpr const char* L = "actuator";
-// A wrench whose residual against the span of the others, both normalised, lies below this is
+// A column whose residual against the span of the others, both normalised, lies below this is
 // their combination: exact dependence, not a weak direction.
 constexpr double kDependent = 1e-6;
 
@@ -46,36 +49,73 @@ double Norm(const Wrench& w) {
   return std::sqrt(s);
 }
 
-// The residual of `c` after least squares against `basis` (unit columns) and the coefficients.
-double Residual(const std::vector<Wrench>& basis, const Wrench& c, std::vector<double>* coef) {
-  int n = static_cast<int>(basis.size());
-  std::vector<mjtNum> gram(n * n), rhs(n);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      double s = 0;
-      for (int k = 0; k < 6; ++k) s += basis[i][k] * basis[j][k];
-      gram[i * n + j] = s;
+// The number of independent columns (Gram-Schmidt on unit columns; a residual below
+// kDependent adds nothing).
+int Rank(std::vector<Wrench> columns) {
+  std::vector<Wrench> basis;
+  for (Wrench c : columns) {
+    double n = Norm(c);
+    if (!(n > 0)) continue;
+    for (double& x : c) x /= n;
+    for (const Wrench& q : basis) {
+      double dot = 0;
+      for (int k = 0; k < 6; ++k) dot += q[k] * c[k];
+      for (int k = 0; k < 6; ++k) c[k] -= dot * q[k];
     }
-    double s = 0;
-    for (int k = 0; k < 6; ++k) s += basis[i][k] * c[k];
-    rhs[i] = s;
+    double r = Norm(c);
+    if (r <= kDependent) continue;
+    for (double& x : c) x /= r;
+    basis.push_back(c);
   }
-  coef->assign(n, 0);
-  if (n > 0) {
-    mju_cholFactor(gram.data(), n, 1e-12);
-    mju_cholSolve(coef->data(), gram.data(), rhs.data(), n);
-  }
-  Wrench r = c;
-  for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < 6; ++k) r[k] -= (*coef)[i] * basis[i][k];
-  }
-  return Norm(r);
+  return static_cast<int>(basis.size());
 }
 
-struct Column {
-  std::vector<int> actuators;  // one direction: actuators whose wrenches are parallel
-  Wrench w;                    // unit
+// An actuator's wrench at the centre of mass, split into what its force gives (f, r x f) and
+// what the torque part of its gear gives; the moment scaled by 1 / arm.
+struct Parts {
+  Wrench force{}, torque{};
 };
+
+Parts WrenchParts(const mjModel* m, const mjData* d, int u, const mjtNum* com, double arm) {
+  int site = m->actuator_trnid[2 * u];
+  const mjtNum* R = d->site_xmat + 9 * site;
+  const mjtNum* g = m->actuator_gear + 6 * compat::ActuatorOutputs(m, u).first;
+  mjtNum f[3], t[3], r[3], rf[3];
+  mju_mulMatVec(f, R, g, 3, 3);
+  mju_mulMatVec(t, R, g + 3, 3, 3);
+  mju_sub3(r, d->site_xpos + 3 * site, com);
+  mju_cross(rf, r, f);
+  return {{f[0], f[1], f[2], rf[0] / arm, rf[1] / arm, rf[2] / arm},
+          {0, 0, 0, t[0] / arm, t[1] / arm, t[2] / arm}};
+}
+
+// The rank the actuators' wrenches have, and the largest rank other signs of their torque
+// parts would give (every sign pattern up to 10 actuators, 1024 patterns beyond).
+std::pair<int, int> Ranks(const std::vector<Parts>& parts) {
+  int n = static_cast<int>(parts.size());
+  auto rank = [&](unsigned long flips) {
+    std::vector<Wrench> columns;
+    for (int i = 0; i < n; ++i) {
+      double sign = (flips >> (i % 64)) & 1 ? -1 : 1;
+      Wrench w;
+      for (int k = 0; k < 6; ++k) w[k] = parts[i].force[k] + sign * parts[i].torque[k];
+      columns.push_back(w);
+    }
+    return Rank(columns);
+  };
+  int actual = rank(0), best = actual;
+  unsigned long patterns = n <= 10 ? 1ul << n : 1024;
+  unsigned long state = 0x9e3779b97f4a7c15ul;
+  for (unsigned long p = 1; p < patterns && best < std::min(n, 6); ++p) {
+    unsigned long flips = p;
+    if (n > 10) {
+      state = state * 6364136223846793005ul + 1442695040888963407ul;
+      flips = state;
+    }
+    best = std::max(best, rank(flips));
+  }
+  return {actual, best};
+}
 
 void JudgeBody(const Model& model, int root, const std::vector<int>& actuators, const mjData* d,
                std::vector<CheckRow>* out) {
@@ -88,59 +128,26 @@ void JudgeBody(const Model& model, int root, const std::vector<int>& actuators, 
                                   std::pow(p[2] - com[2], 2)));
   }
   if (!(arm > 0)) arm = 1;
-  std::vector<Column> columns;
+  std::vector<Parts> parts;
+  std::vector<std::string> names;
   for (int u : actuators) {
-    int site = m->actuator_trnid[2 * u];
-    const mjtNum* R = d->site_xmat + 9 * site;
-    const mjtNum* g = m->actuator_gear + 6 * compat::ActuatorOutputs(m, u).first;
-    mjtNum f[3], t[3], r[3], rf[3];
-    mju_mulMatVec(f, R, g, 3, 3);
-    mju_mulMatVec(t, R, g + 3, 3, 3);
-    mju_sub3(r, d->site_xpos + 3 * site, com);
-    mju_cross(rf, r, f);
-    Wrench w{f[0], f[1], f[2], (t[0] + rf[0]) / arm, (t[1] + rf[1]) / arm, (t[2] + rf[2]) / arm};
-    double n = Norm(w);
-    if (!(n > 0)) continue;
-    for (double& x : w) x /= n;
-    auto same = std::find_if(columns.begin(), columns.end(), [&](const Column& c) {
-      double dot = 0;
-      for (int k = 0; k < 6; ++k) dot += c.w[k] * w[k];
-      return std::fabs(dot) > 1 - 1e-9;
-    });
-    if (same != columns.end()) {
-      same->actuators.push_back(u);
-    } else {
-      columns.push_back({{u}, w});
-    }
+    parts.push_back(WrenchParts(m, d, u, com, arm));
+    names.push_back(Elem(model, mjOBJ_ACTUATOR, u, "actuator"));
   }
-  std::vector<Wrench> basis;
-  std::vector<int> owner;  // the column each basis vector is
-  for (int j = 0; j < static_cast<int>(columns.size()); ++j) {
-    std::vector<double> coef;
-    double residual = Residual(basis, columns[j].w, &coef);
-    if (residual > kDependent) {
-      basis.push_back(columns[j].w);
-      owner.push_back(j);
-      continue;
-    }
-    std::vector<std::string> names;
-    for (int i = 0; i < static_cast<int>(coef.size()); ++i) {
-      if (std::fabs(coef[i]) > 1e-6) {
-        names.push_back(Elem(model, mjOBJ_ACTUATOR, columns[owner[i]].actuators[0], "actuator"));
-      }
-    }
-    names.push_back(Elem(model, mjOBJ_ACTUATOR, columns[j].actuators[0], "actuator"));
-    out->push_back(WithNumbers(
-        Make(L, "actuator.rank", fmt::format("{}", fmt::join(names, ", ")),
-             fmt::format("the wrench of {} at the centre of mass of {} is a combination of the "
-                         "others' (residual {:.2g})",
-                         names.back(), Elem(model, mjOBJ_BODY, root, "body"), residual),
-             fmt::format("residual > {:g}", kDependent), CheckStatus::kWarn,
-             "these actuators cannot act independently: a direction they were meant to command "
-             "(a multirotor's yaw, from the signs of its rotors' drag torques) is lost. Check "
-             "the gear signs: a rotor ring alternates them"),
-        {residual, ""}, {kDependent, ""}));
-  }
+  auto [actual, possible] = Ranks(parts);
+  bool lost = actual < possible;
+  std::string body = Elem(model, mjOBJ_BODY, root, "body");
+  out->push_back(WithNumbers(
+      Make(L, "actuator.rank", lost ? fmt::format("{}", fmt::join(names, ", ")) : body,
+           fmt::format("the wrenches of {} actuators at the centre of mass of {} span {} "
+                       "directions; other signs of their torques would span {}",
+                       actuators.size(), body, actual, possible),
+           fmt::format(">= {}", possible), lost ? CheckStatus::kWarn : CheckStatus::kPass,
+           lost ? "these actuators cannot act independently: a direction they were meant to "
+                  "command (a multirotor's yaw, from its rotors' drag torques) is a combination "
+                  "of the others. Check the gear signs: a rotor ring alternates them"
+                : "the signs of their torques lose no direction"),
+      {static_cast<double>(actual), ""}, {static_cast<double>(possible), ""}));
 }
 
 }  // namespace
@@ -156,18 +163,7 @@ void ActuatorRank(const Model& model, const Data& data, std::vector<CheckRow>* o
     if (root > 0) by_body[root].push_back(u);
   }
   for (const auto& [root, actuators] : by_body) {
-    if (actuators.size() < 2) continue;
-    size_t before = out->size();
-    JudgeBody(model, root, actuators, data.get(), out);
-    if (out->size() == before) {
-      out->push_back(WithNumbers(
-          Make(L, "actuator.rank", Elem(model, mjOBJ_BODY, root, "body"),
-               fmt::format("{} actuators' wrenches at its centre of mass are independent",
-                           actuators.size()),
-               fmt::format("residual > {:g}", kDependent), CheckStatus::kPass,
-               "each site actuator with a torque part adds a direction of its own"),
-          {static_cast<double>(actuators.size()), ""}));
-    }
+    if (actuators.size() >= 2) JudgeBody(model, root, actuators, data.get(), out);
   }
 }
 
