@@ -82,7 +82,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
       "Accept lists (TOML), one table per reviewed finding:\n"
       "  [[accept]]\n"
-      "  check = \"inertia.size\"           # the row's id\n"
+      "  check = \"inertia.shape\"          # the row's id\n"
       "  element = \"body 'base_link'\"     # kind and name, no id; omitted: the whole model\n"
       "  status = \"WARN\"                  # optional: only while it is a WARN\n"
       "  reason = \"CAD inertia checked against the datasheet, 2026-10\"   # required\n"

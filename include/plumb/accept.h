@@ -3,7 +3,7 @@
 //
 // The file is TOML, one [[accept]] table per accepted finding:
 //   [[accept]]
-//   check = "inertia.size"          # the row's id
+//   check = "inertia.shape"          # the row's id
 //   element = "body 'base_link'"    # what the row is about, without its id; omitted: the model
 //   status = "WARN"                 # optional: only while it is a WARN (or "FAIL")
 //   reason = "CAD inertia checked against the vendor datasheet, 2026-10"
@@ -41,7 +41,7 @@ inline constexpr const char* kAcceptStale = "accept.stale";
 
 // One accepted finding.
 struct AcceptEntry {
-  std::string check;  // the row's id: "inertia.size"
+  std::string check;  // the row's id: "inertia.shape"
   // What the row is about as AcceptElement names it: "body 'base_link'", a subject such as
   // "geom 'foot' / geom 'floor'" or "BADQACC"; "" for a row about the whole model.
   std::string element;

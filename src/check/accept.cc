@@ -74,7 +74,7 @@ AcceptEntry ReadEntry(const std::string& file, const toml::table& t) {
   std::optional<std::string> check = Text(file, t, "check", "the id of the row to accept");
   if (!check || check->empty()) {
     Bad(file, check ? t.get("check")->source() : t.source(),
-        "an [[accept]] entry needs 'check', the id of the row it accepts (\"inertia.size\")");
+        "an [[accept]] entry needs 'check', the id of the row it accepts (\"inertia.shape\")");
   }
   entry.check = *check;
   entry.element =
@@ -105,7 +105,7 @@ AcceptEntry ReadEntry(const std::string& file, const toml::table& t) {
   return entry;
 }
 
-// "inertia.size about body 'base_link'", "structure.counts about the model", and " (WARN only)"
+// "inertia.shape about body 'base_link'", "structure.counts about the model", and " (WARN only)"
 // when the entry has a status.
 std::string Named(const AcceptEntry& e) {
   std::string text = e.check + " about " + (e.element.empty() ? "the model" : e.element);

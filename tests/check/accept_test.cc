@@ -78,7 +78,7 @@ TEST(AcceptTest, LoadsEachEntryWithItsLine) {
   TempDir dir;
   AcceptList list = LoadAcceptList(AcceptFile(dir, R"(# reviewed 2026-10
 [[accept]]
-check = "inertia.size"
+check = "inertia.shape"
 element = "body 'base_link'"
 reason = "  CAD inertia checked against the vendor datasheet  "
 
@@ -89,7 +89,7 @@ reason = "one model, one robot"
 )"));
   EXPECT_EQ(list.file, dir.File("accept.toml"));
   ASSERT_EQ(list.entries.size(), 2u);
-  EXPECT_EQ(list.entries[0].check, "inertia.size");
+  EXPECT_EQ(list.entries[0].check, "inertia.shape");
   EXPECT_EQ(list.entries[0].element, "body 'base_link'");
   EXPECT_FALSE(list.entries[0].status.has_value());
   EXPECT_EQ(list.entries[0].reason, "CAD inertia checked against the vendor datasheet");
@@ -110,16 +110,16 @@ TEST(AcceptTest, ABadFileIsRefusedNamingTheFileAndLine) {
     const char* toml;
     std::string expected;  // a part of the message
   } cases[] = {
-      {"[[accept]]\ncheck = \"inertia.size\"\n", file + ":1:1: the [[accept]] entry for "
-                                                        "inertia.size needs a 'reason'"},
-      {"[[accept]]\ncheck = \"inertia.size\"\nreason = \"  \"\n",
-       file + ":3:10: the [[accept]] entry for inertia.size needs a 'reason'"},
-      {"[[accept]]\ncheck = \"inertia.size\"\nreasn = \"ok\"\n",
+      {"[[accept]]\ncheck = \"inertia.shape\"\n", file + ":1:1: the [[accept]] entry for "
+                                                        "inertia.shape needs a 'reason'"},
+      {"[[accept]]\ncheck = \"inertia.shape\"\nreason = \"  \"\n",
+       file + ":3:10: the [[accept]] entry for inertia.shape needs a 'reason'"},
+      {"[[accept]]\ncheck = \"inertia.shape\"\nreasn = \"ok\"\n",
        file + ":3:1: an [[accept]] entry has no key 'reasn'; it reads check, element, status, "
               "reason; did you mean: reason?"},
       {"[[accept]]\nreason = \"ok\"\n", file + ":1:1: an [[accept]] entry needs 'check'"},
       {"[[accept]]\ncheck = 3\nreason = \"ok\"\n", file + ":2:9: 'check' must be a string"},
-      {"[[accept]]\ncheck = \"inertia.size\"\nreason = \"ok\n",
+      {"[[accept]]\ncheck = \"inertia.shape\"\nreason = \"ok\n",
        file + ":3:"},  // unterminated string: toml++'s own words follow
       {"[[accept]]\ncheck = \"a.b\"\nstatus = \"PASS\"\nreason = \"ok\"\n",
        file + ":3:10: status \"PASS\" is not \"WARN\" or \"FAIL\""},
@@ -148,29 +148,29 @@ TEST(AcceptTest, ABadFileIsRefusedNamingTheFileAndLine) {
 }
 
 TEST(AcceptTest, AnEntryMatchesByCheckKindAndNameNeverById) {
-  CheckRow base = Row(CheckStatus::kWarn, "inertia.size", {"body", "base_link", 3});
+  CheckRow base = Row(CheckStatus::kWarn, "inertia.shape", {"body", "base_link", 3});
   EXPECT_EQ(AcceptElement(base), "body 'base_link'");
-  EXPECT_TRUE(Accepts(Entry("inertia.size", "body 'base_link'"), base));
+  EXPECT_TRUE(Accepts(Entry("inertia.shape", "body 'base_link'"), base));
   // the id shifted (a body added before it): still the same element
-  CheckRow shifted = Row(CheckStatus::kWarn, "inertia.size", {"body", "base_link", 7});
-  EXPECT_TRUE(Accepts(Entry("inertia.size", "body 'base_link'"), shifted));
+  CheckRow shifted = Row(CheckStatus::kWarn, "inertia.shape", {"body", "base_link", 7});
+  EXPECT_TRUE(Accepts(Entry("inertia.shape", "body 'base_link'"), shifted));
   // another kind of the same name, another check, a name alone: not accepted
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "body 'base_link'"),
-                       Row(CheckStatus::kWarn, "inertia.size", {"geom", "base_link", 3})));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "body 'base_link'"),
+                       Row(CheckStatus::kWarn, "inertia.shape", {"geom", "base_link", 3})));
   EXPECT_FALSE(Accepts(Entry("inertia.density", "body 'base_link'"), base));
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "base_link"), base));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "base_link"), base));
   // only a WARN or FAIL, and only of the entry's status when it has one
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "body 'base_link'"),
-                       Row(CheckStatus::kPass, "inertia.size", {"body", "base_link", 3})));
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "body 'base_link'"),
-                       Row(CheckStatus::kSkip, "inertia.size", {"body", "base_link", 3})));
-  EXPECT_TRUE(Accepts(Entry("inertia.size", "body 'base_link'", CheckStatus::kWarn), base));
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "body 'base_link'", CheckStatus::kFail), base));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "body 'base_link'"),
+                       Row(CheckStatus::kPass, "inertia.shape", {"body", "base_link", 3})));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "body 'base_link'"),
+                       Row(CheckStatus::kSkip, "inertia.shape", {"body", "base_link", 3})));
+  EXPECT_TRUE(Accepts(Entry("inertia.shape", "body 'base_link'", CheckStatus::kWarn), base));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "body 'base_link'", CheckStatus::kFail), base));
   // no element: rows about the whole model only
   CheckRow model = Row(CheckStatus::kWarn, "inertia.mass_matrix", {});
   EXPECT_EQ(AcceptElement(model), "");
   EXPECT_TRUE(Accepts(Entry("inertia.mass_matrix", ""), model));
-  EXPECT_FALSE(Accepts(Entry("inertia.size", ""), base));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", ""), base));
   // a row about several elements: its subject, without the ids in it
   CheckRow pair = Row(CheckStatus::kFail, "contact.penetration", {},
                       "geom 'foot' (id 12) / geom 'floor' (id 0)");
@@ -179,29 +179,29 @@ TEST(AcceptTest, AnEntryMatchesByCheckKindAndNameNeverById) {
   CheckRow warning = Row(CheckStatus::kWarn, "warnings.mujoco", {}, "BADQACC");
   EXPECT_TRUE(Accepts(Entry("warnings.mujoco", "BADQACC"), warning));
   // an unnamed element is known only by its id: never accepted
-  CheckRow unnamed = Row(CheckStatus::kWarn, "inertia.size", {"body", "", 3});
+  CheckRow unnamed = Row(CheckStatus::kWarn, "inertia.shape", {"body", "", 3});
   EXPECT_EQ(AcceptElement(unnamed), "body #3");
-  EXPECT_FALSE(Accepts(Entry("inertia.size", "body #3"), unnamed));
+  EXPECT_FALSE(Accepts(Entry("inertia.shape", "body #3"), unnamed));
 }
 
 TEST(AcceptTest, AStaleEntryIsAWarnRowNamingItsFileAndLine) {
   AcceptList list;
   list.file = "accept.toml";
-  list.entries = {Entry("inertia.size", "body 'base_link'"),     // accepts its row
+  list.entries = {Entry("inertia.shape", "body 'base_link'"),     // accepts its row
                   Entry("inertia.density", "body 'base_link'"),  // now PASS
                   Entry("inertia.sise", "body 'base_link'"),     // misspelt check
-                  Entry("inertia.size", "body 'hand'"),          // renamed element
+                  Entry("inertia.shape", "body 'hand'"),          // renamed element
                   Entry("actuator.limits", "actuator 'hip'", CheckStatus::kWarn),  // now a FAIL
-                  Entry("inertia.size", "body #5")};                               // unnamed
+                  Entry("inertia.shape", "body #5")};                               // unnamed
   for (std::size_t i = 0; i < list.entries.size(); ++i) {
     list.entries[i].line = 2 + 4 * static_cast<int>(i);
   }
   std::vector<CheckRow> rows = {
-      Row(CheckStatus::kWarn, "inertia.size", {"body", "base_link", 1}),
-      Row(CheckStatus::kWarn, "inertia.size", {"body", "left_hand", 2}),
+      Row(CheckStatus::kWarn, "inertia.shape", {"body", "base_link", 1}),
+      Row(CheckStatus::kWarn, "inertia.shape", {"body", "left_hand", 2}),
       Row(CheckStatus::kPass, "inertia.density", {"body", "base_link", 1}),
       Row(CheckStatus::kFail, "actuator.limits", {"actuator", "hip", 0}),
-      Row(CheckStatus::kWarn, "inertia.size", {"body", "", 5})};
+      Row(CheckStatus::kWarn, "inertia.shape", {"body", "", 5})};
   ApplyAcceptList(list, &rows);
   ASSERT_EQ(rows.size(), 10u);  // five rows, then one per stale entry
   EXPECT_EQ(rows[0].accepted, "reviewed");
@@ -219,9 +219,9 @@ TEST(AcceptTest, AStaleEntryIsAWarnRowNamingItsFileAndLine) {
   EXPECT_EQ(rows[5].fix, "the finding it accepted is gone: delete the entry (accept.toml:6)");
   EXPECT_EQ(rows[6].subject, "accept.toml:10: inertia.sise about body 'base_link'");
   EXPECT_EQ(rows[6].measured_text, "no WARN or FAIL of inertia.sise");
-  EXPECT_NE(rows[6].fix.find("did you mean: inertia.size?"), std::string::npos) << rows[6].fix;
-  EXPECT_EQ(rows[7].measured_text, "no WARN or FAIL of inertia.size about body 'hand'");
-  EXPECT_NE(rows[7].fix.find("; inertia.size is about: "), std::string::npos) << rows[7].fix;
+  EXPECT_NE(rows[6].fix.find("did you mean: inertia.shape?"), std::string::npos) << rows[6].fix;
+  EXPECT_EQ(rows[7].measured_text, "no WARN or FAIL of inertia.shape about body 'hand'");
+  EXPECT_NE(rows[7].fix.find("; inertia.shape is about: "), std::string::npos) << rows[7].fix;
   EXPECT_NE(rows[7].fix.find("body 'left_hand'"), std::string::npos) << rows[7].fix;
   EXPECT_EQ(rows[8].subject, "accept.toml:18: actuator.limits about actuator 'hip' (WARN only)");
   EXPECT_EQ(rows[8].measured_text, "now FAIL; the entry accepts a WARN only");
