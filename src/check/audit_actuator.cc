@@ -203,7 +203,10 @@ CtrlStep PrepareStep(Model& work, Data& data, const std::vector<Assignment>& set
   // nothing holding it, a constant torque on a held base spins its limb ever faster)
   bool servo = step.kind == ActuatorKind::kPositionServo || step.kind == ActuatorKind::kVelocityServo;
   for (int j = 0; j < m->njnt && servo; ++j) {
-    if (!moved[m->jnt_dofadr[j]]) step.held.push_back(j);
+    int dofs = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    bool any = false;
+    for (int k = 0; k < dofs; ++k) any = any || moved[m->jnt_dofadr[j] + k];
+    if (!any) step.held.push_back(j);
   }
   step.qpos.assign(data->qpos, data->qpos + m->nq);
   data.Forward();

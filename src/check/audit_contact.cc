@@ -84,6 +84,58 @@ void Grounding(const Model& model, const CollisionGraph& graph, std::vector<Chec
   }
 }
 
+// How many times heavier than everything that carries it to the ground a body that collides
+// with nothing may be before audit warns: a robot whose feet alone collide is 16 to 30 times
+// its feet (G1, Go2); a 10 kg body on a 1e-6 kg pad is 1e7.
+constexpr double kCarriedRatio = 100;
+
+// In a free subtree (its weight reaches the ground only through contacts), a heavy body that
+// collides with nothing rests on the colliding bodies it carries; when the heaviest of them
+// (with what is welded to it) is far lighter, their few contacts hold a weight far beyond
+// their own: the ill-conditioned case of soft contacts, and usually a geom that lost its
+// contype (or a pad given a placeholder mass).
+void CarriedByLighter(const Model& model, const CollisionGraph& graph, std::vector<CheckRow>* out) {
+  const mjModel* m = model.get();
+  if (GravityNorm(m) <= 0) return;
+  std::vector<double> group(m->nbody, 0.0);
+  for (int b = 1; b < m->nbody; ++b) group[m->body_weldid[b]] += m->body_mass[b];
+  auto free_root = [&](int b) {
+    int root = m->body_rootid[b];
+    return m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
+  };
+  for (int b = 1; b < m->nbody; ++b) {
+    if (m->body_weldid[b] != b || !free_root(b) || group[b] <= 0) continue;
+    // the weld group collides when any of its bodies does
+    bool collides = false;
+    for (int k = 1; k < m->nbody; ++k) {
+      if (m->body_weldid[k] == b) collides = collides || !graph.partners[k].empty();
+    }
+    if (collides) continue;
+    // the colliding weld groups below it, through joints
+    int carrier = -1;
+    for (int k = b + 1; k < m->nbody; ++k) {
+      bool below = false;
+      for (int p = k; p > 0; p = m->body_parentid[p]) below = below || p == b;
+      if (!below || m->body_weldid[k] == b || graph.partners[k].empty()) continue;
+      int g = m->body_weldid[k];
+      if (carrier < 0 || group[g] > group[carrier]) carrier = g;
+    }
+    if (carrier < 0 || group[carrier] <= 0) continue;
+    double ratio = group[b] / group[carrier];
+    if (ratio <= kCarriedRatio) continue;
+    out->push_back(WithNumbers(
+        Make(L, "contact.carried", ElementOf(model, mjOBJ_BODY, b, "body"),
+             fmt::format("{:.3g} kg collides with nothing; the heaviest body that collides below "
+                         "it, {}, is {:.3g} kg: x{:.3g}",
+                         group[b], Elem(model, mjOBJ_BODY, carrier, "body"), group[carrier], ratio),
+             fmt::format("<= x{:g}", kCarriedRatio), CheckStatus::kWarn,
+             "a heavy body that collides with nothing rests on much lighter ones, whose few "
+             "contacts carry a weight far beyond their own: give its geoms contype/conaffinity "
+             "(did a collision geom lose them?), or check the lighter body's mass"),
+        {ratio, ""}, {kCarriedRatio, ""}));
+  }
+}
+
 // Penetration judged at rest, once impacts are over (the last quarter-second piece of the
 // settle); the peak during impacts alone is a warning, and so is a deep contact in a model
 // still moving when the settle budget ran out. At rest, a contact deeper than a tenth of the
@@ -210,6 +262,7 @@ void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckR
   CollisionGraph graph = MakeCollisionGraph(model.get());
   CollidesWith(model, graph, out);
   Grounding(model, graph, out);
+  CarriedByLighter(model, graph, out);
   if (settle.result.diverged) {
     out->push_back(Make(L, "contact.settle", "", "the settle run diverged", "", CheckStatus::kFail,
                         DivergedFix(settle)));

@@ -95,6 +95,28 @@ TEST_F(AuditTest, AHeavyBodyRestingOnlyOnALightOneIsAFinding) {
   EXPECT_EQ(Find(AuditXml(text), "contact.heavy_on_light"), nullptr);
 }
 
+TEST_F(AuditTest, AHeavyBodyThatCollidesWithNothingCarriedByALightOneIsAFinding) {
+  // a 10 kg crate whose box lost its contype rests on a 1e-6 kg pad on a slide joint
+  const char* xml = R"(<mujoco><worldbody>
+      <geom name="floor" type="plane" size="5 5 0.1"/>
+      <body name="crate" pos="0 0 0.5"><freejoint/>
+        <geom type="box" size="0.2 0.2 0.2" mass="10" contype="%s" conaffinity="%s"/>
+        <body name="pad" pos="0 0 -0.25"><joint type="slide" axis="0 0 1" range="-0.01 0.01"/>
+          <geom type="box" size="0.2 0.2 0.02" mass="1e-6"/></body></body>
+    </worldbody></mujoco>)";
+  char text[1024];
+  std::snprintf(text, sizeof(text), xml, "0", "0");
+  AuditReport r = AuditXml(text);
+  const CheckRow* f = Find(r, "contact.carried", "'crate'");
+  ASSERT_NE(f, nullptr) << Failures(r);
+  EXPECT_EQ(f->status, CheckStatus::kWarn);
+  EXPECT_NE(f->measured_text.find("body 'pad'"), std::string::npos) << f->measured_text;
+  EXPECT_DOUBLE_EQ(f->measured.value, 1e7);
+  // the same crate that collides itself
+  std::snprintf(text, sizeof(text), xml, "1", "1");
+  EXPECT_EQ(Find(AuditXml(text), "contact.carried"), nullptr);
+}
+
 TEST_F(AuditTest, EveryBodySaysWhatItCanCollideWith) {
   // visual-only geoms beside collision geoms, as in the Menagerie, are normal: no finding
   AuditReport r = AuditXml(R"(<mujoco><worldbody>
