@@ -524,6 +524,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
   ServoStability(model, data, out);
   ActuatorRank(model, data, out);
+  MirrorActuators(model, out);
   StepResponses(original, model, sets, ref, options, runs, out);
 }
 

@@ -349,6 +349,7 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     }
   }
   ListedNote(L, "inertia.body", "moving bodies", moving, out, listed);
+  MirrorBodies(model, out);
   MassMatrix(m, data, out);
 }
 

@@ -116,6 +116,11 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
 // The stability margin of every servo (audit_servo.cc); `data` after mj_forward at the
 // reference pose.
 void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// Mirror pairs (named left/right, FL/FR, ...) that do not mirror (audit_mirror.cc): joints'
+// limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
+void MirrorJoints(const Model& model, std::vector<CheckRow>* out);
+void MirrorBodies(const Model& model, std::vector<CheckRow>* out);
+void MirrorActuators(const Model& model, std::vector<CheckRow>* out);
 // Whether rotor-like actuators on a free body can act independently (audit_rank.cc).
 void ActuatorRank(const Model& model, const Data& data, std::vector<CheckRow>* out);
 void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out);

@@ -199,6 +199,7 @@ void StructureLayer(const Model& model, std::vector<CheckRow>* out) {
   FiniteParameters(model, out);
   UnnamedElements(model, out);
   Joints(model, out);
+  MirrorJoints(model, out);
   NqNv(model, out);
   ActuatorsAndSensors(model, out);
 }

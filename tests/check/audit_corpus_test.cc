@@ -172,6 +172,22 @@ TEST_F(AuditCorpusTest, RotorsWithSwappedTorqueSignsAreCaught) {
   EXPECT_NE(rows[0].subject.find("actuator #3"), std::string::npos) << rows[0].subject;
 }
 
+TEST_F(AuditCorpusTest, AMirrorPairEditedOnOneSideIsCaught) {
+  std::string g1 = Path(kG1);
+  if (g1.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  AuditReport clean = AuditFile(g1);
+  EXPECT_TRUE(Findings(clean, "inertia.mirror").empty()) << Rows(Findings(clean, "inertia.mirror"));
+  // the left knee's mass raised by 30% (its inertia left as it was)
+  AuditReport r = AuditEdited(
+      g1, {{R"(<inertial pos="0.005457 0.003964 -0.12074" quat="0.923418 -0.0327699 0.0158246 0.382067" mass="1.932")",
+            R"(<inertial pos="0.005457 0.003964 -0.12074" quat="0.923418 -0.0327699 0.0158246 0.382067" mass="2.5116")"}});
+  std::vector<CheckRow> rows = Findings(r, "inertia.mirror");
+  ASSERT_EQ(rows.size(), 1u) << Rows(rows);
+  EXPECT_NE(rows[0].subject.find("left_knee_link"), std::string::npos) << rows[0].subject;
+  EXPECT_NE(rows[0].subject.find("right_knee_link"), std::string::npos) << rows[0].subject;
+  EXPECT_NEAR(rows[0].measured.value, (2.5116 - 1.932) / 2.5116, 1e-3);
+}
+
 TEST_F(AuditCorpusTest, CleanRobotsRaiseNoneOfTheOldFalseAlarms) {
   std::string spot = Path(kSpotArm), ur5e = Path(kUr5e), go2 = Path(kGo2), quad = Path(kQuadrotor),
               payload = Path(kQuadPayload);
