@@ -83,6 +83,8 @@ std::pair<double, double> ForceRange(const mjModel* m, int u) {
 enum class ActuatorKind { kPositionServo, kVelocityServo, kMotor, kOther };
 
 ActuatorKind KindOf(const mjModel* m, int u) {
+  // a pid's first control is its position setpoint
+  if (m->actuator_gaintype[u] == compat::kGainPid) return ActuatorKind::kPositionServo;
   const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
   bool fixed = m->actuator_gaintype[u] == mjGAIN_FIXED;
   if (fixed && m->actuator_biastype[u] == mjBIAS_AFFINE && bias[1] != 0) {
@@ -108,6 +110,7 @@ struct StepResponse {
 // The ctrl a servo needs to hold its actuator at `value` (a position servo's length, a
 // velocity servo's velocity): force = gain * ctrl + b0 + b1 * length + b2 * velocity = 0.
 double HoldingCtrl(const mjModel* m, int u, ActuatorKind kind, double value) {
+  if (m->actuator_gaintype[u] == compat::kGainPid) return value;  // its setpoint
   const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
   double gain = m->actuator_gainprm[mjNGAIN * u];
   if (gain == 0) return 0;
@@ -118,6 +121,7 @@ double HoldingCtrl(const mjModel* m, int u, ActuatorKind kind, double value) {
 
 // The inverse: where a servo's ctrl holds its actuator.
 double ServoTarget(const mjModel* m, int u, ActuatorKind kind, double ctrl) {
+  if (m->actuator_gaintype[u] == compat::kGainPid) return ctrl;
   const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
   double gain = m->actuator_gainprm[mjNGAIN * u];
   double b = kind == ActuatorKind::kPositionServo ? bias[1] : bias[2];
@@ -473,6 +477,7 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
   for (int i = 0; i < count; ++i) {
     int u = static_cast<int>(static_cast<long>(i) * compat::ActuatorCount(m) / count);
     CheckElement element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    if (compat::ActuatorPlugin(m, u) >= 0) continue;  // actuator.plugin says why
     StepResponse r = MeasureStep(work, step_data, sets, ref, u, duration, options, ElementLabel(element));
     runs->push_back(r.run);
     if (r.run.result.diverged) {
@@ -517,6 +522,14 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   int holding_rows = 0;
   for (int u = 0; u < compat::ActuatorCount(m); ++u) {
     CheckElement element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
+    if (compat::ActuatorPlugin(m, u) >= 0) {
+      out->push_back(Make(L, "actuator.plugin", element, "force from a plugin", "",
+                          CheckStatus::kSkip,
+                          "a plugin computes this actuator's force (a mujoco.pid controller, "
+                          "...): its bounds, holding and step response are the plugin's, which "
+                          "audit does not model"));
+      continue;
+    }
     Limits(m, u, element, out);
     TargetRange(m, u, element, out);
     if (Holding(model, data, u, element, holding_rows < kMaxListed, out)) ++holding_rows;

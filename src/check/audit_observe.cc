@@ -121,15 +121,30 @@ void MeasureEnd(const Model& work, const mjData* d, Observed* o) {
   for (int i = 0; i < m->nv; ++i) {
     o->max_speed_end = std::max(o->max_speed_end, std::fabs(d->qvel[i]));
   }
+  // what carries the free subtrees: the upward part of every contact force one of them gets
+  // from anything outside it (the ground, a hand, jointed links, another free body: in a
+  // stack, the lower body's extra load and the upper body's push cancel)
   double normal = 0;
+  mjtNum up[3] = {0, 0, 1};
+  if (GravityNorm(m) > 0) mju_scl3(up, m->opt.gravity, -1 / mju_norm3(m->opt.gravity));
+  auto free_root = [&](int b) {
+    int root = m->body_rootid[b];
+    return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
+  };
   std::vector<mjtNum> jac1(3 * m->nv), jac2(3 * m->nv);
   for (int i = 0; i < d->ncon; ++i) {
     const mjContact& c = d->contact[i];
     mjtNum force[6];
     mj_contactForce(m, d, i, force);
     int b1 = m->geom_bodyid[c.geom1], b2 = m->geom_bodyid[c.geom2];
-    // the ground: the world and every static body welded to it
-    if (m->body_weldid[b1] == 0 || m->body_weldid[b2] == 0) normal += force[0];
+    if (m->body_rootid[b1] != m->body_rootid[b2]) {
+      // the force on geom2's body, in the world frame (geom1's body gets its opposite)
+      mjtNum world[3];
+      mju_mulMatTVec(world, c.frame, force, 3, 3);
+      double lift = mju_dot3(world, up);
+      if (free_root(b2)) normal += lift;
+      if (free_root(b1)) normal -= lift;
+    }
     // relative velocity of the two bodies at the contact point, tangential part
     mj_jac(m, d, jac1.data(), nullptr, c.pos, b1);
     mj_jac(m, d, jac2.data(), nullptr, c.pos, b2);

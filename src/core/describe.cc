@@ -12,7 +12,12 @@ namespace {
 // position (velocity) servo drives towards ctrl with a spring (damper) bias.
 std::string ActuatorKind(const mjModel* m, int u) {
   if (m->actuator_gaintype[u] == mjGAIN_MUSCLE) return "muscle";
-  if (m->actuator_gaintype[u] != mjGAIN_FIXED) return "general";
+  if (m->actuator_gaintype[u] != mjGAIN_FIXED) {
+    // MuJoCo's own kinds by their gain (dcmotor, so3, pid); affine and user gains are general
+    std::string gain = compat::NameOf(compat::kGainTypes, m->actuator_gaintype[u]);
+    bool named = gain != "affine" && gain != "user" && gain.rfind("type ", 0) != 0;
+    return named ? gain : "general";
+  }
   const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
   if (m->actuator_biastype[u] == mjBIAS_NONE) return "motor";
   if (m->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0) {
@@ -135,9 +140,13 @@ ModelDescription Describe(const Model& model) {
     out.joints.push_back(joint);
   }
 
-  for (int u = 0; u < m->nu; ++u) {
+  // MuJoCo 3.12+ actuators may take several controls (a pid: two) and give several force
+  // outputs: ctrl-sized arrays by the first control, gear by the first output
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
     ActuatorDescription act;
     act.id = u;
+    auto [c, controls] = compat::ActuatorControls(m, u);
+    long output = compat::ActuatorOutputs(m, u).first;
     act.name = model.Name(mjOBJ_ACTUATOR, u);
     int trn = m->actuator_trntype[u];
     act.transmission = compat::NameOf(compat::kTransmissions, trn);
@@ -146,9 +155,9 @@ ModelDescription Describe(const Model& model) {
                       : trn == mjTRN_BODY ? mjOBJ_BODY
                                           : mjOBJ_JOINT;
     act.target = model.Name(target_type, m->actuator_trnid[2 * u]);
-    act.gear = m->actuator_gear[6 * u];
-    act.ctrllimited = m->actuator_ctrllimited[u];
-    act.ctrlrange = {m->actuator_ctrlrange[2 * u], m->actuator_ctrlrange[2 * u + 1]};
+    act.gear = m->actuator_gear[6 * output];
+    act.ctrllimited = controls > 0 && m->actuator_ctrllimited[c];
+    if (controls > 0) act.ctrlrange = {m->actuator_ctrlrange[2 * c], m->actuator_ctrlrange[2 * c + 1]};
     act.forcelimited = m->actuator_forcelimited[u];
     act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
     // the joint (tendon) receives gear x the actuator force: a torque on a hinge, a force
@@ -164,6 +173,7 @@ ModelDescription Describe(const Model& model) {
                     : act.kind == "position" ? position
                     : act.kind == "velocity" ? position + "/s"
                     : act.kind == "muscle"   ? "activation 0..1"
+                    : act.kind == "pid"      ? position + " (then a velocity setpoint)"
                                              : "set by gainprm";
     // the bounds of the actuator force: a motor's gain x ctrlrange, then forcerange
     double lo = -mjMAXVAL, hi = mjMAXVAL;

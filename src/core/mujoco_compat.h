@@ -216,8 +216,22 @@ inline constexpr EnumName kDynamicsTypes[] = {{mjDYN_NONE, "none"},
                                               {mjDYN_FILTER, "filter"},
                                               {mjDYN_MUSCLE, "muscle"},
                                               {mjDYN_USER, "user"}};
+// 3.11 has the dcmotor and so3 gains (when they came is not pinned here: releases before
+// 3.11 print them as "type N"); 3.12 added the pid gain, whose actuator takes two controls (a
+// position and a velocity setpoint).
+#if mjVERSION_HEADER >= 3012000
+inline constexpr int kGainPid = mjGAIN_PID;
+#else
+inline constexpr int kGainPid = -1;
+#endif
 inline constexpr EnumName kGainTypes[] = {
     {mjGAIN_FIXED, "fixed"}, {mjGAIN_AFFINE, "affine"}, {mjGAIN_MUSCLE, "muscle"},
+#if mjVERSION_HEADER >= 3011000
+    {mjGAIN_DCMOTOR, "dcmotor"}, {mjGAIN_SO3, "so3"},
+#endif
+#if mjVERSION_HEADER >= 3012000
+    {mjGAIN_PID, "pid"},
+#endif
     {mjGAIN_USER, "user"}};
 inline constexpr EnumName kBiasTypes[] = {
     {mjBIAS_NONE, "none"}, {mjBIAS_AFFINE, "affine"}, {mjBIAS_MUSCLE, "muscle"},
@@ -479,6 +493,21 @@ inline std::vector<mjtNum> ActuatorMomentRow(const mjModel* m, const mjData* d, 
   detail::MomentRow(m, d, out, &row, 0);
   return row;
 }
+
+namespace detail {
+template <typename M>
+auto ActuatorPlugin(const M* m, int u, int) -> decltype(m->actuator_plugin, int()) {
+  return m->actuator_plugin[u];
+}
+template <typename M>
+int ActuatorPlugin(const M*, int, long) {
+  return -1;
+}
+}  // namespace detail
+
+// The plugin instance that computes actuator u's force (mujoco.pid, ...), -1 for none (always on
+// 2.x, which has no plugins).
+inline int ActuatorPlugin(const mjModel* m, int u) { return detail::ActuatorPlugin(m, u, 0); }
 
 }  // namespace plumb::compat
 

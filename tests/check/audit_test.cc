@@ -739,5 +739,51 @@ TEST_F(AuditTest, StopsWhenItsCallerAsks) {
   EXPECT_THROW(Audit(model, options), Interrupted);
 }
 
+// MuJoCo 3.12+: a pid takes two controls; the dcmotor beside it is judged the same whichever
+// comes first (its step once went into the pid's second control: "no response")
+TEST_F(AuditTest, APidBesideADcMotorDoesNotShiftItsControls) {
+  if (!(mjVERSION_HEADER >= 3012000)) GTEST_SKIP() << "pid actuators came with MuJoCo 3.12";
+  const char* xml = R"(<mujoco><worldbody>
+      <body><joint name="a" axis="0 1 0" damping="0.1"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+        <body pos="0.3 0 0"><joint name="b" axis="0 1 0" damping="0.1"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
+    <actuator>%s%s</actuator></mujoco>)";
+  const char* pid = R"(<pid name="p" joint="a" kp="10" kv="1" ctrlrange="-1 1"/>)";
+  const char* motor =
+      R"(<dcmotor name="m" joint="b" motorconst="0.05" resistance="1" ctrlrange="-12 12"/>)";
+  char text[2048];
+  std::string verdicts[2], steps[2];
+  for (int order = 0; order < 2; ++order) {
+    std::snprintf(text, sizeof(text), xml, order ? motor : pid, order ? pid : motor);
+    AuditReport r = AuditXml(text);
+    const CheckRow* step = Find(r, "actuator.step_response", "'m'");
+    ASSERT_NE(step, nullptr) << Failures(r);
+    EXPECT_EQ(step->status, CheckStatus::kPass) << step->measured_text;
+    steps[order] = step->measured_text;
+    const CheckRow* limits = Find(r, "actuator.limits", "'m'");
+    verdicts[order] = limits ? limits->measured_text : "bounded";
+  }
+  EXPECT_EQ(steps[0], steps[1]);
+  EXPECT_NE(steps[0].find("force 0 -> "), std::string::npos) << steps[0];
+  EXPECT_EQ(verdicts[0], verdicts[1]);
+  EXPECT_EQ(verdicts[0].find("ctrl unlimited"), std::string::npos) << verdicts[0];
+}
+
+// A free box resting on a table that hangs on a joint (at its limit) is supported: the table's
+// contacts count, not only those of bodies welded to the world
+TEST_F(AuditTest, AnObjectOnJointedLinksIsSupported) {
+  AuditReport r = AuditXml(R"(<mujoco><worldbody>
+      <body name="table" pos="0 0 0.5"><joint name="lift" type="slide" axis="0 0 1"
+          range="-0.001 0.001" damping="10"/>
+        <geom type="box" size="0.5 0.5 0.05" mass="5"/></body>
+      <body name="box" pos="0 0 0.6"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="1"/></body>
+    </worldbody></mujoco>)");
+  const CheckRow* support = Find(r, "contact.support");
+  ASSERT_NE(support, nullptr) << Failures(r);
+  EXPECT_EQ(support->status, CheckStatus::kPass) << support->measured_text;
+  EXPECT_NEAR(support->measured.value, 1, 0.05);
+}
+
 }  // namespace
 }  // namespace plumb

@@ -126,5 +126,26 @@ TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
   EXPECT_EQ(d.sensors[3].unit, "");
 }
 
+// MuJoCo 3.12+: a pid takes two controls, so actuator and control indices part; a dcmotor after
+// it is the second actuator, not a phantom third
+TEST_F(DescribeTest, APidBeforeADcMotorIsTwoActuators) {
+  if (!(mjVERSION_HEADER >= 3012000)) GTEST_SKIP() << "pid actuators came with MuJoCo 3.12";
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <body><joint name="a" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+        <body pos="0.3 0 0"><joint name="b" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
+    <actuator><pid name="p" joint="a" kp="10" kv="1"/>
+      <dcmotor name="m" joint="b" motorconst="0.05" resistance="1" ctrlrange="-12 12"/>
+    </actuator></mujoco>)");
+  ModelDescription d = Describe(model);
+  ASSERT_EQ(d.actuators.size(), 2u);
+  EXPECT_EQ(d.actuators[0].kind, "pid");
+  EXPECT_EQ(d.actuators[1].name, "m");
+  EXPECT_EQ(d.actuators[1].kind, "dcmotor");
+  EXPECT_EQ(d.actuators[1].target, "b");
+  EXPECT_TRUE(d.actuators[1].ctrllimited);
+  EXPECT_EQ(d.actuators[1].ctrlrange[1], 12);
+}
+
 }  // namespace
 }  // namespace plumb
