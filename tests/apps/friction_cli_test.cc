@@ -348,7 +348,9 @@ TEST(FrictionCliTest, AuditTableGroupsTheSameFindingAboutSeveralElements) {
                            "bound\n      fix: a real motor saturates"),
             std::string::npos)
       << table.out;
-  EXPECT_EQ(LinesStartingWith(table.out, "      fix: "), 1) << table.out;
+  // (MuJoCo 2.x adds the inertia.shape SKIP row: it cannot tell written inertias from derived)
+  bool old_mujoco = testing::CompiledMujocoVersion().rfind("2.", 0) == 0;
+  EXPECT_EQ(LinesStartingWith(table.out, "      fix: "), old_mujoco ? 2 : 1) << table.out;
   EXPECT_NE(table.out.find("12 warned"), std::string::npos) << table.out;  // counts stay per row
 
   // --all: every warning on its own row; JSON the same whatever the table groups

@@ -101,7 +101,7 @@ TEST_F(AuditTest, AHeavyBodyThatCollidesWithNothingCarriedByALightOneIsAFinding)
       <geom name="floor" type="plane" size="5 5 0.1"/>
       <body name="crate" pos="0 0 0.5"><freejoint/>
         <geom type="box" size="0.2 0.2 0.2" mass="10" contype="%s" conaffinity="%s"/>
-        <body name="pad" pos="0 0 -0.25"><joint type="slide" axis="0 0 1" range="-0.01 0.01"/>
+        <body name="pad" pos="0 0 -0.25"><joint type="slide" axis="0 0 1" limited="true" range="-0.01 0.01"/>
           <geom type="box" size="0.2 0.2 0.02" mass="1e-6"/></body></body>
     </worldbody></mujoco>)";
   char text[1024];
@@ -775,7 +775,7 @@ TEST_F(AuditTest, APidBesideADcMotorDoesNotShiftItsControls) {
 TEST_F(AuditTest, AnObjectOnJointedLinksIsSupported) {
   AuditReport r = AuditXml(R"(<mujoco><worldbody>
       <body name="table" pos="0 0 0.5"><joint name="lift" type="slide" axis="0 0 1"
-          range="-0.001 0.001" damping="10"/>
+          limited="true" range="-0.001 0.001" damping="10"/>
         <geom type="box" size="0.5 0.5 0.05" mass="5"/></body>
       <body name="box" pos="0 0 0.6"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="1"/></body>
     </worldbody></mujoco>)");
