@@ -99,12 +99,8 @@ void CarriedByLighter(const Model& model, const CollisionGraph& graph, std::vect
   if (GravityNorm(m) <= 0) return;
   std::vector<double> group(m->nbody, 0.0);
   for (int b = 1; b < m->nbody; ++b) group[m->body_weldid[b]] += m->body_mass[b];
-  auto free_root = [&](int b) {
-    int root = m->body_rootid[b];
-    return m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
-  };
   for (int b = 1; b < m->nbody; ++b) {
-    if (m->body_weldid[b] != b || !free_root(b) || group[b] <= 0) continue;
+    if (m->body_weldid[b] != b || !IsFreeRoot(m, m->body_rootid[b]) || group[b] <= 0) continue;
     // the weld group collides when any of its bodies does
     bool collides = false;
     for (int k = 1; k < m->nbody; ++k) {

@@ -167,15 +167,12 @@ void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& gr
 // 1e5 with a mesh, which often shows part of a link while its motor hides in the parent's
 // mesh (Mini Cheetah's hips: 28600); a mesh in mm is still 1e9 off. A body welded to its
 // parent is skipped: which of a weld group's bodies carries its mass is arbitrary.
-void Density(const mjModel* m, const BodyInertia& body, const Solid& shape,
+void Density(const mjModel* m, const BodyInertia& body, const BodySolids& solids,
              std::vector<CheckRow>* out) {
+  const Solid& shape = solids.shape;
   if (!(shape.volume > 0) || shape.approximate || !(body.mass > 0)) return;
   if (m->body_weldid[body.b] != body.b) return;
-  bool mesh = false;
-  for (int g = m->body_geomadr[body.b]; g < m->body_geomadr[body.b] + m->body_geomnum[body.b];
-       ++g) {
-    mesh = mesh || m->geom_type[g] == mjGEOM_MESH;
-  }
+  bool mesh = solids.meshes > 0;
   double lo = mesh ? 10 : 1, hi = mesh ? 1e5 : 25000;
   double density = body.mass / shape.volume;
   if (density >= lo && density <= hi) return;
@@ -213,11 +210,9 @@ ShapeFit FitToShape(const BodyInertia& body, const Solid& shape) {
   return fit;
 }
 
-std::string ShapeWords(const mjModel* m, int b, const Solid& shape) {
-  int meshes = 0;
-  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
-    meshes += m->geom_type[g] == mjGEOM_MESH;
-  }
+std::string ShapeWords(const BodySolids& solids) {
+  const Solid& shape = solids.shape;
+  int meshes = solids.meshes;
   return fmt::format("its {} geom{}{}{}", shape.geoms, shape.geoms == 1 ? "" : "s",
                      meshes ? fmt::format(" ({} mesh{})", meshes, meshes == 1 ? "" : "es") : "",
                      shape.approximate ? ", open meshes taken as their boxes" : "");
@@ -226,8 +221,8 @@ std::string ShapeWords(const mjModel* m, int b, const Solid& shape) {
 // Inertia against the body's shape: the inertia its geoms would have, filled uniformly at the
 // body's mass. A factor kShapeFail off is no solid of this shape (a 60 kg base with a
 // placeholder 0.001 kg*m^2 on every axis), kShapeWarn is suspect.
-void InertiaAgainstShape(const mjModel* m, const BodyInertia& body, const Solid& shape,
-                         const ShapeFit& fit, std::vector<CheckRow>* out) {
+void InertiaAgainstShape(const BodyInertia& body, const BodySolids& solids, const ShapeFit& fit,
+                         std::vector<CheckRow>* out) {
   if (!(fit.factor > kShapeWarn)) return;
   bool low = fit.gyration < 1;
   out->push_back(WithNumbers(
@@ -235,7 +230,7 @@ void InertiaAgainstShape(const mjModel* m, const BodyInertia& body, const Solid&
            fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg: radius of gyration "
                        "x{:.3g} of {}, filled uniformly (I = ({:.3g}, {:.3g}, {:.3g}))",
                        fit.body[0], fit.body[1], fit.body[2], body.mass, fit.gyration,
-                       ShapeWords(m, body.b, shape), fit.shape[0], fit.shape[1], fit.shape[2]),
+                       ShapeWords(solids), fit.shape[0], fit.shape[1], fit.shape[2]),
            fmt::format("within x{:g} of the shape's (radius and each principal moment's root)",
                        kShapeWarn),
            fit.factor > kShapeFail ? CheckStatus::kFail : CheckStatus::kWarn,
@@ -248,14 +243,11 @@ void InertiaAgainstShape(const mjModel* m, const BodyInertia& body, const Solid&
 }
 
 // A centre of mass outside the box of the body's geoms, relative to that box's size.
-void ComAgainstShape(const mjModel* m, const BodyInertia& body, std::vector<CheckRow>* out) {
-  Solid all = AllGeoms(m, body.b);
+void ComAgainstShape(const mjModel* m, const BodyInertia& body, const BodySolids& solids,
+                     std::vector<CheckRow>* out) {
+  const Solid& all = solids.all;
   if (!(all.volume > 0) || !(body.mass > 0) || body.marker) return;
-  bool mesh = false;
-  for (int g = m->body_geomadr[body.b]; g < m->body_geomadr[body.b] + m->body_geomnum[body.b];
-       ++g) {
-    mesh = mesh || m->geom_type[g] == mjGEOM_MESH;
-  }
+  bool mesh = solids.meshes > 0;
   double warn = mesh ? kComWarnMesh : kComWarn, fail = mesh ? kComFailMesh : kComFail;
   const mjtNum* com = m->body_ipos + 3 * body.b;
   double outside = all.OutsideBox(com), size = all.HalfDiagonal();
@@ -321,8 +313,8 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     BodyInertia body = ReadBody(model, b);
     Principal(body, out);
     WeldGroup(model, body, groups, total, out);
-    Solid shape = BodySolid(m, b);
-    Density(m, body, shape, out);
+    BodySolids solids = BodySolid(m, b);
+    Density(m, body, solids, out);
     bool sound = body.positive && body.triangle && !body.marker && body.mass > 0;
     // an inertia the compiler derived from the geoms fits them by construction, unless --set
     // changed the mass or the inertia since
@@ -330,9 +322,9 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
                    !std::equal(body.I, body.I + 3, original->body_inertia + 3 * b);
     bool by_hand = written && ((*written)[b] || changed);
     ShapeFit fit;
-    if (sound && shape.volume > 0) fit = FitToShape(body, shape);
-    if (by_hand && !std::isnan(fit.factor)) InertiaAgainstShape(m, body, shape, fit, out);
-    if (sound) ComAgainstShape(m, body, out);
+    if (sound && solids.shape.volume > 0) fit = FitToShape(body, solids.shape);
+    if (by_hand && !std::isnan(fit.factor)) InertiaAgainstShape(body, solids, fit, out);
+    if (sound) ComAgainstShape(m, body, solids, out);
     if (listed < kMaxListed && sound) {
       ++listed;
       const mjtNum* I = body.I;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "check/audit_layers.h"
+#include "check/collision_graph.h"
 #include "core/mujoco_compat.h"
 #include "plumb/timing.h"
 
@@ -127,10 +128,6 @@ void MeasureEnd(const Model& work, const mjData* d, Observed* o) {
   double normal = 0;
   mjtNum up[3] = {0, 0, 1};
   if (GravityNorm(m) > 0) mju_scl3(up, m->opt.gravity, -1 / mju_norm3(m->opt.gravity));
-  auto free_root = [&](int b) {
-    int root = m->body_rootid[b];
-    return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
-  };
   std::vector<mjtNum> jac1(3 * m->nv), jac2(3 * m->nv);
   for (int i = 0; i < d->ncon; ++i) {
     const mjContact& c = d->contact[i];
@@ -142,8 +139,8 @@ void MeasureEnd(const Model& work, const mjData* d, Observed* o) {
       mjtNum world[3];
       mju_mulMatTVec(world, c.frame, force, 3, 3);
       double lift = mju_dot3(world, up);
-      if (free_root(b2)) normal += lift;
-      if (free_root(b1)) normal -= lift;
+      if (IsFreeRoot(m, m->body_rootid[b2])) normal += lift;
+      if (IsFreeRoot(m, m->body_rootid[b1])) normal -= lift;
     }
     // relative velocity of the two bodies at the contact point, tangential part
     mj_jac(m, d, jac1.data(), nullptr, c.pos, b1);

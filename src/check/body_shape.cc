@@ -243,21 +243,18 @@ Solid GeomSolid(const mjModel* m, int g) {
   return out;
 }
 
-Solid BodySolid(const mjModel* m, int b) {
+BodySolids BodySolid(const mjModel* m, int b) {
   Solid visual, colliding;
+  BodySolids out;
   for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
     bool collides = m->geom_contype[g] != 0 || m->geom_conaffinity[g] != 0;
-    Add(GeomSolid(m, g), collides ? &colliding : &visual);
+    Solid part = GeomSolid(m, g);
+    Add(part, collides ? &colliding : &visual);
+    Add(part, &out.all);
+    out.meshes += m->geom_type[g] == mjGEOM_MESH;
   }
-  return visual.volume > colliding.volume ? visual : colliding;
-}
-
-Solid AllGeoms(const mjModel* m, int b) {
-  Solid all;
-  for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
-    Add(GeomSolid(m, g), &all);
-  }
-  return all;
+  out.shape = visual.volume > colliding.volume ? visual : colliding;
+  return out;
 }
 
 }  // namespace plumb::audit

@@ -32,14 +32,16 @@ struct Solid {
 // The solid of geom g in its body's frame; volume 0 for planes, height fields and SDFs.
 Solid GeomSolid(const mjModel* m, int g);
 
-// The solid of body b's geoms that describe its shape: the visual geoms (contype and
-// conaffinity 0) when they hold more volume than the colliding ones (a robot's visual meshes
-// are its links; its collision geoms are often a few spheres at the feet), else the colliding
-// ones. Volume 0 when the body has no geom with a volume.
-Solid BodySolid(const mjModel* m, int b);
-
-// Every geom of body b with a volume, visual and colliding: where the body has matter.
-Solid AllGeoms(const mjModel* m, int b);
+// The solids of body b's geoms, computed once: `shape`, the geoms that describe its shape (the
+// visual geoms, contype and conaffinity 0, when they hold more volume than the colliding ones:
+// a robot's visual meshes are its links, its collision geoms often a few spheres at the feet;
+// else the colliding ones), and `all`, every geom with a volume (where the body has matter).
+// Volumes 0 when the body has no geom with a volume.
+struct BodySolids {
+  Solid shape, all;
+  int meshes = 0;  // mesh geoms of the body
+};
+BodySolids BodySolid(const mjModel* m, int b);
 
 }  // namespace plumb::audit
 

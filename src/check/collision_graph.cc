@@ -7,11 +7,12 @@
 #include <utility>
 
 namespace plumb {
-namespace {
 
 bool IsFreeRoot(const mjModel* m, int root) {
   return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
 }
+
+namespace {
 
 // Whether geoms of bodies a and b may be tested for collision by their bitmasks: MuJoCo
 // skips geoms of the same body, of a body and its parent (unless the filterparent flag is

@@ -32,6 +32,10 @@ struct CollisionGraph {
   bool static_collider = false;
 };
 
+// Whether body `root` is a top-level body on a free joint: its subtree's weight reaches the
+// ground only through contacts (for any body b, ask about m->body_rootid[b]).
+bool IsFreeRoot(const mjModel* m, int root);
+
 // Reads the graph from `m` (body_subtreemass must be current: after mj_setConst or a load).
 CollisionGraph MakeCollisionGraph(const mjModel* m);
 
