@@ -20,6 +20,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plumb/error.h"
@@ -257,6 +258,53 @@ inline std::filesystem::path CorpusRoot() {
 inline std::string CorpusModel(const std::string& relative) {
   std::filesystem::path p = CorpusRoot() / relative;
   return std::filesystem::exists(p) ? p.string() : "";
+}
+
+// Two hinged links about y (joints "a" and "b", 0.3 m capsules) with `actuators` as the
+// model's <actuator> content.
+inline std::string TwoHingeArm(const std::string& actuators) {
+  return R"(<mujoco><worldbody>
+      <body><joint name="a" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
+        <body pos="0.3 0 0"><joint name="b" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
+    <actuator>)" + actuators + "</actuator></mujoco>";
+}
+
+// CorpusModel for a test that needs it: "" when it is missing, and then a failure as well
+// when PLUMB_REQUIRE_CORPUS is set (make test sets it). The corpus needs MuJoCo 3 or later:
+// on 2.x it is always "", without a failure.
+inline std::string RequireCorpusModel(const std::string& relative) {
+  if (mjVERSION_HEADER < 300) return "";
+  std::string path = CorpusModel(relative);
+  if (path.empty() && std::getenv("PLUMB_REQUIRE_CORPUS")) {
+    ADD_FAILURE() << "the robot corpus is missing " << relative << ": run make corpus";
+  }
+  return path;
+}
+
+// A copy of the model file at `path` with each `edits` pair's first text replaced by its
+// second (each must occur once at least: a missing one fails the test), written into `dir`
+// beside links to everything in the model's folder, so its meshes and includes resolve.
+// Returns the copy's path.
+inline std::string EditedModelCopy(const std::string& path,
+                                   const std::vector<std::pair<std::string, std::string>>& edits,
+                                   const std::string& dir) {
+  std::string xml = ReadFile(path);
+  for (const auto& [from, to] : edits) {
+    size_t at = xml.find(from);
+    EXPECT_NE(at, std::string::npos) << "no '" << from << "' in " << path;
+    if (at != std::string::npos) xml.replace(at, from.size(), to);
+  }
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    std::filesystem::path link = std::filesystem::path(dir) / entry.path().filename();
+    if (!std::filesystem::exists(std::filesystem::symlink_status(link))) {
+      std::filesystem::create_symlink(entry.path(), link);
+    }
+  }
+  std::string edited = (std::filesystem::path(dir) / "edited.xml").string();
+  WriteFile(edited, xml);
+  return edited;
 }
 
 // Output of one command run.

@@ -33,7 +33,8 @@ struct StartHint {
 // per problem found (empty when nothing looks wrong). Today: a system at rest in
 // equilibrium with nothing driving it will not move; the hint's assignment is one plumb
 // tried and found to make it accelerate (so following it never repeats the hint), or a
-// velocity when no offset does. @throws MujocoError.
+// velocity when no offset does. Bodies that start asleep (plumb/sleep.h) stay still too;
+// that hint's assignment turns sleep off. @throws MujocoError.
 std::vector<StartHint> StartHints(const Model& model, const Data& data);
 
 }  // namespace plumb

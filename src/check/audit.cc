@@ -9,6 +9,8 @@
 #include <algorithm>
 
 #include "check/audit_layers.h"
+#include "plumb/sleep.h"
+#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -38,18 +40,36 @@ void Warnings(const std::vector<audit::Observed>& runs, AuditReport* report) {
 
 int AuditReport::Count(CheckStatus status) const { return CountStatus(findings, status); }
 
-AuditReport Audit(const Model& model, const AuditOptions& options) {
+AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   AuditReport report;
-  report.model = model.file();
+  report.model = loaded.file();
   // the reference pose (plumb/keyframe.h), then the user's --set, state assignments included
+  ReferencePose ref = FindReferencePose(loaded, options.keyframe);
+  SleepingStart asleep;
+  {
+    Model probe = loaded.Clone();
+    Data data(probe);
+    StartAtPose(probe, data, ref, options.sets);
+    asleep = FindSleepingStart(probe, data);
+  }
+  // every run tests the physics with sleep off (plumb/sleep.h)
+  Model model = loaded.Clone();
+  WakeForTesting(model);
   Model nominal = model.Clone();
   Data data(nominal);
-  ReferencePose ref = FindReferencePose(nominal, options.keyframe);
   StartAtPose(nominal, data, ref, options.sets);
   TakeMujocoWarnings();
 
   std::vector<audit::Observed> runs;
   audit::StructureLayer(nominal, &report.findings);
+  if (!asleep.empty()) {
+    report.findings.push_back(audit::Make(
+        "structure", "structure.sleep", Join(asleep.bodies, ", "),
+        fmt::format("{} asleep", asleep.bodies.size()), "", CheckStatus::kPass,
+        asleep.Describe() +
+            ": the audit runs them awake (sleep off), so its rows judge their physics; a run "
+            "with sleep on leaves them still until something touches them"));
+  }
   audit::InertiaLayer(model, nominal, data, &report.findings);
   audit::ActuatorLayer(model, nominal, data, options.sets, ref, options, &runs, &report.findings);
 

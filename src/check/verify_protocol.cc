@@ -83,9 +83,12 @@ void SetNumbers(CheckRow* r, double measured, double reference, const char* unit
 std::string Seconds(double t) { return fmt::format("{:g} s", t); }
 
 VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
-    : model_(model), sets_(options.sets), stop_(options.stop), nominal_(model.Clone()) {
+    : model_(model.Clone()), sets_(options.sets), stop_(options.stop), nominal_(model.Clone()) {
   Data data(nominal_);
   ApplyAssignments(nominal_, data, sets_);
+  asleep_ = FindSleepingStart(nominal_, data);
+  WakeForTesting(model_);
+  WakeForTesting(nominal_);
 }
 
 const Trace& VerifyScenario::Simulate(const std::vector<Assignment>& extra, double until,
@@ -180,6 +183,10 @@ CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r) {
   } else {
     r.status = CheckStatus::kWarn;
     r.explanation = "MuJoCo's compiler warned: " + model.compile_warnings();
+  }
+  if (!ctx.s.asleep().empty()) {
+    r.explanation += " " + ctx.s.asleep().Describe() +
+                     ": every run here has sleep off, so the checks see their physics.";
   }
   return r;
 }

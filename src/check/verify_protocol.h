@@ -15,6 +15,7 @@
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
+#include "plumb/sleep.h"
 #include "plumb/verify.h"
 
 namespace plumb::verify {
@@ -74,11 +75,16 @@ class VerifyScenario {
   // The model after the user's assignments (for reading nominal parameters).
   const Model& Nominal() const { return nominal_; }
 
+  // The bodies that start asleep in the model as loaded; every run here is awake
+  // (plumb/sleep.h).
+  const SleepingStart& asleep() const { return asleep_; }
+
  private:
-  const Model& model_;
+  Model model_;  // as loaded, awake
   std::vector<Assignment> sets_;
   StopToken stop_;
   Model nominal_;
+  SleepingStart asleep_;
   mutable std::map<std::string, Trace> memo_;
 };
 

@@ -327,7 +327,15 @@ inline std::pair<long, long> ActuatorOutputs(const mjModel* m, int i) {
   return detail::ActuatorOutputs(m, i, 0);
 }
 
-// Solver iterations used by the last step (summed over islands on 3.x).
+// The actuator that takes control row `row` of d->ctrl, or -1 for none.
+inline int ControlActuator(const mjModel* m, long row) {
+  for (int u = 0; u < ActuatorCount(m); ++u) {
+    auto [first, count] = ActuatorControls(m, u);
+    if (row >= first && row < first + count) return u;
+  }
+  return -1;
+}
+
 // Whether MuJoCo raises a solref time constant to two timesteps: the refsafe flag of 2.x
 // (on unless disabled); 3.x removed the flag and always does.
 inline bool ReferenceTimeconstClamped(const mjModel* m) {
@@ -338,6 +346,7 @@ inline bool ReferenceTimeconstClamped(const mjModel* m) {
   }
 }
 
+// Solver iterations used by the last step (summed over islands on 3.x).
 inline int SolverIterations(const mjData* d) {
 #if mjVERSION_HEADER >= 300
   int total = 0;
@@ -346,6 +355,34 @@ inline int SolverIterations(const mjData* d) {
 #else
   return d->solver_iter;
 #endif
+}
+
+// Sleeping kinematic trees: with the sleep flag on, MuJoCo freezes a tree whose speed stays
+// below opt.sleep_tolerance, and <body sleep="init"> makes a tree start asleep. The feature
+// came before 3.5; plumb reads it from 3.5 on. 2.x has none.
+#if mjVERSION_HEADER >= 3005000
+inline constexpr int kEnableSleep = mjENBL_SLEEP;  // its bit in opt.enableflags
+#else
+inline constexpr int kEnableSleep = 0;
+#endif
+inline bool SleepEnabled(const mjModel* m) { return m->opt.enableflags & kEnableSleep; }
+
+// Turns sleep off in `m`: Data made or reset afterwards has every tree awake.
+inline void DisableSleep(mjModel* m) { m->opt.enableflags &= ~kEnableSleep; }
+
+// The root bodies of the trees asleep in `d`.
+inline std::vector<int> AsleepTreeRoots(const mjModel* m, const mjData* d) {
+  std::vector<int> roots;
+#if mjVERSION_HEADER >= 3005000
+  if (!SleepEnabled(m)) return roots;
+  for (int t = 0; t < m->ntree; ++t) {
+    if (d->tree_asleep[t] >= 0) roots.push_back(m->tree_bodyadr[t]);
+  }
+#else
+  (void)m;
+  (void)d;
+#endif
+  return roots;
 }
 
 // The full nv x nv joint-space inertia matrix M of the state in `d` into `dst`
@@ -508,6 +545,19 @@ int ActuatorPlugin(const M*, int, long) {
 // The plugin instance that computes actuator u's force (mujoco.pid, ...), -1 for none (always on
 // 2.x, which has no plugins).
 inline int ActuatorPlugin(const mjModel* m, int u) { return detail::ActuatorPlugin(m, u, 0); }
+
+// The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
+inline std::string PluginName(const mjModel* m, int instance) {
+#if mjVERSION_HEADER >= 300
+  if (instance < 0 || instance >= m->nplugin) return "";
+  const mjpPlugin* plugin = mjp_getPluginAtSlot(m->plugin[instance]);
+  return plugin && plugin->name ? plugin->name : "";
+#else
+  (void)m;
+  (void)instance;
+  return "";
+#endif
+}
 
 }  // namespace plumb::compat
 

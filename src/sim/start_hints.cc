@@ -1,5 +1,5 @@
 // The chapter's common-error table as advice before a run: today, a system at rest in
-// equilibrium with nothing driving it.
+// equilibrium with nothing driving it, and bodies that start asleep.
 
 #include "plumb/start_hints.h"
 
@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/mujoco_compat.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
+#include "plumb/sleep.h"
 
 namespace plumb {
 namespace {
@@ -84,7 +86,20 @@ std::vector<StartHint> StartHints(const Model& model, const Data& data) {
   bool undriven = all_below(d->ctrl, m->nu, 0.0) && all_below(d->qfrc_applied, m->nv, 0.0) &&
                   all_below(d->xfrc_applied, 6 * m->nbody, 0.0) &&
                   all_below(d->qfrc_actuator, m->nv, 0.0);
-  if (at_rest && in_equilibrium && undriven) {
+  SleepingStart asleep = FindSleepingStart(model, data);
+  if (!asleep.empty()) {
+    StartHint hint;
+    bool one = asleep.bodies.size() == 1;
+    hint.problem = asleep.Describe() + fmt::format(
+                                           ": {} still, whatever drives {}, until something "
+                                           "touches {}.",
+                                           one ? "it stays" : "they stay", one ? "it" : "them",
+                                           one ? "it" : "them");
+    hint.advice = "To see them move from the start, turn sleep off";
+    hint.assignment = fmt::format("opt.enableflags={}",
+                                  m->opt.enableflags & ~compat::kEnableSleep);
+    hints.push_back(hint);
+  } else if (at_rest && in_equilibrium && undriven) {
     StartHint hint;
     hint.problem =
         "the model starts at rest in equilibrium (qvel = 0, |qacc| < 1e-9) and nothing drives "

