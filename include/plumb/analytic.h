@@ -49,7 +49,8 @@ std::optional<PendulumParams> DetectPendulum(const Model& model, std::string* wh
 
 // Why some actuator applies force while every ctrl is 0 (a position or velocity servo's
 // bias, a muscle's passive force), or "" when none does: with ctrl = 0 a plain motor
-// leaves the system passive.
+// leaves the system passive. A plugin actuator (mujoco.pid) counts as pushing: its force is
+// the plugin's.
 std::string ActuatorPushingAtZeroControl(const Model& model);
 
 // Small-angle period T0 = 2*pi*sqrt(I / (m*g*d)), s (undamped).

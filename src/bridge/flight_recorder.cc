@@ -29,8 +29,8 @@ FlightRecorder::FlightRecorder(const std::string& path, const Model& model, cons
   for (int i = 0; i < m_->nv; ++i) header += ",qvel[" + std::to_string(i) + "]";
   for (const Motor& motor : motors.motors()) {
     if (motor.actuator >= 0) {
-      ctrl_.push_back(motor.actuator);
-      header += ",ctrl[" + std::to_string(motor.actuator) + "]";
+      ctrl_.push_back(motor.ctrl);
+      header += ",ctrl[" + std::to_string(motor.ctrl) + "]";
     } else {
       applied_.push_back(motor.dof);
       header += ",qfrc_applied[" + std::to_string(motor.dof) + "]";

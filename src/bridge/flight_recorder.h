@@ -55,7 +55,7 @@ class FlightRecorder {
   std::string path_;
   int fd_ = -1;  // the log, open for appending
   const mjModel* m_;
-  std::vector<int> ctrl_, applied_;  // actuator ids, dof ids
+  std::vector<int> ctrl_, applied_;  // control rows, dof ids
   std::size_t motors_ = 0;
   std::size_t simulated_ = 0;  // columns of the simulated state and what was applied
 };

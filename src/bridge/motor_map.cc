@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -32,6 +33,8 @@ Motor FromActuator(const Model& model, int u, std::size_t index) {
   Motor motor;
   motor.name = model.Name(mjOBJ_ACTUATOR, u);
   motor.actuator = u;
+  motor.ctrl = static_cast<int>(compat::ActuatorControls(m, u).first);
+  motor.out = static_cast<int>(compat::ActuatorOutputs(m, u).first);
   std::string what =
       fmt::format("motor {} ({})", index, Label(model, mjOBJ_ACTUATOR, u, "actuator"));
   int trn = m->actuator_trntype[u];
@@ -51,12 +54,12 @@ Motor FromActuator(const Model& model, int u, std::size_t index) {
                      "actuator): the bridge computes the torque itself (kp, kd from the "
                      "command), so the model must take torque: use <motor>");
   }
-  motor.gear = m->actuator_gear[6 * u];
+  motor.gear = m->actuator_gear[6 * motor.out];
   motor.torque_per_ctrl = m->actuator_gainprm[u * mjNGAIN] * motor.gear;
   if (motor.torque_per_ctrl == 0) throw ValueError(what + " has zero gain x gear");
-  if (m->actuator_ctrllimited[u]) {
-    double a = m->actuator_ctrlrange[2 * u] * motor.torque_per_ctrl;
-    double b = m->actuator_ctrlrange[2 * u + 1] * motor.torque_per_ctrl;
+  if (m->actuator_ctrllimited[motor.ctrl]) {
+    double a = m->actuator_ctrlrange[2 * motor.ctrl] * motor.torque_per_ctrl;
+    double b = m->actuator_ctrlrange[2 * motor.ctrl + 1] * motor.torque_per_ctrl;
     motor.torque_lo = std::min(a, b);
     motor.torque_hi = std::max(a, b);
   }
@@ -90,12 +93,14 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
   const mjModel* m = model.get();
   MotorMap map;
   if (names.empty()) {
-    if (m->nu == 0) {
+    if (compat::ActuatorCount(m) == 0) {
       throw ValueError("'" + model.file() +
                        "' has no actuators: name the joints the motors drive in the bridge "
                        "configuration ([motors] names = [\"hinge\"])");
     }
-    for (int u = 0; u < m->nu; ++u) map.motors_.push_back(FromActuator(model, u, map.size()));
+    for (int u = 0; u < compat::ActuatorCount(m); ++u) {
+      map.motors_.push_back(FromActuator(model, u, map.size()));
+    }
   }
   for (const std::string& name : names) {
     int u = mj_name2id(m, mjOBJ_ACTUATOR, name.c_str());
@@ -136,7 +141,7 @@ double MotorMap::TauEst(const mjData* d, std::size_t i) const {
   if (motor.actuator < 0) return d->qfrc_applied[motor.dof];
   // actuatorfrc is the actuator's scalar force; the joint sees it times the gear
   double force =
-      motor.sensor_tau >= 0 ? d->sensordata[motor.sensor_tau] : d->actuator_force[motor.actuator];
+      motor.sensor_tau >= 0 ? d->sensordata[motor.sensor_tau] : d->actuator_force[motor.out];
   return force * motor.gear;
 }
 
@@ -144,7 +149,7 @@ double MotorMap::Apply(mjData* d, std::size_t i, double tau) const {
   const Motor& motor = motors_[i];
   double applied = std::clamp(tau, motor.torque_lo, motor.torque_hi);
   if (motor.actuator >= 0) {
-    d->ctrl[motor.actuator] = applied / motor.torque_per_ctrl;
+    d->ctrl[motor.ctrl] = applied / motor.torque_per_ctrl;
   } else {
     d->qfrc_applied[motor.dof] = applied;
   }

@@ -21,6 +21,8 @@ namespace plumb::bridge {
 struct Motor {
   std::string name;   // the actuator's or joint's name, for messages and logs
   int actuator = -1;  // the actuator driven, or -1 for a joint driven through qfrc_applied
+  int ctrl = -1;      // its control in d->ctrl, and its force output in d->actuator_force
+  int out = -1;       // (the same as `actuator` unless an actuator before it takes several)
   int joint = -1;     // the joint it moves (q, dq)
   int qpos = -1, dof = -1;
   double gear = 1;             // the actuator's gear (joint torque = gear x actuator force)
@@ -32,7 +34,7 @@ struct Motor {
 class MotorMap {
  public:
   // Binds `names` (actuator or joint names, one a motor, in motor order) or, when empty,
-  // every actuator in order. @throws ValueError naming the motor and the element when a name
+  // every actuator in order (by actuator, not by control: a pid takes two controls). @throws ValueError naming the motor and the element when a name
   // is unknown, an actuator is not a torque motor on a single joint, or a joint is not a
   // hinge or slide.
   static MotorMap Bind(const Model& model, const std::vector<std::string>& names);

@@ -78,14 +78,19 @@ std::string ReachableContact(const Model& model, const mjData* d, int body) {
 
 std::string ActuatorPushingAtZeroControl(const Model& model) {
   const mjModel* m = model.get();
-  for (int u = 0; u < m->nu; ++u) {
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
+    std::string name = model.Name(mjOBJ_ACTUATOR, u);
+    name = name.empty() ? "actuator #" + std::to_string(u) : "actuator '" + name + "'";
+    if (int plugin = compat::ActuatorPlugin(m, u); plugin >= 0) {
+      std::string kind = compat::PluginName(m, plugin);
+      return fmt::format("the force of {} comes from a plugin{}, which may push at any ctrl",
+                         name, kind.empty() ? "" : " (" + kind + ")");
+    }
     const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
     bool biased = m->actuator_biastype[u] != mjBIAS_NONE &&
                   std::any_of(bias, bias + mjNBIAS, [](mjtNum b) { return b != 0; });
     if (m->actuator_gaintype[u] != mjGAIN_FIXED || biased) {
-      std::string name = model.Name(mjOBJ_ACTUATOR, u);
-      return "actuator '" + (name.empty() ? std::to_string(u) : name) +
-             "' pushes even at ctrl = 0 (a servo's bias or a muscle's passive force)";
+      return name + " pushes even at ctrl = 0 (a servo's bias or a muscle's passive force)";
     }
   }
   return "";

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "check/audit_layers.h"
+#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 #include "plumb/describe.h"
 #include "plumb/timing.h"
@@ -153,10 +154,8 @@ struct CtrlStep {
   void Hold(const mjModel* m, mjData* d) const {
     for (int j : held) {
       int q = m->jnt_qposadr[j], v = m->jnt_dofadr[j];
-      int nq = m->jnt_type[j] == mjJNT_FREE ? 7 : m->jnt_type[j] == mjJNT_BALL ? 4 : 1;
-      int nv = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
-      for (int k = 0; k < nq; ++k) d->qpos[q + k] = qpos[q + k];
-      for (int k = 0; k < nv; ++k) d->qvel[v + k] = 0;
+      for (int k = 0; k < JointQposSize(m->jnt_type[j]); ++k) d->qpos[q + k] = qpos[q + k];
+      for (int k = 0; k < JointDofSize(m->jnt_type[j]); ++k) d->qvel[v + k] = 0;
     }
   }
 };

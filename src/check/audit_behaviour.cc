@@ -8,6 +8,7 @@
 
 #include "check/assertion_tally.h"
 #include "check/audit_layers.h"
+#include "core/mujoco_compat.h"
 #include "plumb/timing.h"
 
 namespace plumb::audit {
@@ -87,7 +88,9 @@ void RunScenario(const Model& model, const std::vector<Assignment>& sets, const 
   spec.until = StepsToReach(sc.duration, m->opt.timestep) * m->opt.timestep;
   spec.every = m->opt.timestep;
   spec.before_step = [&](mjData* d, long) {
-    for (const ControlSchedule& c : sc.controls) d->ctrl[c.id] = c.At(d->time);
+    for (const ControlSchedule& c : sc.controls) {
+      d->ctrl[compat::ActuatorControls(m, c.id).first] = c.At(d->time);  // a pid's: its position
+    }
   };
   data.Forward();
   tally.Sample(work, data, data->time);

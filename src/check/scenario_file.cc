@@ -15,6 +15,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/scenario.h"
 #include "plumb/strings.h"
@@ -209,7 +210,9 @@ ControlSchedule ReadControl(const Model& model, const json& c, int index, const 
   s.id = mj_name2id(model.get(), mjOBJ_ACTUATOR, s.actuator.c_str());
   if (s.id < 0) {
     std::vector<std::string> names;
-    for (int u = 0; u < model->nu; ++u) names.push_back(model.Name(mjOBJ_ACTUATOR, u));
+    for (int u = 0; u < compat::ActuatorCount(model.get()); ++u) {
+      names.push_back(model.Name(mjOBJ_ACTUATOR, u));
+    }
     Bad(where("actuator"),
         "no actuator named '" + s.actuator + "'. " + DidYouMean(s.actuator, names));
   }

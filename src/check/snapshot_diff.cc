@@ -223,7 +223,7 @@ std::string StateElement(const Model& model, const std::string& array, std::size
   } else if (array == "qvel" && n < m->nv) {
     return label + " (joint '" + SnapshotElementName(model, mjOBJ_JOINT, m->dof_jntid[n]) + "')";
   } else if (array == "act" && n < m->na) {
-    for (int u = m->nu - 1; u >= 0; --u) {
+    for (int u = compat::ActuatorCount(m) - 1; u >= 0; --u) {
       int adr = compat::ActuatorActAddress(m, u);
       if (adr >= 0 && adr <= n) {
         return label + " (actuator '" + SnapshotElementName(model, mjOBJ_ACTUATOR, u) + "')";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 
 namespace plumb {
@@ -125,8 +126,8 @@ ModelDescription Describe(const Model& model) {
     joint.body = m->jnt_bodyid[j];
     joint.qposadr = m->jnt_qposadr[j];
     joint.dofadr = m->jnt_dofadr[j];
-    joint.nq = type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1;
-    joint.nv = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+    joint.nq = JointQposSize(type);
+    joint.nv = JointDofSize(type);
     joint.limited = m->jnt_limited[j];
     joint.range = {m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
     joint.damping = m->dof_damping[joint.dofadr];

@@ -294,14 +294,15 @@ std::vector<std::string> SilentChangeWarnings(const Model& model, const Assignme
   if (is_ctrl && (m->opt.disableflags & mjDSBL_CLAMPCTRL)) return warnings;
   for (long k = 0; k < a.path.count; ++k) {
     long row = a.path.first + k;
-    int id = -1;
-    for (int u = 0; u < m->nu && id < 0; ++u) {
-      if (is_ctrl ? u == row : compat::ActuatorActAddress(m, u) == row) id = u;
+    // ctrlrange has a row per control, actrange one per actuator
+    int id = is_ctrl ? compat::ControlActuator(m, row) : -1;
+    for (int u = 0; !is_ctrl && u < compat::ActuatorCount(m) && id < 0; ++u) {
+      if (compat::ActuatorActAddress(m, u) == row) id = u;
     }
     if (id < 0) continue;
-    bool limited = is_ctrl ? m->actuator_ctrllimited[id] : m->actuator_actlimited[id];
+    bool limited = is_ctrl ? m->actuator_ctrllimited[row] : m->actuator_actlimited[id];
     if (!limited) continue;
-    const mjtNum* range = (is_ctrl ? m->actuator_ctrlrange : m->actuator_actrange) + 2 * id;
+    const mjtNum* range = is_ctrl ? m->actuator_ctrlrange + 2 * row : m->actuator_actrange + 2 * id;
     double v = a.values[k];
     if (v >= range[0] && v <= range[1]) continue;
     std::string name = model.Name(mjOBJ_ACTUATOR, id);

@@ -159,7 +159,9 @@ std::string ElementLabel(const Model& model, const char* array, int index) {
            (name.empty() ? "#" + std::to_string(id) : "'" + name + "'") + ")";
   };
   std::string a = array;
-  if (a == "ctrl" && index >= 0 && index < m->nu) return named(mjOBJ_ACTUATOR, index, "actuator");
+  if (a == "ctrl" && index >= 0 && index < m->nu) {
+    return named(mjOBJ_ACTUATOR, compat::ControlActuator(m, index), "actuator");
+  }
   if (a == "qpos" && index >= 0 && index < m->nq) {
     for (int j = m->njnt - 1; j >= 0; --j) {
       if (m->jnt_qposadr[j] <= index) return named(mjOBJ_JOINT, j, "joint");

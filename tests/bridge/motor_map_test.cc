@@ -74,6 +74,32 @@ TEST(MotorMapTest, RefusesWhatIsNotATorqueMotor) {
   EXPECT_EQ(MotorMap::Bind(pendulum, {"hinge"}).size(), 1u);
 }
 
+// MuJoCo 3.12+: a pid before the motor takes two controls, so the motor's control and force
+// rows are not its actuator id
+TEST(MotorMapTest, AMotorAfterAPidDrivesItsOwnControl) {
+  if (!(mjVERSION_HEADER >= 3012000)) GTEST_SKIP() << "pid actuators came with MuJoCo 3.12";
+  Model model = Model::FromXmlString(testing::TwoHingeArm(R"(<pid name="p" joint="a" kp="10" kv="1"/>
+      <motor name="m" joint="b" gear="2" ctrlrange="-3 3" ctrllimited="true"/>)"));
+  MotorMap map = MotorMap::Bind(model, {"m"});
+  const Motor& motor = map.motors()[0];
+  EXPECT_EQ(motor.actuator, 1);
+  EXPECT_EQ(motor.ctrl, 2);  // after the pid's position and velocity setpoints
+  EXPECT_DOUBLE_EQ(motor.torque_hi, 6);  // its own ctrlrange 3 x gear 2
+  Data data(model);
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 0, 4), 4);
+  EXPECT_DOUBLE_EQ(data->ctrl[2], 2);
+  EXPECT_DOUBLE_EQ(data->ctrl[1], 0);  // the pid's velocity setpoint is untouched
+  data.Forward();
+  EXPECT_DOUBLE_EQ(map.TauEst(data.get(), 0), 4);
+  // bound by default, the pid is refused by name, not mistaken for the motor
+  try {
+    MotorMap::Bind(model, {});
+    FAIL() << "no error";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("actuator 'p'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PdLawTest, IsUnitreesLawAndModeZeroIsLimp) {
   MotorCommand c;
   c.mode = 1;

@@ -196,6 +196,32 @@ TEST_F(VerifyTest, AnEngagedLimitIsNotAConservativeSystem) {
   EXPECT_FALSE(report.failed()) << Failures(report);
 }
 
+TEST_F(VerifyTest, APluginActuatorIsNotAPassiveSystem) {
+  if (mjVERSION_HEADER < 300) GTEST_SKIP() << "MuJoCo 2.x has no plugins";
+  // as MuJoCo's own mujoco.pid sample: sliders under gravity, each held by a pid plugin (a
+  // P-only one bounces, adding energy the plugin's way); at ctrl = 0 nothing plain pushes,
+  // yet the plugin does
+  Model model = Model::FromXmlString(R"(<mujoco>
+      <extension><plugin plugin="mujoco.pid">
+        <instance name="p_only"><config key="kp" value="4"/></instance>
+        <instance name="pd"><config key="kp" value="4"/><config key="kd" value="0.4"/></instance>
+      </plugin></extension>
+      <worldbody><geom type="plane" pos="0 0 -0.1" size="0 0 10"/>
+        <body pos="-0.05 0 0"><joint name="a" type="slide" axis="0 0 1"/><geom size="0.01"/></body>
+        <body pos="0.05 0 0"><joint name="b" type="slide" axis="0 0 1"/><geom size="0.01"/></body>
+      </worldbody>
+      <actuator><plugin name="bouncy" joint="a" plugin="mujoco.pid" instance="p_only" ctrlrange="0 0.15"/>
+        <plugin joint="b" plugin="mujoco.pid" instance="pd" ctrlrange="0 0.15"/></actuator>
+    </mujoco>)");
+  VerifyReport report = Verify(model, {});
+  const CheckRow& energy = Find(report, "energy");
+  EXPECT_EQ(energy.status, CheckStatus::kSkip) << energy.explanation;
+  EXPECT_NE(energy.explanation.find("actuator 'bouncy' comes from a plugin (mujoco.pid)"),
+            std::string::npos)
+      << energy.explanation;
+  EXPECT_FALSE(report.failed()) << Failures(report);
+}
+
 TEST_F(VerifyTest, CoupledJointsAreNotHeldToFallingPeaks) {
   // a damped double pendulum: energy only falls, but one link may swing higher as the
   // other hands it energy; only the total-energy test applies

@@ -130,13 +130,8 @@ TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
 // it is the second actuator, not a phantom third
 TEST_F(DescribeTest, APidBeforeADcMotorIsTwoActuators) {
   if (!(mjVERSION_HEADER >= 3012000)) GTEST_SKIP() << "pid actuators came with MuJoCo 3.12";
-  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
-      <body><joint name="a" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
-        <body pos="0.3 0 0"><joint name="b" axis="0 1 0"/>
-          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
-    <actuator><pid name="p" joint="a" kp="10" kv="1"/>
-      <dcmotor name="m" joint="b" motorconst="0.05" resistance="1" ctrlrange="-12 12"/>
-    </actuator></mujoco>)");
+  Model model = Model::FromXmlString(testing::TwoHingeArm(R"(<pid name="p" joint="a" kp="10" kv="1"/>
+      <dcmotor name="m" joint="b" motorconst="0.05" resistance="1" ctrlrange="-12 12"/>)"));
   ModelDescription d = Describe(model);
   ASSERT_EQ(d.actuators.size(), 2u);
   EXPECT_EQ(d.actuators[0].kind, "pid");

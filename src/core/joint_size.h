@@ -1,0 +1,16 @@
+// The qpos and dof block sizes of MuJoCo's joint types. Private to the library.
+
+#ifndef PLUMB_SRC_CORE_JOINT_SIZE_H_
+#define PLUMB_SRC_CORE_JOINT_SIZE_H_
+
+#include <mujoco/mujoco.h>
+
+namespace plumb {
+
+// 7 and 6 for a free joint, 4 and 3 for a ball joint, 1 and 1 for a hinge or slide.
+inline int JointQposSize(int type) { return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1; }
+inline int JointDofSize(int type) { return type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1; }
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_CORE_JOINT_SIZE_H_
