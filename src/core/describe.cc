@@ -211,7 +211,11 @@ ModelDescription Describe(const Model& model) {
        "actuator_gear, ...",
        "the MJCF compiler; fixed while the simulation runs (assign before a run)"},
       {"state", "mjData",
-       "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na),
+       "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na) +
+           (compat::PlasticSize(m) ? ", " + n("plastic", compat::PlasticSize(m)) : "") +
+           (compat::HistorySize(m) ? ", " + n("history", compat::HistorySize(m)) +
+                                         " (delays' ring buffer: read only)"
+                                   : ""),
        "mj_step, which advances it; you may also set it, then call mj_forward"},
       {"input", "mjData",
        n("ctrl", m->nu) + ", " + n("qfrc_applied", m->nv) + ", " +

@@ -1,5 +1,6 @@
 #include "plumb/keyframe.h"
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/strings.h"
 
@@ -53,6 +54,8 @@ std::vector<Assignment> KeyframeAssignments(const Model& model, const std::strin
   add("ctrl", m->key_ctrl, m->nu);
   add("mocap_pos", m->key_mpos, 3L * m->nmocap);
   add("mocap_quat", m->key_mquat, 4L * m->nmocap);
+  auto [plastic, nplastic] = compat::KeyPlastic(m);
+  if (plastic) add("plastic", plastic, nplastic);
   return out;
 }
 

@@ -546,6 +546,37 @@ int ActuatorPlugin(const M*, int, long) {
 // 2.x, which has no plugins).
 inline int ActuatorPlugin(const mjModel* m, int u) { return detail::ActuatorPlugin(m, u, 0); }
 
+namespace detail {
+template <typename M>
+auto KeyPlastic(const M* m, int) -> decltype(m->key_plastic, std::pair<const double*, long>()) {
+  return {m->key_plastic, static_cast<long>(m->nplastic)};
+}
+template <typename M>
+std::pair<const double*, long> KeyPlastic(const M*, long) {
+  return {nullptr, 0};
+}
+template <typename M>
+auto HistorySize(const M* m, int) -> decltype(m->nhistory, long()) {
+  return static_cast<long>(m->nhistory);
+}
+template <typename M>
+long HistorySize(const M*, long) {
+  return 0;
+}
+}  // namespace detail
+
+// The plastic state (4.0's plastic springs: each yielded spring's rest offset, d->plastic) as
+// the keyframes hold it: key_plastic (nkey rows) and its row length nplastic; {nullptr, 0}
+// before 4.0.
+inline std::pair<const double*, long> KeyPlastic(const mjModel* m) {
+  return detail::KeyPlastic(m, 0);
+}
+inline long PlasticSize(const mjModel* m) { return KeyPlastic(m).second; }
+
+// The length of d->history, MuJoCo's ring buffer of past controls and sensor values for
+// actuator and sensor delays (3.5+), or 0.
+inline long HistorySize(const mjModel* m) { return detail::HistorySize(m, 0); }
+
 // The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
 inline std::string PluginName(const mjModel* m, int instance) {
 #if mjVERSION_HEADER >= 300

@@ -76,7 +76,7 @@ constexpr DataRole kWritableData[] = {
     {"qpos", Role::kState},           {"qvel", Role::kState},      {"act", Role::kState},
     {"qacc_warmstart", Role::kState}, {"ctrl", Role::kInput},      {"qfrc_applied", Role::kInput},
     {"xfrc_applied", Role::kInput},   {"mocap_pos", Role::kInput}, {"mocap_quat", Role::kInput},
-    {"userdata", Role::kInput},
+    {"userdata", Role::kInput},       {"plastic", Role::kState},
 };
 
 // Model constants recomputed by the compiler and mj_setConst: writing them is undone.

@@ -61,7 +61,12 @@ void RequireWritable(const Path& path) {
   if (path.writable) return;
   const FieldInfo& field = Fields()[path.field_index];
   std::string why;
-  if (path.role == Role::kDerived) {
+  if (field.name == std::string("history")) {
+    why =
+        "it is MuJoCo's ring buffer of past controls and sensor values, which actuator and "
+        "sensor delays read: mj_step writes it and a reset or keyframe fills it; set ctrl "
+        "instead.";
+  } else if (path.role == Role::kDerived) {
     why =
         "it is derived: MuJoCo computes it from the state (qpos, qvel, act) and inputs "
         "(ctrl) in mj_forward/mj_step; set those instead.";

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "fixture.h"
 #include "keyed_model.h"
 #include "plumb/error.h"
@@ -25,6 +27,31 @@ TEST_F(KeyframeTest, AssignmentsMatchMjResetDataKeyframe) {
     for (int i = 0; i < 3; ++i) EXPECT_EQ(ours->mocap_pos[i], mujocos->mocap_pos[i]) << name;
     for (int i = 0; i < 4; ++i) EXPECT_EQ(ours->mocap_quat[i], mujocos->mocap_quat[i]) << name;
   }
+}
+
+// MuJoCo 4.0's plastic springs: a keyframe's plastic state (a yielded spring's rest offset)
+// starts the run as mj_resetDataKeyframe starts it, and a second later the joint is where
+// MuJoCo's own run puts it, to the last bit; plastic[] can be set like any other state.
+TEST_F(KeyframeTest, APlasticKeyframeStartsWhereMujocosResetDoes) {
+  if (!(mjVERSION_HEADER >= 4000000)) GTEST_SKIP() << "plastic springs came with MuJoCo 4.0";
+  Model model = Model::FromXmlString(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+      <body pos="0 0 1"><joint name="j" axis="0 1 0" stiffness="10" springyield="1" damping="1"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></worldbody>
+      <keyframe><key name="bent" qpos="0" plastic="0.4"/></keyframe></mujoco>)");
+  Data ours(model), mujocos(model);
+  ApplyAssignments(model, ours, KeyframeAssignments(model, "bent"));
+  mj_resetDataKeyframe(model.get(), mujocos.get(), FindKeyframe(model, "bent"));
+  mj_forward(model.get(), mujocos.get());
+  EXPECT_EQ(ours->plastic[0], 0.4);
+  for (int i = 0; i < 500; ++i) {
+    mj_step(model.get(), ours.get());
+    mj_step(model.get(), mujocos.get());
+  }
+  EXPECT_EQ(ours->qpos[0], mujocos->qpos[0]);
+  EXPECT_GT(std::fabs(ours->qpos[0]), 1e-3);  // the offset rest pulls the joint away from 0
+  Data set(model);
+  ApplyAssignments(model, set, {ParseAssignment(model, "plastic[0]=0.4")});
+  EXPECT_EQ(set->plastic[0], 0.4);
 }
 
 // One reference pose for every command: the named keyframe, else "home", else "test", else
