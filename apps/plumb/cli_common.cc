@@ -14,6 +14,7 @@
 #include <new>
 #include <optional>
 
+#include "plumb/describe.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/run.h"
@@ -209,6 +210,10 @@ Model LoadModel(const std::string& path) {
   for (const std::string& w : TakeMujocoWarnings()) {
     std::fprintf(stderr, "plumb: warning: MuJoCo while loading '%s': %s\n", path.c_str(),
                  w.c_str());
+  }
+  for (const DelayDescription& delay : Delays(model)) {
+    if (!delay.shortened()) continue;
+    std::fprintf(stderr, "plumb: warning: '%s': %s.\n", path.c_str(), delay.Warning().c_str());
   }
   return model;
 }

@@ -122,6 +122,20 @@ std::string Table(const ModelDescription& d) {
                      fmt::format("sensordata[{}..{}]", s.adr, s.adr + s.dim - 1),
                      s.unit.empty() ? "-" : s.unit));
   }
+  if (!d.delays.empty()) {
+    line("");
+    line("delays (MuJoCo keeps nsample past values: it delays by at most nsample x timestep)");
+    line(fmt::format("  {:<8} {:>3} {:<16} {:>10} {:>8} {:>10}  {}", "kind", "id", "name",
+                     "delay [s]", "nsample", "buffer [s]", "applied"));
+    for (const DelayDescription& delay : d.delays) {
+      line(fmt::format("  {:<8} {:>3} {:<16} {:>10.6g} {:>8} {:>10.6g}  {}", delay.kind, delay.id,
+                       delay.name, delay.delay, delay.nsample, delay.buffer,
+                       delay.shortened()
+                           ? fmt::format("{:g} s: SHORTENED, nsample {} keeps {:g} s",
+                                         delay.buffer, delay.needed_nsample, delay.delay)
+                           : fmt::format("{:g} s", delay.delay)));
+    }
+  }
   line("");
   line("what is what");
   for (const RoleDescription& r : d.roles) {

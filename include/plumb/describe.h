@@ -89,6 +89,22 @@ struct RoleDescription {
   std::string who_writes;  // who changes it, e.g. "you, before mj_forward"
 };
 
+// An actuator's or sensor's delay (MuJoCo 3.5+: delay="..." nsample="..."). MuJoCo keeps
+// nsample past values, so it can delay by at most nsample x timestep: a longer delay is
+// silently shortened to that.
+struct DelayDescription {
+  std::string kind;  // "actuator" or "sensor"
+  int id = 0;
+  std::string name;
+  double delay = 0;   // as written, s
+  long nsample = 0;   // history samples kept
+  double buffer = 0;  // nsample x timestep, s: the longest delay MuJoCo applies
+  long needed_nsample = 0;  // the nsample that covers `delay`
+  bool shortened() const { return delay > buffer * (1 + 1e-9); }
+  // "actuator 'm' (id 0): delay 0.5 s is longer than its buffer ... ", or "" when covered.
+  std::string Warning() const;
+};
+
 struct ModelDescription {
   std::string file;
   std::string model_name;
@@ -100,12 +116,16 @@ struct ModelDescription {
   std::vector<JointDescription> joints;
   std::vector<ActuatorDescription> actuators;
   std::vector<SensorDescription> sensors;
+  std::vector<DelayDescription> delays;  // every delayed actuator, then every delayed sensor
   std::vector<RoleDescription> roles;
   double total_mass = 0;  // kg
 };
 
 // Describes `model` as compiled.
 ModelDescription Describe(const Model& model);
+
+// The delayed actuators and sensors of `model` (Describe's `delays`, without the rest).
+std::vector<DelayDescription> Delays(const Model& model);
 
 // The unit of the position of what actuator `actuator` drives: "rad" for a hinge, "m" for
 // a slide or a tendon, "m, rad" for site and body transmissions. The actuator length is

@@ -534,6 +534,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
     if (Holding(model, data, u, element, holding_rows < kMaxListed, out)) ++holding_rows;
   }
   ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
+  DelayRows(model, "actuator", L, "actuator.delay", out);
   ServoStability(model, data, out);
   ActuatorRank(model, data, out);
   MirrorActuators(model, out);

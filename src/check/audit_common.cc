@@ -8,6 +8,7 @@
 
 #include "check/audit_layers.h"
 #include "core/geometry.h"
+#include "plumb/describe.h"
 
 namespace plumb::audit {
 
@@ -85,6 +86,25 @@ std::string DivergedFix(const Observed& o) {
          "on the named joint, softer contacts or gains; plumb converge shows whether the "
          "timestep is the cause." +
          (o.repro.empty() ? "" : " Repro folder: " + o.repro + ".");
+}
+
+void DelayRows(const Model& model, const std::string& kind, const char* layer,
+               const char* check, std::vector<CheckRow>* out) {
+  const int obj = kind == "actuator" ? mjOBJ_ACTUATOR : mjOBJ_SENSOR;
+  for (const DelayDescription& d : Delays(model)) {
+    if (d.kind != kind) continue;
+    std::string measured = fmt::format("delay {:g} s, buffer {} x {:g} s = {:g} s", d.delay,
+                                       d.nsample, model->opt.timestep, d.buffer);
+    out->push_back(WithNumbers(
+        Make(layer, check, ElementOf(model, obj, d.id, kind.c_str()), measured,
+             "delay <= buffer", d.shortened() ? CheckStatus::kWarn : CheckStatus::kPass,
+             d.shortened()
+                 ? fmt::format("MuJoCo keeps {} samples, so it delays by {:g} s, not {:g} s: set "
+                               "nsample=\"{}\" or more",
+                               d.nsample, d.buffer, d.delay, d.needed_nsample)
+                 : "the history buffer holds the whole delay"),
+        {d.delay, "s"}, {d.buffer, "s"}));
+  }
 }
 
 }  // namespace plumb::audit

@@ -103,6 +103,11 @@ Observed Observe(const Model& model, const std::vector<Assignment>& sets, const 
                  double duration, const std::function<void(mjData*, double)>& control,
                  const AuditOptions& options, const std::string& label, double longest = 0);
 
+// One row per delayed element of `kind` ("actuator" or "sensor"): WARN when its delay is
+// longer than the nsample x timestep its history buffer holds (MuJoCo silently shortens it).
+void DelayRows(const Model& model, const std::string& kind, const char* layer, const char* check,
+               std::vector<CheckRow>* out);
+
 // The layers, in the order the audit runs them; each appends its findings to `out` and
 // the runs it made to `runs`.
 void StructureLayer(const Model& model, std::vector<CheckRow>* out);

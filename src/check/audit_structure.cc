@@ -202,6 +202,7 @@ void StructureLayer(const Model& model, std::vector<CheckRow>* out) {
   MirrorJoints(model, out);
   NqNv(model, out);
   ActuatorsAndSensors(model, out);
+  DelayRows(model, "sensor", L, "structure.sensor_delay", out);
 }
 
 }  // namespace plumb::audit

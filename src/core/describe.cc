@@ -1,6 +1,9 @@
 #include "plumb/describe.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 
 #include "core/joint_size.h"
 #include "core/mujoco_compat.h"
@@ -87,6 +90,38 @@ std::string ActuatorPositionUnit(const mjModel* m, int actuator) {
 // Long by design (about 130 lines): one block per section of the description, in the order
 // `plumb inspect` prints them; each block is a few lines of copying, and splitting them would
 // scatter the one list a reader checks against the output.
+std::string DelayDescription::Warning() const {
+  if (!shortened()) return "";
+  return fmt::format(
+      "{} '{}' (id {}): delay {:g} s is longer than its buffer of {} samples x timestep = {:g} s, "
+      "so MuJoCo delays it by {:g} s only; set nsample=\"{}\" (or more) on the {} to keep "
+      "{:g} s",
+      kind, name.empty() ? "#" + std::to_string(id) : name, id, delay, nsample, buffer, buffer,
+      needed_nsample, kind, delay);
+}
+
+std::vector<DelayDescription> Delays(const Model& model) {
+  const mjModel* m = model.get();
+  std::vector<DelayDescription> out;
+  auto add = [&](const char* kind, int type, int id, compat::Delay d) {
+    if (d.seconds <= 0) return;
+    DelayDescription delay;
+    delay.kind = kind;
+    delay.id = id;
+    delay.name = model.Name(type, id);
+    delay.delay = d.seconds;
+    delay.nsample = d.nsample;
+    delay.buffer = static_cast<double>(d.nsample) * m->opt.timestep;
+    delay.needed_nsample = static_cast<long>(std::ceil(d.seconds / m->opt.timestep - 1e-9));
+    out.push_back(delay);
+  };
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
+    add("actuator", mjOBJ_ACTUATOR, u, compat::ActuatorDelay(m, u));
+  }
+  for (int s = 0; s < m->nsensor; ++s) add("sensor", mjOBJ_SENSOR, s, compat::SensorDelay(m, s));
+  return out;
+}
+
 ModelDescription Describe(const Model& model) {
   const mjModel* m = model.get();
   ModelDescription out;
@@ -201,6 +236,7 @@ ModelDescription Describe(const Model& model) {
                            compat::NameOf(compat::kSensorTypes, m->sensor_type[s]),
                            m->sensor_adr[s], m->sensor_dim[s], SensorUnit(m, s)});
   }
+  out.delays = Delays(model);
 
   auto n = [](const char* field, long size) {
     return std::string(field) + " (" + std::to_string(size) + ")";

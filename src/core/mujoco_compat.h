@@ -577,6 +577,34 @@ inline long PlasticSize(const mjModel* m) { return KeyPlastic(m).second; }
 // actuator and sensor delays (3.5+), or 0.
 inline long HistorySize(const mjModel* m) { return detail::HistorySize(m, 0); }
 
+// An actuator's or sensor's delay (3.5+: delay="..." nsample="..."): the delay as written, s,
+// and the samples of history kept for it, which bound the delay MuJoCo can apply to
+// nsample x timestep. {0, 0} for none, and always before 3.5.
+struct Delay {
+  double seconds = 0;
+  long nsample = 0;
+};
+namespace detail {
+template <typename M>
+auto ActuatorDelay(const M* m, int u, int) -> decltype(m->actuator_delay, Delay()) {
+  return {m->actuator_delay[u], m->actuator_history[2 * u]};
+}
+template <typename M>
+Delay ActuatorDelay(const M*, int, long) {
+  return {};
+}
+template <typename M>
+auto SensorDelay(const M* m, int s, int) -> decltype(m->sensor_delay, Delay()) {
+  return {m->sensor_delay[s], m->sensor_history[2 * s]};
+}
+template <typename M>
+Delay SensorDelay(const M*, int, long) {
+  return {};
+}
+}  // namespace detail
+inline Delay ActuatorDelay(const mjModel* m, int u) { return detail::ActuatorDelay(m, u, 0); }
+inline Delay SensorDelay(const mjModel* m, int s) { return detail::SensorDelay(m, s, 0); }
+
 // The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
 inline std::string PluginName(const mjModel* m, int instance) {
 #if mjVERSION_HEADER >= 300

@@ -94,6 +94,18 @@ std::string DescriptionToJson(const ModelDescription& d, const std::string& mujo
                        {"unit", s.unit}});
   }
   j["sensors"] = sensors;
+  ordered_json delays = ordered_json::array();
+  for (const DelayDescription& delay : d.delays) {
+    delays.push_back({{"kind", delay.kind},
+                      {"id", delay.id},
+                      {"name", delay.name},
+                      {"delay", delay.delay},
+                      {"nsample", delay.nsample},
+                      {"buffer", delay.buffer},
+                      {"shortened", delay.shortened()},
+                      {"needed_nsample", delay.needed_nsample}});
+  }
+  j["delays"] = delays;
   ordered_json roles = ordered_json::array();
   for (const RoleDescription& r : d.roles) {
     roles.push_back({{"role", r.role},

@@ -41,6 +41,21 @@ TEST(CliRunTest, TableReproducesTheChapter) {
   EXPECT_EQ(r.err, "");
 }
 
+// A delay longer than its history buffer is silently shortened by MuJoCo: loading says so
+TEST(CliRunTest, LoadingWarnsOfAShortenedDelay) {
+  if (!(mjVERSION_HEADER >= 3005000)) GTEST_SKIP() << "delays came with MuJoCo 3.5";
+  testing::TempDir dir;
+  std::string model = dir.File("late.xml");
+  testing::WriteFile(model, testing::TwoHingeArm(R"(<motor name="late" joint="a" delay="0.5"
+      nsample="20"/>)"));
+  CommandResult r = RunPlumb("run " + model + " --until 0.01");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("plumb: warning: '" + model + "': actuator 'late' (id 0): delay 0.5 s is "
+                       "longer than its buffer of 20 samples x timestep = 0.04 s"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CliRunTest, CsvToFileHasExactHeader) {
   TempDir dir;
   CommandResult r = RunPlumb(

@@ -163,6 +163,33 @@ TEST_F(AuditCorpusTest, AMirrorPairEditedOnOneSideIsCaught) {
   EXPECT_NEAR(rows[0].measured.value, (2.5116 - 1.932) / 2.5116, 1e-3);
 }
 
+// A 20 ms actuation latency added to the Go2's motors for sim-to-real, as MuJoCo 3.5+ allows,
+// with a history of 5 samples (written thinking of a 4 ms control period): MuJoCo keeps 5 x 2 ms,
+// so the motors lag 10 ms, not 20. Every motor is named; 10 samples keep the 20 ms.
+TEST_F(AuditCorpusTest, ADelayLongerThanItsBufferIsCaught) {
+  if (!(mjVERSION_HEADER >= 3005000)) GTEST_SKIP() << "delays came with MuJoCo 3.5";
+  std::string go2 = Path(kGo2);
+  if (go2.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  const std::string motor = R"(<motor ctrlrange="-23.7 23.7"/>)";
+  AuditReport short_buffer = AuditEdited(
+      go2, {{motor, R"(<motor ctrlrange="-23.7 23.7" delay="0.02" nsample="5"/>)"}});
+  std::vector<CheckRow> rows = Findings(short_buffer, "actuator.delay");
+  ASSERT_EQ(rows.size(), 12u) << Rows(rows);
+  EXPECT_EQ(rows[0].element.name, "FL_hip");
+  EXPECT_EQ(rows[0].status, CheckStatus::kWarn);
+  EXPECT_DOUBLE_EQ(rows[0].measured.value, 0.02);
+  EXPECT_NEAR(rows[0].reference.value, 0.01, 1e-12);
+  EXPECT_NE(rows[0].fix.find("nsample=\"10\""), std::string::npos) << rows[0].fix;
+
+  AuditReport enough = AuditEdited(
+      go2, {{motor, R"(<motor ctrlrange="-23.7 23.7" delay="0.02" nsample="10"/>)"}});
+  EXPECT_TRUE(Findings(enough, "actuator.delay").empty())
+      << Rows(Findings(enough, "actuator.delay"));
+  int judged = 0;
+  for (const CheckRow& row : enough.findings) judged += row.id == "actuator.delay";
+  EXPECT_EQ(judged, 12);
+}
+
 TEST_F(AuditCorpusTest, CleanRobotsRaiseNoneOfTheOldFalseAlarms) {
   std::string spot = Path(kSpotArm), ur5e = Path(kUr5e), go2 = Path(kGo2), quad = Path(kQuadrotor),
               payload = Path(kQuadPayload);

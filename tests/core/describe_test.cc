@@ -142,5 +142,26 @@ TEST_F(DescribeTest, APidBeforeADcMotorIsTwoActuators) {
   EXPECT_EQ(d.actuators[1].ctrlrange[1], 12);
 }
 
+// MuJoCo 3.5+ delays: every delayed actuator and sensor with its buffer, nsample x timestep;
+// a delay longer than the buffer is shortened by MuJoCo, and the description says so
+TEST_F(DescribeTest, DelaysShowTheirBufferAndWhenMujocoShortensThem) {
+  if (!(mjVERSION_HEADER >= 3005000)) GTEST_SKIP() << "delays came with MuJoCo 3.5";
+  Model model = Model::FromXmlString(testing::TwoHingeArm(R"(
+      <motor name="late" joint="a" delay="0.5" nsample="20"/>
+      <motor name="prompt" joint="b" delay="0.01" nsample="5"/>)"));
+  ModelDescription d = Describe(model);
+  ASSERT_EQ(d.delays.size(), 2u);
+  const DelayDescription& late = d.delays[0];
+  EXPECT_EQ(late.kind, "actuator");
+  EXPECT_EQ(late.name, "late");
+  EXPECT_NEAR(late.buffer, 0.04, 1e-12);
+  EXPECT_TRUE(late.shortened());
+  EXPECT_EQ(late.needed_nsample, 250);
+  EXPECT_NE(late.Warning().find("so MuJoCo delays it by 0.04 s only"), std::string::npos)
+      << late.Warning();
+  EXPECT_FALSE(d.delays[1].shortened());  // 5 x 2 ms hold 10 ms
+  EXPECT_EQ(d.delays[1].Warning(), "");
+}
+
 }  // namespace
 }  // namespace plumb
