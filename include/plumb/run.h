@@ -82,6 +82,12 @@ struct StateSnapshot {
   long step = 0;
   double time = 0;  // simulation time of this state, s
   std::vector<double> qpos, qvel, act, ctrl;
+  // Everything the next step starts from, as one vector: on MuJoCo 3.5+ mj_getState's
+  // mjSTATE_INTEGRATION (also the warm start, applied forces, mocap, eq_active, userdata,
+  // plugin state, and the history of delays and 4.0's plastic state), for mj_setState; on
+  // 2.x time, qpos, qvel, act, qacc_warmstart, ctrl, qfrc_applied, xfrc_applied, mocap_pos
+  // and mocap_quat. IntegrationStateLayout() names what it holds.
+  std::vector<double> integration;
   // Accelerations (length nv) MuJoCo computes at this state; filled only for the bad
   // state of a divergence that MuJoCo's own checks caught (they reset the data, so plumb
   // recomputes them from the saved state).
@@ -91,6 +97,13 @@ struct StateSnapshot {
 
 // Copies the state `data` holds, labelled as the state after `step` steps.
 StateSnapshot Snapshot(const Model& model, const Data& data, long step);
+
+// Puts `state` back into `data` (all of StateSnapshot::integration), then calls mj_forward.
+void Restore(const Model& model, Data& data, const StateSnapshot& state);
+
+// What StateSnapshot::integration holds with the MuJoCo plumb was built with:
+// "mjSTATE_INTEGRATION", or the list of 2.x's parts.
+const char* IntegrationStateLayout();
 
 // One kind of MuJoCo warning raised during a run.
 struct WarningSummary {

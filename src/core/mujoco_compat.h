@@ -605,6 +605,59 @@ Delay SensorDelay(const M*, int, long) {
 inline Delay ActuatorDelay(const mjModel* m, int u) { return detail::ActuatorDelay(m, u, 0); }
 inline Delay SensorDelay(const mjModel* m, int s) { return detail::SensorDelay(m, s, 0); }
 
+// The whole state a step starts from, as one vector: on 3.5+ mj_getState's
+// mjSTATE_INTEGRATION (time, qpos, qvel, act, history, plastic, plugin state, warm start,
+// ctrl, applied forces, eq_active, mocap and userdata, in MuJoCo's order, for mj_setState);
+// 2.x has no mj_getState, and the vector holds time, qpos, qvel, act, warm start, ctrl,
+// qfrc_applied, xfrc_applied, mocap_pos and mocap_quat, in that order.
+#if mjVERSION_HEADER >= 3005000
+inline constexpr const char* kIntegrationStateName = "mjSTATE_INTEGRATION";
+inline long IntegrationStateSize(const mjModel* m) {
+  return mj_stateSize(m, mjSTATE_INTEGRATION);
+}
+inline void GetIntegrationState(const mjModel* m, const mjData* d, double* state) {
+  mj_getState(m, d, state, mjSTATE_INTEGRATION);
+}
+inline void SetIntegrationState(const mjModel* m, mjData* d, const double* state) {
+  mj_setState(m, d, state, mjSTATE_INTEGRATION);
+}
+#else
+namespace detail {
+// Each part of 2.x's state vector: where it lives in mjData and its length.
+template <typename Visit>
+void StateParts(const mjModel* m, mjData* d, Visit visit) {
+  visit(&d->time, 1L);
+  visit(d->qpos, static_cast<long>(m->nq));
+  visit(d->qvel, static_cast<long>(m->nv));
+  visit(d->act, static_cast<long>(m->na));
+  visit(d->qacc_warmstart, static_cast<long>(m->nv));
+  visit(d->ctrl, static_cast<long>(m->nu));
+  visit(d->qfrc_applied, static_cast<long>(m->nv));
+  visit(d->xfrc_applied, 6L * m->nbody);
+  visit(d->mocap_pos, 3L * m->nmocap);
+  visit(d->mocap_quat, 4L * m->nmocap);
+}
+}  // namespace detail
+inline constexpr const char* kIntegrationStateName =
+    "time, qpos, qvel, act, qacc_warmstart, ctrl, qfrc_applied, xfrc_applied, mocap_pos, "
+    "mocap_quat";
+inline long IntegrationStateSize(const mjModel* m) {
+  return 1L + m->nq + 3L * m->nv + m->na + m->nu + 6L * m->nbody + 7L * m->nmocap;
+}
+inline void GetIntegrationState(const mjModel* m, const mjData* d, double* state) {
+  detail::StateParts(m, const_cast<mjData*>(d), [&](const double* part, long size) {
+    std::copy(part, part + size, state);
+    state += size;
+  });
+}
+inline void SetIntegrationState(const mjModel* m, mjData* d, const double* state) {
+  detail::StateParts(m, d, [&](double* part, long size) {
+    std::copy(state, state + size, part);
+    state += size;
+  });
+}
+#endif
+
 // The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
 inline std::string PluginName(const mjModel* m, int instance) {
 #if mjVERSION_HEADER >= 300

@@ -17,6 +17,11 @@ ordered_json StateJson(const StateSnapshot& s) {
                     {"qvel", s.qvel}, {"act", s.act},   {"ctrl", s.ctrl}};
   if (!s.qacc.empty()) j["qacc"] = s.qacc;  // NaN and Inf are written as null
   if (!s.note.empty()) j["note"] = s.note;
+  // version 2 added the integration state (MuJoCo 3.5+'s history and 4.0's plastic state)
+  j["format"] = "plumb.state";
+  j["format_version"] = 2;
+  j["integration_layout"] = IntegrationStateLayout();
+  j["integration"] = s.integration;
   return j;
 }
 }  // namespace

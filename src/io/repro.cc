@@ -73,8 +73,11 @@ std::string WriteRepro(const Model& model, const RunResult& result,
                   "                own check fired and reset the data, the state it found bad\n"
                   "                with its accelerations (qacc) and a note\n"
                   "warnings.json   MuJoCo warnings raised during the run\n\n"
-                  "To reproduce: load model.mjb, set time/qpos/qvel/act/ctrl from\n"
-                  "last_good.json, call mj_forward, then mj_step once.\n" +
+                  "To reproduce: load model.mjb, put last_good.json's \"integration\" into\n"
+                  "an mjData (mj_setState with " +
+                  std::string(IntegrationStateLayout()) +
+                  "; it holds\nevery part of the state, delays' history and plastic state "
+                  "included), call\nmj_forward, then mj_step once. plumb::Restore does it.\n" +
                   xml_note);
   } catch (...) {
     fs::remove_all(temp, ec);

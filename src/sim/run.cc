@@ -1,5 +1,7 @@
 #include "plumb/run.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -76,6 +78,8 @@ StateSnapshot SnapshotOf(const mjModel* m, const mjData* d, long step) {
   s.qvel.assign(d->qvel, d->qvel + m->nv);
   s.act.assign(d->act, d->act + m->na);
   s.ctrl.assign(d->ctrl, d->ctrl + m->nu);
+  s.integration.resize(compat::IntegrationStateSize(m));
+  compat::GetIntegrationState(m, d, s.integration.data());
   return s;
 }
 
@@ -85,20 +89,27 @@ StateSnapshot Snapshot(const Model& model, const Data& data, long step) {
   return SnapshotOf(model.get(), data.get(), step);
 }
 
+void Restore(const Model& model, Data& data, const StateSnapshot& state) {
+  if (static_cast<long>(state.integration.size()) != compat::IntegrationStateSize(model.get())) {
+    throw ValueError(fmt::format(
+        "the saved state holds {} numbers, but '{}' needs {} ({}): it was saved from another "
+        "model or MuJoCo version",
+        state.integration.size(), model.file(), compat::IntegrationStateSize(model.get()),
+        compat::kIntegrationStateName));
+  }
+  compat::SetIntegrationState(model.get(), data.get(), state.integration.data());
+  mj_forward(model.get(), data.get());
+}
+
+const char* IntegrationStateLayout() { return compat::kIntegrationStateName; }
+
 namespace {
 
 // Everything a step starts from: the state, its inputs and the solver's warm start.
 // Kept before every step, so a step that MuJoCo's checks abort can be examined again.
 class PreStep {
  public:
-  PreStep(const mjModel* m, const mjData* d)
-      : m_(m),
-        state_(SnapshotOf(m, d, 0)),
-        warmstart_(d->qacc_warmstart, d->qacc_warmstart + m->nv),
-        qfrc_(d->qfrc_applied, d->qfrc_applied + m->nv),
-        xfrc_(d->xfrc_applied, d->xfrc_applied + 6 * m->nbody),
-        mocap_pos_(d->mocap_pos, d->mocap_pos + 3 * m->nmocap),
-        mocap_quat_(d->mocap_quat, d->mocap_quat + 4 * m->nmocap) {}
+  PreStep(const mjModel* m, const mjData* d) : m_(m), state_(SnapshotOf(m, d, 0)) {}
 
   // Copies the state `d` holds at `step`, whose time is `time`.
   void Keep(const mjData* d, long step, double time) {
@@ -108,11 +119,7 @@ class PreStep {
     Copy(d->qvel, &state_.qvel);
     Copy(d->act, &state_.act);
     Copy(d->ctrl, &state_.ctrl);
-    Copy(d->qacc_warmstart, &warmstart_);
-    Copy(d->qfrc_applied, &qfrc_);
-    Copy(d->xfrc_applied, &xfrc_);
-    Copy(d->mocap_pos, &mocap_pos_);
-    Copy(d->mocap_quat, &mocap_quat_);
+    compat::GetIntegrationState(m_, d, state_.integration.data());
   }
 
   const StateSnapshot& state() const { return state_; }
@@ -122,16 +129,8 @@ class PreStep {
     std::unique_ptr<mjData, void (*)(mjData*)> scratch(mj_makeData(m_), mj_deleteData);
     mjData* d = scratch.get();
     if (!d) return {};
+    compat::SetIntegrationState(m_, d, state_.integration.data());
     d->time = state_.time;
-    Paste(state_.qpos, d->qpos);
-    Paste(state_.qvel, d->qvel);
-    Paste(state_.act, d->act);
-    Paste(state_.ctrl, d->ctrl);
-    Paste(warmstart_, d->qacc_warmstart);
-    Paste(qfrc_, d->qfrc_applied);
-    Paste(xfrc_, d->xfrc_applied);
-    Paste(mocap_pos_, d->mocap_pos);
-    Paste(mocap_quat_, d->mocap_quat);
     mj_forward(m_, d);
     return std::vector<double>(d->qacc, d->qacc + m_->nv);
   }
@@ -140,13 +139,9 @@ class PreStep {
   static void Copy(const mjtNum* from, std::vector<double>* to) {
     std::copy(from, from + to->size(), to->begin());
   }
-  static void Paste(const std::vector<double>& from, mjtNum* to) {
-    std::copy(from.begin(), from.end(), to);
-  }
 
   const mjModel* m_;
   StateSnapshot state_;
-  std::vector<double> warmstart_, qfrc_, xfrc_, mocap_pos_, mocap_quat_;
 };
 
 // "dof 3 (joint 'slider')", "qpos[7] (joint 'root')", "ctrl[2] (actuator 'elbow')".

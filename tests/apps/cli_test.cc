@@ -3,15 +3,17 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <iterator>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "fixture.h"
+#include "plumb/run.h"
 
 namespace plumb {
 namespace {
@@ -268,6 +270,45 @@ TEST(CliDivergenceTest, DivergenceExits3WithAReproFolder) {
                                      "--until 10 --every 0.01 --repro again",
                                  dir.path());
   EXPECT_EQ(again.exit_code, 3);
+}
+
+// MuJoCo 4.0: a model with a delayed motor (its history buffer) and a plastic spring. The repro
+// folder's last good state holds every part of the state (mjSTATE_INTEGRATION), and put back
+// into the saved model it diverges on the very next step, as the run did.
+TEST(CliDivergenceTest, AReproWithDelaysAndPlasticSpringsReproducesItsDivergence) {
+  if (!(mjVERSION_HEADER >= 4000000)) GTEST_SKIP() << "plastic springs came with MuJoCo 4.0";
+  TempDir dir;
+  WriteFile(dir.File("stiff.xml"), R"(<mujoco model="stiff_plastic">
+      <option timestep="0.01" gravity="0 0 0"/><worldbody>
+        <body name="mass"><joint name="slider" type="slide" axis="1 0 0" stiffness="1e6"/>
+          <geom type="sphere" size="0.05" mass="1"/></body>
+        <body name="arm" pos="0 1 0"><joint name="bend" axis="0 1 0" stiffness="10" springyield="1"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></worldbody>
+      <actuator><motor name="push" joint="slider" delay="0.03" nsample="3"/></actuator></mujoco>)");
+  CommandResult r = RunPlumb(
+      "run stiff.xml --set 'ctrl[push]=50' --set 'qpos[slider]=0.01' --set 'plastic[0]=0.4' "
+      "--until 10 --repro r",
+      dir.path());
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  nlohmann::json good = nlohmann::json::parse(ReadFile(dir.File("r/last_good.json")));
+  EXPECT_EQ(good["format"], "plumb.state");
+  EXPECT_EQ(good["format_version"], 2);
+  EXPECT_EQ(good["integration_layout"], "mjSTATE_INTEGRATION");
+  Model model = Model::Load(dir.File("r/model.mjb"));
+  ASSERT_GT(model->nhistory, 0);
+  ASSERT_GT(model->nplastic, 0);
+  StateSnapshot state;
+  state.integration = good["integration"].get<std::vector<double>>();
+  Data data(model);
+  Restore(model, data, state);
+  EXPECT_EQ(data->time, good["time"].get<double>());
+  std::vector<double> history(data->history, data->history + model->nhistory);
+  EXPECT_NE(std::count(history.begin(), history.end(), 50.0), 0);  // the delayed ctrl
+  mj_step(model.get(), data.get());
+  EXPECT_GT(data->warning[mjWARN_BADQACC].number, 0);  // diverged on the same step
+  // a state of another model is refused, not pasted
+  state.integration.pop_back();
+  EXPECT_THROW(Restore(model, data, state), ValueError);
 }
 
 TEST(CliDivergenceTest, AnUnwritableReproFolderDoesNotHideTheDivergence) {
