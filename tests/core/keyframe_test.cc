@@ -7,6 +7,7 @@
 #include "fixture.h"
 #include "keyed_model.h"
 #include "plumb/error.h"
+#include "plumb/run.h"
 
 namespace plumb {
 namespace {
@@ -37,12 +38,15 @@ TEST_F(KeyframeTest, APlasticKeyframeStartsWhereMujocosResetDoes) {
   Model model = Model::FromXmlString(R"(<mujoco><option gravity="0 0 0"/><worldbody>
       <body pos="0 0 1"><joint name="j" axis="0 1 0" stiffness="10" springyield="1" damping="1"/>
         <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body></worldbody>
-      <keyframe><key name="bent" qpos="0" plastic="0.4"/></keyframe></mujoco>)");
+      <actuator><motor name="m" joint="j" delay="0.01" nsample="5"/></actuator>
+      <keyframe><key name="bent" qpos="0" ctrl="0.2" plastic="0.4"/></keyframe></mujoco>)");
   Data ours(model), mujocos(model);
   ApplyAssignments(model, ours, KeyframeAssignments(model, "bent"));
   mj_resetDataKeyframe(model.get(), mujocos.get(), FindKeyframe(model, "bent"));
   mj_forward(model.get(), mujocos.get());
   EXPECT_EQ(ours->plastic[0], 0.4);
+  // every part of the state, the delayed motor's history included
+  EXPECT_EQ(Snapshot(model, ours, 0).integration, Snapshot(model, mujocos, 0).integration);
   for (int i = 0; i < 500; ++i) {
     mj_step(model.get(), ours.get());
     mj_step(model.get(), mujocos.get());
