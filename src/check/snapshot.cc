@@ -6,6 +6,7 @@
 
 #include "check/snapshot_internal.h"
 #include "core/fields.h"
+#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
@@ -28,7 +29,7 @@ constexpr Section kSections[] = {
     {"dof", "nv", mjOBJ_JOINT},          {"geom", "ngeom", mjOBJ_GEOM},
     {"site", "nsite", mjOBJ_SITE},       {"actuator", "nu", mjOBJ_ACTUATOR},
     {"sensor", "nsensor", mjOBJ_SENSOR}, {"tendon", "ntendon", mjOBJ_TENDON},
-    {"equality", "neq", mjOBJ_EQUALITY},
+    {"equality", "neq", mjOBJ_EQUALITY}, {"keyframe", "nkey", mjOBJ_KEY},
 };
 
 // Fields that are not part of what a regression should notice: derived constants (they
@@ -83,7 +84,7 @@ std::string RowKey(const Model& model, const Section& section, int row) {
   if (std::string(section.name) == "dof") {
     int j = m->dof_jntid[row];
     std::string joint = SnapshotElementName(model, mjOBJ_JOINT, j);
-    int n = m->jnt_type[j] == mjJNT_FREE ? 6 : m->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    int n = JointDofSize(m->jnt_type[j]);
     return n == 1 ? joint : joint + "[" + std::to_string(row - m->jnt_dofadr[j]) + "]";
   }
   return SnapshotElementName(model, section.obj, row);
@@ -220,7 +221,7 @@ ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& set
   ApplyAssignments(nominal, data, sets);
   const mjModel* m = nominal.get();
   ordered_json j;
-  j["plumb_snapshot"] = 1;
+  j["plumb_snapshot"] = kSnapshotFormat;
   j["plumb_version"] = PLUMB_VERSION;
   j["mujoco_version"] = MujocoVersion();
   j["model"] = std::string(m->names);

@@ -144,9 +144,10 @@ void ValidateSnapshot(const ordered_json& before, const ordered_json& after) {
   using J = ordered_json;
   if (!before.is_object()) Damaged("the top level", "an object", before);
   const J& version = Member(before, "", "plumb_snapshot", &J::is_number_integer, "an integer");
-  if (version != 1) {
+  if (!(version >= 1 && version <= kSnapshotFormat)) {
     throw ValueError("plumb_snapshot: version " + version.dump() +
-                     " is not one this plumb reads (1)");
+                     " is not one this plumb reads (1 to " + std::to_string(kSnapshotFormat) +
+                     "): a newer plumb wrote it");
   }
   Member(before, "", "mujoco_version", &J::is_string, "a string");
   if (before.contains("sets")) {  // snapshots written before assignments were recorded lack it
@@ -278,6 +279,8 @@ class Differ {
   void Structure() {
     for (const auto& [section, elements] : after_["structure"].items()) {
       auto found = before_["structure"].find(section);
+      // format 1 predates keyframes: nothing to compare them with (Notes says so)
+      if (found == before_["structure"].end() && section == "keyframe") continue;
       const ordered_json empty = ordered_json::object();
       Section(section, found == before_["structure"].end() ? empty : *found, elements);
     }
@@ -445,6 +448,11 @@ std::vector<Assignment> SnapshotSets(const Model& model, const ordered_json& par
 // The notes above the changes: another MuJoCo (the assignments the model ran with are
 // SnapshotDiff::sets, which the writers show).
 void Notes(const ordered_json& before, const ordered_json& after, SnapshotDiff* diff) {
+  if (!before["structure"].contains("keyframe") && after["sizes"]["nkey"] != 0) {
+    diff->notes.push_back("the snapshot (format " + before["plumb_snapshot"].dump() +
+                          ") predates keyframes, so they are not compared: write it again to "
+                          "include them");
+  }
   if (before["mujoco_version"] != after["mujoco_version"]) {
     diff->notes.push_back("the snapshot was written with MuJoCo " +
                           before["mujoco_version"].get<std::string>() + ", this is " +

@@ -15,6 +15,10 @@ namespace plumb {
 
 using nlohmann::ordered_json;
 
+// The snapshot format written ("plumb_snapshot"): 2 added the keyframes (structure.keyframe);
+// version 1 files are still read, and their keyframes are not compared.
+inline constexpr int kSnapshotFormat = 2;
+
 // The snapshot of `model` with `sets` applied, as JSON; `diverged` receives the reason when
 // the golden trajectory diverges ("" otherwise).
 ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& sets,

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fixture.h"
+#include "keyed_model.h"
 #include "plumb/error.h"
 #include "plumb/result_table.h"
 
@@ -115,6 +116,41 @@ TEST_F(RegressionTest, SnapshotWithoutRecordedSetsStillLoads) {
   SnapshotDiff d = DiffSnapshot(j.dump(2), pendulum_, {}, 1e-6);
   EXPECT_FALSE(d.changed()) << Changes(d);
   EXPECT_TRUE(d.sets.empty());
+}
+
+// Keyframes are part of the structure (format 2): a changed "home" is named as such, not
+// only seen as a trajectory that departs at step 1
+TEST_F(RegressionTest, AChangedKeyframeIsNamed) {
+  Model keyed = Model::FromXmlString(testing::kKeyed, "keyed.xml");
+  std::string snapshot = MakeSnapshot(keyed, {});
+  EXPECT_EQ(nlohmann::json::parse(snapshot)["plumb_snapshot"], 2);
+  SnapshotDiff d = DiffSnapshot(snapshot, keyed, {ParseAssignment(keyed, "key_qpos[home]=0.6")},
+                                1e-6);
+  ASSERT_TRUE(d.changed());
+  EXPECT_EQ(d.changes[0].what, "key_qpos[home]: 0.5 → 0.6") << Changes(d);
+  EXPECT_EQ(d.changes[0].kind, "parameter");
+}
+
+// A format-1 snapshot (before keyframes) still loads, says its keyframes are not compared,
+// and a format from a newer plumb is refused with its number
+TEST_F(RegressionTest, OlderFormatsLoadAndNewerOnesAreRefused) {
+  Model keyed = Model::FromXmlString(testing::kKeyed, "keyed.xml");
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(MakeSnapshot(keyed, {}));
+  j["plumb_snapshot"] = 1;
+  j["structure"].erase("keyframe");
+  SnapshotDiff d = DiffSnapshot(j.dump(2), keyed, {}, 1e-6);
+  EXPECT_FALSE(d.changed()) << Changes(d);
+  ASSERT_EQ(d.notes.size(), 1u);
+  EXPECT_NE(d.notes[0].find("predates keyframes"), std::string::npos) << d.notes[0];
+  j["plumb_snapshot"] = 3;
+  try {
+    DiffSnapshot(j.dump(2), keyed, {}, 1e-6);
+    FAIL() << "format 3 was read";
+  } catch (const ValueError& e) {
+    EXPECT_NE(std::string(e.what()).find("version 3 is not one this plumb reads (1 to 2)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(RegressionTest, RecordedSetTheModelRefusesIsAChange) {
