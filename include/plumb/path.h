@@ -80,7 +80,8 @@ std::vector<Path> ScalarPaths(const Path& path);
 std::vector<Path> ExpandPath(const Model& model, std::string_view text);
 
 // The default columns of `plumb run`: time, qpos and qvel of every joint (one column
-// per coordinate), then sensordata of every sensor (one column per dimension).
+// per coordinate), ctrl of every actuator (one column per control), then sensordata of every
+// sensor (one column per dimension).
 std::vector<Path> DefaultColumns(const Model& model);
 
 // Reads element `k` (0 <= k < path.count) as a double.

@@ -562,6 +562,16 @@ std::vector<Path> DefaultColumns(const Model& model) {
       for (int k = 0; k < n; ++k) add(std::string(field) + "[" + std::to_string(adr + k) + "]");
     }
   }
+  // the inputs, so a log of the run carries what drove it (replay reads them back)
+  for (int u = 0; u < compat::ActuatorCount(m); ++u) {
+    std::string name = model.Name(mjOBJ_ACTUATOR, u);
+    if (!name.empty()) {
+      add("ctrl[" + name + "]");
+      continue;
+    }
+    auto [first, count] = compat::ActuatorControls(m, u);
+    for (long k = 0; k < count; ++k) add("ctrl[" + std::to_string(first + k) + "]");
+  }
   for (int s = 0; s < m->nsensor; ++s) {
     std::string name = model.Name(mjOBJ_SENSOR, s);
     if (name.empty()) {

@@ -262,6 +262,13 @@ ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions
         "the model's qpos0 and zero velocity",
         held, m->nq + m->nv));
   }
+  if (m->nu > 0 && log.inputs.empty()) {
+    r.notes.push_back(fmt::format(
+        "the model has {} control(s) but the log holds no inputs (ctrl columns): every ctrl "
+        "stays 0, so the fit measures an unactuated model; log the commands the robot got "
+        "(plumb run writes ctrl columns by default)",
+        m->nu));
+  }
   return r;
 }
 

@@ -45,6 +45,35 @@ TEST_F(CliIdentifyTest, ReplayShowsTheMismatchAndWindowsBoundIt) {
   EXPECT_NE(r.out.find("overall fit 100.00 %"), std::string::npos) << r.out;
 }
 
+// A log of an actuated model written by plumb run carries its controls by default, so its
+// replay on the same model fits exactly; a log without them gets a note, not a silent 0
+TEST_F(CliIdentifyTest, ARunLogCarriesItsControlsAndReplayNamesTheirAbsence) {
+  testing::WriteFile(dir_.File("pushed.xml"), testing::TwoHingeArm(R"(
+      <motor name="shoulder" joint="a" ctrlrange="-1 1" ctrllimited="true"/>)"));
+  auto r = testing::RunPlumb(
+      "run pushed.xml --set 'ctrl[shoulder]=0.3' --format csv --until 1 --every 0.01 -o log.csv",
+      dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::ReadFile(dir_.File("log.csv")).find(",ctrl[shoulder]"), std::string::npos);
+  r = testing::RunPlumb("replay pushed.xml --log log.csv", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("inputs: ctrl[shoulder]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("overall fit 100.00 %"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("holds no inputs"), std::string::npos) << r.out;
+
+  r = testing::RunPlumb(
+      "run pushed.xml --set 'ctrl[shoulder]=0.3' --format csv --until 1 --every 0.01 "
+      "--columns 'time,qpos[a],qvel[a]' -o bare.csv",
+      dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = testing::RunPlumb("replay pushed.xml --log bare.csv", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("inputs: none"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("note: the model has 1 control(s) but the log holds no inputs"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST_F(CliIdentifyTest, IdentifyRecoversTheDampingAndSavesTheModel) {
   auto r = testing::RunPlumb("identify '" + testing::kPendulum +
                                  "' --log decay.csv --fit 'dof_damping[hinge]' -o fitted.xml",

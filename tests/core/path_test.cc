@@ -437,11 +437,12 @@ TEST_F(PathTest, StarExpandsEveryRowButTheWorld) {
 
 TEST_F(PathTest, DefaultColumnsExpandBlocks) {
   std::vector<Path> columns = DefaultColumns(robot_);
-  // time + qpos (7 + 4 + 1) + qvel (6 + 3 + 1) + sensordata (3 + 1)
-  ASSERT_EQ(columns.size(), 1u + 12 + 10 + 4);
+  // time + qpos (7 + 4 + 1) + qvel (6 + 3 + 1) + ctrl (1) + sensordata (3 + 1)
+  ASSERT_EQ(columns.size(), 1u + 12 + 10 + 1 + 4);
   EXPECT_EQ(columns[0].text, "time");
   EXPECT_EQ(columns[1].text, "qpos[root][0]");
   EXPECT_EQ(columns[12].text, "qpos[elbow]");
+  EXPECT_EQ(columns[23].text, "ctrl[motor]");  // what drove the run, for replay
   EXPECT_EQ(columns.back().text, "sensordata[elbow_angle]");
 }
 
