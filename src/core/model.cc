@@ -134,6 +134,49 @@ std::string AutolimitsHint(const std::string& xml, const fs::path& dir) {
          "wherever a range is given.";
 }
 
+// Schema elements that one MuJoCo release removed or renamed, so models written for another
+// fail with "unrecognized attribute": what changed, and which build loads the model as is.
+struct SchemaChange {
+  const char* element;    // as MuJoCo's error names it ("Element 'contact'")
+  const char* attribute;  // "unrecognized attribute: 'internal'"
+  int removed_in;         // mjVERSION_HEADER of the release that removed it
+  const char* what;
+};
+constexpr SchemaChange kSchemaChanges[] = {
+    {"contact", "internal", 4000000,
+     "MuJoCo 4.0 removed the internal attribute of a flex's <contact> (flexcomp and flex), "
+     "which 3.x models such as MuJoCo 3.12's own flex samples set; MuJoCo 3.11.0 loads the "
+     "model as it is (build plumb with make build MUJOCO=3.11.0), and here it loads once the "
+     "attribute is deleted"},
+    {"flag", "passive", 3003006,
+     "MuJoCo 3.3.6 replaced <option><flag passive> with the spring and damper flags: write "
+     "spring=\"disable\" damper=\"disable\" instead"},
+    {"option", "collision", 3000000,
+     "MuJoCo 3.0 removed <option collision>: delete collision=\"all\"; for "
+     "collision=\"dynamic\" delete the <pair> elements; for \"predefined\" set contype and "
+     "conaffinity to 0 by default"},
+};
+
+// What changed between releases, when `error` is a schema violation that one caused.
+std::string SchemaChangeHint(const std::string& error) {
+  for (const SchemaChange& c : kSchemaChanges) {
+    if (mjVERSION_HEADER < c.removed_in) continue;
+    if (error.find("unrecognized attribute: '" + std::string(c.attribute) + "'") ==
+            std::string::npos ||
+        error.find("Element '" + std::string(c.element) + "'") == std::string::npos) {
+      continue;
+    }
+    return std::string("hint: ") + c.what + ".";
+  }
+  return "";
+}
+
+// The hint for a model MuJoCo refused: a release's schema change, or 2.x's autolimits.
+std::string LoadHint(const std::string& error, const std::string& xml, const fs::path& dir) {
+  std::string hint = SchemaChangeHint(error);
+  return hint.empty() ? AutolimitsHint(xml, dir) : hint;
+}
+
 }  // namespace
 
 void InstallMujocoHandlers() {
@@ -237,7 +280,7 @@ Model Model::Load(const std::string& path) {
     if (detail.empty()) detail = "MuJoCo gave no further detail";
     fs::path dir = fs::path(path).parent_path();
     if (dir.empty()) dir = ".";
-    throw LoadError("cannot load model '" + path + "':\n" + detail, AutolimitsHint(text, dir));
+    throw LoadError("cannot load model '" + path + "':\n" + detail, LoadHint(detail, text, dir));
   }
   Model model(m, path);
   model.compile_warnings_ = Trimmed(error);
@@ -256,7 +299,7 @@ Model Model::FromXmlString(std::string_view xml, std::string_view name) {
     std::string detail = Trimmed(error);
     throw LoadError("cannot load model " + std::string(name) + ":\n" +
                         (detail.empty() ? "MuJoCo gave no further detail" : detail),
-                    AutolimitsHint(text, fs::temp_directory_path()));
+                    LoadHint(detail, text, fs::temp_directory_path()));
   }
   Model model(m, std::string(name));
   model.compile_warnings_ = Trimmed(error);

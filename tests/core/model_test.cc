@@ -96,6 +96,28 @@ TEST_F(ModelTest, RangeWithoutLimitedExplainsAutolimits) {
   EXPECT_EQ(model->jnt_limited[0], 1);
 }
 
+// A flex model written for 3.x (MuJoCo 3.12's own samples set <contact internal>, which 4.0
+// removed): the error says what changed, which build loads it, and the advice works
+TEST_F(ModelTest, ASchemaRemovalBetweenReleasesIsExplained) {
+  if (!(mjVERSION_HEADER >= 4000000)) GTEST_SKIP() << "MuJoCo before 4.0 accepts it";
+  const std::string xml = R"(<mujoco><worldbody>
+      <flexcomp name="cloth" type="grid" count="4 4 1" spacing=".1 .1 .1" radius=".01" dim="2">
+        <contact internal="false" selfcollide="none"/><edge equality="true"/></flexcomp>
+      </worldbody></mujoco>)";
+  try {
+    Model::FromXmlString(xml, "cloth.xml");
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("unrecognized attribute: 'internal'"), std::string::npos);
+    EXPECT_NE(e.hint().find("MuJoCo 4.0 removed the internal attribute"), std::string::npos)
+        << e.hint();
+    EXPECT_NE(e.hint().find("MuJoCo 3.11.0 loads the model"), std::string::npos) << e.hint();
+  }
+  std::string fixed = xml;
+  fixed.erase(fixed.find(R"( internal="false")"), std::string(R"( internal="false")").size());
+  EXPECT_GT(Model::FromXmlString(fixed)->nflex, 0);
+}
+
 TEST_F(ModelTest, UnrelatedLoadErrorsGetNoAutolimitsHint) {
   try {
     Model::FromXmlString("<mujoco><worldbody><geom size=\"-1\"/></worldbody></mujoco>");
