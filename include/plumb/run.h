@@ -98,6 +98,11 @@ struct StateSnapshot {
 // Copies the state `data` holds, labelled as the state after `step` steps.
 StateSnapshot Snapshot(const Model& model, const Data& data, long step);
 
+// What to tell a user whose run MuJoCo stopped with fatal error `what` (a MujocoError's
+// text): the error, and for an arena overflow (mj_stackAlloc, "out of memory") the arena's
+// size now and what to raise. One sentence, for a check row that stands in for the run.
+std::string FatalRunProblem(const Model& model, const std::string& what);
+
 // Puts `state` back into `data` (all of StateSnapshot::integration), then calls mj_forward.
 void Restore(const Model& model, Data& data, const StateSnapshot& state);
 

@@ -199,7 +199,15 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   std::vector<Measurement> measured;
   for (int k = 0; k <= halvings; ++k) {
     double dt = dt0 / std::pow(2.0, k);
-    Measurement m = Measure(model, sets, metric, dt, until, stop);
+    Measurement m;
+    try {
+      m = Measure(model, sets, metric, dt, until, stop);
+    } catch (const MujocoError& e) {
+      // one level's fatal error (an arena too small at this step size) is this level's
+      // result, and the others still run
+      m.ok = false;
+      m.problem = FatalRunProblem(model, e.what());
+    }
     if (!m.ok && out.ok) {
       out.ok = false;
       out.diverged = m.diverged;

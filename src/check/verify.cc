@@ -120,11 +120,13 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
     c.dof = m->jnt_qposadr[pendulum->joint];
     c.theta0 = trace.coords[0].front();
   }
-  std::string not_pendulum = pendulum ? "the nominal run diverged"
+  std::string not_finite = trace.fatal ? "MuJoCo stopped the nominal run (see warnings)"
+                                        : "the nominal run diverged";
+  std::string not_pendulum = pendulum ? not_finite
                                       : "not a single hinge pendulum under gravity: " + why_not;
   for (const Check& check : kChecks) {
     if (check.needs == Needs::kFiniteRun && !finite) {
-      report.checks.push_back(verify::Skip(check.id, check.title, "the nominal run diverged"));
+      report.checks.push_back(verify::Skip(check.id, check.title, not_finite));
     } else if (check.needs == Needs::kPendulum && !(pendulum && finite)) {
       report.checks.push_back(verify::Skip(check.id, check.title, not_pendulum));
     } else {

@@ -136,7 +136,16 @@ Trace VerifyScenario::SimulateAnew(const std::vector<Assignment>& extra, double 
   trace.coords.resize(trace.coord_names.size());
   trace.vels.resize(trace.coord_names.size());
   TraceSink sink(&trace, energy);
-  trace.result = Run(work, data, spec, sink);
+  try {
+    trace.result = Run(work, data, spec, sink);
+  } catch (const MujocoError& e) {
+    // a fatal error (an arena too small) ends this run, not the whole protocol: the checks
+    // that read the run report it as a failed run
+    trace.fatal = true;
+    trace.result.diverged = true;
+    trace.result.divergence = Divergence{};
+    trace.result.divergence->reason = FatalRunProblem(work, e.what()) + ".";
+  }
   const mjData* d = data.get();
   trace.final_state.assign(d->qpos, d->qpos + m->nq);
   trace.final_state.insert(trace.final_state.end(), d->qvel, d->qvel + m->nv);
@@ -223,10 +232,11 @@ CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r) {
   r.reference_text = "none";
   if (nominal.result.diverged) {
     r.status = CheckStatus::kFail;
-    r.measured_text = "diverged";
-    r.explanation =
-        nominal.result.divergence->reason +
-        " Shrink the timestep and check masses and inertias (plumb run writes a repro).";
+    r.measured_text = nominal.fatal ? "stopped by MuJoCo" : "diverged";
+    r.explanation = nominal.result.divergence->reason +
+                    (nominal.fatal ? ""
+                                   : " Shrink the timestep and check masses and inertias (plumb "
+                                     "run writes a repro).");
     return r;
   }
   if (nominal.result.warnings.empty()) {

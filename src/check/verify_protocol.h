@@ -46,6 +46,7 @@ struct Trace {
   std::vector<std::vector<double>> vels;    // ... and its qvel
   std::vector<std::string> coord_names;
   std::vector<double> final_state;  // qpos, qvel, act at the end
+  bool fatal = false;  // MuJoCo stopped the run with a fatal error (result.divergence says)
   int max_ncon = 0;
   int max_nefc = 0;
   RunResult result;

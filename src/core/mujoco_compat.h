@@ -658,6 +658,21 @@ inline void SetIntegrationState(const mjModel* m, mjData* d, const double* state
 }
 #endif
 
+namespace detail {
+template <typename M>
+auto ArenaBytes(const M* m, int) -> decltype(m->narena, long()) {
+  return static_cast<long>(m->narena);
+}
+template <typename M>
+long ArenaBytes(const M* m, long) {
+  return static_cast<long>(m->nstack) * static_cast<long>(sizeof(mjtNum));
+}
+}  // namespace detail
+
+// The bytes of mjData's arena (3.x: <size memory>) or 2.x's stack (<size nstack>), which
+// contacts and constraints fill at each step.
+inline long ArenaBytes(const mjModel* m) { return detail::ArenaBytes(m, 0); }
+
 // The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
 inline std::string PluginName(const mjModel* m, int instance) {
 #if mjVERSION_HEADER >= 300

@@ -10,6 +10,7 @@
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
+#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -102,6 +103,25 @@ void Restore(const Model& model, Data& data, const StateSnapshot& state) {
 }
 
 const char* IntegrationStateLayout() { return compat::kIntegrationStateName; }
+
+std::string FatalRunProblem(const Model& model, const std::string& what) {
+  // MuJoCo's message spans lines: one line here
+  std::string flat;
+  for (const std::string& line : Split(what, '\n')) {
+    std::string part(Trim(line));
+    if (!part.empty()) flat += (flat.empty() ? "" : "; ") + part;
+  }
+  std::string out = "MuJoCo stopped the run with a fatal error: " + flat;
+  if (what.find("stackAlloc") != std::string::npos ||
+      what.find("out of memory") != std::string::npos) {
+    out += fmt::format(
+        ". The arena of {:.3g} MB (<size memory>) is too small for this run's contacts and "
+        "constraints: raise it, e.g. <size memory=\"{}M\"/>",
+        static_cast<double>(compat::ArenaBytes(model.get())) / (1 << 20),
+        std::max<long>(2, static_cast<long>(4.0 * compat::ArenaBytes(model.get()) / (1 << 20) + 1)));
+  }
+  return out;
+}
 
 namespace {
 

@@ -222,6 +222,29 @@ TEST_F(VerifyTest, APluginActuatorIsNotAPassiveSystem) {
   EXPECT_FALSE(report.failed()) << Failures(report);
 }
 
+// MuJoCo's fatal error in a run (an arena too small for the contacts) ends that run, not the
+// protocol: verify still reports every check, and the failed run's row says what to raise
+TEST_F(VerifyTest, AFatalErrorInARunIsARowNotTheEnd) {
+  if (!(mjVERSION_HEADER >= 4000000)) GTEST_SKIP() << "the arena size is 4.0.1's";
+  Model model = Model::FromXmlString(R"(<mujoco><size memory="24K"/><worldbody>
+      <geom type="plane" size="2 2 .1"/>
+      <body pos="0 0 0.3"><freejoint/><geom type="box" size=".1 .1 .02" mass="1"/>
+        <geom type="box" size=".02 .1 .1" pos="0.1 0 0" mass="1"/></body>
+      <body pos="0.3 0 0.3"><freejoint/><geom type="box" size=".1 .1 .1" mass="1"/></body>
+      <body pos="-0.3 0 0.3"><freejoint/><geom type="box" size=".1 .1 .1" mass="1"/></body>
+    </worldbody></mujoco>)");
+  VerifyReport report = Verify(model, {});
+  EXPECT_EQ(report.checks.size(), 14u);
+  const CheckRow& warnings = Find(report, "warnings");
+  EXPECT_EQ(warnings.status, CheckStatus::kFail);
+  EXPECT_EQ(warnings.measured_text, "stopped by MuJoCo");
+  EXPECT_NE(warnings.explanation.find("mj_stackAlloc"), std::string::npos) << warnings.explanation;
+  EXPECT_NE(warnings.explanation.find("<size memory=\"2M\"/>"), std::string::npos)
+      << warnings.explanation;
+  EXPECT_EQ(Find(report, "convergence").status, CheckStatus::kSkip);
+  EXPECT_EQ(Find(report, "load").status, CheckStatus::kPass);
+}
+
 TEST_F(VerifyTest, CoupledJointsAreNotHeldToFallingPeaks) {
   // a damped double pendulum: energy only falls, but one link may swing higher as the
   // other hands it energy; only the total-energy test applies
