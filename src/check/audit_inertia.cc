@@ -82,10 +82,48 @@ double TotalMass(const mjModel* m, std::vector<CheckRow>* out) {
 struct WeldGroups {
   std::vector<double> mass;  // by weld root
   std::vector<int> size;
-  explicit WeldGroups(const mjModel* m) : mass(m->nbody, 0.0), size(m->nbody, 0) {
+  // by weld root: the group's inertia about its centre of mass is positive definite, so it
+  // moves as a rigid body whatever its parts' own moments (a massless root carrying welded
+  // children, or point masses welded on)
+  std::vector<char> rigid;
+  // `d` after mj_forward (body poses and inertial frames)
+  WeldGroups(const mjModel* m, const mjData* d)
+      : mass(m->nbody, 0.0), size(m->nbody, 0), rigid(m->nbody, 0) {
+    std::vector<double> first(3 * m->nbody, 0.0), second(9 * m->nbody, 0.0);  // about the origin
     for (int b = 1; b < m->nbody; ++b) {
-      mass[m->body_weldid[b]] += m->body_mass[b];
-      ++size[m->body_weldid[b]];
+      int r = m->body_weldid[b];
+      double mb = m->body_mass[b];
+      mass[r] += mb;
+      ++size[r];
+      const mjtNum* p = d->xipos + 3 * b;
+      const mjtNum* R = d->ximat + 9 * b;
+      const mjtNum* I = m->body_inertia + 3 * b;
+      for (int i = 0; i < 3; ++i) {
+        first[3 * r + i] += mb * p[i];
+        for (int j = 0; j < 3; ++j) {
+          double rotated = 0;
+          for (int k = 0; k < 3; ++k) rotated += R[3 * i + k] * I[k] * R[3 * j + k];
+          second[9 * r + 3 * i + j] +=
+              rotated + mb * ((i == j ? mju_dot3(p, p) : 0) - p[i] * p[j]);
+        }
+      }
+    }
+    for (int r = 1; r < m->nbody; ++r) {
+      if (size[r] == 0 || !(mass[r] > 0)) continue;
+      double c[3], J[9];
+      for (int i = 0; i < 3; ++i) c[i] = first[3 * r + i] / mass[r];
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          J[3 * i + j] = second[9 * r + 3 * i + j] -
+                         mass[r] * ((i == j ? mju_dot3(c, c) : 0) - c[i] * c[j]);
+        }
+      }
+      // Sylvester: every leading minor positive, against the trace's scale
+      double scale = J[0] + J[4] + J[8], eps = 1e-9 * scale;
+      double minor2 = J[0] * J[4] - J[1] * J[3];
+      double det = J[0] * (J[4] * J[8] - J[5] * J[7]) - J[1] * (J[3] * J[8] - J[5] * J[6]) +
+                   J[2] * (J[3] * J[7] - J[4] * J[6]);
+      rigid[r] = scale > 0 && J[0] > eps && minor2 > eps * eps && det > eps * eps * eps;
     }
   }
 };
@@ -101,7 +139,7 @@ struct BodyInertia {
   bool triangle = false;  // each moment <= the sum of the other two
 };
 
-BodyInertia ReadBody(const Model& model, int b) {
+BodyInertia ReadBody(const Model& model, int b, const WeldGroups& groups) {
   const mjModel* m = model.get();
   BodyInertia body{b, ElementOf(model, mjOBJ_BODY, b, "body"), m->body_inertia + 3 * b,
                    m->body_mass[b]};
@@ -109,8 +147,13 @@ BodyInertia ReadBody(const Model& model, int b) {
   // principal moments: positive and each no larger than the sum of the other two; a
   // massless body welded to its parent (a marker) has none and needs none
   double slack = 1e-9 * (I[0] + I[1] + I[2]);
-  body.marker = m->body_weldid[b] != b && body.mass == 0 && I[0] == 0 && I[1] == 0 && I[2] == 0;
-  body.positive = body.marker || (I[0] > 0 && I[1] > 0 && I[2] > 0);
+  bool welded = m->body_weldid[b] != b;
+  bool zero = I[0] == 0 && I[1] == 0 && I[2] == 0;
+  body.marker = welded && body.mass == 0 && zero;
+  // zero moments are fine where the weld group is a rigid body anyway: a point mass welded on
+  // (a fingertip's 1 g), or a massless jointed root whose welded children carry the mass
+  bool carried = (welded || groups.rigid[b]) && I[0] >= 0 && I[1] >= 0 && I[2] >= 0;
+  body.positive = body.marker || carried || (I[0] > 0 && I[1] > 0 && I[2] > 0);
   body.triangle =
       I[0] + I[1] + slack >= I[2] && I[1] + I[2] + slack >= I[0] && I[0] + I[2] + slack >= I[1];
   return body;
@@ -289,7 +332,7 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
                   std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   double total = TotalMass(m, out);
-  WeldGroups groups(m);
+  WeldGroups groups(m, data.get());
   // which inertias were written by hand (and so can be wrong): mjSpec says, on 3.x and later
   std::optional<std::vector<bool>> written;
   try {
@@ -310,12 +353,14 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
   for (int b = 1; b < m->nbody; ++b) {
     if (!Moves(m, b)) continue;
     ++moving;
-    BodyInertia body = ReadBody(model, b);
+    BodyInertia body = ReadBody(model, b, groups);
     Principal(body, out);
     WeldGroup(model, body, groups, total, out);
     BodySolids solids = BodySolid(m, b);
     Density(m, body, solids, out);
-    bool sound = body.positive && body.triangle && !body.marker && body.mass > 0;
+    // a point mass (zero moments, welded on or carried by its group) has no shape to fit
+    bool point = body.I[0] == 0 && body.I[1] == 0 && body.I[2] == 0;
+    bool sound = body.positive && body.triangle && !body.marker && !point && body.mass > 0;
     // an inertia the compiler derived from the geoms fits them by construction, unless --set
     // changed the mass or the inertia since
     bool changed = m->body_mass[b] != original->body_mass[b] ||

@@ -6,7 +6,10 @@
 // inertia the joint sees with every other joint free; M includes dof_armature). With
 // a = kp h^2 / inertia and b = kv h / inertia, MuJoCo's semi-implicit Euler (kv explicit) is
 // stable while a + 2b < 4 and b < 2; the implicit integrators (kv implicit) while a < 4 + 2b;
-// RK4 while a < 2.785^2 and b < 2.785. The margin is how many times the limit exceeds the
+// RK4 while a < 2.785^2 and b < 2.785. Joint damping d (dof_damping, in actuator space) is
+// implicit in Euler (unless eulerdamp is disabled): it solves (I + h d) v' = ... with the damper
+// kv + d, so a + 2b < 4 becomes kp h^2 + 2 kv h < 4 I + 2 h d, and b < 2 becomes
+// kv h < 2 I + h d; the implicit integrators add d to kv. RK4 is judged without it (damping only helps it). The margin is how many times the limit exceeds the
 // servo's side: below 1 the servo diverges, below kMarginWarn it rings for many steps.
 
 #include <fmt/format.h>
@@ -28,6 +31,7 @@ constexpr double kRk4Limit = 2.785;  // RK4's stability limit of omega*h for an 
 struct Servo {
   double kp = 0, kv = 0;  // actuator space: force per unit of length and of velocity
   double inertia = 0;     // actuator space: 1 / (m^T M^-1 m)
+  double damping = 0;     // actuator space: joint damping the integrator treats implicitly
 };
 
 enum class Scheme { kEuler, kImplicit, kRk4 };
@@ -45,13 +49,17 @@ const char* SchemeName(Scheme s) {
 double Margin(const Servo& s, double h, Scheme scheme) {
   double a = s.kp * h * h / s.inertia, b = s.kv * h / s.inertia;
   switch (scheme) {
-    case Scheme::kEuler:
-      return std::min(a + 2 * b > 0 ? 4 / (a + 2 * b) : INFINITY, b > 0 ? 2 / b : INFINITY);
+    case Scheme::kEuler: {
+      double room = 4 + 2 * s.damping * h / s.inertia;  // 4 I + 2 h d, over I
+      // (kv + d) h / (I + h d) < 2, over I
+      return std::min(a + 2 * b > 0 ? room / (a + 2 * b) : INFINITY,
+                      b > 0 ? (2 + s.damping * h / s.inertia) / b : INFINITY);
+    }
     case Scheme::kRk4:
       return std::min(a > 0 ? kRk4Limit * kRk4Limit / a : INFINITY,
                       b > 0 ? kRk4Limit / b : INFINITY);
     case Scheme::kImplicit:
-      return a > 0 ? (4 + 2 * b) / a : INFINITY;
+      return a > 0 ? (4 + 2 * (s.kv + s.damping) * h / s.inertia) / a : INFINITY;
   }
   return INFINITY;
 }
@@ -60,21 +68,23 @@ double Margin(const Servo& s, double h, Scheme scheme) {
 double InertiaFor(const Servo& s, double h, Scheme scheme, double target) {
   switch (scheme) {
     case Scheme::kEuler:
-      return std::max(target * (s.kp * h * h + 2 * s.kv * h) / 4, target * s.kv * h / 2);
+      return std::max((target * (s.kp * h * h + 2 * s.kv * h) - 2 * h * s.damping) / 4,
+                      (target * s.kv * h - s.damping * h) / 2);
     case Scheme::kRk4:
       return std::max(target * s.kp * h * h / (kRk4Limit * kRk4Limit), target * s.kv * h / kRk4Limit);
     case Scheme::kImplicit:
-      return std::max(0.0, (target * s.kp * h * h - 2 * s.kv * h) / 4);
+      return std::max(0.0, (target * s.kp * h * h - 2 * (s.kv + s.damping) * h) / 4);
   }
   return 0;
 }
 
 // The largest timestep at which the margin reaches `target` (Euler's bound; the others'
-// are no smaller).
+// are no smaller): kp h^2 + 2 (kv - d / target) h <= 4 I / target.
 double TimestepFor(const Servo& s, double target) {
-  double m = s.inertia * 4 / target;  // kp h^2 + 2 kv h <= m
-  if (s.kp <= 0) return s.kv > 0 ? m / (2 * s.kv) : INFINITY;
-  return (-2 * s.kv + std::sqrt(4 * s.kv * s.kv + 4 * s.kp * m)) / (2 * s.kp);
+  double m = s.inertia * 4 / target;
+  double kv = s.kv - s.damping / target;
+  if (s.kp <= 0) return kv > 0 ? m / (2 * kv) : INFINITY;
+  return (-2 * kv + std::sqrt(4 * kv * kv + 4 * s.kp * m)) / (2 * s.kp);
 }
 
 // A fixed-gain actuator with an affine bias that feeds back its length (kp) or velocity (kv).
@@ -91,6 +101,20 @@ std::optional<Servo> ServoGains(const mjModel* m, const mjData* d, int u) {
   double s_inv = mju_dot(moment.data(), solved.data(), m->nv);
   if (!(s_inv > 0)) return std::nullopt;
   s.inertia = 1 / s_inv;
+  // joint damping along the transmission, 1 / sum(m_i^2 / d_i): none when a dof it moves has
+  // none; Euler integrates it implicitly unless eulerdamp is off
+  bool implicit = m->opt.integrator != mjINT_RK4 &&
+                  (m->opt.integrator != mjINT_EULER || compat::EulerDampsImplicitly(m));
+  double inverse = 0;
+  for (int i = 0; i < m->nv && implicit; ++i) {
+    if (moment[i] == 0) continue;
+    if (!(m->dof_damping[i] > 0)) {
+      inverse = INFINITY;
+      break;
+    }
+    inverse += moment[i] * moment[i] / m->dof_damping[i];
+  }
+  s.damping = implicit && inverse > 0 && std::isfinite(inverse) ? 1 / inverse : 0;
   return s;
 }
 
@@ -129,8 +153,9 @@ CheckRow StabilityRow(const Model& model, int u, const Servo& s) {
                                m->dof_armature[m->jnt_dofadr[joint]])
                  : fmt::format("{:.3g} along its transmission", s.inertia);
   std::string measured = fmt::format(
-      "margin {:.3g} under {} at h = {:g} s (kp {:.4g}, kv {:.4g} on an effective inertia of {})",
-      margin, SchemeName(scheme), h, s.kp, s.kv, inertia);
+      "margin {:.3g} under {} at h = {:g} s (kp {:.4g}, kv {:.4g}{} on an effective inertia of {})",
+      margin, SchemeName(scheme), h, s.kp, s.kv,
+      s.damping > 0 ? fmt::format(", joint damping {:.4g} (implicit)", s.damping) : "", inertia);
   if (scheme != Scheme::kEuler) {
     measured += fmt::format("; under Euler: {:.3g}", Margin(s, h, Scheme::kEuler));
   }

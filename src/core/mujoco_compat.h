@@ -673,6 +673,17 @@ long ArenaBytes(const M* m, long) {
 // contacts and constraints fill at each step.
 inline long ArenaBytes(const mjModel* m) { return detail::ArenaBytes(m, 0); }
 
+// Whether the Euler integrator treats joint damping (dof_damping) implicitly, as (M + h D):
+// always on 2.x; on 3.x unless <flag eulerdamp="disable"/>.
+inline bool EulerDampsImplicitly(const mjModel* m) {
+#if mjVERSION_HEADER >= 3005000
+  return !(m->opt.disableflags & mjDSBL_EULERDAMP);
+#else
+  (void)m;
+  return true;
+#endif
+}
+
 // The registered name of plugin instance `instance` ("mujoco.pid"), or "" when unknown.
 inline std::string PluginName(const mjModel* m, int instance) {
 #if mjVERSION_HEADER >= 300

@@ -259,6 +259,19 @@ TEST_F(AuditCorpusTest, StiffFingerServosWithoutArmatureOrDampingAreCaught) {
                             row.measured_text.find("diverged") != std::string::npos);
   }
   EXPECT_TRUE(diverged) << Rows(Findings(r, "actuator.step_response"));
+
+  // the same stiff gains without armature, but with the hand's joint damping, which Euler
+  // integrates implicitly: MuJoCo runs it stably, and the margins count the damping
+  std::string damped =
+      EditedCopy(hand, {{included, "stiff_actuators.xml"},
+                        {R"(damping="0.1" armature="0.005")", R"(damping="0.1" armature="0")"}});
+  AuditReport held = Audit(Model::Load(damped), AuditOptions{});
+  for (const CheckRow& row : Findings(held, "actuator.stability")) {
+    EXPECT_NE(row.status, CheckStatus::kFail) << row.About() << ": " << row.measured_text;
+  }
+  for (const CheckRow& row : Findings(held, "actuator.step_response")) {
+    EXPECT_EQ(row.measured_text.find("diverged"), std::string::npos) << row.About();
+  }
 }
 
 // A 20 ms actuation latency added to the Go2's motors for sim-to-real, as MuJoCo 3.5+ allows,

@@ -44,6 +44,39 @@ class AuditTest : public testing::MujocoTest {
   }
 };
 
+// Euler integrates joint damping implicitly: a stiff servo on 1 kg at h = 0.01 s (kp h^2 / m =
+// 5) is unstable without damping, and stays so with d = 40 (bound 4 + 2 h d / m = 4.8), but
+// d = 100 (bound 6) makes it stable; the margins say so, and so does MuJoCo's run
+TEST_F(AuditTest, TheStabilityMarginCountsJointDamping) {
+  auto slider = [](int damping) {
+    return "<mujoco><option timestep=\"0.01\" gravity=\"0 0 0\"/><worldbody><body>"
+           "<joint name=\"s\" type=\"slide\" axis=\"1 0 0\" damping=\"" +
+           std::to_string(damping) +
+           "\"/><geom type=\"sphere\" size=\"0.05\" mass=\"1\"/></body></worldbody>"
+           "<actuator><position name=\"p\" joint=\"s\" kp=\"50000\"/></actuator></mujoco>";
+  };
+  struct Case {
+    int damping;
+    double margin;
+    bool diverges;
+  } cases[] = {{0, 0.8, true}, {40, 0.96, true}, {100, 1.2, false}};
+  for (const Case& c : cases) {
+    const CheckRow* row = Find(AuditXml(slider(c.damping)), "actuator.stability");
+    ASSERT_NE(row, nullptr) << c.damping;
+    EXPECT_NEAR(row->measured.value, c.margin, 1e-9) << c.damping;
+    EXPECT_EQ(row->status, c.margin < 1 ? CheckStatus::kFail : CheckStatus::kWarn);
+    Model model = Model::FromXmlString(slider(c.damping));
+    Data data(model);
+    data->ctrl[0] = 0.1;
+    bool diverged = false;
+    for (int i = 0; i < 200 && !diverged; ++i) {
+      mj_step(model.get(), data.get());
+      diverged = data->warning[mjWARN_BADQACC].number > 0 || !(std::fabs(data->qpos[0]) < 1);
+    }
+    EXPECT_EQ(diverged, c.diverges) << c.damping;
+  }
+}
+
 TEST_F(AuditTest, CollisionlessFreeBodyFallsForever) {
   AuditReport r = AuditXml(R"(<mujoco><worldbody>
       <geom name="floor" type="plane" size="5 5 0.1"/>
