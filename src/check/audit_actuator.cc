@@ -537,7 +537,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   DelayRows(model, "actuator", L, "actuator.delay", out);
   ServoStability(model, data, out);
   ActuatorRank(model, data, out);
-  MirrorActuators(model, out);
+  MirrorActuators(model, data, out);
   StepResponses(original, model, sets, ref, options, runs, out);
 }
 

@@ -125,7 +125,8 @@ void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>*
 // limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
 void MirrorJoints(const Model& model, std::vector<CheckRow>* out);
 void MirrorBodies(const Model& model, std::vector<CheckRow>* out);
-void MirrorActuators(const Model& model, std::vector<CheckRow>* out);
+// `data` after mj_forward at the reference pose (the joints' axes and anchors).
+void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>* out);
 // Whether rotor-like actuators on a free body can act independently (audit_rank.cc).
 void ActuatorRank(const Model& model, const Data& data, std::vector<CheckRow>* out);
 void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out);

@@ -110,7 +110,8 @@ void Agreed(const char* layer, const char* check, const char* nouns, int pairs, 
   out->push_back(WithNumbers(
       Make(layer, check, "", fmt::format("{} mirror pairs of {} agree", pairs, nouns),
            fmt::format("<= {:g}% apart", 100 * kMirrorTolerance), CheckStatus::kPass,
-           "pairs named alike (left/right, FL/FR, ...) compared without their signs"),
+           "pairs named alike (left/right, FL/FR, ...) compared by magnitude; the signs of "
+           "a pair on axle-like hinges by the way one ctrl turns them"),
       {static_cast<double>(pairs), ""}));
 }
 
@@ -182,11 +183,52 @@ void MirrorJoints(const Model& model, std::vector<CheckRow>* out) {
   Agreed("structure", "structure.mirror", "joints", static_cast<int>(pairs.size()), before, out);
 }
 
-void MirrorActuators(const Model& model, std::vector<CheckRow>* out) {
+// The joint that actuator u drives when it is a hinge or slide, else -1.
+int HingeOrSlide(const mjModel* m, int u) {
+  int trn = m->actuator_trntype[u];
+  if (trn != mjTRN_JOINT && trn != mjTRN_JOINTINPARENT) return -1;
+  int j = m->actuator_trnid[2 * u];
+  return m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE ? j : -1;
+}
+
+// Whether a mirror pair of joint actuators on axle-like joints push opposite ways: both joints'
+// axes lie along the line between them (wheels, knees, hip pitch), where a rotation and its
+// mirror image have the same sense, so gear x axis (in the world at `d`'s pose) should point
+// the same way for both; opposite, one ctrl spins one wheel forward and the other back. Joints
+// whose axes cross that line are not judged: mirrored axes there are written either way (the
+// dm_control humanoid's shoulders).
+bool SignsDisagree(const mjModel* m, const mjData* d, int a, int b, int ja, int jb) {
+  if (m->jnt_type[ja] != mjJNT_HINGE || m->jnt_type[jb] != mjJNT_HINGE) return false;
+  double ga = m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first];
+  double gb = m->actuator_gear[6 * compat::ActuatorOutputs(m, b).first];
+  if (ga == 0 || gb == 0) return false;
+  mjtNum n[3], va[3], vb[3];
+  mju_sub3(n, d->xanchor + 3 * ja, d->xanchor + 3 * jb);
+  if (mju_normalize3(n) < 1e-9) return false;
+  mju_scl3(va, d->xaxis + 3 * ja, ga > 0 ? 1 : -1);
+  mju_scl3(vb, d->xaxis + 3 * jb, gb > 0 ? 1 : -1);
+  bool axles = std::fabs(mju_dot3(n, va)) > 0.9 && std::fabs(mju_dot3(n, vb)) > 0.9;
+  return axles && mju_dot3(va, vb) < -0.9;
+}
+
+void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   auto pairs = Pairs(model, mjOBJ_ACTUATOR, compat::ActuatorCount(m));
   size_t before = out->size();
   for (auto [a, b] : pairs) {
+    int ja = HingeOrSlide(m, a), jb = HingeOrSlide(m, b);
+    if (ja >= 0 && jb >= 0 && SignsDisagree(m, data.get(), a, b, ja, jb)) {
+      Mismatch(model, "actuator", "actuator.mirror", mjOBJ_ACTUATOR, "actuator", a, b,
+               "gear signs", 1,
+               fmt::format("gear {:g} on {} / gear {:g} on {}: their axes lie along the line "
+                           "between them, and the same ctrl turns them opposite ways",
+                           m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first],
+                           Elem(model, mjOBJ_JOINT, ja, "joint"),
+                           m->actuator_gear[6 * compat::ActuatorOutputs(m, b).first],
+                           Elem(model, mjOBJ_JOINT, jb, "joint")),
+               out);
+      continue;
+    }
     double ga = m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first];
     double gb = m->actuator_gear[6 * compat::ActuatorOutputs(m, b).first];
     double gear = RelativeDifference(ga, gb);

