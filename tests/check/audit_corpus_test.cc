@@ -245,11 +245,12 @@ TEST_F(AuditCorpusTest, StiffFingerServosWithoutArmatureOrDampingAreCaught) {
   testing::WriteFile((std::filesystem::path(copy).parent_path() / "stiff_actuators.xml").string(),
                      actuators);
   AuditReport r = Audit(Model::Load(copy), AuditOptions{});
+  const std::vector<CheckRow> stability = Findings(r, "actuator.stability");  // outlives `thumb`
   const CheckRow* thumb = nullptr;
-  for (const CheckRow& row : Findings(r, "actuator.stability")) {
+  for (const CheckRow& row : stability) {
     if (row.element.name == "A_THJ0") thumb = &row;
   }
-  ASSERT_NE(thumb, nullptr) << Rows(Findings(r, "actuator.stability"));
+  ASSERT_NE(thumb, nullptr) << Rows(stability);
   EXPECT_EQ(thumb->status, CheckStatus::kFail);
   EXPECT_LT(thumb->measured.value, 0.1);
   EXPECT_NE(thumb->fix.find("joint 'THJ0'"), std::string::npos) << thumb->fix;
