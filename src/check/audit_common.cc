@@ -16,6 +16,11 @@ CheckElement ElementOf(const Model& model, int obj, int id, const char* noun) {
   return CheckElement{noun, model.Name(obj, id), id};
 }
 
+int DrivenJoint(const mjModel* m, int u) {
+  int trn = m->actuator_trntype[u];
+  return trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT ? m->actuator_trnid[2 * u] : -1;
+}
+
 std::string Elem(const Model& model, int obj, int id, const char* noun) {
   return ElementLabel(ElementOf(model, obj, id, noun));
 }

@@ -30,6 +30,9 @@ constexpr double kRestSpeed = 0.05;
 
 CheckElement ElementOf(const Model& model, int obj, int id, const char* noun);
 
+// The single joint actuator u drives, -1 for tendons, sites and bodies.
+int DrivenJoint(const mjModel* m, int u);
+
 // ElementLabel(ElementOf(...)), for rows that name several elements.
 std::string Elem(const Model& model, int obj, int id, const char* noun);
 

@@ -183,14 +183,6 @@ void MirrorJoints(const Model& model, std::vector<CheckRow>* out) {
   Agreed("structure", "structure.mirror", "joints", static_cast<int>(pairs.size()), before, out);
 }
 
-// The joint that actuator u drives when it is a hinge or slide, else -1.
-int HingeOrSlide(const mjModel* m, int u) {
-  int trn = m->actuator_trntype[u];
-  if (trn != mjTRN_JOINT && trn != mjTRN_JOINTINPARENT) return -1;
-  int j = m->actuator_trnid[2 * u];
-  return m->jnt_type[j] == mjJNT_HINGE || m->jnt_type[j] == mjJNT_SLIDE ? j : -1;
-}
-
 // Whether a mirror pair of joint actuators on axle-like joints push opposite ways: both joints'
 // axes lie along the line between them (wheels, knees, hip pitch), where a rotation and its
 // mirror image have the same sense, so gear x axis (in the world at `d`'s pose) should point
@@ -216,7 +208,7 @@ void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>
   auto pairs = Pairs(model, mjOBJ_ACTUATOR, compat::ActuatorCount(m));
   size_t before = out->size();
   for (auto [a, b] : pairs) {
-    int ja = HingeOrSlide(m, a), jb = HingeOrSlide(m, b);
+    int ja = DrivenJoint(m, a), jb = DrivenJoint(m, b);
     if (ja >= 0 && jb >= 0 && SignsDisagree(m, data.get(), a, b, ja, jb)) {
       Mismatch(model, "actuator", "actuator.mirror", mjOBJ_ACTUATOR, "actuator", a, b,
                "gear signs", 1,

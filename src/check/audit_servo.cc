@@ -118,12 +118,6 @@ std::optional<Servo> ServoGains(const mjModel* m, const mjData* d, int u) {
   return s;
 }
 
-// The single joint actuator u drives, -1 for tendons, sites and bodies.
-int DrivenJoint(const mjModel* m, int u) {
-  int trn = m->actuator_trntype[u];
-  return trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT ? m->actuator_trnid[2 * u] : -1;
-}
-
 // Whether an equality constraint ties joint j to another joint: then the link the servo moves
 // is not free, which the margin does not model.
 bool Coupled(const mjModel* m, int j) {
