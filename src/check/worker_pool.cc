@@ -17,9 +17,10 @@ namespace {
 // One job on the worker of the thread that runs it: the worker is made on first use, and
 // dropped when the job is abandoned (its copy may hold the job's edits) or throws (a MuJoCo
 // error left it mid-job), so the next job on that thread starts from the nominal model.
+template <typename Finished>
 void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
             const std::function<bool(WorkerPool::Worker&, std::size_t)>& run, std::size_t i,
-            std::vector<char>* finished) {
+            Finished* finished) {
   if (!worker) worker.emplace(nominal);
   bool done;
   try {
@@ -28,8 +29,11 @@ void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
     worker.reset();
     throw;
   }
-  if (!done) worker.reset();
-  (*finished)[i] = done ? 1 : 0;
+  if (done) {
+    finished->Set(i);
+  } else {
+    worker.reset();
+  }
 }
 
 }  // namespace
@@ -59,11 +63,14 @@ int WorkerPool::threads() const { return impl_->threads; }
 #if !defined(__SANITIZE_THREAD__)
 
 void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                          std::vector<char>* finished) {
+                          Finished* finished, const std::function<void()>& after_own_job) {
   Impl& p = *impl_;
+  const std::thread::id caller = std::this_thread::get_id();
+  // the calling thread takes a slot of the arena (one is kept for it) and runs jobs too
   p.arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       RunJob(p.nominal, p.workers.local(), run, i, finished);
+      if (std::this_thread::get_id() == caller) after_own_job();
     });
   });
 }
@@ -79,7 +86,7 @@ void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::
 // by one thread and read by another through libtbb's queues (tried: races reported in
 // start_for, tree_node and fold_tree). Checking the arena itself needs a oneTBB built with TSan.
 void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                          std::vector<char>* finished) {
+                          Finished* finished, const std::function<void()>& after_own_job) {
   Impl& p = *impl_;
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
@@ -88,6 +95,7 @@ void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::
     for (std::size_t i; (i = next++) < n;) {
       try {
         RunJob(p.nominal, p.slots[slot], run, i, finished);
+        if (slot == 0) after_own_job();  // slot 0 is the calling thread
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);
         if (!error) error = std::current_exception();

@@ -1,11 +1,13 @@
 // The one worker pool of sweep and rollout: a TBB arena of `threads`, and per thread a copy
 // of the nominal model with its data, made on first use and kept for every job that thread
-// runs. Jobs run a chunk at a time and their results are handed on in job order, so output
-// streams in order and memory stays flat, and a stop request keeps what finished before it.
+// runs. Jobs run a chunk at a time and their results are handed on in job order as soon as
+// they and every job before them are done, so output streams in order and memory stays
+// flat, and a stop request keeps what finished before it.
 
 #ifndef PLUMB_SRC_CHECK_WORKER_POOL_H_
 #define PLUMB_SRC_CHECK_WORKER_POOL_H_
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -41,17 +43,18 @@ class WorkerPool {
   int threads() const;
 
   // Runs the jobs `next_chunk` hands out (it fills the empty vector it is given with the next
-  // up to `chunk` indices, none when all are done), each chunk in parallel, and
-  // passes their results to `emit` in index order. Between chunks it looks at `stop`: when asked, or
-  // when a job was abandoned, it throws what `interrupted` makes, after emitting every result
-  // before the first unfinished job.
+  // up to `chunk` indices, none when all are done), each chunk in parallel, and passes their
+  // results to `emit` in index order, on the calling thread: the calling thread runs jobs
+  // too, and after each of its own it emits every result whose job and all jobs before it
+  // are done (so with one thread each result is emitted before the next job starts). Between
+  // chunks it looks at `stop`: when asked, or when a job was abandoned, it throws what
+  // `interrupted` makes, after emitting every result before the first unfinished job.
   template <typename Result>
   void Stream(std::size_t chunk, const std::function<void(std::vector<long>*)>& next_chunk,
               const Job<Result>& job, const std::function<void(const Result&)>& emit,
               const StopToken& stop, const std::function<Interrupted()>& interrupted) {
     std::vector<long> indices;
     std::vector<Result> results;
-    std::vector<char> finished;
     while (true) {
       if (stop.stop_requested()) throw interrupted();
       indices.clear();
@@ -59,22 +62,39 @@ class WorkerPool {
       next_chunk(&indices);
       if (indices.empty()) return;
       results.assign(indices.size(), Result{});
-      finished.assign(indices.size(), 0);
+      Finished finished(indices.size());
+      std::size_t emitted = 0;
+      auto emit_ready = [&] {
+        for (; emitted < indices.size() && finished.done(emitted); ++emitted) {
+          emit(results[emitted]);
+        }
+      };
       RunChunk(
           indices.size(),
           [&](Worker& worker, std::size_t i) { return job(worker, indices[i], &results[i]); },
-          &finished);
-      for (std::size_t i = 0; i < indices.size(); ++i) {
-        if (!finished[i]) throw interrupted();  // the results before it were emitted
-        emit(results[i]);
-      }
+          &finished, emit_ready);
+      emit_ready();
+      if (emitted < indices.size()) throw interrupted();  // the results before it were emitted
     }
   }
 
  private:
-  // Runs run(worker, i) for i in [0, n) on the arena; finished[i] says which returned true.
+  // Which jobs of a chunk returned true: set by the thread that ran the job (after its
+  // result), read by the calling thread.
+  class Finished {
+   public:
+    explicit Finished(std::size_t n) : flags_(n) {}
+    void Set(std::size_t i) { flags_[i].store(true, std::memory_order_release); }
+    bool done(std::size_t i) const { return flags_[i].load(std::memory_order_acquire); }
+
+   private:
+    std::vector<std::atomic<bool>> flags_;
+  };
+
+  // Runs run(worker, i) for i in [0, n) on the arena and marks in `finished` which returned
+  // true; calls `after_own_job` on the calling thread after each job that thread ran.
   void RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                std::vector<char>* finished);
+                Finished* finished, const std::function<void()>& after_own_job);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -149,6 +149,23 @@ TEST(CliSignalsTest, RolloutRowsStreamAndAClosedStdoutStopsTheBatch) {
   EXPECT_LT(stored.size(), 100000u);
 }
 
+TEST(CliSignalsTest, WithOneThreadEachRolloutRowLeavesAsItFinishes) {
+  // rows left 64 per thread at a time: 40 rollouts on one thread printed nothing until the
+  // last had run. Now the first row is out while the rest still run, and a Ctrl-C then keeps
+  // it and stops the batch.
+  TempDir dir;
+  int rc = Interrupt(dir,
+                     "rollout " + testing::kPendulum +
+                         " --set 'qpos[hinge]=0.7' --count 40 --until 100 --threads 1 "
+                         "--randomize 'dof_damping[hinge]=U(0,0.1)' --metric 'qpos[hinge]@100' "
+                         "--format csv",
+                     "INT", "out.txt", 2);
+  std::vector<std::string> rows = Lines(ReadFile(dir.File("out.txt")));
+  EXPECT_EQ(rc, 130) << ReadFile(dir.File("err.txt"));
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_LT(rows.size(), 41u) << "every row came out before the first one";
+}
+
 TEST(CliSignalsTest, ASummaryAfterResumeCoversEveryRow) {
   // after --resume the summary counted only the rollouts run by the resuming command
   TempDir dir;
