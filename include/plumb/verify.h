@@ -74,9 +74,21 @@ struct VerifyFigures {
   std::optional<PendulumFigures> pendulum;
 };
 
+// How long the nominal run simulated (the run that determinism, warnings, convergence and
+// energy judge), and why when it is shorter than asked: a large model gets a step budget
+// from its size (nv), never from the machine's speed, so the verdict stays deterministic.
+struct VerifyHorizon {
+  double until = 0;      // s simulated
+  double requested = 0;  // s: VerifyOptions::until, or the chapter's 2 s when unset
+  long steps = 0;        // of the model's timestep
+  std::string why;       // empty unless shortened: "at most 250 steps for a model with nv = 18"
+  bool shortened() const { return until < requested; }
+};
+
 struct VerifyReport {
   std::string model;
   double tol = 0;  // the tolerance the checks were judged with (VerifyOptions::tol)
+  VerifyHorizon horizon;
   std::vector<CheckRow> checks;
   VerifyFigures figures;
   int Count(CheckStatus status) const;

@@ -28,18 +28,20 @@ struct Check {
   const char* title;
   Needs needs;
   verify::CheckFunction run;
+  bool judges_nominal_run = false;  // on the nominal run's horizon (VerifyHorizon)
 };
 
 // The protocol, in report order.
 constexpr Check kChecks[] = {
     {"load", "the model compiles without warnings", Needs::kModel, verify::CheckLoad},
-    {"determinism", "the same run twice is bit-identical", Needs::kModel, verify::CheckDeterminism},
+    {"determinism", "the same run twice is bit-identical", Needs::kModel, verify::CheckDeterminism,
+     true},
     {"warnings", "no MuJoCo warning and no divergence in the nominal run", Needs::kModel,
-     verify::CheckWarnings},
+     verify::CheckWarnings, true},
     {"convergence", "the result converges as the timestep shrinks", Needs::kFiniteRun,
-     verify::CheckConvergence},
+     verify::CheckConvergence, true},
     {"energy", "total energy is conserved, or only decreases when damped", Needs::kModel,
-     verify::CheckEnergy},
+     verify::CheckEnergy, true},
     {"analytic.period", "simulated period = exact large-angle period (elliptic integral)",
      Needs::kPendulum, verify::CheckAnalyticPeriod},
     {"analytic.model_settings", "the period with the model's own integrator and timestep",
@@ -63,22 +65,39 @@ constexpr Check kChecks[] = {
 // The nominal run length: 2 s like the chapter; for other models at most 250 steps and at
 // most 1e5 / nv steps (the convergence ladder runs ~16 times as many), always a whole number
 // of 2*dt so the ladder lands on it exactly. @throws ValueError for a bad --until.
-double NominalLength(const VerifyOptions& options, const mjModel* m, double dt, bool pendulum) {
+VerifyHorizon NominalLength(const VerifyOptions& options, const mjModel* m, double dt,
+                            bool pendulum) {
   if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
     // a run of zero steps would pass determinism and warnings without testing anything
     throw ArgumentError("until", fmt::format("{:g}", *options.until),
                         "the nominal run length must be a positive number of seconds (a run of "
                         "zero steps checks nothing).");
   }
+  VerifyHorizon h;
+  h.requested = options.until ? *options.until : 2.0;
   double max_steps =
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
-  double until = options.until ? *options.until : pendulum ? 2.0 : std::min(2.0, max_steps * dt);
+  double until = options.until || pendulum ? h.requested : std::min(2.0, max_steps * dt);
   if (options.until) {
     // the convergence ladder runs at 2*dt too, so the run must end on a whole 2*dt
     RequireWholeSteps(*options.until, 2 * dt, "until", fmt::format("{:g}", *options.until),
                       "twice the timestep: the convergence ladder's coarsest level");
   }
-  return std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
+  h.until = std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
+  h.steps = std::lround(h.until / dt);
+  if (h.shortened()) {
+    h.why = fmt::format("verify's step budget for a model with nv = {1} is {0:g} steps",
+                        max_steps, m->nv);
+  }
+  return h;
+}
+
+// Appended to a row the nominal run judged, when that run is shorter than asked.
+void SayShortHorizon(const VerifyHorizon& h, CheckRow& row) {
+  if (!h.shortened() || row.status == CheckStatus::kSkip) return;
+  row.explanation += fmt::format(
+      " Judged on {:g} s simulated ({} steps), not {:g} s: {}; --until {:g} judges longer.",
+      h.until, h.steps, h.requested, h.why, h.requested);
 }
 
 }  // namespace
@@ -99,7 +118,8 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   std::string why_not;
   std::optional<PendulumParams> pendulum = DetectPendulum(nominal, &why_not);
   double dt = RunTimestep(model, options.sets);
-  double until = NominalLength(options, m, dt, pendulum.has_value());
+  report.horizon = NominalLength(options, m, dt, pendulum.has_value());
+  double until = report.horizon.until;
   const verify::Trace& trace = s.Simulate({}, until, /*energy=*/true);
   bool finite = !trace.result.diverged;
   // a pendulum's energy check watches several swings, so peaks can be compared
@@ -131,6 +151,7 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
       report.checks.push_back(verify::Skip(check.id, check.title, not_pendulum));
     } else {
       report.checks.push_back(check.run(c, verify::Row(check.id, check.title)));
+      if (check.judges_nominal_run) SayShortHorizon(report.horizon, report.checks.back());
     }
   }
   VerifyFigures& f = report.figures;

@@ -165,9 +165,15 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
     }
     texts.push_back(text + Wrap(c.explanation, kWidth, kIndent) + AcceptedLine(c));
   }
-  return CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
-                                MujocoVersion(), report.tol),
-                    report.checks, texts, detail, how_to_see_all);
+  std::string table = CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
+                                             MujocoVersion(), report.tol),
+                                 report.checks, texts, detail, how_to_see_all);
+  const VerifyHorizon& h = report.horizon;
+  if (!h.shortened()) return table;
+  return table + Wrap(fmt::format("Judged on {:g} s of simulated time ({} steps), not {:g} s: {}. "
+                                  "--until {:g} judges {:g} s.",
+                                  h.until, h.steps, h.requested, h.why, h.requested, h.requested),
+                      kWidth, "");
 }
 
 std::string AuditTable(const AuditReport& report, TableDetail detail,

@@ -76,6 +76,12 @@ std::string VerifyToJson(const VerifyReport& report) {
   j["model"] = report.model;
   j["mujoco_version"] = MujocoVersion();
   j["tol"] = report.tol;
+  const VerifyHorizon& h = report.horizon;
+  j["horizon"] = {{"until", h.until},
+                  {"requested", h.requested},
+                  {"steps", h.steps},
+                  {"shortened", h.shortened()},
+                  {"why", h.why}};
   Json checks = Json::array();
   for (const CheckRow& row : report.checks) checks.push_back(RowJson(row));
   j["checks"] = checks;

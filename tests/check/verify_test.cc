@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fixture.h"
+#include "plumb/check_table.h"
 #include "plumb/error.h"
 
 namespace plumb {
@@ -140,6 +141,38 @@ TEST_F(VerifyTest, HumanoidHasNoFailure) {
   EXPECT_FALSE(report.failed()) << Failures(report);
   EXPECT_EQ(Find(report, "analytic.period").status, CheckStatus::kSkip);
   EXPECT_EQ(Find(report, "load").status, CheckStatus::kPass);
+}
+
+// A large model's nominal run is cut to a step budget from its size (a flex model passed
+// `warnings` on 0.096 s where `run` diverged at 0.533 s, and nothing said so): every row
+// judged on it and the summary say how long it simulated and how to judge longer.
+TEST_F(VerifyTest, AShortenedHorizonIsSaidInEveryRowItJudgesAndTheSummary) {
+  Model humanoid = Model::Load(testing::kHumanoid);  // nv = 27, timestep 0.005
+  VerifyReport report = Verify(humanoid, {});
+  EXPECT_DOUBLE_EQ(report.horizon.until, 1.25);
+  EXPECT_EQ(report.horizon.steps, 250);
+  EXPECT_DOUBLE_EQ(report.horizon.requested, 2);
+  ASSERT_TRUE(report.horizon.shortened());
+  EXPECT_EQ(report.horizon.why, "verify's step budget for a model with nv = 27 is 250 steps");
+  for (const char* id : {"determinism", "warnings", "convergence"}) {
+    EXPECT_NE(Find(report, id).explanation.find("Judged on 1.25 s simulated (250 steps), not 2 s"),
+              std::string::npos)
+        << id << ": " << Find(report, id).explanation;
+  }
+  EXPECT_EQ(Find(report, "load").explanation.find("Judged on"), std::string::npos);
+  std::string table = VerifyTable(report, TableDetail::kFindings, "");
+  EXPECT_NE(table.find("Judged on 1.25 s of simulated time (250 steps), not 2 s"),
+            std::string::npos)
+      << table;
+  // the same budget whatever the machine's speed; asking for 2 s gets 2 s
+  VerifyOptions longer;
+  longer.until = 2;
+  VerifyReport full = Verify(humanoid, longer);
+  EXPECT_DOUBLE_EQ(full.horizon.until, 2);
+  EXPECT_FALSE(full.horizon.shortened());
+  EXPECT_EQ(Find(full, "warnings").explanation.find("Judged on"), std::string::npos);
+  // the chapter's pendulum runs its 2 s
+  EXPECT_FALSE(VerifyPendulum({"qpos[hinge]=0.7"}).horizon.shortened());
 }
 
 TEST_F(VerifyTest, FreeBoxOnAPlaneGetsWhatApplies) {
