@@ -55,11 +55,12 @@ struct RolloutOptions {
 // config means the same rows, so --resume may continue it and merge may join shards.
 // The model enters as the hash of its compiled form (included files count), and the
 // versions of plumb and MuJoCo, which decide the numbers as much as the options do.
-std::string Config(const RolloutOptions& o, const std::string& model_hash) {
+std::string Config(const RolloutOptions& o, const Model& model, const std::string& model_hash) {
   std::string config = fmt::format(
       "rollout model={} count={} until={:.17g} seed={} "
       "ctrl_noise={:.17g} plumb={} mujoco={}",
       model_hash, o.count, o.until, o.seed, o.ctrl_noise, PLUMB_VERSION, MujocoVersion());
+  config += StartStateConfig(model);
   if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& r : o.randomize) config += " randomize=" + r;
@@ -129,7 +130,7 @@ StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Mo
     // the compiled model's hash names the run in the store; hashing a big mesh model costs
     // a tenth of a second, so only when there is a store
     std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-    RunInfo info = NewRunInfo("rollout", Config(o, model_hash), ctx.argv, o.model, model_hash);
+    RunInfo info = NewRunInfo("rollout", Config(o, model, model_hash), ctx.argv, o.model, model_hash);
     info.parameters = params;
     info.metrics = o.metrics;
     info.count = o.count;

@@ -43,9 +43,10 @@ struct SweepOptions {
 
 // Everything that decides a sweep's results, as one canonical line (see rollout's Config):
 // the same config means the same rows, so --resume may continue it.
-std::string Config(const SweepOptions& o, const std::string& model_hash) {
+std::string Config(const SweepOptions& o, const Model& model, const std::string& model_hash) {
   std::string config = fmt::format("sweep model={} until={:.17g} plumb={} mujoco={}", model_hash,
                                    o.until, PLUMB_VERSION, MujocoVersion());
+  config += StartStateConfig(model);
   if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& v : o.vary) config += " vary=" + v;
@@ -294,7 +295,7 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
 StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
                          const SweepSpec& spec, long total) {
   std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-  RunInfo info = NewRunInfo("sweep", Config(o, model_hash), ctx.argv, o.model, model_hash);
+  RunInfo info = NewRunInfo("sweep", Config(o, model, model_hash), ctx.argv, o.model, model_hash);
   for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
   info.metrics = o.metrics;
   info.count = total;

@@ -54,6 +54,10 @@ struct RunInfo {
 
 // SQLite application_id of a plumb results store ("plmb").
 inline constexpr int kStoreApplicationId = 0x706c6d62;
+// The store's format, its SQLite user_version: 1 since the tables were made together (0 in
+// stores from before, which have the same tables). A store of a later format, written by a
+// newer plumb, is refused naming both formats, never half-read or altered.
+inline constexpr int kStoreFormat = 1;
 
 class ResultsStore {
  public:

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "plumb/error.h"
+#include "plumb/model.h"
 #include "plumb/store.h"
 
 namespace plumb {
@@ -58,6 +59,13 @@ class RunAlreadyStored : public ArgumentError {
 RunInfo NewRunInfo(const std::string& kind, const std::string& config,
                    const std::vector<std::string>& command, const std::string& model_file,
                    const std::string& model_hash);
+
+// The part of a batch's config that says what its runs start from beyond qpos, qvel, act and
+// ctrl: " start_state=mjSTATE_INTEGRATION" when `model` has delay history or plastic state
+// (MuJoCo 3.5+ and 4.0), which runs start from as MuJoCo's reset and keyframes set them;
+// empty otherwise. Runs stored before plumb restored that state lack it, so resuming one of
+// them is refused with this difference named instead of mixing rows of two starts.
+std::string StartStateConfig(const Model& model);
 
 // Opens the store at `path` (nothing when it is empty) and finds the run `info.config`
 // describes or begins it, as the header says.

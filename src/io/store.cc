@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "plumb/error.h"
+#include "plumb/version.h"
 
 namespace plumb {
 
@@ -228,6 +229,13 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
                              : std::to_string(tables) + " unrelated table(s)") +
                     "); give plumb a file of its own.");
     }
+    long format = integer("PRAGMA user_version");
+    if (format > kStoreFormat) {
+      throw IoError(fmt::format(
+          "results store '{}' has format {}, written by a newer plumb; this plumb (version {}) "
+          "reads formats up to {}. Open it with that newer plumb, or start a new store file.",
+          path, format, PLUMB_VERSION, kStoreFormat));
+    }
     if (read_only) {
       if (fresh) throw IoError("'" + path + "' is empty, not a plumb results store.");
       return;
@@ -242,7 +250,7 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
     }
     SwitchToWriteAheadLog(impl_->db, path);
     impl_->Exec("PRAGMA synchronous=NORMAL");
-    if (id != kStoreApplicationId || ours != 3) {
+    if (id != kStoreApplicationId || ours != 3 || format < kStoreFormat) {
       // the tables and the ids in one transaction: a store killed while it is made holds all
       // of them or none (one table alone used to make it "not a plumb results store")
       impl_->Exec(
@@ -256,8 +264,8 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
                       "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
                       "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
                       "PRIMARY KEY(run, idx));"
-                      "PRAGMA application_id = {}; PRAGMA user_version = 1; COMMIT;",
-                      kStoreApplicationId)
+                      "PRAGMA application_id = {}; PRAGMA user_version = {}; COMMIT;",
+                      kStoreApplicationId, kStoreFormat)
               .c_str());
     }
   } catch (const Error&) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
 #include "plumb/strings.h"
@@ -39,6 +40,11 @@ RunAlreadyStored::RunAlreadyStored(const std::string& path, RunInfo run, long do
                                 run.kind, run.id, done, run.count)),
       run_(std::move(run)),
       done_(done) {}
+
+std::string StartStateConfig(const Model& model) {
+  bool more = compat::HistorySize(model.get()) > 0 || compat::PlasticSize(model.get()) > 0;
+  return more ? " start_state=" + std::string(compat::kIntegrationStateName) : "";
+}
 
 RunInfo NewRunInfo(const std::string& kind, const std::string& config,
                    const std::vector<std::string>& command, const std::string& model_file,

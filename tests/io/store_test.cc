@@ -216,5 +216,55 @@ TEST(StoreTest, EditedRowsAreAnErrorNamingTheStoreRowAndColumnNotACrash) {
   }
 }
 
+// The store's format is its SQLite user_version: stores from before it (0) are read and
+// written; one a newer plumb wrote (a later format) is refused naming both formats, and left
+// as it was.
+TEST(StoreTest, AStoreOfALaterFormatIsRefusedNamingItsFormat) {
+  TempDir dir;
+  std::string path = dir.File("r.sqlite");
+  WriteStore(path, 2, {0, 1}, true);
+  auto set_format = [&](int format) {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    std::string sql = "PRAGMA user_version = " + std::to_string(format);
+    ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+  };
+  set_format(0);  // as before the format was written
+  EXPECT_EQ(ResultsStore(path, ResultsStore::Mode::kReadOnly).Runs().size(), 1u);
+  {
+    ResultsStore store(path);  // writing brings it to the current format
+    EXPECT_EQ(store.Runs().size(), 1u);
+  }
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    sqlite3_stmt* statement = nullptr;
+    sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &statement, nullptr);
+    ASSERT_EQ(sqlite3_step(statement), SQLITE_ROW);
+    EXPECT_EQ(sqlite3_column_int(statement, 0), kStoreFormat);
+    sqlite3_finalize(statement);
+    sqlite3_close(db);
+  }
+  set_format(kStoreFormat + 1);
+  std::string before = testing::ReadFile(path);
+  for (auto mode : {ResultsStore::Mode::kReadOnly, ResultsStore::Mode::kReadWrite}) {
+    try {
+      ResultsStore store(path, mode);
+      ADD_FAILURE() << "opened a store of a later format";
+    } catch (const IoError& e) {
+      std::string message = e.what();
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      EXPECT_NE(message.find("format " + std::to_string(kStoreFormat + 1) + ", written by a newer plumb"),
+                std::string::npos)
+          << message;
+      EXPECT_NE(message.find("reads formats up to " + std::to_string(kStoreFormat)),
+                std::string::npos)
+          << message;
+    }
+  }
+  EXPECT_EQ(testing::ReadFile(path), before);
+}
+
 }  // namespace
 }  // namespace plumb
