@@ -208,6 +208,8 @@ Model LoadModel(const std::string& path) {
                  model.compile_warnings().c_str());
   }
   for (const std::string& w : TakeMujocoWarnings()) {
+    // MuJoCo 4 gives a compiler warning (settotalmass's deprecation) both ways: say it once
+    if (model.compile_warnings().find(w) != std::string::npos) continue;
     std::fprintf(stderr, "plumb: warning: MuJoCo while loading '%s': %s\n", path.c_str(),
                  w.c_str());
   }

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "plumb/error.h"
+#include "plumb/model.h"
 
 namespace plumb {
 
@@ -65,8 +66,9 @@ void CheckModelText(const std::string& path, const std::string& text) {
                           "truncated, or not written yet?",
                       "");
     case FileKind::kBinary:
-      throw LoadError(file + " is a binary file, not an MJCF model (XML). A compiled MuJoCo " +
-                          "model loads when its name ends in .mjb; otherwise give the .xml file.",
+      throw LoadError(file + " is a binary file, but neither an MJCF model (XML) nor a compiled " +
+                          "model (.mjb) this MuJoCo (" + MujocoVersion() +
+                          ") loads: give the .xml file, or a .mjb written by this version.",
                       "");
     case FileKind::kSnapshot:
       throw LoadError(file + " is a plumb snapshot (JSON), not a model. Give the MJCF model " +

@@ -243,17 +243,23 @@ Model Model::Load(const std::string& path) {
                         ". Check the path (it is relative to the current directory).",
                     "");
   }
-  // an empty, binary or JSON file is named for what it is, not by MuJoCo's XML parser
-  if (!EndsWith(path, ".mjb")) CheckModelText(path, text);
+  // the content decides, not the name: MJCF named .mjb is compiled, a compiled model named
+  // otherwise is loaded; an empty or JSON file is named for what it is
+  bool binary = SniffFileKind(text) == FileKind::kBinary;
+  if (!binary) CheckModelText(path, text);
 
   // binary models: mj_loadModel reports problems as warnings and returns nullptr
-  if (EndsWith(path, ".mjb")) {
+  if (binary) {
     mjModel* m = nullptr;
     TakeMujocoWarnings();
     try {
       m = mj_loadModel(path.c_str(), nullptr);
     } catch (const MujocoError& e) {
       throw LoadError("cannot load binary model '" + path + "': " + e.what(), "");
+    }
+    if (!m && !EndsWith(path, ".mjb")) {
+      TakeMujocoWarnings();
+      CheckModelText(path, text);  // throws: "a binary file, not an MJCF model"
     }
     if (!m) {
       std::string detail = Join(TakeMujocoWarnings(), "; ");

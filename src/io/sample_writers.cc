@@ -27,7 +27,9 @@ class Writer : public SampleSink {
   std::FILE* out_;
 };
 
-// Fixed-width columns with 5 decimals, as the chapter prints them.
+// Fixed-width columns with 5 decimals, as the chapter prints them. A number whose fixed text
+// would not leave a space before it in its column (-2e6, 1e308) is printed in exponent form,
+// so columns never run together and a row never grows 300 digits.
 class TableWriter : public Writer {
  public:
   using Writer::Writer;
@@ -43,7 +45,14 @@ class TableWriter : public Writer {
   void Sample(const std::vector<double>& row) override {
     line_.clear();
     for (std::size_t c = 0; c < row.size(); ++c) {
-      fmt::format_to(std::back_inserter(line_), "{:>{}.5f}", row[c], widths_[c]);
+      std::size_t room = static_cast<std::size_t>(widths_[c]) - 1;  // one space before
+      double v = row[c];
+      bool fits = std::fabs(v) < 1e15 && fmt::formatted_size("{:.5f}", v) <= room;
+      if (fits || !std::isfinite(v)) {
+        fmt::format_to(std::back_inserter(line_), "{:>{}.5f}", v, widths_[c]);
+      } else {
+        fmt::format_to(std::back_inserter(line_), "{:>{}.4e}", v, widths_[c]);
+      }
     }
     line_ += '\n';
     Put(line_);

@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string_view>
+#include <system_error>
 
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
@@ -352,6 +355,28 @@ std::string BadState(const Model& model, const mjData* d, long step, double time
   return "";
 }
 
+// The decimal places of the shortest text that reads back as `v` (0.002: 3, 1e-05: 5);
+// 17 for what has no short decimal form.
+int DecimalPlaces(double v) {
+  if (v == 0 || !std::isfinite(v)) return 0;
+  char buffer[400];
+  std::to_chars_result r =
+      std::to_chars(buffer, buffer + sizeof(buffer), std::fabs(v), std::chars_format::fixed);
+  if (r.ec != std::errc()) return 17;
+  std::string_view text(buffer, static_cast<std::size_t>(r.ptr - buffer));
+  std::size_t point = text.find('.');
+  return point == std::string_view::npos ? 0 : static_cast<int>(text.size() - point - 1);
+}
+
+// `v` rounded to `decimals` places, when that is exact in a double's 53 bits; else `v`.
+double RoundToDecimals(double v, int decimals) {
+  if (decimals > 15) return v;
+  double scale = std::pow(10.0, decimals);
+  double scaled = v * scale;
+  if (!(std::fabs(scaled) < 0x1p52)) return v;
+  return std::round(scaled) / scale;
+}
+
 }  // namespace
 
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink) {
@@ -372,10 +397,14 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   auto time_at = [&](long step) {
     return start_time + static_cast<double>(step) * m->opt.timestep;
   };
+  // start + step * dt has no more decimals than dt and the start: 175 * 0.002 is
+  // 0.35000000000000003 in binary, printed as 0.35
+  int decimals = std::max(DecimalPlaces(m->opt.timestep), DecimalPlaces(start_time));
+  auto sample_time = [&](long step) { return RoundToDecimals(time_at(step), decimals); };
   auto sample = [&](long step) {
     // after mj_step, derived quantities still describe the state before the step
     if (derived) forward(data);
-    double t = time_at(step);
+    double t = sample_time(step);
     for (std::size_t c = 0; c < row.size(); ++c) {
       row[c] = is_time[c] ? t : ReadValue(model, data, spec.columns[c]);
     }

@@ -58,6 +58,25 @@ TEST(CliRunTest, LoadingWarnsOfAShortenedDelay) {
       << r.err;
 }
 
+// MuJoCo 4 gives settotalmass's deprecation both in the compiler's message and to its
+// warning handler: plumb printed it twice.
+TEST(CliRunTest, ACompilerWarningIsPrintedOnce) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("total.xml"), R"(<mujoco><compiler settotalmass="5"/><worldbody>
+      <body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>)");
+  CommandResult r = RunPlumb("run total.xml --until 0.002", dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::size_t said = 0;
+  for (std::size_t at = r.err.find("settotalmass"); at != std::string::npos;
+       at = r.err.find("settotalmass", at + 1)) {
+    ++said;
+  }
+  EXPECT_LE(said, 1u) << r.err;
+  if (mjVERSION_HEADER >= 4000000) {
+    EXPECT_EQ(said, 1u) << r.err;
+  }
+}
+
 TEST(CliRunTest, CsvToFileHasExactHeader) {
   TempDir dir;
   CommandResult r = RunPlumb(
@@ -421,6 +440,8 @@ TEST(CliVerifyTest, JsonHasTheDocumentedShape) {
   }
   EXPECT_EQ(j["summary"]["fail"], 0);
   EXPECT_GE(j["summary"]["pass"], 12);
+  EXPECT_EQ(j["horizon"]["until"], 2.0);
+  EXPECT_EQ(j["horizon"]["shortened"], false);
 }
 
 TEST(CliVerifyTest, CoarseTimestepExits1) {

@@ -43,13 +43,29 @@ std::string LoadMessage(const std::string& name, const std::string& text) {
 TEST(FileKindTest, EmptyOrBinaryModelIsNamedNotParsed) {
   EXPECT_NE(LoadMessage("empty.xml", "").find("is empty (0 bytes)"), std::string::npos);
   std::string binary = LoadMessage("model.xml", std::string("\x00\x01\x02xml", 6));
-  EXPECT_NE(binary.find("is a binary file, not an MJCF model"), std::string::npos) << binary;
+  EXPECT_NE(binary.find("is a binary file, but neither an MJCF model (XML) nor a compiled model"),
+            std::string::npos)
+      << binary;
   EXPECT_NE(binary.find(".mjb"), std::string::npos) << binary;
   std::string snapshot = LoadMessage("a.json", "{\"plumb_snapshot\": 1}");
   EXPECT_NE(snapshot.find("is a plumb snapshot (JSON), not a model"), std::string::npos)
       << snapshot;
   EXPECT_NE(snapshot.find("plumb diff"), std::string::npos) << snapshot;
   EXPECT_EQ(LoadMessage("ok.xml", "<mujoco><worldbody/></mujoco>"), "");
+}
+
+// The content decides the format, not the name: MJCF named .mjb got "Model missing header ID",
+// MuJoCo's binary-format message; a compiled model named .bin is loaded.
+TEST(FileKindTest, TheContentDecidesBetweenMjcfAndACompiledModel) {
+  EXPECT_EQ(LoadMessage("model.mjb", "<mujoco><worldbody><geom size='1'/></worldbody></mujoco>"),
+            "");
+  TempDir dir;
+  Model model = Model::FromXmlString("<mujoco><worldbody><geom size='1'/></worldbody></mujoco>");
+  model.SaveBinary(dir.File("model.bin"));
+  EXPECT_EQ(Model::Load(dir.File("model.bin"))->ngeom, 1);
+  // a damaged compiled model still gets the binary-format message
+  std::string damaged = LoadMessage("broken.mjb", std::string("\x00\x01\x02mjb", 6));
+  EXPECT_NE(damaged.find("cannot load binary model"), std::string::npos) << damaged;
 }
 
 }  // namespace

@@ -242,6 +242,30 @@ TEST_F(WriterTest, TableShowsTheChaptersDigits) {
   EXPECT_NE(table.find("-2.40852"), std::string::npos) << table;
 }
 
+// qvel = -2e6 ran two columns together and 1e308 printed 300 digits: a number that does not
+// fit its column with a space before it is printed in exponent form.
+TEST(TableWriterTest, HugeNumbersKeepTheirColumns) {
+  Model model = Model::Load(kPendulum);
+  std::vector<Path> columns = DefaultColumns(model);  // time, qpos[hinge], qvel[hinge]
+  std::FILE* out = std::tmpfile();
+  std::unique_ptr<SampleSink> writer = MakeSampleWriter(SampleFormat::kTable, out);
+  writer->Begin(columns);
+  writer->Sample({0.002, 1e308, -2e6});
+  writer->Sample({0.004, -123456.789, 0.5});
+  writer->Sample({0.006, NAN, INFINITY});
+  writer->End();
+  std::rewind(out);
+  char buffer[4096];
+  std::string text(buffer, std::fread(buffer, 1, sizeof(buffer), out));
+  std::fclose(out);
+  std::vector<std::string> lines = testing::Lines(text);
+  ASSERT_EQ(lines.size(), 4u) << text;
+  for (const std::string& line : lines) EXPECT_EQ(line.size(), lines[0].size()) << text;
+  EXPECT_EQ(lines[1], "     0.00200  1.0000e+308  -2.0000e+06");
+  EXPECT_EQ(lines[2], "     0.00400  -1.2346e+05      0.50000");
+  EXPECT_EQ(lines[3], "     0.00600          nan          inf");
+}
+
 TEST_F(WriterTest, CsvHasExactHeaderAndRoundTrips) {
   std::istringstream csv(Write(SampleFormat::kCsv));
   std::string line;
