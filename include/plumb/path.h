@@ -58,6 +58,9 @@ struct Path {
   int field_index = -1;   // internal: which field
   long first = 0;         // flat index of the first element within the field
   long count = 1;         // number of elements in the block (1 for a single element)
+  // One flag of a bitmask, by MuJoCo's name for it: "opt.enableflags.sleep" reads 0 or 1 and
+  // writes that bit alone, the other flags kept; -1 for a whole field.
+  int bit = -1;
 };
 
 // Resolves `text` against `model`.

@@ -39,6 +39,8 @@ std::vector<std::string> Split(std::string_view text, char separator);
 
 // Case-insensitive ASCII equality.
 bool EqualsIgnoreCase(std::string_view a, std::string_view b);
+// `s` in lower case (ASCII letters).
+std::string Lowercase(std::string_view s);
 
 // Up to `count` entries of `candidates` closest to `word` (edit distance, then
 // prefix/substring matches first), for "did you mean" messages.

@@ -15,6 +15,7 @@
 
 #include "check/audit_layers.h"
 #include "core/mujoco_compat.h"
+#include "plumb/strings.h"
 
 namespace plumb::audit {
 namespace {
@@ -36,8 +37,7 @@ std::string MirrorName(const std::string& name) {
   }
   bool swapped = false;
   for (std::string& p : parts) {
-    std::string lower = p;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::string lower = Lowercase(p);
     auto recase = [&](const std::string& to) {
       std::string out = to;
       for (size_t i = 0; i < out.size() && i < p.size(); ++i) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 #include "core/fields.h"
 #include "core/path_internal.h"
@@ -413,7 +414,42 @@ void SelectElement(std::string_view text, const std::string& index, Path* path) 
 }
 
 // Resolves one parsed path whose row index is not `*`.
+Path ResolveParsed(const Model& model, std::string_view text, const Parsed& parsed);
+
+// "opt.enableflags.sleep" and "opt.disableflags.contact": one flag of MuJoCo's option
+// bitmasks by the name MuJoCo gives it (mjENABLESTRING, mjDISABLESTRING; any case).
+std::optional<Path> ResolveFlag(const Model& model, std::string_view text, const Parsed& parsed) {
+  struct Mask {
+    const char* field;
+    const char* const* names;
+    int count;
+  };
+  const Mask masks[] = {{"opt.enableflags", mjENABLESTRING, mjNENABLE},
+                        {"opt.disableflags", mjDISABLESTRING, mjNDISABLE}};
+  for (const Mask& mask : masks) {
+    std::string prefix = std::string(mask.field) + ".";
+    if (parsed.field.rfind(prefix, 0) != 0) continue;
+    std::string flag = Lowercase(parsed.field.substr(prefix.size()));
+    std::vector<std::string> names;
+    for (int bit = 0; bit < mask.count; ++bit) names.push_back(Lowercase(mask.names[bit]));
+    auto found = std::find(names.begin(), names.end(), flag);
+    if (found == names.end() || !parsed.indices.empty()) {
+      throw PathError("path '" + std::string(text) + "': '" + flag + "' is not a flag of " +
+                      mask.field + " in MuJoCo " + MujocoVersion() + ". " +
+                      DidYouMean(flag, names) + " Flags: " + Join(names, ", ") + ".");
+    }
+    Parsed whole;
+    whole.field = mask.field;
+    Path path = ResolveParsed(model, text, whole);
+    path.bit = static_cast<int>(found - names.begin());
+    path.text = prefix + flag;
+    return path;
+  }
+  return std::nullopt;
+}
+
 Path ResolveParsed(const Model& model, std::string_view text, const Parsed& parsed) {
+  if (std::optional<Path> flag = ResolveFlag(model, text, parsed)) return *flag;
   const mjModel* m = model.get();
   const FieldInfo& field = ReadableField(text, parsed);
   Access access = AccessOf(field);
@@ -588,6 +624,11 @@ std::vector<Path> DefaultColumns(const Model& model) {
 
 double ReadValue(const Model& model, const Data& data, const Path& path, long k) {
   const FieldInfo& field = Fields()[path.field_index];
+  if (path.bit >= 0) {
+    Path whole = path;
+    whole.bit = -1;
+    return (static_cast<long long>(ReadValue(model, data, whole, k)) >> path.bit) & 1;
+  }
   RequireCurrentRow(field, model.get(), data.get(), path, k);
   const char* at = static_cast<const char*>(FieldBase(field, model.get(), data.get())) +
                    (path.first + k) * ElemSize(field.type);

@@ -105,6 +105,19 @@ void* MutableElement(Model& model, Data& data, const Path& path, long k) {
 void WriteValues(Model& model, Data& data, const Path& path, const std::vector<double>& values) {
   const FieldInfo& field = Fields()[path.field_index];
   RequireWritable(path);
+  if (path.bit >= 0) {
+    // one flag: 0 or 1 into its bit, the other flags as they are
+    if (values.size() != 1 || (values[0] != 0 && values[0] != 1)) {
+      throw ValueError("'" + path.text + "' is one flag: give 0 (off) or 1 (on).");
+    }
+    Path whole = path;
+    whole.bit = -1;
+    long long mask = ReadValue(model, data, whole);
+    long long bit = 1LL << path.bit;
+    WriteValues(model, data, whole,
+                {static_cast<double>(values[0] != 0 ? mask | bit : mask & ~bit)});
+    return;
+  }
   if (static_cast<long>(values.size()) != path.count) {
     throw ValueError("'" + path.text + "' takes " + std::to_string(path.count) + " value(s), got " +
                      std::to_string(values.size()) + ".");

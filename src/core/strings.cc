@@ -117,6 +117,12 @@ bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
   return true;
 }
 
+std::string Lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
 std::vector<std::string> Nearest(std::string_view word, const std::vector<std::string>& candidates,
                                  std::size_t count) {
   std::vector<std::pair<std::size_t, std::string>> scored;

@@ -96,8 +96,7 @@ std::vector<StartHint> StartHints(const Model& model, const Data& data) {
                                            one ? "it stays" : "they stay", one ? "it" : "them",
                                            one ? "it" : "them");
     hint.advice = "To see them move from the start, turn sleep off";
-    hint.assignment = fmt::format("opt.enableflags={}",
-                                  m->opt.enableflags & ~compat::kEnableSleep);
+    hint.assignment = "opt.enableflags.sleep=0";  // the other flags kept
     hints.push_back(hint);
   } else if (at_rest && in_equilibrium && undriven) {
     StartHint hint;

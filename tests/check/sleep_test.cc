@@ -65,7 +65,7 @@ TEST(SleepTest, ARunHintNamesTheSleepersAndItsAssignmentWakesThem) {
   std::vector<StartHint> hints = StartHints(model, data);
   ASSERT_EQ(hints.size(), 1u);
   EXPECT_NE(hints[0].problem.find("Bodies 'arm', 'box' start asleep"), std::string::npos);
-  EXPECT_EQ(hints[0].assignment, "opt.enableflags=0");
+  EXPECT_EQ(hints[0].assignment, "opt.enableflags.sleep=0");
 
   // asleep, a control moves nothing; after the hint's assignment, it does
   auto arm_angle_after_a_step_command = [](Model& m, const std::vector<Assignment>& sets) {

@@ -465,6 +465,33 @@ TEST_F(PathTest, PendulumHingeIsAScalar) {
   EXPECT_EQ(ResolvePath(pendulum, "geom_size[rod][0]").count, 1);
 }
 
+// Flags could only be set as a whole bitmask (opt.enableflags=128 overwrote the other flags).
+TEST_F(PathTest, AFlagIsSetByNameAndKeepsTheOtherFlags) {
+  Model pendulum = Model::Load(kPendulum);
+  Data data(pendulum);
+  pendulum.get_mutable()->opt.disableflags = mjDSBL_CONTACT;
+  Path gravity = ResolvePath(pendulum, "opt.disableflags.Gravity");
+  EXPECT_EQ(gravity.text, "opt.disableflags.gravity");
+  EXPECT_EQ(ReadValue(pendulum, data, gravity), 0);
+  WriteValues(pendulum, data, gravity, {1});
+  EXPECT_EQ(pendulum->opt.disableflags, mjDSBL_CONTACT | mjDSBL_GRAVITY);
+  EXPECT_EQ(ReadValue(pendulum, data, gravity), 1);
+  WriteValues(pendulum, data, ResolvePath(pendulum, "opt.disableflags.contact"), {0});
+  EXPECT_EQ(pendulum->opt.disableflags, mjDSBL_GRAVITY);
+  // one flag takes 0 or 1; an unknown flag gets the nearest names and the list
+  EXPECT_THROW(WriteValues(pendulum, data, gravity, {2}), ValueError);
+  try {
+    ResolvePath(pendulum, "opt.enableflags.enrgy");
+    ADD_FAILURE() << "an unknown flag resolved";
+  } catch (const PathError& e) {
+    std::string message = e.what();
+    EXPECT_NE(message.find("'enrgy' is not a flag of opt.enableflags"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("did you mean: energy"), std::string::npos) << message;
+  }
+  EXPECT_THROW(ResolvePath(pendulum, "opt.enableflags.energy[0]"), PathError);
+}
+
 // Found by tests/hostile/hostile_models.py: MuJoCo compiles "nan" and "inf" with at most a
 // warning, and verify's load check and audit passed such a model.
 TEST_F(PathTest, NonFiniteParametersAreNamedByPath) {
