@@ -6,7 +6,12 @@
 # PLUMB is the plumb binary (default build/plumb), README the Markdown file (default README.md),
 # both relative to the repository root. A command is a line inside a fenced code block that
 # starts with "plumb " or, in a block showing a session, "$ build/plumb " (the lines after it
-# are its output); lines ending in a backslash continue on the next one. Synopses
+# are its output); lines ending in a backslash continue on the next one. In such a session the
+# output shown is checked too: each shown line must be a line of the command's output (stdout
+# and stderr, blanks collapsed), in order, though the README may leave lines out; a shown
+# line ending in "..." must begin an output line, and "..." alone skips. Outputs are compared
+# only when plumb runs the MuJoCo version README names for them (an HTML comment: "outputs
+# shown after ... are MuJoCo X's"); across versions the last digits differ. Synopses
 # ("plumb run MODEL [--set ...]") are not run; neither are commands naming a model or scenario
 # that is not here (placeholders such as robot.xml or humanoid.xml): both are listed. The other
 # commands run in order, each block in a temporary directory holding a copy of the folders of
@@ -53,7 +58,12 @@ extract() {
           sub(/^[ \t]+/, "", next_line)
           line = line " " next_line
         }
-        printf "%d\t%d\t%s\n", block, start, line
+        # in a session, the lines up to the next prompt are the output shown
+        shown = ""
+        while (prompts > 0 && i < n && text[i + 1] !~ /^\$ build\/plumb /) {
+          shown = shown "\x1f" text[++i]
+        }
+        printf "%d\t%d\t%s\t%s\n", block, start, line, shown
       }
       n = 0
     }
@@ -82,13 +92,46 @@ named_files() {
   done
 }
 
+# the shown output is compared only where plumb runs the MuJoCo version it was made with
+shown_version="$(grep -o -m1 'outputs shown after "\$ build/plumb" are MuJoCo [0-9.]*' "$readme" |
+  grep -o '[0-9][0-9.]*[0-9]')"
+running_version="$("$plumb" --version 2>/dev/null | head -n 1 | grep -o 'MuJoCo [0-9.]*' |
+  grep -o '[0-9][0-9.]*[0-9]')"
+compare_output=0
+if [[ -n "$shown_version" && "$shown_version" == "$running_version" ]]; then
+  compare_output=1
+else
+  echo "note  the outputs shown are MuJoCo ${shown_version:-?}'s, plumb runs ${running_version:-?}: not compared"
+fi
+
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 ran=0 failed=0 skipped=0
 failures=()
 current_block=""
 
-while IFS=$'\t' read -r block line command; do
+# Whether the output in file $2 shows the lines in $1 (separated by \x1f), as the header says;
+# prints the first shown line not found.
+shows() {
+  awk -v shown="$1" '
+    function norm(s) { gsub(/[ \t]+/, " ", s); sub(/^ /, "", s); sub(/ $/, "", s); return s }
+    { out[++n] = norm($0) }
+    END {
+      count = split(shown, want, "\x1f")
+      at = 1
+      for (k = 1; k <= count; ++k) {
+        w = norm(want[k])
+        if (w == "" || w == "...") continue
+        prefix = w ~ /\.\.\.$/
+        if (prefix) { sub(/ ?\.\.\.$/, "", w) }
+        while (at <= n && !(prefix ? index(out[at], w) == 1 : out[at] == w)) ++at
+        if (at > n) { print want[k]; exit 1 }
+        ++at
+      }
+    }' "$2"
+}
+
+while IFS=$'\t' read -r block line command shown; do
   where="README.md:$line"
   [[ "$readme" = "$root/README.md" ]] || where="$(basename "$readme"):$line"
   # a synopsis: placeholders in capitals or options in brackets
@@ -130,7 +173,16 @@ while IFS=$'\t' read -r block line command; do
 '"$command" >"$log.out" 2>"$log")
   code=$?
   ran=$((ran + 1))
-  if [[ $code -eq 0 || $code -eq 1 ]]; then
+  cat "$log.out" "$log" >"$log.all"
+  if [[ ($code -eq 0 || $code -eq 1) && -n "$shown" && $compare_output -eq 1 ]] &&
+    ! missing_line="$(shows "$shown" "$log.all")"; then
+    echo "FAIL  $where  the output shown is not what it prints: $command"
+    echo "        shown:  $missing_line"
+    echo "        printed (first lines):"
+    sed 's/^/          /' "$log.all" | head -n 12
+    failed=$((failed + 1))
+    failures+=("$where")
+  elif [[ $code -eq 0 || $code -eq 1 ]]; then
     echo "ok    $where  exit $code: $command"
   else
     case $code in
