@@ -79,7 +79,7 @@ Schedule MakeSchedule(double timestep, double until, double every);
 
 // State of the simulation at one step, as a repro needs it.
 struct StateSnapshot {
-  long step = 0;
+  long step = 0;  // by the data's clock: the state after step n is at t = n * timestep
   double time = 0;  // simulation time of this state, s
   std::vector<double> qpos, qvel, act, ctrl;
   // Everything the next step starts from, as one vector: on MuJoCo 3.5+ mj_getState's
@@ -114,7 +114,7 @@ const char* IntegrationStateLayout();
 struct WarningSummary {
   std::string kind;       // "INERTIA", "CONTACTFULL", "BADQACC", ...
   int count = 0;          // how many times MuJoCo raised it
-  long first_step = 0;    // the step (1-based) during which it was first raised
+  long first_step = 0;    // the step during which it was first raised (step n ends at n * dt)
   double first_time = 0;  // simulation time at the start of that step, s (MuJoCo's "Time =")
   std::string message;    // MuJoCo's text for the last occurrence
 };

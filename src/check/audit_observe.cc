@@ -15,32 +15,20 @@
 namespace plumb::audit {
 namespace {
 
+// Joins a piece of a run to the run so far. Pieces continue the data's clock, and Run numbers
+// steps by that clock, so steps and first warnings already count from the run's start.
 void Append(RunResult* total, const RunResult& part) {
   for (const WarningSummary& w : part.warnings) {
     auto same = std::find_if(total->warnings.begin(), total->warnings.end(),
                              [&](const WarningSummary& v) { return v.kind == w.kind; });
     if (same == total->warnings.end()) {
       total->warnings.push_back(w);
-      total->warnings.back().first_step += total->steps;
     } else {
       same->count += w.count;
       same->message = w.message;
     }
   }
-  if (part.divergence) {
-    // the piece counts its steps from its own start: number them from the run's start,
-    // so that step and time agree (time = start + step * timestep)
-    Divergence divergence = *part.divergence;
-    std::string local = fmt::format("(in step {},", divergence.bad.step);
-    std::size_t at = divergence.reason.find(local);
-    if (at != std::string::npos) {
-      divergence.reason.replace(at, local.size(),
-                                fmt::format("(in step {},", divergence.bad.step + total->steps));
-    }
-    divergence.last_good.step += total->steps;
-    divergence.bad.step += total->steps;
-    total->divergence = std::move(divergence);
-  }
+  if (part.divergence) total->divergence = part.divergence;
   total->steps += part.steps;
   total->samples += part.samples;
   total->diverged = part.diverged;

@@ -411,6 +411,14 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     sink.Sample(row);
   };
 
+  // steps are numbered by the data's clock, so every run that reaches one state (run's from
+  // t = 0, audit's step response after its hold) names it by the same step:
+  // step n ends at t = n * dt
+  long first = 0;
+  if (double n = std::round(start_time / m->opt.timestep);
+      n > 0 && std::fabs(start_time - n * m->opt.timestep) <= 1e-9 * std::max(1.0, start_time)) {
+    first = static_cast<long>(n);
+  }
   RunResult result;
   WarningWatch warnings(d, start_time);
   PreStep before(m, d);
@@ -419,23 +427,24 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   sample(0);
   result.samples = 1;
   for (long step = 1; step <= schedule.steps; ++step) {
+    long label = first + step;  // the step's number by the clock
     if (spec.stop.stop_requested()) {
       throw Interrupted("interrupted at t = " + Format("%g s", time_at(step - 1)) + " (step " +
                         std::to_string(step - 1) + " of " + std::to_string(schedule.steps) + ")");
     }
     if (spec.before_step) spec.before_step(d, step);
-    before.Keep(d, step - 1, time_at(step - 1));
+    before.Keep(d, label - 1, time_at(step - 1));
     data.Step();
     result.steps = step;
-    int reset_kind = warnings.Update(d, step, time_at(step - 1));
+    int reset_kind = warnings.Update(d, label, time_at(step - 1));
     Divergence divergence;
     std::string reason = reset_kind >= 0
-                             ? MujocoReset(model, d, reset_kind, step, before, &divergence)
-                             : BadState(model, d, step, time_at(step), &divergence);
+                             ? MujocoReset(model, d, reset_kind, label, before, &divergence)
+                             : BadState(model, d, label, time_at(step), &divergence);
     if (!reason.empty()) {
       result.diverged = true;
       divergence.reason = "the simulation diverged at t = " + Format("%g s", time_at(step - 1)) +
-                          " (in step " + std::to_string(step) +
+                          " (in step " + std::to_string(label) +
                           ", to t = " + Format("%g s", time_at(step)) + "): " + reason;
       divergence.last_good = before.state();
       result.divergence = std::move(divergence);

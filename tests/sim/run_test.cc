@@ -136,6 +136,31 @@ constexpr char kStiffSpring[] = R"(
   </worldbody>
 </mujoco>)";
 
+// Steps are numbered by the data's clock: a run that starts later (audit's step response
+// after its hold, a run in pieces) names a divergence by the same step as one run from t = 0
+// (audit said "step 59" where run said "step 534").
+TEST_F(RunTest, StepsAreNumberedByTheClockWhereverARunStarts) {
+  Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
+  auto diverge = [&](double first_piece) {
+    Data data(model);
+    ApplyAssignments(model, data, {ParseAssignment(model, "qpos[slider]=0.01")});
+    RecordingSink sink;
+    if (first_piece > 0) {
+      EXPECT_FALSE(plumb::Run(model, data, PendulumSpec(model, first_piece, 0.01), sink).diverged);
+    }
+    return plumb::Run(model, data, PendulumSpec(model, 10, 0.01), sink);
+  };
+  RunResult whole = diverge(0), pieces = diverge(0.02);
+  ASSERT_TRUE(whole.divergence && pieces.divergence);
+  EXPECT_EQ(pieces.steps + 2, whole.steps);  // steps taken by each run
+  EXPECT_EQ(pieces.divergence->reason, whole.divergence->reason);
+  EXPECT_EQ(pieces.divergence->bad.step, whole.divergence->bad.step);
+  EXPECT_EQ(pieces.divergence->last_good.step, whole.divergence->last_good.step);
+  ASSERT_FALSE(whole.warnings.empty());
+  EXPECT_EQ(pieces.warnings[0].first_step, whole.warnings[0].first_step);
+  TakeMujocoWarnings();  // MuJoCo's BADQACC, expected here
+}
+
 TEST_F(RunTest, DivergenceStopsTheRunWithBothStates) {
   Model model = Model::FromXmlString(kStiffSpring, "stiff.xml");
   Data data(model);
