@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fixture.h"
+#include "plumb/report.h"
 #include "report/html.h"
 
 namespace plumb {
@@ -92,6 +93,79 @@ TEST(HtmlTest, PageDrawsALongLineWithItsSpikeAndEveryScatterPoint) {
   for (const auto& p : points) top = std::max(top, p["y"].get<double>());
   EXPECT_EQ(top, 5);
   EXPECT_EQ(charts[1]["series"][0]["points"].size(), 5000u) << "points are all drawn";
+}
+
+// A small floating robot: a trunk on a free joint and four two-joint legs on a floor.
+Model FloatingRobot() {
+  std::string legs;
+  const char* names[] = {"FL", "FR", "RL", "RR"};
+  const double at[4][2] = {{0.2, 0.1}, {0.2, -0.1}, {-0.2, 0.1}, {-0.2, -0.1}};
+  for (int k = 0; k < 4; ++k) {
+    legs += "<body name=\"" + std::string(names[k]) + "_thigh\" pos=\"" +
+            std::to_string(at[k][0]) + " " + std::to_string(at[k][1]) +
+            " 0\"><joint name=\"" + names[k] +
+            "_hip\" axis=\"0 1 0\" damping=\"0.5\" range=\"-1 1\"/>"
+            "<geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.15\" size=\"0.02\" mass=\"0.3\"/>"
+            "<body pos=\"0 0 -0.15\"><joint name=\"" +
+            names[k] +
+            "_knee\" axis=\"0 1 0\" damping=\"0.5\" range=\"-2 0\"/>"
+            "<geom type=\"capsule\" fromto=\"0 0 0 0 0 -0.15\" size=\"0.02\" mass=\"0.2\"/>"
+            "</body></body>";
+  }
+  return Model::FromXmlString(
+      "<mujoco model=\"dog\"><option timestep=\"0.002\"/><worldbody>"
+      "<geom name=\"floor\" type=\"plane\" size=\"2 2 0.1\"/>"
+      "<body name=\"trunk\" pos=\"0 0 0.35\"><freejoint/>"
+      "<geom type=\"box\" size=\"0.25 0.1 0.05\" mass=\"5\"/>" +
+          legs + "</body></worldbody></mujoco>",
+      "dog.xml");
+}
+
+TEST(ChartsTest, AVerifyReportOfARobotShowsEveryJointWithNotesForARobot) {
+  Model model = FloatingRobot();
+  VerifyReport result = Verify(model, VerifyOptions{});
+  ASSERT_EQ(result.figures.coords.size(), 8u);
+  testing::TempDir dir;
+  ReportInfo info;
+  info.pictures = false;
+  WriteVerifyReport(dir.File("r.html"), model, {}, result, info);
+  std::string html = testing::ReadFile(dir.File("r.html"));
+  // q(t) and q̇(t) in two groups of at most six joints each, all eight joints in each pair
+  nlohmann::json charts = ChartData(html);
+  int q_lines = 0, qdot_lines = 0, phase = 0;
+  for (const auto& c : charts) {
+    std::string y = c["y"]["label"];
+    if (y == "q (rad or m)") q_lines += int(c["series"].size());
+    if (y == "q\u0307 (rad/s or m/s)") qdot_lines += int(c["series"].size());
+    if (y == "velocity (rad/s or m/s)") ++phase;
+  }
+  EXPECT_EQ(q_lines, 8);
+  EXPECT_EQ(qdot_lines, 8);
+  EXPECT_EQ(phase, 8) << "a phase portrait per joint";
+  for (const std::string& coord : result.figures.coords) {
+    EXPECT_NE(html.find("Phase portrait of " + coord), std::string::npos) << coord;
+  }
+  // notes for a floating robot, none for a pendulum
+  EXPECT_NE(html.find("a floating robot with no controller"), std::string::npos);
+  EXPECT_EQ(html.find("damped pendulum"), std::string::npos);
+  EXPECT_EQ(html.find("Angle against velocity"), std::string::npos);
+}
+
+TEST(ChartsTest, APendulumKeepsItsPendulumNotes) {
+  Model model = Model::Load(testing::kPendulum);
+  VerifyOptions options;
+  options.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  VerifyReport result = Verify(model, options);
+  testing::TempDir dir;
+  ReportInfo info;
+  info.pictures = false;
+  WriteVerifyReport(dir.File("r.html"), model, options.sets, result, info);
+  std::string html = testing::ReadFile(dir.File("r.html"));
+  EXPECT_NE(html.find("A damped pendulum swings"), std::string::npos);
+  EXPECT_EQ(html.find("floating robot"), std::string::npos);
+  std::size_t first = html.find("Phase portrait of");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(html.find("Phase portrait of", first + 1), std::string::npos) << "one joint, one";
 }
 
 }  // namespace
