@@ -161,7 +161,10 @@ void Page::Add(const Chart& chart) {
   int local = 0;
   for (const Series& s : chart.series) {
     nlohmann::json points = nlohmann::json::array();
-    std::vector<std::size_t> kept = s.style == Series::kLine
+    // a line or a time series (points in order of x) is drawn from its extremes; a scatter
+    // of cases is drawn whole
+    bool in_order = std::is_sorted(s.x.begin(), s.x.end());
+    std::vector<std::size_t> kept = s.style == Series::kLine || in_order
                                         ? KeepExtremes(s.x, s.y, kLineBuckets)
                                         : KeepExtremes(s.x, s.y, 0);
     for (std::size_t i : kept) {

@@ -27,8 +27,9 @@ struct Series {
         dashed(dashed),
         marker(std::move(marker)) {}
   std::string label;
-  // Non-finite points are left out; a line of more points than a chart can show is drawn
-  // from KeepExtremes (all its peaks kept); points are all drawn.
+  // Non-finite points are left out; a line, or points in order of x (a logged signal), of
+  // more points than a chart can show is drawn from KeepExtremes (all its peaks kept); other
+  // points (a scatter of cases) are all drawn.
   std::vector<double> x, y;
   Style style = kLine;
   std::string color;  // CSS colour; empty: the next of the palette

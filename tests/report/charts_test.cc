@@ -74,7 +74,7 @@ TEST(HtmlTest, APhasePortraitKeepsItsWholeRange) {
   EXPECT_EQ(vhi, *std::max_element(v.begin(), v.end()));
 }
 
-TEST(HtmlTest, PageDrawsALongLineWithItsSpikeAndEveryScatterPoint) {
+TEST(HtmlTest, PageDrawsLongSignalsWithTheirSpikeAndEveryScatterPoint) {
   LongCurve c;
   report::Page page("test");
   report::Chart line("a long line", {"t (s)"}, {"y"});
@@ -85,14 +85,19 @@ TEST(HtmlTest, PageDrawsALongLineWithItsSpikeAndEveryScatterPoint) {
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = y[i] = double((i * 7919) % 5000);
   scatter.series.push_back({"cases", x, y, report::Series::kPoints});
   page.Add(scatter);
+  report::Chart logged("a logged signal", {"t (s)"}, {"y"});
+  logged.series.push_back({"logged", c.t, c.y, report::Series::kPoints});
+  page.Add(logged);
   nlohmann::json charts = ChartData(page.Render());
-  ASSERT_EQ(charts.size(), 2u);
-  const nlohmann::json& points = charts[0]["series"][0]["points"];
-  EXPECT_LE(points.size(), 3000u);
-  double top = -INFINITY;
-  for (const auto& p : points) top = std::max(top, p["y"].get<double>());
-  EXPECT_EQ(top, 5);
-  EXPECT_EQ(charts[1]["series"][0]["points"].size(), 5000u) << "points are all drawn";
+  ASSERT_EQ(charts.size(), 3u);
+  for (int k : {0, 2}) {  // the line and the points in time order: drawn from their extremes
+    const nlohmann::json& points = charts[k]["series"][0]["points"];
+    EXPECT_LE(points.size(), 3000u);
+    double top = -INFINITY;
+    for (const auto& p : points) top = std::max(top, p["y"].get<double>());
+    EXPECT_EQ(top, 5) << "the spike of chart " << k;
+  }
+  EXPECT_EQ(charts[1]["series"][0]["points"].size(), 5000u) << "a scatter is drawn whole";
 }
 
 // A small floating robot: a trunk on a free joint and four two-joint legs on a floor.
