@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "report/assets.h"
@@ -30,6 +31,9 @@ std::string ScriptSafe(const std::string& json) {
   return out;
 }
 
+// Buckets of a line: what a chart a thousand pixels wide can show, peaks included.
+constexpr std::size_t kLineBuckets = 500;
+
 nlohmann::json AxisJson(const Axis& axis) { return {{"label", axis.label}, {"log", axis.log}}; }
 
 }  // namespace
@@ -42,6 +46,38 @@ std::vector<std::size_t> Thin(std::size_t count, std::size_t most) {
     return kept;
   }
   for (std::size_t k = 0; k < most; ++k) kept.push_back(k * (count - 1) / (most - 1));
+  return kept;
+}
+
+std::vector<std::size_t> KeepExtremes(const std::vector<double>& x, const std::vector<double>& y,
+                                      std::size_t buckets) {
+  std::size_t count = std::min(x.size(), y.size());
+  std::vector<std::size_t> kept;
+  if (count <= 6 * buckets || buckets == 0) {
+    for (std::size_t i = 0; i < count; ++i) kept.push_back(i);
+    return kept;
+  }
+  for (std::size_t b = 0; b < buckets; ++b) {
+    std::size_t begin = b * count / buckets, end = (b + 1) * count / buckets;
+    // the first and last of the run, and the extremes of each coordinate
+    std::size_t pick[6] = {begin, end - 1, begin, begin, begin, begin};
+    bool found = false;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!std::isfinite(x[i]) || !std::isfinite(y[i])) continue;
+      if (!found) {
+        for (int k = 2; k < 6; ++k) pick[k] = i;
+        found = true;
+      }
+      if (x[i] < x[pick[2]]) pick[2] = i;
+      if (x[i] > x[pick[3]]) pick[3] = i;
+      if (y[i] < y[pick[4]]) pick[4] = i;
+      if (y[i] > y[pick[5]]) pick[5] = i;
+    }
+    std::sort(std::begin(pick), std::end(pick));
+    for (std::size_t i : pick) {
+      if (kept.empty() || kept.back() != i) kept.push_back(i);
+    }
+  }
   return kept;
 }
 
@@ -125,7 +161,13 @@ void Page::Add(const Chart& chart) {
   int local = 0;
   for (const Series& s : chart.series) {
     nlohmann::json points = nlohmann::json::array();
-    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+    // a line or a time series (points in order of x) is drawn from its extremes; a scatter
+    // of cases is drawn whole
+    bool in_order = std::is_sorted(s.x.begin(), s.x.end());
+    std::vector<std::size_t> kept = s.style == Series::kLine || in_order
+                                        ? KeepExtremes(s.x, s.y, kLineBuckets)
+                                        : KeepExtremes(s.x, s.y, 0);
+    for (std::size_t i : kept) {
       double x = s.x[i], y = s.y[i];
       if (!std::isfinite(x) || !std::isfinite(y)) continue;
       if ((chart.x.log && x <= 0) || (chart.y.log && y <= 0)) continue;

@@ -27,7 +27,10 @@ struct Series {
         dashed(dashed),
         marker(std::move(marker)) {}
   std::string label;
-  std::vector<double> x, y;  // non-finite points are left out
+  // Non-finite points are left out; a line, or points in order of x (a logged signal), of
+  // more points than a chart can show is drawn from KeepExtremes (all its peaks kept); other
+  // points (a scatter of cases) are all drawn.
+  std::vector<double> x, y;
   Style style = kLine;
   std::string color;  // CSS colour; empty: the next of the palette
   bool dashed = false;
@@ -62,6 +65,15 @@ struct Histogram {
 
 // Keeps at most `most` points of a curve, evenly by index (the first and last kept).
 std::vector<std::size_t> Thin(std::size_t count, std::size_t most);
+
+// The samples of a curve (x[i], y[i]) worth drawing when it has more than a chart can
+// show: split into `buckets` runs of consecutive samples, each keeps its first and last
+// and those with the smallest and largest finite x and y, in their order. The kept points
+// span exactly the range of the finite data (no peak is lost, no axis is cut short); at
+// most 6 * buckets indices. Every index when the curve has no more than 6 * buckets points
+// or `buckets` is 0.
+std::vector<std::size_t> KeepExtremes(const std::vector<double>& x, const std::vector<double>& y,
+                                      std::size_t buckets);
 
 // data:image/png;base64,... of a PNG's bytes.
 std::string PngDataUri(const std::string& png);

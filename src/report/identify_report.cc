@@ -11,7 +11,6 @@
 namespace plumb {
 namespace {
 
-constexpr std::size_t kMostPoints = 1500;  // per curve
 constexpr std::size_t kMostSignals = 12;   // charts per log
 
 std::vector<double> Pick(const std::vector<double>& v, const std::vector<std::size_t>& at) {
@@ -46,7 +45,8 @@ void SignalCharts(report::Page* page, const RobotLog& log,
   page->BeginGrid();
   for (std::size_t i = 0; i < log.measured.size() && i < kMostSignals; ++i) {
     const LogSignal& s = log.measured[i];
-    std::vector<std::size_t> at = report::Thin(s.time.size(), kMostPoints);
+    // every sample: the page draws a long signal from its extremes (report::KeepExtremes)
+    std::vector<std::size_t> at = report::Thin(s.time.size(), s.time.size());
     std::vector<double> t = Pick(s.time, at);
     report::Chart chart(s.column + ": logged and simulated", {"t (s)"}, {s.path.text});
     chart.series.push_back(

@@ -20,8 +20,6 @@ namespace plumb::report {
 namespace {
 
 constexpr int kPictureWidth = 480, kPictureHeight = 360;
-constexpr int kFrameWidth = 320, kFrameHeight = 240;
-constexpr int kFrames = 48;  // the animation of the nominal run
 constexpr int kThumbWidth = 240, kThumbHeight = 180;
 // shadow maps for small pictures: MuJoCo's default 4096 costs a software rasteriser about
 // 10 ms a frame to clear and draw, 1024 about a tenth of that, and looks the same at this size
@@ -83,26 +81,24 @@ void AddModelPictures(Page* page, const Model& model, const std::vector<Assignme
   }
   try {
     Start start(model, sets);
+    // one renderer for the stills and the animation: making one costs as much as several
+    // frames of a meshed robot on a software rasteriser (bench/RESULTS.md)
     Renderer renderer(start.model, SmallPicture(kPictureWidth, kPictureHeight));
     page->Meta("renderer", renderer.backend() + "; camera " + renderer.camera());
     std::string first = EncodePng(renderer.Render(start.data));
 
-    // the animation renders smaller frames from a second renderer of the same context
-    Renderer frames_renderer(start.model, SmallPicture(kFrameWidth, kFrameHeight));
     const mjModel* m = start.model.get();
     double dt = m->opt.timestep;
     long steps = std::max(1L, std::lround(info.nominal_until / dt));
-    long stride = std::max(1L, steps / kFrames);
-    std::vector<std::string> frames;
+    long stride = std::max(1L, steps / std::max(1, info.frames));
+    std::vector<std::string> frames = {first};
     Image frame;
-    frames_renderer.Render(start.data, &frame);
-    frames.push_back(EncodePng(frame, PngEffort::kFast));
     RunSpec spec;
     spec.until = steps * dt;
     spec.every = dt * stride;
     spec.after_step = [&](const mjData*, long step) {
-      if (step % stride == 0) {
-        frames_renderer.Render(start.data, &frame);
+      if (step % stride == 0 && info.frames > 0) {
+        renderer.Render(start.data, &frame);
         frames.push_back(EncodePng(frame, PngEffort::kFast));
       }
     };
@@ -115,6 +111,7 @@ void AddModelPictures(Page* page, const Model& model, const std::vector<Assignme
             : fmt::format("t = {:.4g} s, the end of the nominal run", result.steps * dt);
     std::string last = EncodePng(renderer.Render(start.data));
     page->Pictures({{first, "t = 0, the start state"}, {last, end_caption}});
+    if (frames.size() < 2) return;
     page->Flipbook(frames, int(std::lround(1000.0 * info.nominal_until / frames.size())),
                    fmt::format("the nominal run, {} frames over {:.3g} s (real time)",
                                frames.size(), result.steps * dt));

@@ -8,14 +8,17 @@
 #include <string>
 
 #include "plumb/converge.h"
+#include "plumb/model.h"
 #include "plumb/verify.h"
 #include "report/html.h"
 
 namespace plumb::report {
 
-// q(t) and q̇(t) of each hinge and slide joint (at most six), the first one's phase
-// portrait, and the total energy. Nothing when the run has no samples.
-void AddRunCharts(Page* page, const VerifyFigures& figures);
+// q(t) and q̇(t) of every hinge and slide joint (six to a chart), a phase portrait per
+// joint (none past 24 joints), and the total energy, each with notes for the kind of model
+// `model` is: a pendulum (figures.pendulum), a floating robot (a free joint) or a fixed-base
+// mechanism. Nothing when the run has no samples.
+void AddRunCharts(Page* page, const Model& model, const VerifyFigures& figures);
 
 // The successive differences (and estimated errors) against dt on log-log axes, with a
 // line of the expected slope through the finest resolved point. Nothing without levels.

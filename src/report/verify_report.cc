@@ -35,7 +35,7 @@ void WriteVerifyReport(const std::string& path, const Model& model,
       "<th>explanation</th></tr>\n" +
       rows + "</table>\n");
 
-  report::AddRunCharts(&page, result.figures);
+  report::AddRunCharts(&page, model, result.figures);
   report::AddConvergenceChart(&page, result.figures.convergence_metric, result.figures.convergence,
                               result.figures.expected_order);
   if (result.figures.pendulum) report::AddPeriodChart(&page, *result.figures.pendulum);

@@ -3,7 +3,9 @@
 
 For each report: no console errors, no network request of any kind (only file: and data:
 URLs are allowed; anything else is blocked and counted), every chart drawn with marks on
-its canvas, every picture decoded. A full-page screenshot is saved beside it as a test
+its canvas, every picture decoded, and every chart showing all its data: each point the
+page carries is one Chart.js drew (none skipped), and lies inside the axes' range as the
+live chart laid them out. A full-page screenshot is saved beside it as a test
 artifact.
 
 Usage: browser_check.py REPORT.html [REPORT.html ...]   (exit 0 all good, 1 a check failed)
@@ -31,6 +33,32 @@ CHARTS = """() => window.plumbReport.charts.map((c) => {
   return { id: c.canvas.id, title: c.canvas.previousElementSibling ?
              c.canvas.previousElementSibling.textContent : '', marks, painted };
 })"""
+# Per x-y chart (live Chart.js instances): the points the page's data carries against those
+# drawn, and every point outside the axes' range (up to a few, with the range).
+OUTSIDE = """() => {
+  const specs = JSON.parse(document.getElementById('plumb-charts').textContent);
+  return window.plumbReport.charts.map((c, k) => {
+    const spec = specs[k];
+    const out = { id: c.canvas.id, kind: spec.kind, carried: 0, drawn: 0, outside: [] };
+    if (spec.kind !== 'xy') return out;
+    const x = c.scales.x, y = c.scales.y;
+    out.range = [x.min, x.max, y.min, y.max];
+    spec.series.forEach((s) => { out.carried += s.points.length; });
+    c.data.datasets.forEach((d, i) => {
+      const meta = c.getDatasetMeta(i), ctl = meta.controller;
+      const start = ctl._drawStart || 0;
+      const count = ctl._drawCount === undefined ? meta.data.length - start : ctl._drawCount;
+      out.drawn += Math.min(count, meta.data.length - start);
+      d.data.forEach((p) => {
+        if (p.x < x.min || p.x > x.max || p.y < y.min || p.y > y.max) {
+          if (out.outside.length < 5) out.outside.push([d.label, p.x, p.y]);
+          else out.outside.push(null);
+        }
+      });
+    });
+    return out;
+  });
+}"""
 PAGE = """() => ({
   canvases: document.querySelectorAll('canvas.plumb-chart').length,
   images: Array.from(document.images).map((i) => ({ alt: i.alt, ok: i.complete && i.naturalWidth > 0 })),
@@ -62,6 +90,7 @@ def check(context, path):
         problems.append(f"the page never said it was ready: {e}")
     page.wait_for_timeout(300)
     charts = page.evaluate(CHARTS) if not problems else []
+    coverage = page.evaluate(OUTSIDE) if not problems else []
     info = page.evaluate(PAGE)
     shot = os.path.splitext(path)[0] + ".png"
     page.screenshot(path=shot, full_page=True)
@@ -75,13 +104,25 @@ def check(context, path):
         if c["marks"] == 0 or c["painted"] == 0:
             problems.append(f"chart {c['id']} ({c['title']!r}) has {c['marks']} marks and "
                             f"{c['painted']} painted pixels")
+    for c in coverage:
+        if c["kind"] != "xy":
+            continue
+        if c["drawn"] != c["carried"]:
+            problems.append(f"chart {c['id']} draws {c['drawn']} of its {c['carried']} points")
+        if c["outside"]:
+            shown = [p for p in c["outside"] if p is not None]
+            problems.append(f"chart {c['id']}: {len(c['outside'])} points outside its axes "
+                            f"x [{c['range'][0]}, {c['range'][1]}], y [{c['range'][2]}, "
+                            f"{c['range'][3]}], e.g. {shown}")
     problems += [f"picture not decoded: {i['alt']}" for i in info["images"] if not i["ok"]]
     if info["tables"] == 0:
         problems.append("no table")
     want_thumbnails = os.environ.get("PLUMB_EXPECT_THUMBNAILS", "")
     if os.path.basename(path) in want_thumbnails.split(",") and info["thumbnails"] == 0:
         problems.append("no thumbnail of a highlighted element")
-    summary = {"report": path, "charts": len(charts), "pictures": len(info["images"]),
+    points = sum(c["carried"] for c in coverage)
+    summary = {"report": path, "charts": len(charts), "points": points,
+               "pictures": len(info["images"]),
                "thumbnails": info["thumbnails"],
                "screenshot": shot, "problems": problems}
     print(json.dumps(summary))

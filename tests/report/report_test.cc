@@ -120,6 +120,25 @@ TEST(ReportTest, AuditReportHasStepResponsesSettleAndThumbnails) {
   }
 }
 
+TEST(ReportTest, TheAnimationHasTheFramesAskedFor) {
+  if (!RendererBuilt()) GTEST_SKIP() << "no renderer in this build";
+  PendulumCase c;
+  VerifyReport result = Verify(c.model, c.options);
+  testing::TempDir dir;
+  ReportInfo info;
+  info.frames = 4;
+  WriteVerifyReport(dir.File("r.html"), c.model, c.options.sets, result, info);
+  std::string html = testing::ReadFile(dir.File("r.html"));
+  if (html.find("No pictures:") != std::string::npos) GTEST_SKIP() << "no GL context here";
+  // the two stills, the flipbook's first frame, and in its list t = 0 and the 4 frames
+  EXPECT_EQ(Count(html, "data:image/png;base64,"), 2 + 1 + 1 + 4);
+  info.frames = 0;  // the stills only
+  WriteVerifyReport(dir.File("s.html"), c.model, c.options.sets, result, info);
+  html = testing::ReadFile(dir.File("s.html"));
+  EXPECT_EQ(Count(html, "data:image/png;base64,"), 2);
+  EXPECT_EQ(html.find("class=\"flipbook\""), std::string::npos);
+}
+
 TEST(ReportTest, AnUnwritableReportLeavesNothing) {
   PendulumCase c;
   VerifyReport result;

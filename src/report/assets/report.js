@@ -73,8 +73,11 @@
                                       y: { stacked: true, title: { display: true, text: spec.y.label } } } } };
     } else {
       config = { type: 'scatter', data: { datasets: spec.series.map(dataset) },
-                 options: { animation: false, responsive: true, maintainAspectRatio: false, parsing: false,
-                            normalized: true, interaction: { mode: 'nearest', intersect: false },
+                 // neither `normalized` nor `parsing: false`: each tells Chart.js 3.9 that a dataset
+                 // is sorted by x, and a scatter or a phase portrait is not (its x axis then ran from
+                 // the first point to the last and cut the others off); parsed, it finds out
+                 options: { animation: false, responsive: true, maintainAspectRatio: false,
+                            interaction: { mode: 'nearest', intersect: false },
                             scales: { x: scale(spec.x), y: scale(spec.y) },
                             plugins: { tooltip: { callbacks: { label: (c) =>
                               `${c.dataset.label}: (${Number(c.parsed.x).toPrecision(6)}, ${Number(c.parsed.y).toPrecision(6)})` } } } } };
