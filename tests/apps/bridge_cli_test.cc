@@ -93,8 +93,8 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   Log log = ReadLog(dir.File("log.csv"));
   ASSERT_EQ(log.rows.size(), 1501u);  // the start and every period
   EXPECT_EQ(log.commands, 1495);
-  EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[0]"), 0.5, 0.01);
-  EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[0]"), 0.5, 0.01);  // as published
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[hinge]"), 0.5, 0.01);
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[hinge]"), 0.5, 0.01);  // as published
   // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
   ASSERT_EQ(log.events.size(), 2u);
   EXPECT_EQ(log.events[0], "controller 1 is in charge");
@@ -128,12 +128,12 @@ TEST(CliBridgeTest, TheRecordedLogReplaysBitForBit) {
   ASSERT_EQ(log.rows.size(), 1501u);
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
-  ASSERT_EQ(log.At(0, "qpos[0]"), data->qpos[0]);
+  ASSERT_EQ(log.At(0, "qpos[hinge]"), data->qpos[0]);
   for (std::size_t row = 1; row < log.rows.size(); ++row) {
-    data->qfrc_applied[0] = log.At(row, "qfrc_applied[0]");
+    data->qfrc_applied[0] = log.At(row, "qfrc_applied[hinge]");
     mj_step(model.get(), data.get());
-    ASSERT_EQ(data->qpos[0], log.At(row, "qpos[0]")) << "row " << row;
-    ASSERT_EQ(data->qvel[0], log.At(row, "qvel[0]")) << "row " << row;
+    ASSERT_EQ(data->qpos[0], log.At(row, "qpos[hinge]")) << "row " << row;
+    ASSERT_EQ(data->qvel[0], log.At(row, "qvel[hinge]")) << "row " << row;
   }
 }
 
@@ -151,8 +151,8 @@ TEST(CliBridgeTest, AFlightLogWithLatencyGivesTheLatencyBack) {
   ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
       << testing::ReadFile(dir.File("bridge.err"));
   testing::WriteFile(dir.File("map.toml"),
-                     "[columns]\n\"cmd.tau[0]\" = \"qfrc_applied[hinge]\"\n"
-                     "\"qfrc_applied[0]\" = \"\"\n");
+                     "[columns]\n\"cmd.tau[hinge]\" = \"qfrc_applied[hinge]\"\n"
+                     "\"qfrc_applied[hinge]\" = \"\"\n");
   auto r = testing::RunPlumb("identify '" + testing::kPendulum +
                                  "' --log log.csv --columns map.toml --fit 'dof_damping[hinge]' "
                                  "--delay ctrl --max-delay 0.03 --format json",
@@ -185,6 +185,8 @@ TEST(CliBridgeTest, AGo2StandsUp) {
   EXPECT_GT(log.At(1000, "qpos[2]"), 0.2);                              // up after the 1 s ramp
   EXPECT_NEAR(log.At(1500, "qpos[2]"), log.At(1000, "qpos[2]"), 0.03);  // and stays up
   EXPECT_GT(log.At(1500, "qpos[2]"), 0.24);
+  // joints and motors by name: the free joint is unnamed (its rows), the legs are not
+  EXPECT_NEAR(log.At(1500, "qpos[FL_thigh_joint]"), log.At(1500, "state.q[FL_thigh]"), 1e-5);
 }
 
 // An unmodified client of Unitree's own Python SDK (its channels, message classes and CRC)
@@ -222,7 +224,7 @@ TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
   ASSERT_NE(at, std::string::npos) << r.out;
   double seen = std::stod(r.out.substr(at + 4));
   EXPECT_NEAR(seen, 0.5, 0.02) << r.out;
-  EXPECT_NEAR(seen, log.At(500, "state.q[0]"), 1e-4) << r.out;
+  EXPECT_NEAR(seen, log.At(500, "state.q[hinge]"), 1e-4) << r.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Families, CliBridgeSdk2Test, ::testing::Values("go", "hg"));
