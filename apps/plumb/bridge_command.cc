@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 
@@ -26,6 +27,20 @@ struct BridgeCommandOptions {
   std::string log;
 };
 
+#ifdef PLUMB_WITH_DDS
+// "realtime factor 0.983, 12 late periods (the worst 33.1 ms late)".
+std::string Pacing(const BridgeStats& stats) {
+  std::string text = std::isnan(stats.realtime_factor)
+                         ? "no period ran"
+                         : fmt::format("realtime factor {:.3f}", stats.realtime_factor);
+  text += fmt::format(", {} late periods", stats.late_periods);
+  if (stats.late_periods > 0) {
+    text += fmt::format(" (the worst {:.1f} ms late)", stats.worst_lateness * 1000);
+  }
+  return text;
+}
+#endif
+
 int RunBridgeCommand(const BridgeCommandOptions& o) {
 #ifndef PLUMB_WITH_DDS
   (void)o;
@@ -46,15 +61,16 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
                "Ctrl-C stops it\n",
                config.domain, config.mode == BridgeMode::kLockstep ? "lockstep" : "realtime",
                model.file().c_str());
-  BridgeStats stats =
-      RunBridge(model, StartAssignments(model, o.keyframe, o.sets), config, CommandStop().token());
+  BridgeStats stats = RunBridge(
+      model, StartAssignments(model, o.keyframe, o.sets), config, CommandStop().token(),
+      [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); });
   std::printf(
       "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
-      "CRC, %ld for NaN values, %ld from a second controller; %ld states published; watchdog "
-      "tripped %ld times%s%s\n",
+      "CRC, %ld for NaN values, %ld from a second controller, %ld from a full lockstep queue; "
+      "%ld states published; watchdog tripped %ld times; %s%s%s\n",
       stats.time, stats.steps, stats.commands, stats.bad_crc, stats.non_finite,
-      stats.foreign_commands, stats.states, stats.watchdog_trips,
-      config.log.empty() ? "" : "; log ", config.log.c_str());
+      stats.foreign_commands, stats.queue_drops, stats.states, stats.watchdog_trips,
+      Pacing(stats).c_str(), config.log.empty() ? "" : "; log ", config.log.c_str());
   if (stats.diverged) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
     return kExitDiverged;

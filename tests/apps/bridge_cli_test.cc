@@ -95,10 +95,15 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   EXPECT_EQ(log.commands, 1495);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[hinge]"), 0.5, 0.01);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[hinge]"), 0.5, 0.01);  // as published
-  // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
-  ASSERT_EQ(log.events.size(), 2u);
-  EXPECT_EQ(log.events[0], "controller 1 is in charge");
-  EXPECT_NE(log.events[1].find("watchdog"), std::string::npos);
+  // it waited for the client, and said so once; the client stopped at 2.99 s: the watchdog
+  // damped the last periods, and said so
+  ASSERT_EQ(log.events.size(), 3u);
+  EXPECT_NE(log.events[0].find("waiting for the first command"), std::string::npos);
+  EXPECT_EQ(log.events[1], "controller 1 is in charge");
+  EXPECT_NE(log.events[2].find("watchdog"), std::string::npos);
+  std::string err = testing::ReadFile(dir.File("bridge.err"));
+  EXPECT_EQ(testing::Occurrences(err, "waiting for the first command"), 1) << err;
+  EXPECT_NE(testing::ReadFile(dir.File("bridge.out")).find("realtime factor"), std::string::npos);
 }
 
 TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {
