@@ -20,6 +20,7 @@ struct BridgeCommandOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::string config;
   std::optional<std::uint32_t> domain;
   std::string mode;
@@ -62,7 +63,7 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
                config.domain, config.mode == BridgeMode::kLockstep ? "lockstep" : "realtime",
                model.file().c_str());
   BridgeStats stats = RunBridge(
-      model, StartAssignments(model, o.keyframe, o.sets), config, CommandStop().token(),
+      model, StartAssignments(model, o.keyframe, o.pose, o.sets), config, CommandStop().token(),
       [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); });
   std::printf(
       "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
@@ -90,13 +91,16 @@ void SetupBridgeCommand(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  plumb bridge go2.xml --config bridge.toml\n"
       "  plumb bridge models/pendulum.xml --config pendulum-bridge.toml --until 10 --log run.csv\n"
+      "  plumb bridge go2.xml --config bridge.toml --pose lying.txt   (or --qpos with nq numbers)\n"
       "The configuration (TOML): family = \"go\"|\"hg\", mode = \"lockstep\"|\"realtime\", "
       "domain,\n"
       "control_period, motors = [names], check_crc, log, until, [watchdog] timeout_ms, kd.\n"
-      "Exit codes: 0 ok, 2 bad input, 3 the simulation diverged, 5 DDS cannot start or this\n"
-      "build has no bridge, 130 stopped by Ctrl-C.");
+      "Exit codes: 0 ok, 2 bad input (a --qpos whose length is not nq, a bad --pose file\n"
+      "line, ...), 3 the simulation diverged, 5 DDS cannot start or this build has no bridge,\n"
+      "130 stopped by Ctrl-C.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--config", o->config, "the bridge configuration (TOML)");
   cmd->add_option_function<std::uint32_t>(
          "--domain", [o](std::uint32_t v) { o->domain = v; }, "DDS domain id (overrides the file)")

@@ -234,6 +234,30 @@ TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
 
 INSTANTIATE_TEST_SUITE_P(Families, CliBridgeSdk2Test, ::testing::Values("go", "hg"));
 
+// A robot without the keyframe it needs starts from a whole qpos (--qpos) or a pose file;
+// a qpos of the wrong length is bad input, named by its option.
+TEST(CliBridgeTest, StartsFromAWholeQposOrAPoseFile) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("bridge.toml"), "motors = [\"hinge\"]\n");
+  std::string domain = std::to_string(testing::FreeDomain());
+  std::string bridge = "bridge '" + testing::kPendulum +
+                       "' --config bridge.toml --mode realtime --until 0.02 --log log.csv "
+                       "--domain " +
+                       domain;
+  auto r = testing::RunPlumb(bridge + " --qpos 0.7,0", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--qpos '0.7,0': 2 values, but"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nq = 1"), std::string::npos) << r.err;
+  r = testing::RunPlumb(bridge + " --qpos 0.7", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(ReadLog(dir.File("log.csv")).At(0, "qpos[hinge]"), 0.7);
+  EXPECT_NE(r.out.find("realtime factor"), std::string::npos) << r.out;
+  testing::WriteFile(dir.File("pose.txt"), "# hanging out\nqpos[hinge]=0.4\n");
+  r = testing::RunPlumb(bridge + " --pose pose.txt", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(ReadLog(dir.File("log.csv")).At(0, "qpos[hinge]"), 0.4);
+}
+
 TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
   testing::TempDir dir;
   testing::WriteFile(dir.File("bad.toml"), "family = \"go\"\nmode = \"fast\"\n");
