@@ -94,7 +94,8 @@ void SetupBridgeCommand(CLI::App& app, Context& ctx) {
       "  plumb bridge go2.xml --config bridge.toml --pose lying.txt   (or --qpos with nq numbers)\n"
       "The configuration (TOML): family = \"go\"|\"hg\", mode = \"lockstep\"|\"realtime\", "
       "domain,\n"
-      "control_period, motors = [names], check_crc, log, until, [watchdog] timeout_ms, kd.\n"
+      "control_period, motors = [names], check_crc, log, until, command_queue (lockstep),\n"
+      "[watchdog] timeout_ms, kd.\n"
       "Exit codes: 0 ok, 2 bad input (a --qpos whose length is not nq, a bad --pose file\n"
       "line, ...), 3 the simulation diverged, 5 DDS cannot start or this build has no bridge,\n"
       "130 stopped by Ctrl-C.");

@@ -94,10 +94,10 @@ struct BridgeConfig {
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
-// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed, a
-// [watchdog] table with timeout_ms and kd, an [imu] table with quaternion, gyroscope,
-// accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError naming the file,
-// line and key for anything unknown or out of range.
+// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed,
+// command_queue, a [watchdog] table with timeout_ms and kd, an [imu] table with quaternion,
+// gyroscope, accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError
+// naming the file, line and key for anything unknown or out of range.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {
