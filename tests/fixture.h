@@ -122,6 +122,13 @@ inline std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
+// How many times `what` occurs in `text` (events and rows of a log, lines of stderr).
+inline long Occurrences(const std::string& text, const std::string& what) {
+  long n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
 // Every MJCF file of MuJoCo's samples (libmujoco-samples, installed by
 // scripts/install-deps.sh) and of the DeepMind Control Suite (carried in tests/models), sorted:
 // models nobody here wrote. VerifyModelsListTest fails, saying how to get them, when either

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 
@@ -19,12 +20,27 @@ struct BridgeCommandOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::string config;
   std::optional<std::uint32_t> domain;
   std::string mode;
   std::optional<double> until;
   std::string log;
 };
+
+#ifdef PLUMB_WITH_DDS
+// "realtime factor 0.983, 12 late periods (the worst 33.1 ms late)".
+std::string Pacing(const BridgeStats& stats) {
+  std::string text = std::isnan(stats.realtime_factor)
+                         ? "no period ran"
+                         : fmt::format("realtime factor {:.3f}", stats.realtime_factor);
+  text += fmt::format(", {} late periods", stats.late_periods);
+  if (stats.late_periods > 0) {
+    text += fmt::format(" (the worst {:.1f} ms late)", stats.worst_lateness * 1000);
+  }
+  return text;
+}
+#endif
 
 int RunBridgeCommand(const BridgeCommandOptions& o) {
 #ifndef PLUMB_WITH_DDS
@@ -46,15 +62,16 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
                "Ctrl-C stops it\n",
                config.domain, config.mode == BridgeMode::kLockstep ? "lockstep" : "realtime",
                model.file().c_str());
-  BridgeStats stats =
-      RunBridge(model, StartAssignments(model, o.keyframe, o.sets), config, CommandStop().token());
+  BridgeStats stats = RunBridge(
+      model, StartAssignments(model, o.keyframe, o.pose, o.sets), config, CommandStop().token(),
+      [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); });
   std::printf(
       "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
-      "CRC, %ld for NaN values, %ld from a second controller; %ld states published; watchdog "
-      "tripped %ld times%s%s\n",
+      "CRC, %ld for NaN values, %ld from a second controller, %ld from a full lockstep queue; "
+      "%ld states published; watchdog tripped %ld times; %s%s%s\n",
       stats.time, stats.steps, stats.commands, stats.bad_crc, stats.non_finite,
-      stats.foreign_commands, stats.states, stats.watchdog_trips,
-      config.log.empty() ? "" : "; log ", config.log.c_str());
+      stats.foreign_commands, stats.queue_drops, stats.states, stats.watchdog_trips,
+      Pacing(stats).c_str(), config.log.empty() ? "" : "; log ", config.log.c_str());
   if (stats.diverged) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
     return kExitDiverged;
@@ -74,13 +91,17 @@ void SetupBridgeCommand(CLI::App& app, Context& ctx) {
       "Examples:\n"
       "  plumb bridge go2.xml --config bridge.toml\n"
       "  plumb bridge models/pendulum.xml --config pendulum-bridge.toml --until 10 --log run.csv\n"
+      "  plumb bridge go2.xml --config bridge.toml --pose lying.txt   (or --qpos with nq numbers)\n"
       "The configuration (TOML): family = \"go\"|\"hg\", mode = \"lockstep\"|\"realtime\", "
       "domain,\n"
-      "control_period, motors = [names], check_crc, log, until, [watchdog] timeout_ms, kd.\n"
-      "Exit codes: 0 ok, 2 bad input, 3 the simulation diverged, 5 DDS cannot start or this\n"
-      "build has no bridge, 130 stopped by Ctrl-C.");
+      "control_period, motors = [names], check_crc, log, until, command_queue (lockstep),\n"
+      "[watchdog] timeout_ms, kd.\n"
+      "Exit codes: 0 ok, 2 bad input (a --qpos whose length is not nq, a bad --pose file\n"
+      "line, ...), 3 the simulation diverged, 5 DDS cannot start or this build has no bridge,\n"
+      "130 stopped by Ctrl-C.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--config", o->config, "the bridge configuration (TOML)");
   cmd->add_option_function<std::uint32_t>(
          "--domain", [o](std::uint32_t v) { o->domain = v; }, "DDS domain id (overrides the file)")

@@ -118,9 +118,35 @@ void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail) {
 
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
                                          const std::vector<std::string>& sets) {
+  return StartAssignments(model, keyframe, StartPose{}, sets);
+}
+
+std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
+                                         const StartPose& pose,
+                                         const std::vector<std::string>& sets) {
   std::vector<Assignment> out = KeyframeAssignments(model, keyframe);
+  if (!pose.file.empty()) {
+    for (Assignment& a : PoseFileAssignments(model, pose.file)) {
+      WarnAboutAssignment("--pose", a.text, a.warnings);
+      out.push_back(std::move(a));
+    }
+  }
+  if (!pose.qpos.empty()) {
+    out.push_back(QposAssignment(model, pose.qpos));
+    WarnAboutAssignment("--qpos", out.back().text, out.back().warnings);
+  }
   for (Assignment& a : ParseAssignments(model, sets)) out.push_back(std::move(a));
   return out;
+}
+
+void AddStartPoseOptions(CLI::App* cmd, StartPose* pose) {
+  cmd->add_option("--pose", pose->file,
+                  "start from the pose in FILE: one PATH=VALUE a line as --set takes them, or a "
+                  "whole qpos vector; after --keyframe, before --qpos and --set");
+  cmd->add_option("--qpos", pose->qpos,
+                  "start from this whole qpos: nq numbers in MuJoCo's qpos order, separated by "
+                  "commas or spaces (a free joint's x y z, quaternion w x y z first); --set "
+                  "applies on top");
 }
 
 CLI::App* AddCommand(CLI::App& app, const std::string& name, const std::string& description,

@@ -72,6 +72,14 @@ void AddReportOption(CLI::App* cmd, std::string* report);
 // every --set applied on top. Commands read it with StartAssignments.
 void AddKeyframeOption(CLI::App* cmd, std::string* keyframe);
 
+// A start pose given whole: --pose FILE (plumb/keyframe.h PoseFileAssignments) and --qpos
+// VALUES (nq numbers). Commands that take them read them with StartAssignments.
+struct StartPose {
+  std::string file;  // --pose
+  std::string qpos;  // --qpos
+};
+void AddStartPoseOptions(CLI::App* cmd, StartPose* pose);
+
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";
 
@@ -87,6 +95,12 @@ void AddTableDetailOptions(CLI::App* cmd, TableDetail* detail);
 // --set in order. @throws ValueError for an unknown keyframe; PathError / ValueError
 // for a bad --set.
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
+                                         const std::vector<std::string>& sets);
+// The same with a whole pose: the keyframe, then the pose file, then --qpos, then every --set
+// (each later one wins). @throws ArgumentError (pose, qpos) for a bad file or a vector whose
+// length is not nq; IoError for an unreadable file; as above.
+std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
+                                         const StartPose& pose,
                                          const std::vector<std::string>& sets);
 
 // Maps an exception to its exit code after printing it on stderr as one paragraph. `argv`

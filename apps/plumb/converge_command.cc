@@ -22,6 +22,7 @@ struct ConvergeOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::string metric;
   double dt = kUnset;  // the model's timestep
   int halvings = 4;
@@ -33,7 +34,7 @@ struct ConvergeOptions {
 
 int RunConverge(const ConvergeOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
-  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   Metric metric = ParseMetric(model, o.metric);
   // the nominal model after --set decides the default dt and the integrator
   Model nominal = model.Clone();
@@ -86,6 +87,7 @@ void SetupConvergeCommand(CLI::App& app, Context& ctx) {
       "Exit codes: 0 ok, 2 bad input or a metric that cannot be measured, 3 a level diverged.");
   AddModelOptions(cmd, &o->model, &o->sets, "before each run");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--metric", o->metric, "what to measure, e.g. 'qpos[hinge]@2'")->required();
   cmd->add_option("--dt", o->dt, "coarsest timestep in s (default: the model's)");
   cmd->add_option("--halvings", o->halvings, "number of halvings of dt")

@@ -116,9 +116,9 @@ std::string Table(const ModelDescription& d) {
   if (d.sensors.empty())
     line("  (none: sensordata is empty)");
   else
-    line(fmt::format("  {:>3} {:<16} {:<14} {:<22} {}", "id", "name", "type", "entries", "unit"));
+    line(fmt::format("  {:>3} {:<16} {:<17} {:<22} {}", "id", "name", "type", "entries", "unit"));
   for (const SensorDescription& s : d.sensors) {
-    line(fmt::format("  {:>3} {:<16} {:<14} {:<22} {}", s.id, s.name, s.type,
+    line(fmt::format("  {:>3} {:<16} {:<17} {:<22} {}", s.id, s.name, s.type,
                      fmt::format("sensordata[{}..{}]", s.adr, s.adr + s.dim - 1),
                      s.unit.empty() ? "-" : s.unit));
   }

@@ -21,6 +21,7 @@ struct RenderCommandOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   double at = 0;
   std::optional<double> until;
   double fps = 30;
@@ -76,7 +77,7 @@ int RunRender(const RenderCommandOptions& o) {
   auto [width, height] = ParseSize(o.size);
   Model model = LoadModel(o.model);
   Data data(model);
-  ApplyAssignments(model, data, StartAssignments(model, o.keyframe, o.sets));
+  ApplyAssignments(model, data, StartAssignments(model, o.keyframe, o.pose, o.sets));
   data.Forward();
   RenderOptions options;
   options.width = width;
@@ -155,6 +156,7 @@ void SetupRenderCommand(CLI::App& app, Context& ctx) {
       "5 no renderer in this build, no GL context, or no ffmpeg.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--at", o->at, "time of the picture, s (a PNG)")->capture_default_str();
   cmd->add_option_function<double>(
       "--until", [o](double v) { o->until = v; }, "length of the run a video shows, s (an MP4)");

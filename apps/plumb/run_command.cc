@@ -27,6 +27,7 @@ struct RunOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   double until = 2.0;
   double every = 0.1;
   bool every_given = false;  // else about 0.1 s, on whole steps of the timestep the run uses
@@ -144,7 +145,7 @@ void CheckCost(const RunOptions& o, const RunEstimate& e, bool to_file) {
 int RunRun(const RunOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   Data data(model);
-  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.sets);
+  std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   double dt = RunTimestep(model, sets);
   RunSpec spec = MakeRunSpec(o, model, dt);
   // validate the schedule before any output file appears
@@ -210,6 +211,7 @@ void SetupRunCommand(CLI::App& app, Context& ctx) {
       "error; plumb --help lists every code.");
   AddModelOptions(cmd, &o->model, &o->sets, "before the run");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--until", o->until, "final time in seconds")->capture_default_str();
   cmd->add_option("--every", o->every,
                   "sampling interval in seconds, a whole number of timesteps (default: the whole "

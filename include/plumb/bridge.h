@@ -7,10 +7,13 @@
 // from the latest command (mode 0: no torque), inside the step loop: nothing races it.
 //
 // Modes: lockstep advances one control period per command received (deterministic, as fast
-// as the controller, for CI); realtime is paced to the wall clock and publishes at the
-// configured rate. When no command arrives for the watchdog's timeout the motors go to
-// damping (kp = 0, kd as configured) until commands return; in lockstep the simulation then
-// goes on in real time, as a robot would.
+// as the controller, for CI): commands that arrive together wait in a bounded queue and are
+// applied in order, one period each. Realtime is paced to the wall clock and publishes at the
+// configured rate; the latest command is the one in force, as on the robot. When no command
+// arrives for the watchdog's timeout the motors go to damping (kp = 0, kd as configured) until
+// commands return; in lockstep the simulation then goes on in real time, as a robot would.
+// Realtime damps too before the first command arrives (not a watchdog trip: nothing was
+// controlling the robot yet).
 //
 // Thread-safety: RunBridge blocks the calling thread, which steps a copy of `model` (only read);
 // CycloneDDS runs threads of its own for the link. `stop` may be asked from any thread or a
@@ -21,7 +24,9 @@
 #define PLUMB_INCLUDE_PLUMB_BRIDGE_H_
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -84,13 +89,15 @@ struct BridgeConfig {
   BridgeImuSource imu;            // [imu] table
   std::vector<FaultSpec> faults;  // [[faults]] tables
   std::uint64_t seed = 0;         // of every random draw of the faults
+  // lockstep: commands that may wait for their period; beyond it the oldest is dropped
+  std::size_t command_queue = 64;
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
-// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed, a
-// [watchdog] table with timeout_ms and kd, an [imu] table with quaternion, gyroscope,
-// accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError naming the file,
-// line and key for anything unknown or out of range.
+// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed,
+// command_queue, a [watchdog] table with timeout_ms and kd, an [imu] table with quaternion,
+// gyroscope, accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError
+// naming the file, line and key for anything unknown or out of range.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {
@@ -104,14 +111,29 @@ struct BridgeStats {
   long paused_commands = 0;  // ignored during an injected controller pause
   // dropped: from another controller while the one in charge is alive (see RunBridge)
   long foreign_commands = 0;
+  // lockstep: dropped from a full command queue (the oldest waiting, see command_queue)
+  long queue_drops = 0;
   long steps = 0;
-  double time = 0;        // simulated time at the end, s
-  bool diverged = false;  // the run stopped because the state went bad
-  std::string problem;    // what went bad, when it did
+  double time = 0;  // simulated time at the end, s
+  // Simulated time over wall-clock time from the first period (lockstep: the first command)
+  // to the end: 1 keeps up with the wall clock; NaN when no period ran.
+  double realtime_factor = NAN;
+  // Paced periods (realtime, and lockstep while the watchdog damps) that started more than
+  // one period after they were due: the simulation fell behind the wall clock by that much.
+  long late_periods = 0;
+  double worst_lateness = 0;  // s after it was due, of the latest period (0: none late)
+  bool diverged = false;      // the run stopped because the state went bad
+  std::string problem;        // what went bad, when it did
 };
 
+// A sentence for the user while the bridge runs, such as "lockstep: waiting for the first
+// command on rt/lowcmd" (once) or a warning that realtime pacing falls behind the wall clock
+// (at most one every 5 s). Called on RunBridge's thread; the flight recorder logs them too.
+using BridgeNotice = std::function<void(const std::string&)>;
+
 // Runs the bridge until config.until, `stop` asking (it returns then, without throwing), or
-// the state going bad (stats.diverged). Starts from `start`.
+// the state going bad (stats.diverged). Starts from `start`. `notice` (may be empty) hears
+// what the user should know while it runs.
 // One controller at a time drives the robot: the DataWriter whose good command (CRC and
 // values checked) arrives first is in charge; commands from any other writer are dropped,
 // counted (foreign_commands) and logged once per writer, and do not advance a lockstep
@@ -123,7 +145,8 @@ struct BridgeStats {
 // UnavailableError when DDS cannot start or fails; IoError when config.log cannot be written;
 // MujocoError.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
-                      const BridgeConfig& config, const StopToken& stop);
+                      const BridgeConfig& config, const StopToken& stop,
+                      const BridgeNotice& notice = {});
 
 }  // namespace plumb
 

@@ -36,6 +36,21 @@ int FindKeyframe(const Model& model, const std::string& name);
 // @throws ValueError as FindKeyframe does.
 std::vector<Assignment> KeyframeAssignments(const Model& model, const std::string& name);
 
+// The assignment that starts a run at the whole qpos `values`: nq numbers separated by commas
+// or spaces, in MuJoCo's qpos order (a free joint's x y z and quaternion w x y z, then the
+// joints as the model lists them), as `--qpos` takes them. Its text reads "qpos=...".
+// @throws ArgumentError (argument "qpos") naming nq and what makes it up when the count
+// differs, or for a value that is not a finite number.
+Assignment QposAssignment(const Model& model, const std::string& values);
+
+// The assignments of a pose file (`--pose`): either one PATH=VALUE a line as --set takes them
+// (`qpos[FL_thigh_joint]=1.2`, `qpos[root][2]=0.1`, any state or parameter), or a whole qpos
+// vector alone (numbers only, over one line or several, as QposAssignment). Blank lines and
+// lines starting with '#' are skipped. @throws IoError when the file cannot be read;
+// ArgumentError (argument "pose", value the file and line) for a line that is not a valid
+// assignment, or a vector whose length is not nq.
+std::vector<Assignment> PoseFileAssignments(const Model& model, const std::string& path);
+
 // The pose a check judges a model in when no run is asked for (audit's layers, snapshot's
 // reference state): the keyframe the user named, else the model's keyframe "home", else
 // its keyframe "test", else qpos0. One definition for every command.

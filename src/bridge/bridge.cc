@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -15,11 +16,13 @@
 #include <thread>
 
 #include "bridge/command_check.h"
+#include "bridge/command_queue.h"
 #include "bridge/dds_link.h"
 #include "bridge/faults.h"
 #include "bridge/flight_recorder.h"
 #include "bridge/imu.h"
 #include "bridge/motor_map.h"
+#include "bridge/pacer.h"
 #include "bridge/pd_law.h"
 #include "bridge/unitree_crc.h"
 #include "plumb/error.h"
@@ -66,8 +69,16 @@ class Loop {
   using Cmd = typename Family<F>::Cmd;
   using State = typename Family<F>::State;
 
-  Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config)
-      : config_(config), work_(model.Clone()), data_(work_), faults_(config.faults, config.seed) {
+  Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config,
+       const BridgeNotice& notice)
+      : config_(config),
+        notice_(notice),
+        work_(model.Clone()),
+        data_(work_),
+        // realtime takes the whole queue every period: only lockstep's is bounded
+        queue_(config.mode == BridgeMode::kLockstep ? config.command_queue : SIZE_MAX),
+        pacer_(config.control_period),
+        faults_(config.faults, config.seed) {
     ApplyAssignments(work_, data_, start);
     data_.Forward();
     map_ = bridge::MotorMap::Bind(work_, config.motors);
@@ -98,48 +109,30 @@ class Loop {
     Transitions();
     Publish(states);
     last_command_ = Clock::now();
-    auto next_period = Clock::now();
-    auto period = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(config_.control_period));
+    bool lockstep = config_.mode == BridgeMode::kLockstep;
+    // said once, at the start, whether or not a command is already there: the same words
+    // every run, as a lockstep log repeats bit for bit
+    if (lockstep) {
+      Notice("lockstep: waiting for the first command on rt/lowcmd; simulated time starts with it");
+    }
     while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stop.stop_requested()) {
-      Arrival got;
       // lockstep: one period per command, when a state has gone out since the last command
       // (a state lost or still held back by an injected fault cannot be answered: time goes
       // on until a late one is released, then waits for its answer)
-      bool wait = config_.mode == BridgeMode::kLockstep && !damping_ && awaiting_reply_;
-      if (wait) {
-        // as long as the watchdog allows (before the first command there is no limit: a
-        // lockstep run starts when its controller does); the state goes out again every
-        // 50 ms meanwhile, for a controller that joined late
-        auto deadline =
-            heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
-        auto republish = Clock::now() + std::chrono::milliseconds(50);
-        while (!got.arrived && Clock::now() < deadline && !stop.stop_requested()) {
-          auto until = std::min(deadline, republish);
-          auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
-          commands.Wait(
-              std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
-          got = Drain(commands);
-          if (!got.arrived && Clock::now() >= republish) {
-            states.Write(last_state_);
-            republish = Clock::now() + std::chrono::milliseconds(50);
-          }
-        }
-      } else {
-        got = Drain(commands);
-      }
-      if (got.arrived) awaiting_reply_ = false;
-      Watchdog(got.fresh);
-      if (wait && !got.arrived && !damping_) continue;
-      if (config_.mode == BridgeMode::kRealtime || damping_) {
-        std::this_thread::sleep_until(next_period);
-        next_period = std::max(next_period + period, Clock::now() - period);
-      }
+      bool fresh = Drain(commands).fresh;
+      bool wait = lockstep && !damping_ && awaiting_reply_ && queue_.empty();
+      if (wait) fresh = AwaitCommand(commands, states, stop) || fresh;
+      bool took = TakeQueued();
+      if (took) awaiting_reply_ = false;
+      Watchdog(fresh);
+      if (wait && !took && !damping_) continue;
+      Pace(!lockstep || damping_);
       if (!StepPeriod()) break;
       Transitions();
       ReleaseHeldStates(states);
       Publish(states);
     }
+    Summarize();
     if (recorder_) recorder_->Finish();
     stats_.time = data_->time;
     return stats_;
@@ -147,8 +140,7 @@ class Loop {
 
  private:
   struct Arrival {
-    bool arrived = false;  // a command came (lockstep advances), even if a fault lost it
-    bool fresh = false;    // a good command got through (the watchdog hears it)
+    bool fresh = false;  // a good command got through (the watchdog hears it)
   };
   struct Held {
     double at;  // simulated time it is released, s
@@ -160,8 +152,9 @@ class Loop {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
   }
 
-  // Takes every waiting command: the good ones are applied now or, under injected latency,
-  // when their time comes.
+  // Takes every waiting command into the queue, each one period (lost ones too: the robot
+  // drops them and goes on); a good one is applied when its period comes or, under injected
+  // latency, when its time comes after that.
   Arrival Drain(bridge::DdsReader<Cmd>& reader) {
     Arrival a;
     Cmd cmd;
@@ -173,10 +166,10 @@ class Loop {
         ++stats_.paused_commands;
         continue;
       }
-      a.arrived = true;
       std::uint32_t n = command_count_++;
       if (faults_.DropCommand(t, n)) {
         ++stats_.dropped_commands;
+        Enqueue({});
         continue;
       }
       std::vector<bridge::MotorCommand> next;
@@ -186,29 +179,126 @@ class Loop {
         ++stats_.bad_crc;
         Event(fmt::format("dropped a command with a bad CRC ({:#010x}, expected {:#010x})", cmd.crc,
                           bridge::UnitreeCrc(cmd)));
+        Enqueue({});
         continue;
       }
       if (verdict == bridge::CommandVerdict::kNonFinite) {
         ++stats_.non_finite;
         Event("dropped a command with a NaN or infinite target or gain");
+        Enqueue({});
         continue;
       }
-      ++stats_.commands;
       a.fresh = true;
       TakeCharge(writer);
-      if (recorder_) recorder_->Command(t, next);
-      double delay = faults_.CommandLatency(t, n);
-      if (delay > 0) {
-        held_commands_.push_back({t + delay, std::move(next), {}});
-      } else {
-        commands_ = std::move(next);
-      }
+      Enqueue({std::move(next), faults_.CommandLatency(t, n)});
     }
     if (a.fresh) {
       last_command_ = Clock::now();
       heard_ = true;
     }
     return a;
+  }
+
+  // Queues a command for its period; a full (lockstep) queue drops its oldest, counted and
+  // logged.
+  void Enqueue(bridge::Arrived a) {
+    if (queue_.Push(std::move(a))) return;
+    ++stats_.queue_drops;
+    Event(fmt::format(
+        "lockstep: {} commands wait for their periods: dropped the oldest (the controller is "
+        "ahead of the simulation)",
+        queue_.capacity()));
+  }
+
+  // Takes what the coming period applies: lockstep the oldest waiting command, realtime every
+  // one in order (the latest is in force). Returns whether there was one.
+  bool TakeQueued() {
+    bool took = !queue_.empty();
+    do {
+      if (queue_.empty()) break;
+      bridge::Arrived a = queue_.Pop();
+      if (a.command.empty()) continue;  // lost: the old command stays in force
+      ++stats_.commands;
+      if (recorder_) recorder_->Command(data_->time, a.command);
+      if (a.delay > 0) {
+        held_commands_.push_back({data_->time + a.delay, std::move(a.command), {}});
+      } else {
+        commands_ = std::move(a.command);
+      }
+    } while (config_.mode == BridgeMode::kRealtime);
+    return took;
+  }
+
+  // Lockstep: waits for a command, as long as the watchdog allows (before the first command
+  // there is no limit: a lockstep run starts when its controller does, as Run says); the
+  // state goes out again every 50 ms meanwhile, for a controller that joined late. Returns
+  // whether a good command came.
+  bool AwaitCommand(bridge::DdsReader<Cmd>& commands, bridge::DdsWriter<State>& states,
+                    const StopToken& stop) {
+    auto deadline =
+        heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
+    auto republish = Clock::now() + std::chrono::milliseconds(50);
+    bool fresh = false;
+    while (queue_.empty() && Clock::now() < deadline && !stop.stop_requested()) {
+      auto until = std::min(deadline, republish);
+      auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
+      commands.Wait(
+          std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
+      fresh = Drain(commands).fresh || fresh;
+      if (queue_.empty() && Clock::now() >= republish) {
+        states.Write(last_state_);
+        republish = Clock::now() + std::chrono::milliseconds(50);
+      }
+    }
+    return fresh;
+  }
+
+  // Paces the coming period to the wall clock (when `paced`), counting late periods and
+  // warning at most every 5 s while the simulation falls behind.
+  void Pace(bool paced) {
+    auto now = Clock::now();
+    if (!started_) {
+      started_ = true;
+      wall_start_ = now;
+      sim_start_ = data_->time;
+    }
+    if (!paced) {
+      pacer_.Restart();  // a later spell of pacing starts from then, not late
+      return;
+    }
+    std::this_thread::sleep_until(pacer_.due(now));
+    now = Clock::now();
+    double lateness = pacer_.Start(now);
+    if (pacer_.Late(lateness) && now - last_warning_ >= std::chrono::seconds(5)) {
+      last_warning_ = now;
+      // (not logged in lockstep, whose log repeats bit for bit)
+      Notice(fmt::format("realtime: behind the wall clock: the period at t = {:.3f} s started "
+                         "{:.1f} ms late ({} late so far; a loaded machine?)",
+                         data_->time, lateness * 1000, pacer_.late_periods()),
+             config_.mode == BridgeMode::kRealtime);
+    }
+  }
+
+  // The run's realtime factor and late periods, in the stats and (realtime: a lockstep log
+  // repeats bit for bit) the log.
+  void Summarize() {
+    stats_.late_periods = pacer_.late_periods();
+    stats_.worst_lateness = pacer_.worst_lateness();
+    if (!started_) return;
+    double wall = std::chrono::duration<double>(Clock::now() - wall_start_).count();
+    stats_.realtime_factor = wall > 0 ? (data_->time - sim_start_) / wall : NAN;
+    if (config_.mode != BridgeMode::kRealtime) return;
+    Event(fmt::format("realtime factor {:.3f} over {:.3g} s of wall time; {} late periods{}",
+                      stats_.realtime_factor, wall, stats_.late_periods,
+                      stats_.late_periods > 0
+                          ? fmt::format(", the worst {:.1f} ms late", stats_.worst_lateness * 1000)
+                          : ""));
+  }
+
+  // Tells the user (and the log, when `log`).
+  void Notice(const std::string& what, bool log = true) {
+    if (notice_) notice_(what);
+    if (log) Event(what);
   }
 
   // Whether a command from `writer` comes from a controller other than the one in charge,
@@ -275,17 +365,25 @@ class Loop {
     for (const std::string& text : faults_.Transitions(data_->time)) Event(text);
   }
 
+  // Damps when the controller falls silent (a watchdog trip) and, in realtime, before the
+  // first command (not a trip: nothing was in control yet); resumes on a good command.
   void Watchdog(bool fresh) {
-    bool silent = (heard_ || config_.mode == BridgeMode::kRealtime) &&
-                  Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
-    if (!damping_ && silent && !fresh) {
+    bool realtime = config_.mode == BridgeMode::kRealtime;
+    bool silent = Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
+    if (!damping_ && !fresh && silent && (heard_ || realtime)) {
       damping_ = true;
-      ++stats_.watchdog_trips;
-      Event(fmt::format("watchdog: no command for {:g} ms: damping (kp = 0, kd = {:g})",
-                        config_.watchdog_timeout * 1000, config_.watchdog_kd));
+      tripped_ = heard_;
+      if (tripped_) {
+        ++stats_.watchdog_trips;
+        Event(fmt::format("watchdog: no command for {:g} ms: damping (kp = 0, kd = {:g})",
+                          config_.watchdog_timeout * 1000, config_.watchdog_kd));
+      } else {
+        Event(fmt::format("no controller yet: damping (kp = 0, kd = {:g}) until the first command",
+                          config_.watchdog_kd));
+      }
     } else if (damping_ && fresh) {
       damping_ = false;
-      Event("watchdog: commands are back: resuming");
+      if (tripped_) Event("watchdog: commands are back: resuming");
     }
   }
 
@@ -398,6 +496,7 @@ class Loop {
   }
 
   const BridgeConfig& config_;
+  const BridgeNotice& notice_;
   Model work_;
   Data data_;
   bridge::MotorMap map_;
@@ -408,6 +507,12 @@ class Loop {
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
+  bool tripped_ = false;        // the damping is a watchdog trip (not the wait for a controller)
+  bridge::CommandQueue queue_;  // commands waiting for their period
+  bridge::Pacer pacer_;
+  bool started_ = false;  // a period has run: wall_start_ and sim_start_ are set
+  Clock::time_point wall_start_, last_warning_;
+  double sim_start_ = 0;
   bool heard_ = false;                              // a command has arrived since the start
   dds_instance_handle_t owner_ = 0;                 // the controller in charge (0: none yet)
   std::set<dds_instance_handle_t> foreign_logged_;  // other writers already logged
@@ -426,11 +531,12 @@ class Loop {
 }  // namespace
 
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
-                      const BridgeConfig& config, const StopToken& stop) {
+                      const BridgeConfig& config, const StopToken& stop,
+                      const BridgeNotice& notice) {
   if (config.family == BridgeFamily::kGo) {
-    return Loop<BridgeFamily::kGo>(model, start, config).Run(stop);
+    return Loop<BridgeFamily::kGo>(model, start, config, notice).Run(stop);
   }
-  return Loop<BridgeFamily::kHg>(model, start, config).Run(stop);
+  return Loop<BridgeFamily::kHg>(model, start, config, notice).Run(stop);
 }
 
 }  // namespace plumb

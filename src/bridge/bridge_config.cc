@@ -37,6 +37,14 @@ class Reader {
     return *v;
   }
 
+  // A number as Number reads it that is also a whole number.
+  double Whole(const toml::table& t, const std::string& key, double fallback, double lo,
+               double hi) {
+    double v = Number(t, key, fallback, lo, hi);
+    if (v != std::floor(v)) Fail(t.get(key), key, "must be a whole number");
+    return v;
+  }
+
   std::string Choice(const toml::table& t, const std::string& key, const std::string& fallback,
                      const std::set<std::string>& choices) {
     const toml::node* node = t.get(key);
@@ -175,7 +183,7 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   Reader r(path);
   r.OnlyKeys(table,
              {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
-              "watchdog", "imu", "faults", "seed"},
+              "watchdog", "imu", "faults", "seed", "command_queue"},
              "");
   BridgeConfig c;
   c.source = path;
@@ -184,9 +192,8 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   c.mode = r.Choice(table, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep"
                ? BridgeMode::kLockstep
                : BridgeMode::kRealtime;
-  double domain = r.Number(table, "domain", 1, 0, 232);
-  if (domain != std::floor(domain)) r.Fail(table.get("domain"), "domain", "must be a whole number");
-  c.domain = static_cast<std::uint32_t>(domain);
+  c.domain = static_cast<std::uint32_t>(r.Whole(table, "domain", 1, 0, 232));
+  c.command_queue = static_cast<std::size_t>(r.Whole(table, "command_queue", 64, 1, 1e6));
   c.control_period = r.Number(table, "control_period", 0.002, 1e-5, 1);
   c.until = r.Number(table, "until", INFINITY, 0, INFINITY);
   if (const toml::node* node = table.get("check_crc")) {

@@ -10,6 +10,7 @@
 
 #include "plumb/atomic_file.h"
 #include "plumb/error.h"
+#include "plumb/path.h"
 #include "plumb/sample_writer.h"
 
 namespace plumb::bridge {
@@ -20,31 +21,51 @@ constexpr const char* kStateFields[] = {"q", "dq", "tau_est"};
 
 std::string Empty(std::size_t cells) { return std::string(cells, ','); }
 
+// `field[name]` for a named element, else `field[index]` (the array's row).
+std::string Label(const Model& model, const char* field, int type, int id, int index) {
+  std::string name = model.Name(type, id);
+  return std::string(field) + "[" + (name.empty() ? std::to_string(index) : name) + "]";
+}
+
+// A column of what crossed the link for motor i: "cmd.q[FR_hip]" (the motor's actuator or
+// joint name; its slot number when it has none).
+std::string LinkColumn(const char* message, const char* field, const MotorMap& motors,
+                       std::size_t i) {
+  const std::string& name = motors.motors()[i].name;
+  return std::string(message) + "." + field + "[" + (name.empty() ? std::to_string(i) : name) + "]";
+}
+
 }  // namespace
 
 FlightRecorder::FlightRecorder(const std::string& path, const Model& model, const MotorMap& motors)
     : path_(path), m_(model.get()), motors_(motors.size()) {
-  std::string header = "time,kind,event";
-  for (int i = 0; i < m_->nq; ++i) header += ",qpos[" + std::to_string(i) + "]";
-  for (int i = 0; i < m_->nv; ++i) header += ",qvel[" + std::to_string(i) + "]";
+  // qpos, qvel and sensordata named as `plumb run` names them (by joint and sensor, one column
+  // an element, in address order); what was applied and what crossed the link by motor
+  std::vector<Path> named = DefaultColumns(model);
+  auto columns = [&](const std::string& field) {
+    std::string text;
+    for (const Path& p : named) {
+      if (p.field == field) text += "," + CsvField(p.text);
+    }
+    return text;
+  };
+  std::string header = "time,kind,event" + columns("qpos") + columns("qvel");
   for (const Motor& motor : motors.motors()) {
     if (motor.actuator >= 0) {
       ctrl_.push_back(motor.ctrl);
-      header += ",ctrl[" + std::to_string(motor.ctrl) + "]";
+      header += "," + CsvField(Label(model, "ctrl", mjOBJ_ACTUATOR, motor.actuator, motor.ctrl));
     } else {
       applied_.push_back(motor.dof);
-      header += ",qfrc_applied[" + std::to_string(motor.dof) + "]";
+      header += "," + CsvField(Label(model, "qfrc_applied", mjOBJ_JOINT, motor.joint, motor.dof));
     }
   }
-  for (int i = 0; i < m_->nsensordata; ++i) header += ",sensordata[" + std::to_string(i) + "]";
+  header += columns("sensordata");
   simulated_ = m_->nq + m_->nv + ctrl_.size() + applied_.size() + m_->nsensordata;
   for (std::size_t i = 0; i < motors_; ++i) {
-    for (const char* f : kCommandFields)
-      header += ",cmd." + std::string(f) + "[" + std::to_string(i) + "]";
+    for (const char* f : kCommandFields) header += "," + CsvField(LinkColumn("cmd", f, motors, i));
   }
   for (std::size_t i = 0; i < motors_; ++i) {
-    for (const char* f : kStateFields)
-      header += ",state." + std::string(f) + "[" + std::to_string(i) + "]";
+    for (const char* f : kStateFields) header += "," + CsvField(LinkColumn("state", f, motors, i));
   }
   // the log appears with its header whole, then grows a line at a time
   AtomicFile file(path_);

@@ -2,13 +2,15 @@
 // (fault started or stopped, watchdog, command dropped), one CSV row each, in time order.
 //
 // Columns: time, kind (state, command or event), event (its text, or what happened to a
-// state: "dropped (fault)", "held (latency)"), then plumb paths (so `plumb replay` and
-// `identify` read it like a `plumb run --format csv` log): qpos[...] and qvel[...] (every
-// element), ctrl[actuator] for each motor that is an actuator and qfrc_applied[dof] for each
-// that is a joint (what was applied), sensordata[...] (every element); then, per motor i,
-// what crossed the link: cmd.mode[i], cmd.q[i], cmd.dq[i], cmd.kp[i], cmd.kd[i], cmd.tau[i]
-// (command rows) and state.q[i], state.dq[i], state.tau_est[i] (state rows, as published,
-// noise included). Cells a row does not concern are empty.
+// state: "dropped (fault)", "held (latency)"), then plumb paths named as `plumb run --format
+// csv` names them (so `plumb replay` and `identify` read the log like its): qpos[joint] and
+// qvel[joint] (every element: qpos[root][0..6] for a free joint; raw rows for an unnamed
+// joint), ctrl[actuator] for each motor that is an actuator and qfrc_applied[joint] for each
+// that is a joint (what was applied), sensordata[sensor] (every element); then, per motor in
+// motor order, named by its actuator or joint (its slot number when unnamed), what crossed
+// the link: cmd.mode[m], cmd.q[m], cmd.dq[m], cmd.kp[m], cmd.kd[m], cmd.tau[m] (command rows)
+// and state.q[m], state.dq[m], state.tau_est[m] (state rows, as published, noise included).
+// Cells a row does not concern are empty.
 //
 // The log is append-only and survives the bridge being killed: it appears (through AtomicFile)
 // with its header whole, then each row goes to the file as it happens, one write() of the whole

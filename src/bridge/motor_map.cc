@@ -15,6 +15,7 @@ namespace {
 
 // The first sensor of `type` on joint `joint`, as its sensordata address, or -1.
 int SensorOn(const mjModel* m, int type, int objtype, int id) {
+  if (type < 0) return -1;  // a sensor type this MuJoCo lacks
   for (int s = 0; s < m->nsensor; ++s) {
     if (m->sensor_type[s] == type && m->sensor_objtype[s] == objtype && m->sensor_objid[s] == id) {
       return m->sensor_adr[s];
@@ -120,7 +121,12 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
     motor.sensor_q = SensorOn(m, mjSENS_JOINTPOS, mjOBJ_JOINT, motor.joint);
     motor.sensor_dq = SensorOn(m, mjSENS_JOINTVEL, mjOBJ_JOINT, motor.joint);
     if (motor.actuator >= 0) {
-      motor.sensor_tau = SensorOn(m, mjSENS_ACTUATORFRC, mjOBJ_ACTUATOR, motor.actuator);
+      // the force at the joint when the model measures it there, else the actuator's own
+      motor.sensor_tau = SensorOn(m, compat::kSensorJointActuatorFrc, mjOBJ_JOINT, motor.joint);
+      motor.tau_at_joint = motor.sensor_tau >= 0;
+      if (!motor.tau_at_joint) {
+        motor.sensor_tau = SensorOn(m, mjSENS_ACTUATORFRC, mjOBJ_ACTUATOR, motor.actuator);
+      }
     }
   }
   return map;
@@ -139,6 +145,7 @@ double MotorMap::Dq(const mjData* d, std::size_t i) const {
 double MotorMap::TauEst(const mjData* d, std::size_t i) const {
   const Motor& motor = motors_[i];
   if (motor.actuator < 0) return d->qfrc_applied[motor.dof];
+  if (motor.tau_at_joint) return d->sensordata[motor.sensor_tau];
   // actuatorfrc is the actuator's scalar force; the joint sees it times the gear
   double force =
       motor.sensor_tau >= 0 ? d->sensordata[motor.sensor_tau] : d->actuator_force[motor.out];

@@ -4,9 +4,11 @@
 // Menagerie Go2 and G1) or, for models without actuators such as the chapter's pendulum, a
 // hinge or slide joint driven through qfrc_applied. A driven actuator must be a torque motor
 // (fixed gain, no bias, no activation dynamics): its ctrl is the torque divided by gain x gear.
-// q, dq and tau_est come from jointpos / jointvel / jointactuatorfrc (or actuatorfrc)
-// sensors of the motor's joint when the model has them, else from qpos, qvel and the force
-// the motor applies.
+// q and dq come from jointpos / jointvel sensors of the motor's joint when the model has them,
+// else from qpos and qvel. An actuator's tau_est comes from a jointactuatorfrc sensor of its
+// joint (the actuators' force measured at the joint, MuJoCo 3.x), else from an actuatorfrc
+// sensor of the actuator times its gear, else from the force it applies; a joint's is the
+// torque applied through qfrc_applied.
 
 #ifndef PLUMB_SRC_BRIDGE_MOTOR_MAP_H_
 #define PLUMB_SRC_BRIDGE_MOTOR_MAP_H_
@@ -29,14 +31,15 @@ struct Motor {
   double torque_per_ctrl = 1;  // gain x gear (actuators)
   double torque_lo = -1e300, torque_hi = 1e300;        // from forcerange and ctrlrange, N*m
   int sensor_q = -1, sensor_dq = -1, sensor_tau = -1;  // sensordata addresses, or -1
+  bool tau_at_joint = false;  // sensor_tau is a jointactuatorfrc (joint torque, no gear)
 };
 
 class MotorMap {
  public:
   // Binds `names` (actuator or joint names, one a motor, in motor order) or, when empty,
-  // every actuator in order (by actuator, not by control: a pid takes two controls). @throws ValueError naming the motor and the element when a name
-  // is unknown, an actuator is not a torque motor on a single joint, or a joint is not a
-  // hinge or slide.
+  // every actuator in order (by actuator, not by control: a pid takes two controls). @throws
+  // ValueError naming the motor and the element when a name is unknown, an actuator is not a torque
+  // motor on a single joint, or a joint is not a hinge or slide.
   static MotorMap Bind(const Model& model, const std::vector<std::string>& names);
 
   const std::vector<Motor>& motors() const { return motors_; }

@@ -35,6 +35,7 @@ std::string ActuatorKind(const mjModel* m, int u) {
 std::string SensorUnit(const mjModel* m, int s) {
   int joint = m->sensor_objid[s];
   bool hinge = m->sensor_objtype[s] == mjOBJ_JOINT && m->jnt_type[joint] == mjJNT_HINGE;
+  if (m->sensor_type[s] == compat::kSensorJointActuatorFrc) return hinge ? "N*m" : "N";
   switch (m->sensor_type[s]) {
     case mjSENS_TOUCH:
     case mjSENS_FORCE:

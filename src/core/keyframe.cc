@@ -1,5 +1,9 @@
 #include "plumb/keyframe.h"
 
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "plumb/strings.h"
@@ -10,6 +14,37 @@ namespace {
 std::string KeyLabel(const Model& model, int k) {
   std::string name = model.Name(mjOBJ_KEY, k);
   return name.empty() ? "#" + std::to_string(k) : name;
+}
+
+// What makes up a model's qpos: "a free joint (7: x y z, quaternion w x y z), 12 hinges".
+std::string QposLayout(const mjModel* m) {
+  int count[4] = {0, 0, 0, 0};  // free, ball, slide, hinge
+  for (int j = 0; j < m->njnt; ++j) ++count[m->jnt_type[j]];
+  const char* kinds[4][2] = {{"free joint (7: x y z, quaternion w x y z)", "free joints (7 each)"},
+                             {"ball joint (4: quaternion)", "ball joints (4 each)"},
+                             {"slide", "slides"},
+                             {"hinge", "hinges"}};
+  std::vector<std::string> parts;
+  for (int t = 0; t < 4; ++t) {
+    if (count[t] == 0) continue;
+    parts.push_back((count[t] == 1 ? "a " : std::to_string(count[t]) + " ") +
+                    kinds[t][count[t] == 1 ? 0 : 1]);
+  }
+  return Join(parts, ", ");
+}
+
+// The numbers of `text`, separated by commas or white space.
+std::vector<std::string> Numbers(const std::string& text) {
+  std::vector<std::string> out(1);
+  for (char c : text) {
+    if (c == ',' || std::isspace(static_cast<unsigned char>(c))) {
+      if (!out.back().empty()) out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  if (out.back().empty()) out.pop_back();
+  return out;
 }
 }  // namespace
 
@@ -85,6 +120,60 @@ void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
   mj_resetDataKeyframe(model.get(), data.get(), pose.keyframe);
   WriteState(model, data, sets);
   data.Forward();
+}
+
+Assignment QposAssignment(const Model& model, const std::string& values) {
+  const mjModel* m = model.get();
+  std::vector<std::string> numbers = Numbers(values);
+  if (static_cast<int>(numbers.size()) != m->nq) {
+    throw ArgumentError("qpos", Quoted(values),
+                        std::to_string(numbers.size()) + " values, but '" + model.file() +
+                            "' has nq = " + std::to_string(m->nq) + " (" + QposLayout(m) +
+                            "): give all " + std::to_string(m->nq) +
+                            " in qpos order, separated by commas or spaces.");
+  }
+  try {
+    return ParseAssignment(model, "qpos=" + Join(numbers, ","));
+  } catch (const ArgumentError& e) {
+    throw ArgumentError("qpos", Quoted(values), e.problem());
+  }
+}
+
+std::vector<Assignment> PoseFileAssignments(const Model& model, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError("cannot read the pose file '" + path + "'");
+  std::vector<std::pair<int, std::string>> lines;  // line number, text
+  bool assignments = false;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::size_t last = line.find_last_not_of(" \t\r");
+    lines.emplace_back(number, line.substr(first, last - first + 1));
+    assignments = assignments || line.find('=') != std::string::npos;
+  }
+  auto where = [&](int number) { return Quoted(path + ":" + std::to_string(number)); };
+  if (!assignments) {
+    // a bare qpos vector, over one line or several
+    std::string values;
+    for (const auto& entry : lines) values += entry.second + " ";
+    try {
+      return {QposAssignment(model, values)};
+    } catch (const ArgumentError& e) {
+      throw ArgumentError("pose", Quoted(path), e.problem());
+    }
+  }
+  std::vector<Assignment> out;
+  for (const auto& [number, text] : lines) {
+    try {
+      out.push_back(ParseAssignment(model, text));
+    } catch (const ArgumentError& e) {
+      throw ArgumentError("pose", where(number), e.value() + ": " + e.problem());
+    } catch (const Error& e) {
+      throw ArgumentError("pose", where(number), e.what());
+    }
+  }
+  return out;
 }
 
 }  // namespace plumb

@@ -198,7 +198,31 @@ inline constexpr EnumName kSensorTypes[] = {
     {mjSENS_SUBTREEANGMOM, "subtreeangmom"},
     {mjSENS_CLOCK, "clock"},
     {mjSENS_USER, "user"},
+// 3.11 has these (when each came is not pinned here: a release between 2.3 and 3.11 that
+// lacks one fails to compile this table, so they are gated at 3.11 and older releases print
+// them as "type N"); 4.0.1 has the same set
+#if mjVERSION_HEADER >= 3011000
+    {mjSENS_CAMPROJECTION, "camprojection"},
+    {mjSENS_JOINTACTFRC, "jointactuatorfrc"},
+    {mjSENS_TENDONACTFRC, "tendonactuatorfrc"},
+    {mjSENS_INSIDESITE, "insidesite"},
+    {mjSENS_GEOMDIST, "distance"},
+    {mjSENS_GEOMNORMAL, "normal"},
+    {mjSENS_GEOMFROMTO, "fromto"},
+    {mjSENS_CONTACT, "contact"},
+    {mjSENS_E_POTENTIAL, "e_potential"},
+    {mjSENS_E_KINETIC, "e_kinetic"},
+    {mjSENS_TACTILE, "tactile"},
+    {mjSENS_PLUGIN, "plugin"},
+#endif
 };
+// The sensor that measures an actuator's force at its joint (jointactuatorfrc), or -1 in a
+// MuJoCo without it.
+#if mjVERSION_HEADER >= 3011000
+inline constexpr int kSensorJointActuatorFrc = mjSENS_JOINTACTFRC;
+#else
+inline constexpr int kSensorJointActuatorFrc = -1;
+#endif
 
 // Geom, equality, actuator dynamics/gain/bias types by their MJCF names (the types both
 // 2.x and 3.x have; a newer type reads as "type N", see NameOf).

@@ -93,12 +93,17 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   Log log = ReadLog(dir.File("log.csv"));
   ASSERT_EQ(log.rows.size(), 1501u);  // the start and every period
   EXPECT_EQ(log.commands, 1495);
-  EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[0]"), 0.5, 0.01);
-  EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[0]"), 0.5, 0.01);  // as published
-  // the client stopped at 2.99 s: the watchdog damped the last periods, and said so
-  ASSERT_EQ(log.events.size(), 2u);
-  EXPECT_EQ(log.events[0], "controller 1 is in charge");
-  EXPECT_NE(log.events[1].find("watchdog"), std::string::npos);
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[hinge]"), 0.5, 0.01);
+  EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[hinge]"), 0.5, 0.01);  // as published
+  // it waited for the client, and said so once; the client stopped at 2.99 s: the watchdog
+  // damped the last periods, and said so
+  ASSERT_EQ(log.events.size(), 3u);
+  EXPECT_NE(log.events[0].find("waiting for the first command"), std::string::npos);
+  EXPECT_EQ(log.events[1], "controller 1 is in charge");
+  EXPECT_NE(log.events[2].find("watchdog"), std::string::npos);
+  std::string err = testing::ReadFile(dir.File("bridge.err"));
+  EXPECT_EQ(testing::Occurrences(err, "waiting for the first command"), 1) << err;
+  EXPECT_NE(testing::ReadFile(dir.File("bridge.out")).find("realtime factor"), std::string::npos);
 }
 
 TEST(CliBridgeTest, TheLogOfALockstepRunRepeatsBitForBit) {
@@ -128,12 +133,12 @@ TEST(CliBridgeTest, TheRecordedLogReplaysBitForBit) {
   ASSERT_EQ(log.rows.size(), 1501u);
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
-  ASSERT_EQ(log.At(0, "qpos[0]"), data->qpos[0]);
+  ASSERT_EQ(log.At(0, "qpos[hinge]"), data->qpos[0]);
   for (std::size_t row = 1; row < log.rows.size(); ++row) {
-    data->qfrc_applied[0] = log.At(row, "qfrc_applied[0]");
+    data->qfrc_applied[0] = log.At(row, "qfrc_applied[hinge]");
     mj_step(model.get(), data.get());
-    ASSERT_EQ(data->qpos[0], log.At(row, "qpos[0]")) << "row " << row;
-    ASSERT_EQ(data->qvel[0], log.At(row, "qvel[0]")) << "row " << row;
+    ASSERT_EQ(data->qpos[0], log.At(row, "qpos[hinge]")) << "row " << row;
+    ASSERT_EQ(data->qvel[0], log.At(row, "qvel[hinge]")) << "row " << row;
   }
 }
 
@@ -151,8 +156,8 @@ TEST(CliBridgeTest, AFlightLogWithLatencyGivesTheLatencyBack) {
   ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
       << testing::ReadFile(dir.File("bridge.err"));
   testing::WriteFile(dir.File("map.toml"),
-                     "[columns]\n\"cmd.tau[0]\" = \"qfrc_applied[hinge]\"\n"
-                     "\"qfrc_applied[0]\" = \"\"\n");
+                     "[columns]\n\"cmd.tau[hinge]\" = \"qfrc_applied[hinge]\"\n"
+                     "\"qfrc_applied[hinge]\" = \"\"\n");
   auto r = testing::RunPlumb("identify '" + testing::kPendulum +
                                  "' --log log.csv --columns map.toml --fit 'dof_damping[hinge]' "
                                  "--delay ctrl --max-delay 0.03 --format json",
@@ -185,6 +190,8 @@ TEST(CliBridgeTest, AGo2StandsUp) {
   EXPECT_GT(log.At(1000, "qpos[2]"), 0.2);                              // up after the 1 s ramp
   EXPECT_NEAR(log.At(1500, "qpos[2]"), log.At(1000, "qpos[2]"), 0.03);  // and stays up
   EXPECT_GT(log.At(1500, "qpos[2]"), 0.24);
+  // joints and motors by name: the free joint is unnamed (its rows), the legs are not
+  EXPECT_NEAR(log.At(1500, "qpos[FL_thigh_joint]"), log.At(1500, "state.q[FL_thigh]"), 1e-5);
 }
 
 // An unmodified client of Unitree's own Python SDK (its channels, message classes and CRC)
@@ -222,10 +229,34 @@ TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
   ASSERT_NE(at, std::string::npos) << r.out;
   double seen = std::stod(r.out.substr(at + 4));
   EXPECT_NEAR(seen, 0.5, 0.02) << r.out;
-  EXPECT_NEAR(seen, log.At(500, "state.q[0]"), 1e-4) << r.out;
+  EXPECT_NEAR(seen, log.At(500, "state.q[hinge]"), 1e-4) << r.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Families, CliBridgeSdk2Test, ::testing::Values("go", "hg"));
+
+// A robot without the keyframe it needs starts from a whole qpos (--qpos) or a pose file;
+// a qpos of the wrong length is bad input, named by its option.
+TEST(CliBridgeTest, StartsFromAWholeQposOrAPoseFile) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("bridge.toml"), "motors = [\"hinge\"]\n");
+  std::string domain = std::to_string(testing::FreeDomain());
+  std::string bridge = "bridge '" + testing::kPendulum +
+                       "' --config bridge.toml --mode realtime --until 0.02 --log log.csv "
+                       "--domain " +
+                       domain;
+  auto r = testing::RunPlumb(bridge + " --qpos 0.7,0", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--qpos '0.7,0': 2 values, but"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nq = 1"), std::string::npos) << r.err;
+  r = testing::RunPlumb(bridge + " --qpos 0.7", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(ReadLog(dir.File("log.csv")).At(0, "qpos[hinge]"), 0.7);
+  EXPECT_NE(r.out.find("realtime factor"), std::string::npos) << r.out;
+  testing::WriteFile(dir.File("pose.txt"), "# hanging out\nqpos[hinge]=0.4\n");
+  r = testing::RunPlumb(bridge + " --pose pose.txt", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(ReadLog(dir.File("log.csv")).At(0, "qpos[hinge]"), 0.4);
+}
 
 TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
   testing::TempDir dir;

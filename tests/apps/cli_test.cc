@@ -137,6 +137,21 @@ TEST(CliInspectTest, JsonUsesMujocoNames) {
   EXPECT_EQ(j["joints"][0]["name"], "hinge");
 }
 
+// Newer sensor types by their MJCF names, in a column as wide as the longest
+TEST(CliInspectTest, NamesEverySensorType) {
+  if (!(mjVERSION_HEADER >= 3011000)) GTEST_SKIP() << "the newer sensors came after MuJoCo 2.x";
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("arm.xml"), testing::TwoHingeArm(R"(<motor name="m" joint="b"/>
+    </actuator><sensor><jointactuatorfrc name="tau" joint="b"/><e_kinetic name="energy"/>
+    </sensor><actuator>)"));
+  CommandResult r = RunPlumb("inspect arm.xml", dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("tau              jointactuatorfrc  sensordata[0..0]"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("e_kinetic"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("type 1"), std::string::npos) << r.out;
+}
+
 TEST(CliInspectTest, HumanoidHasNqDifferentFromNv) {
   CommandResult r = RunPlumb("inspect " + testing::kHumanoid + " --format json");
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -31,6 +31,7 @@ motors = ["a", "b"]
 check_crc = false
 log = "f.csv"
 until = 2.5
+command_queue = 8
 [watchdog]
 timeout_ms = 250
 kd = 3
@@ -49,6 +50,7 @@ body = "pelvis"
   EXPECT_FALSE(c.check_crc);
   EXPECT_EQ(c.log, "f.csv");
   EXPECT_EQ(c.until, 2.5);
+  EXPECT_EQ(c.command_queue, 8u);
   EXPECT_EQ(c.watchdog_timeout, 0.25);
   EXPECT_EQ(c.watchdog_kd, 3);
   EXPECT_EQ(c.imu.quaternion, "orientation");
@@ -61,6 +63,7 @@ body = "pelvis"
   EXPECT_EQ(d.mode, BridgeMode::kLockstep);
   EXPECT_TRUE(d.imu.quaternion.empty() && d.imu.body.empty());
   EXPECT_TRUE(d.check_crc);
+  EXPECT_EQ(d.command_queue, 64u);
 }
 
 TEST(BridgeConfigTest, MistakesNameTheFileLineAndKey) {
@@ -72,6 +75,9 @@ TEST(BridgeConfigTest, MistakesNameTheFileLineAndKey) {
   EXPECT_NE(Complaint("imu = 1\n").find("imu: must be a table"), std::string::npos);
   EXPECT_NE(Complaint("log = \"\"\n").find("log: must be a file name"), std::string::npos);
   EXPECT_NE(Complaint("domain = 1.5\n").find("domain: must be a whole number"), std::string::npos);
+  EXPECT_NE(Complaint("command_queue = 0\n").find("command_queue: must be in [1, 1e+06]"),
+            std::string::npos)
+      << Complaint("command_queue = 0\n");
   EXPECT_NE(Complaint("mode = \"fast\"\n").find("b.toml:1:8: mode: must be one of"),
             std::string::npos)
       << Complaint("mode = \"fast\"\n");

@@ -14,6 +14,7 @@
 #include "bridge/dds_link.h"
 #include "bridge/test_domain.h"
 #include "bridge/unitree_crc.h"
+#include "fixture.h"
 #include "plumb/bridge.h"
 
 namespace plumb {
@@ -78,12 +79,7 @@ inline Cmd Hold(double target) {
   return cmd;
 }
 
-// How many times `what` occurs in `text` (events and rows of a flight log).
-inline long Occurrences(const std::string& text, const std::string& what) {
-  long n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using testing::Occurrences;
 
 inline BridgeConfig PendulumConfig(std::uint32_t domain, double until) {
   BridgeConfig config;

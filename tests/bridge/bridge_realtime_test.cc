@@ -43,6 +43,8 @@ TEST(BridgeTest, RealtimeKeepsItsPublishRate) {
   EXPECT_NEAR(wall, 5.0, 0.5);               // paced to the wall clock
   EXPECT_NEAR(simulated / span, 1.0, 0.03);  // simulated time keeps pace within 3 %
   EXPECT_NEAR(received / span, 500, 25);     // and so does the publish rate
+  EXPECT_NEAR(stats.realtime_factor, 1.0, 0.1);  // as the bridge measured it
+  EXPECT_LE(stats.late_periods, stats.steps);
 }
 
 // Hostile peers: ten commands a period from the controller (good ones, bad CRCs, NaN gains)

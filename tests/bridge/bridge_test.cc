@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -101,7 +102,11 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.01);
   config.watchdog_timeout = 1.0;
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  std::vector<std::string> notices;  // on the bridge's thread, read after it ends
+  auto bridge = std::async(std::launch::async, [&] {
+    return RunBridge(model, {}, config, stop.token(),
+                     [&](const std::string& text) { notices.push_back(text); });
+  });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // longer than the watchdog
   Controller controller(config.domain);
   State s;
@@ -110,6 +115,72 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   EXPECT_EQ(stats.watchdog_trips, 0);  // no command had come yet: nothing to watch
   EXPECT_EQ(stats.commands, 5);
   EXPECT_GE(stats.states, 6);  // republished while it waited
+  // it said once that it waits, however long it waited
+  ASSERT_EQ(notices.size(), 1u);
+  EXPECT_NE(notices[0].find("waiting for the first command"), std::string::npos) << notices[0];
+}
+
+// Commands that arrive together are applied in order, one lockstep period each: none is lost.
+TEST(BridgeTest, LockstepAppliesABurstOfCommandsInOrder) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::TempDir dir;
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.03);  // fifteen periods
+  config.log = dir.File("flight.csv");
+  Controller controller(config.domain);
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  ASSERT_TRUE(controller.Matched());
+  State s;
+  ASSERT_TRUE(controller.Next(&s));
+  for (int k = 1; k <= 15; ++k) controller.Send(Hold(0.01 * k));  // all at once
+  BridgeStats stats = bridge.get();
+  EXPECT_EQ(stats.commands, 15);
+  EXPECT_EQ(stats.queue_drops, 0);
+  EXPECT_NEAR(stats.time, 0.03, 1e-9);
+  // the log's command rows, in time order, carry the targets in the order they were sent
+  std::string log = testing::ReadFile(config.log);
+  std::string header = log.substr(0, log.find('\n'));
+  std::size_t column =
+      std::count(header.begin(), header.begin() + header.find("cmd.q[hinge]"), ',');
+  std::vector<double> sent, times;
+  for (std::size_t at = log.find(",command,"); at != std::string::npos;
+       at = log.find(",command,", at + 1)) {
+    std::size_t line = log.rfind('\n', at) + 1;
+    std::vector<std::string> cells;
+    std::string row = log.substr(line, log.find('\n', at) - line);
+    for (std::size_t from = 0, to; from <= row.size(); from = to + 1) {
+      to = std::min(row.find(',', from), row.size());
+      cells.push_back(row.substr(from, to - from));
+    }
+    times.push_back(std::stod(cells[0]));
+    sent.push_back(std::stod(cells[column]));
+  }
+  ASSERT_EQ(sent.size(), 15u);
+  for (int k = 0; k < 15; ++k) {
+    EXPECT_NEAR(sent[k], 0.01 * (k + 1), 1e-6) << k;
+    EXPECT_NEAR(times[k], 0.002 * k, 1e-9) << k;  // one period each
+  }
+}
+
+// Realtime damps before any controller connects; that is not a watchdog trip.
+TEST(BridgeTest, DampingBeforeAControllerIsNoWatchdogTrip) {
+  Model model = Model::Load(testing::kPendulum);
+  testing::TempDir dir;
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.3);
+  config.mode = BridgeMode::kRealtime;
+  config.watchdog_timeout = 0.05;
+  config.log = dir.File("flight.csv");
+  plumb::StopSource stop;
+  BridgeStats stats =
+      RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, stop.token());
+  EXPECT_EQ(stats.watchdog_trips, 0);
+  std::string log = testing::ReadFile(config.log);
+  EXPECT_EQ(Occurrences(log, "no controller yet: damping"), 1) << log.substr(0, 2000);
+  EXPECT_EQ(Occurrences(log, "watchdog"), 0);
+  // the summary row: its realtime factor and late periods
+  EXPECT_EQ(Occurrences(log, "realtime factor"), 1);
+  EXPECT_GT(stats.realtime_factor, 0);
+  EXPECT_LE(stats.late_periods, stats.steps);
 }
 
 TEST(BridgeTest, TheHgFamilySpeaksG1Messages) {
@@ -159,7 +230,8 @@ HoldRun RunHold(BridgeConfig config, double target,
   Model model = Model::FromXmlString(xml, "pendulum.xml");
   Controller controller(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   HoldRun run;
   if (!controller.Matched()) return run;
   State s;

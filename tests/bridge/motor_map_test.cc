@@ -60,6 +60,26 @@ TEST(MotorMapTest, ReadsAndAppliesTorque) {
   EXPECT_DOUBLE_EQ(map.TauEst(data.get(), 1), 4);  // actuatorfrc 2 x gear 2
 }
 
+// MuJoCo 3.x: a jointactuatorfrc sensor measures the torque at the joint (gear included), and
+// tau_est reads it rather than the actuator's own force
+TEST(MotorMapTest, TauEstReadsAJointActuatorFrcSensor) {
+  if (!(mjVERSION_HEADER >= 3011000)) GTEST_SKIP() << "no jointactuatorfrc in this MuJoCo";
+  Model model = Model::FromXmlString(testing::TwoHingeArm(R"(
+      <motor name="m" joint="b" gear="2" ctrlrange="-3 3" ctrllimited="true"/>
+    </actuator><sensor><jointactuatorfrc name="tau_b" joint="b"/></sensor><actuator>)"));
+  MotorMap map = MotorMap::Bind(model, {"m"});
+  const Motor& motor = map.motors()[0];
+  EXPECT_TRUE(motor.tau_at_joint);
+  EXPECT_EQ(motor.sensor_tau, model->sensor_adr[0]);
+  Data data(model);
+  map.Apply(data.get(), 0, 4);
+  data.Forward();
+  data->sensordata[motor.sensor_tau] = 3.25;  // read from the sensor, not from the force
+  EXPECT_DOUBLE_EQ(map.TauEst(data.get(), 0), 3.25);
+  data.Forward();
+  EXPECT_DOUBLE_EQ(map.TauEst(data.get(), 0), 4);  // ctrl 2 x gear 2, measured at the joint
+}
+
 TEST(MotorMapTest, RefusesWhatIsNotATorqueMotor) {
   Model model = Model::FromXmlString(kArm, "arm.xml");
   try {

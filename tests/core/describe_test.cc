@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/mujoco_compat.h"
 #include "fixture.h"
 
 namespace plumb {
@@ -124,6 +125,22 @@ TEST_F(DescribeTest, ActuatorsAndSensorsCarryTheirUnits) {
   EXPECT_EQ(d.sensors[1].unit, "m");
   EXPECT_EQ(d.sensors[2].unit, "m/s^2");
   EXPECT_EQ(d.sensors[3].unit, "");
+}
+
+// Every sensor type this MuJoCo has reads as its MJCF name, never as "type 16"
+TEST_F(DescribeTest, EverySensorTypeHasItsName) {
+  for (int type = 0; type <= mjSENS_USER; ++type) {
+    EXPECT_NE(compat::NameOf(compat::kSensorTypes, type).rfind("type ", 0), 0u) << type;
+  }
+  if (!(mjVERSION_HEADER >= 3011000)) GTEST_SKIP() << "the newer sensors came after MuJoCo 2.x";
+  Model model = Model::FromXmlString(testing::TwoHingeArm(R"(<motor name="m" joint="b"/>
+    </actuator><sensor><jointactuatorfrc name="tau" joint="b"/><e_kinetic name="energy"/>
+    </sensor><actuator>)"));
+  ModelDescription d = Describe(model);
+  ASSERT_EQ(d.sensors.size(), 2u);
+  EXPECT_EQ(d.sensors[0].type, "jointactuatorfrc");
+  EXPECT_EQ(d.sensors[0].unit, "N*m");
+  EXPECT_EQ(d.sensors[1].type, "e_kinetic");
 }
 
 // MuJoCo 3.12+: a pid takes two controls, so actuator and control indices part; a dcmotor after

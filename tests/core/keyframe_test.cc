@@ -101,6 +101,63 @@ TEST_F(KeyframeTest, SetAppliesOnTop) {
   EXPECT_EQ(data->qvel[0], 0);
 }
 
+// A floating base and two hinges: nq = 9.
+constexpr const char* kFloating = R"(<mujoco><worldbody><body name="base"><freejoint name="root"/>
+    <geom type="box" size="0.1 0.1 0.05"/>
+    <body><joint name="hip" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/>
+      <body pos="0 0 -0.2"><joint name="knee" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/></body></body></body>
+  </worldbody></mujoco>)";
+
+TEST_F(KeyframeTest, AWholeQposStartsTheRunThere) {
+  Model model = Model::FromXmlString(kFloating, "floating.xml");
+  Data data(model);
+  ApplyAssignments(model, data, {QposAssignment(model, "0 0 0.08, 1 0 0 0  1.2 -2.5")});
+  EXPECT_EQ(data->qpos[2], 0.08);
+  EXPECT_EQ(data->qpos[7], 1.2);
+  EXPECT_EQ(data->qpos[8], -2.5);
+}
+
+TEST_F(KeyframeTest, AQposOfTheWrongLengthNamesNqAndItsMakeUp) {
+  Model model = Model::FromXmlString(kFloating, "floating.xml");
+  try {
+    QposAssignment(model, "1.2,-2.5");
+    FAIL() << "no error";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "qpos");
+    EXPECT_NE(e.problem().find("2 values, but 'floating.xml' has nq = 9 (a free joint (7: x y z, "
+                               "quaternion w x y z), 2 hinges)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(QposAssignment(model, "0 0 0.08 1 0 0 0 1.2 nan"), ArgumentError);
+}
+
+TEST_F(KeyframeTest, APoseFileIsAssignmentsOrAWholeQpos) {
+  Model model = Model::FromXmlString(kFloating, "floating.xml");
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("lines.txt"),
+                     "# lying down\nqpos[root][2]=0.08\n\nqpos[hip]=1.2\nqpos[knee]=-2.5\n");
+  testing::WriteFile(dir.File("vector.txt"), "0 0 0.08 1 0 0 0\n1.2 -2.5\n");
+  for (const char* file : {"lines.txt", "vector.txt"}) {
+    Data data(model);
+    ApplyAssignments(model, data, PoseFileAssignments(model, dir.File(file)));
+    EXPECT_EQ(data->qpos[2], 0.08) << file;
+    EXPECT_EQ(data->qpos[7], 1.2) << file;
+    EXPECT_EQ(data->qpos[8], -2.5) << file;
+  }
+  testing::WriteFile(dir.File("bad.txt"), "qpos[hip]=1.2\nqpos[elbow]=1\n");
+  try {
+    PoseFileAssignments(model, dir.File("bad.txt"));
+    FAIL() << "no error";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "pose");
+    EXPECT_NE(e.value().find("bad.txt:2"), std::string::npos) << e.what();
+    EXPECT_NE(e.problem().find("elbow"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(PoseFileAssignments(model, dir.File("missing.txt")), IoError);
+}
+
 TEST_F(KeyframeTest, UnknownNameListsTheKeyframes) {
   Model model = Model::FromXmlString(testing::kKeyed, "keyed.xml");
   try {
