@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "check/identifiability.h"
+#include "check/identify_residuals.h"
 #include "check/worker_pool.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
@@ -397,17 +398,27 @@ std::vector<std::vector<double>> Reweight(Residuals& f, const std::vector<RobotL
   return noise;
 }
 
-// Standard errors and correlations from the Jacobian at x, then the warnings.
-void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std::vector<double>& x,
-                IdentifyResult* result) {
+// The Jacobian of everything fitted (residuals x unknowns, in the residuals' units) and the
+// residuals, at the optimum: what the standard errors and the residuals' diagnosis read.
+struct AtOptimum {
+  Eigen::MatrixXd jacobian;
+  std::vector<double> residuals;
+};
+
+// Classical standard errors and correlations from the Jacobian at x, then the warnings.
+AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
+                     const std::vector<double>& x, IdentifyResult* result) {
   std::size_t n = params.size(), all = f.parameters();
   long m = f.size();
-  std::vector<double> r(m), jac(m * all);
-  Jacobian(f, x.data(), r.data(), jac.data());
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> full(
+  AtOptimum at;
+  at.residuals.resize(m);
+  std::vector<double> jac(m * all);
+  Jacobian(f, x.data(), at.residuals.data(), jac.data());
+  at.jacobian = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       jac.data(), m, static_cast<long>(all));
+  const Eigen::MatrixXd& full = at.jacobian;
   double rss = 0;
-  for (double v : r) rss += v * v;
+  for (double v : at.residuals) rss += v * v;
   result->residuals = m;
   result->residual_variance = rss / static_cast<double>(m - static_cast<long>(all));
   // the covariance of everything fitted (start states included), shown for the parameters
@@ -426,7 +437,7 @@ void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std
     e.lo = p.lo;
     e.hi = p.hi;
     e.sensitivity = J.col(static_cast<long>(i)).norm();
-    e.std_error = singular ? NAN : std::sqrt(cov(i, i)) * p.scale;
+    e.std_error = e.classical_std_error = singular ? NAN : std::sqrt(cov(i, i)) * p.scale;
     double width = std::isfinite(p.hi - p.lo) ? p.hi - p.lo : std::fabs(e.value);
     e.at_bound = std::fabs(e.value - p.lo) <= 1e-9 * std::max(width, 1e-300) ||
                  std::fabs(e.value - p.hi) <= 1e-9 * std::max(width, 1e-300);
@@ -436,6 +447,7 @@ void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std
     }
   }
   AddIdentifiabilityWarnings(params, J, singular, result);
+  return at;
 }
 
 }  // namespace
@@ -558,7 +570,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.iterations = result.solved_again ? static_cast<int>(summary.iterations.size()) - 1 : 0;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.termination = summary.message;
-  Statistics(f, params, x, &result);
+  AtOptimum at = Statistics(f, params, x, &result);
   result.runs = f.runs();
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
@@ -573,6 +585,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
     result.before.push_back(Replay(model, log, options.replay));
     result.after.push_back(Replay(fitted, log, f.replay()));
   }
+  JudgeFit(logs, params, at.jacobian, at.residuals, f.weights(), &result);
   return result;
 }
 
