@@ -35,27 +35,6 @@ bool MustBeNonNegative(const Path& path) {
   return false;
 }
 
-// A signal's measurement noise from the log alone, the first solve's weight: the third
-// differences of a smooth signal sampled finely are those of its noise, of variance 20 sigma^2
-// (1 + 9 + 9 + 1), and the median of their magnitude (0.6745 sigma for a normal noise) keeps
-// the kinks a step in the inputs makes from counting. The signal's spread when it is too short
-// or has no differences; 1 when it is constant.
-double NoiseFromDifferences(const std::vector<double>& v) {
-  std::vector<double> d;
-  for (std::size_t k = 3; k < v.size(); ++k) {
-    d.push_back(std::fabs(v[k] - 3 * v[k - 1] + 3 * v[k - 2] - v[k - 3]));
-  }
-  if (d.size() >= 8) {
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    double sigma = d[d.size() / 2] / 0.6744897501960817 / std::sqrt(20.0);
-    if (sigma > 0 && std::isfinite(sigma)) return sigma;
-  }
-  double mean = 0, spread = 0;
-  for (double x : v) mean += x / v.size();
-  for (double x : v) spread += (x - mean) * (x - mean) / v.size();
-  return spread > 0 ? std::sqrt(spread) : 1.0;
-}
-
 // The first solve's weights are the noise the fit leaves within this fraction: then solving
 // again with the residuals' noise moved no estimate by more than 0.08 standard errors (the
 // arm and the pendulum, several seeds), and it is not done.

@@ -21,22 +21,26 @@ std::vector<double> Pick(const std::vector<double>& v, const std::vector<std::si
   return out;
 }
 
-// The fit table of one replay.
+// The fit table of one replay, each row judged against the log's noise.
 std::string FitRows(const std::vector<SignalFit>& fits) {
   std::string rows =
       "<table><tr><th></th><th>signal</th><th>samples</th><th>rms error</th><th>max error</th>"
-      "<th>at t (s)</th><th>fit %</th></tr>\n";
+      "<th>at t (s)</th><th>noise</th><th>fit %</th><th>fit % at the noise</th></tr>\n";
   for (const SignalFit& f : fits) {
-    CheckStatus status = f.fit >= 95   ? CheckStatus::kPass
-                         : f.fit >= 80 ? CheckStatus::kWarn
-                                       : CheckStatus::kFail;
+    CheckStatus status = FitStatus(f);
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td>{}</td><td>{}</td><td>{:.4g}</td><td>{:.4g}</td>"
-        "<td>{:.4f}</td><td>{:.2f}</td></tr>\n",
+        "<td>{:.4f}</td><td>{:.3g}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
         CheckStatusName(status), report::StatusCell(status), report::Escape(f.column), f.samples,
-        f.rms, f.max_abs, f.worst_time, f.fit);
+        f.rms, f.max_abs, f.worst_time, f.noise, f.fit, f.noise_fit);
   }
-  return rows + "</table>\n";
+  return rows + "</table>\n" +
+         fmt::format(
+             "<p>The noise is each signal's, as the log's own differences show it; \"fit % at the "
+             "noise\" is what a model that explains all but that noise gets. PASS: the rms error "
+             "is within {:g} times the noise; FAIL: beyond that and a fit below {:g} %; else "
+             "WARN.</p>\n",
+             kFitNoiseMargin, kFitFailPercent);
 }
 
 // Logged (points) against one or two simulations (lines), per signal, with +-rms of the
@@ -220,6 +224,11 @@ void SolveSection(report::Page* page, const IdentifyResult& r) {
 }
 
 }  // namespace
+
+CheckStatus FitStatus(const SignalFit& f) {
+  if (f.rms <= kFitNoiseMargin * f.noise) return CheckStatus::kPass;
+  return f.fit >= kFitFailPercent ? CheckStatus::kWarn : CheckStatus::kFail;
+}
 
 void WriteReplayReport(const std::string& path, const Model& model, const RobotLog& log,
                        const ReplayResult& result, const ReplayOptions& options,

@@ -161,7 +161,9 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
                        {"rms", Number(f.rms)},
                        {"max_abs", Number(f.max_abs)},
                        {"worst_time", f.worst_time},
-                       {"fit", Number(f.fit)}});
+                       {"fit", Number(f.fit)},
+                       {"noise", Number(f.noise)},
+                       {"noise_fit", Number(f.noise_fit)}});
   }
   j["signals"] = signals;
   j["fit"] = Number(r.fit);

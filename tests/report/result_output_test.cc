@@ -112,6 +112,7 @@ TEST(ResultOutputTest, ReplayAndIdentifyShowEverySignalLogAndEstimate) {
   EXPECT_EQ(r["window"], 0.5);
   EXPECT_EQ(r["signals"][0]["path"], "qpos[hinge]");
   EXPECT_EQ(r["fit"], 97.5);
+  EXPECT_TRUE(r["signals"][0].contains("noise_fit"));
   std::string table = ReplayTable("arm.xml", log, options, replay);
   EXPECT_NE(table.find("restarted from the logged state every 0.5 s"), std::string::npos) << table;
   EXPECT_NE(table.find("overall fit 97.50 %"), std::string::npos) << table;
