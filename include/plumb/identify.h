@@ -16,6 +16,11 @@
 // - Standard errors from the Jacobian at the optimum, scaled by the residual variance;
 //   correlations; identifiability warnings (a parameter the logs barely see, or two that
 //   move together above 0.95), each naming what log would settle it.
+// - Misspecification: each signal's residuals at the optimum are tested for structure over time
+//   that noise lacks (lag-1 autocorrelation, a runs test of the signs), and the fitted model's
+//   replay against the nominal one's. When the model cannot explain the logs, the standard
+//   errors are Newey–West's (robust to the residuals' correlation over time), or withheld
+//   when those cannot be had; IdentifyResult says which and why.
 // - A pure delay on the inputs or on the measurements: scanned in whole timesteps, with the
 //   parameters refitted at the best delay.
 //
@@ -71,15 +76,69 @@ struct Estimate {
   std::string path;
   double nominal = 0;
   double value = 0;
-  double std_error = NAN;  // from the Jacobian at the optimum, scaled by the residual variance
+  // The standard error given (IdentifyResult::std_errors says which kind): classical, or
+  // Newey–West's when the model is misspecified; NaN when withheld.
+  double std_error = NAN;
   double lo = -INFINITY, hi = INFINITY;
   bool at_bound = false;   // the optimum sits on a bound (its standard error then means little)
   double sensitivity = 0;  // how much a 100 % change moves the fit, in units of the noise
+  double classical_std_error = NAN;  // from the Jacobian at the optimum and the residual variance
+};
+
+// One signal's residuals at the optimum (in units of its noise), tested for what white noise
+// does not have.
+struct ResidualStructure {
+  std::string log;     // the log's source
+  std::string column;  // as the log names it
+  long samples = 0;
+  double autocorrelation = NAN;    // lag-1, about the residuals' mean
+  double autocorrelation_z = NAN;  // autocorrelation * sqrt(samples): about N(0, 1) for noise
+  double runs_z = NAN;      // Wald–Wolfowitz runs test of the signs: about N(0, 1) for noise;
+                            // negative: long runs of one sign (slow structure)
+  double rms = 0;           // of the residuals, in the signal's units
+  bool exact = false;       // matched to rounding (rms below 1e-9 of the signal's largest value):
+                            // its residuals are not noise, and are not judged
+  bool structured = false;  // either |z| above Misspecification::threshold
+};
+
+// Whether the model (with the fitted values) cannot explain the logs up to their noise.
+struct Misspecification {
+  bool detected = false;
+  std::string reason;  // one line: the evidence (signal, autocorrelation, runs z, fit against
+                       // nominal), or that none was found
+  // |z| above which a signal counts as structured: the false-alarm rate over all signals on
+  // white noise (two two-sided tests each, Bonferroni) is `false_alarm`; never below 4
+  double threshold = 4;
+  double false_alarm = 0;
+  std::vector<ResidualStructure> signals;  // each log's signals in turn
+  long structured = 0;                     // how many signals are
+  // Half the sum of squared residuals of the nominal and the fitted model replayed from the
+  // logged start (ReplayResult before/after), both on the final weights.
+  double before_cost = NAN, after_cost = NAN;
+  // after_cost exceeds before_cost by more than the logged start's noise and chance allow:
+  // by 10 %, and 2 x the excess above k + 4 sqrt(2k) for k unknowns fitted
+  bool worse_than_nominal = false;
+};
+
+// Which standard errors an IdentifyResult gives.
+enum class StdErrorKind {
+  kClassical,  // the Jacobian and the residual variance: the model explains all but the noise
+  kNeweyWest,  // the Newey–West sandwich: the model is misspecified and the residuals correlate
+  kWithheld,   // misspecified, and no robust standard error could be had
+};
+
+// "classical", "newey-west", "withheld".
+const char* StdErrorKindName(StdErrorKind kind);
+
+struct StdErrors {
+  StdErrorKind kind = StdErrorKind::kClassical;
+  int bandwidth = 0;  // Newey–West's lags (Bartlett kernel), for the longest series
+  std::string why;    // a sentence: why these, or why none
 };
 
 struct IdentifyResult {
   std::vector<Estimate> estimates;
-  std::vector<std::vector<double>> correlation;  // [i][j]
+  std::vector<std::vector<double>> correlation;  // [i][j], of the classical covariance
   std::vector<double> singular_values;           // of the column-normalised Jacobian, largest = 1
   std::vector<std::string> warnings;             // identifiability, bounds
   std::vector<double> first_pass_cost;  // per iteration, weighted by the log's noise (differences)
@@ -94,8 +153,13 @@ struct IdentifyResult {
   bool converged = false;
   std::string termination;  // Ceres's words
   long residuals = 0;
-  double residual_variance = NAN;  // 2 cost / (residuals - parameters): about 1 when honest
-  double delay = 0;                // s, estimated (DelayKind) or as given
+  // 2 cost / (residuals - unknowns): about 1 when the model explains all but the noise, and
+  // about 1 too whenever the problem was solved again with the residuals' rms as the noise;
+  // misspecification says whether the model does
+  double residual_variance = NAN;
+  Misspecification misspecification;
+  StdErrors std_errors;
+  double delay = 0;                                   // s, estimated (DelayKind) or as given
   std::vector<std::pair<double, double>> delay_scan;  // (delay, cost) of the last scan
   std::vector<std::vector<double>> noise;             // [log][signal]: estimated sigma
   std::vector<ReplayResult> before, after;            // per log: nominal and fitted model
@@ -121,6 +185,11 @@ void ApplyEstimates(Model& model, const IdentifyResult& result);
 // What the solves did, in a sentence: iterations and cost of each, whether the problem was
 // solved again with the residuals' noise, how it ended and how many runs of the logs it took.
 std::string DescribeSolves(const IdentifyResult& result);
+
+// The residual variance in a line. With no misspecification found, with what it means (about 1
+// when the model explains all but the noise); else that it says nothing of the model here,
+// where the warning (misspecification.reason) says what does.
+std::string DescribeResidualVariance(const IdentifyResult& result);
 
 }  // namespace plumb
 

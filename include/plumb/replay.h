@@ -57,6 +57,9 @@ struct SignalFit {
   double worst_time = 0;  // s, log time of the largest
   double fit = 0;         // %: 100 (1 - |e| / |y - mean y|); 100 is perfect, <= 0 no better
                           // than the logged mean
+  double noise = 0;  // the log's noise (sigma) as its differences show it (NoiseFromDifferences)
+  double noise_fit = 0;  // %: the fit of a model that explains all but that noise,
+                         // 100 (1 - noise / rms(y - mean y))
 };
 
 struct ReplayResult {
@@ -94,6 +97,14 @@ void ApplyParameterAssignments(Model& model, const std::vector<std::string>& set
 
 // Simulates and compares. @throws as Simulate does.
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);
+
+// A signal's measurement noise (sigma) from the log alone: the third differences of a smooth
+// signal sampled finely are those of its noise, of variance 20 sigma^2 (1 + 9 + 9 + 1), and
+// the median of their magnitude (0.6745 sigma for a normal noise) keeps the kinks a step in
+// the inputs makes from counting. The signal's spread when it has fewer than 11 samples or no
+// differences; 1 when it is constant. An overestimate where the samples are too coarse for
+// the signal to look smooth.
+double NoiseFromDifferences(const std::vector<double>& values);
 
 // The comparison of `simulated` with `log` (the part of Replay after Simulate).
 std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simulated);

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "check/identifiability.h"
+#include "check/identify_residuals.h"
 #include "check/worker_pool.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
@@ -32,27 +33,6 @@ bool MustBeNonNegative(const Path& path) {
     return true;
   }
   return false;
-}
-
-// A signal's measurement noise from the log alone, the first solve's weight: the third
-// differences of a smooth signal sampled finely are those of its noise, of variance 20 sigma^2
-// (1 + 9 + 9 + 1), and the median of their magnitude (0.6745 sigma for a normal noise) keeps
-// the kinks a step in the inputs makes from counting. The signal's spread when it is too short
-// or has no differences; 1 when it is constant.
-double NoiseFromDifferences(const std::vector<double>& v) {
-  std::vector<double> d;
-  for (std::size_t k = 3; k < v.size(); ++k) {
-    d.push_back(std::fabs(v[k] - 3 * v[k - 1] + 3 * v[k - 2] - v[k - 3]));
-  }
-  if (d.size() >= 8) {
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    double sigma = d[d.size() / 2] / 0.6744897501960817 / std::sqrt(20.0);
-    if (sigma > 0 && std::isfinite(sigma)) return sigma;
-  }
-  double mean = 0, spread = 0;
-  for (double x : v) mean += x / v.size();
-  for (double x : v) spread += (x - mean) * (x - mean) / v.size();
-  return spread > 0 ? std::sqrt(spread) : 1.0;
 }
 
 // The first solve's weights are the noise the fit leaves within this fraction: then solving
@@ -397,17 +377,27 @@ std::vector<std::vector<double>> Reweight(Residuals& f, const std::vector<RobotL
   return noise;
 }
 
-// Standard errors and correlations from the Jacobian at x, then the warnings.
-void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std::vector<double>& x,
-                IdentifyResult* result) {
+// The Jacobian of everything fitted (residuals x unknowns, in the residuals' units) and the
+// residuals, at the optimum: what the standard errors and the residuals' diagnosis read.
+struct AtOptimum {
+  Eigen::MatrixXd jacobian;
+  std::vector<double> residuals;
+};
+
+// Classical standard errors and correlations from the Jacobian at x, then the warnings.
+AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
+                     const std::vector<double>& x, IdentifyResult* result) {
   std::size_t n = params.size(), all = f.parameters();
   long m = f.size();
-  std::vector<double> r(m), jac(m * all);
-  Jacobian(f, x.data(), r.data(), jac.data());
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> full(
+  AtOptimum at;
+  at.residuals.resize(m);
+  std::vector<double> jac(m * all);
+  Jacobian(f, x.data(), at.residuals.data(), jac.data());
+  at.jacobian = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       jac.data(), m, static_cast<long>(all));
+  const Eigen::MatrixXd& full = at.jacobian;
   double rss = 0;
-  for (double v : r) rss += v * v;
+  for (double v : at.residuals) rss += v * v;
   result->residuals = m;
   result->residual_variance = rss / static_cast<double>(m - static_cast<long>(all));
   // the covariance of everything fitted (start states included), shown for the parameters
@@ -426,7 +416,7 @@ void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std
     e.lo = p.lo;
     e.hi = p.hi;
     e.sensitivity = J.col(static_cast<long>(i)).norm();
-    e.std_error = singular ? NAN : std::sqrt(cov(i, i)) * p.scale;
+    e.std_error = e.classical_std_error = singular ? NAN : std::sqrt(cov(i, i)) * p.scale;
     double width = std::isfinite(p.hi - p.lo) ? p.hi - p.lo : std::fabs(e.value);
     e.at_bound = std::fabs(e.value - p.lo) <= 1e-9 * std::max(width, 1e-300) ||
                  std::fabs(e.value - p.hi) <= 1e-9 * std::max(width, 1e-300);
@@ -436,6 +426,7 @@ void Statistics(Residuals& f, const std::vector<FitParameter>& params, const std
     }
   }
   AddIdentifiabilityWarnings(params, J, singular, result);
+  return at;
 }
 
 }  // namespace
@@ -558,7 +549,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.iterations = result.solved_again ? static_cast<int>(summary.iterations.size()) - 1 : 0;
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.termination = summary.message;
-  Statistics(f, params, x, &result);
+  AtOptimum at = Statistics(f, params, x, &result);
   result.runs = f.runs();
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
@@ -573,6 +564,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
     result.before.push_back(Replay(model, log, options.replay));
     result.after.push_back(Replay(fitted, log, f.replay()));
   }
+  JudgeFit(logs, params, at.jacobian, at.residuals, f.weights(), &result);
   return result;
 }
 

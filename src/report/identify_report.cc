@@ -20,22 +20,26 @@ std::vector<double> Pick(const std::vector<double>& v, const std::vector<std::si
   return out;
 }
 
-// The fit table of one replay.
+// The fit table of one replay, each row judged against the log's noise.
 std::string FitRows(const std::vector<SignalFit>& fits) {
   std::string rows =
       "<table><tr><th></th><th>signal</th><th>samples</th><th>rms error</th><th>max error</th>"
-      "<th>at t (s)</th><th>fit %</th></tr>\n";
+      "<th>at t (s)</th><th>noise</th><th>fit %</th><th>fit % at the noise</th></tr>\n";
   for (const SignalFit& f : fits) {
-    CheckStatus status = f.fit >= 95   ? CheckStatus::kPass
-                         : f.fit >= 80 ? CheckStatus::kWarn
-                                       : CheckStatus::kFail;
+    CheckStatus status = FitStatus(f);
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td>{}</td><td>{}</td><td>{:.4g}</td><td>{:.4g}</td>"
-        "<td>{:.4f}</td><td>{:.2f}</td></tr>\n",
+        "<td>{:.4f}</td><td>{:.3g}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
         CheckStatusName(status), report::StatusCell(status), report::Escape(f.column), f.samples,
-        f.rms, f.max_abs, f.worst_time, f.fit);
+        f.rms, f.max_abs, f.worst_time, f.noise, f.fit, f.noise_fit);
   }
-  return rows + "</table>\n";
+  return rows + "</table>\n" +
+         fmt::format(
+             "<p>The noise is each signal's, as the log's own differences show it; \"fit % at the "
+             "noise\" is what a model that explains all but that noise gets. PASS: the rms error "
+             "is within {:g} times the noise; FAIL: beyond that and a fit below {:g} %; else "
+             "WARN.</p>\n",
+             kFitNoiseMargin, kFitFailPercent);
 }
 
 // Logged (points) against one or two simulations (lines), per signal, with +-rms of the
@@ -86,18 +90,27 @@ void SignalCharts(report::Page* page, const RobotLog& log,
   page->EndGrid();
 }
 
+// An estimate's standard error and 95 % interval cells: "withheld" when they are.
+std::string ErrorCells(const Estimate& e) {
+  if (!std::isfinite(e.std_error)) return "<td>withheld</td><td>-</td>";
+  return fmt::format("<td>{:.3g}</td><td>[{:.5g}, {:.5g}]</td>", e.std_error,
+                     e.value - 1.96 * e.std_error, e.value + 1.96 * e.std_error);
+}
+
 // The estimates with their intervals, the correlation matrix and the warnings.
 void EstimatesSection(report::Page* page, const IdentifyResult& r) {
   page->Heading("Estimates");
-  std::string rows =
-      "<table><tr><th>parameter</th><th>nominal</th><th>estimate</th><th>std error</th>"
-      "<th>95 % interval</th><th>sensitivity</th></tr>\n";
+  page->Paragraph("Standard errors: " + r.std_errors.why + ".",
+                  r.std_errors.kind == StdErrorKind::kClassical ? "" : "warn");
+  std::string rows = fmt::format(
+      "<table><tr><th>parameter</th><th>nominal</th><th>estimate</th><th>std error ({})</th>"
+      "<th>95 % interval</th><th>classical std error</th><th>sensitivity</th></tr>\n",
+      StdErrorKindName(r.std_errors.kind));
   for (const Estimate& e : r.estimates) {
     rows += fmt::format(
-        "<tr><td>{}</td><td>{:.6g}</td><td>{:.6g}</td><td>{:.3g}</td><td>[{:.5g}, {:.5g}]{}</td>"
-        "<td>{:.3g}</td></tr>\n",
-        report::Escape(e.path), e.nominal, e.value, e.std_error, e.value - 1.96 * e.std_error,
-        e.value + 1.96 * e.std_error, e.at_bound ? " (on its bound)" : "", e.sensitivity);
+        "<tr><td>{}</td><td>{:.6g}</td><td>{:.6g}{}</td>{}<td>{:.3g}</td><td>{:.3g}</td></tr>\n",
+        report::Escape(e.path), e.nominal, e.value, e.at_bound ? " (on its bound)" : "",
+        ErrorCells(e), e.classical_std_error, e.sensitivity);
   }
   page->Html(rows + "</table>\n");
   report::Chart bars("Estimates with 95 % intervals, relative to nominal", {"parameter (index)"},
@@ -108,6 +121,7 @@ void EstimatesSection(report::Page* page, const IdentifyResult& r) {
     double x = static_cast<double>(i);
     bars.series.push_back(
         {e.path, {x}, {e.value / unit}, report::Series::kPoints, "", false, "rectRot"});
+    if (!std::isfinite(e.std_error)) continue;  // withheld
     bars.series.push_back(
         {e.path + " 95 %",
          {x, x},
@@ -144,13 +158,42 @@ void EstimatesSection(report::Page* page, const IdentifyResult& r) {
   }
 }
 
+// Whether the residuals look like noise: the verdict, and each signal's tests.
+void ResidualsSection(report::Page* page, const IdentifyResult& r) {
+  const Misspecification& m = r.misspecification;
+  page->Heading("Residuals: is the model right?");
+  page->Paragraph(
+      fmt::format("{}{}.",
+                  m.detected ? "WARN misspecified: " : "No misspecification found: ", m.reason),
+      m.detected ? "warn" : "");
+  std::string rows =
+      "<table><tr><th></th><th>log</th><th>signal</th><th>samples</th><th>lag-1 "
+      "autocorrelation</th><th>its z</th><th>runs z</th></tr>\n";
+  for (const ResidualStructure& s : m.signals) {
+    CheckStatus status = s.structured ? CheckStatus::kWarn : CheckStatus::kPass;
+    rows += fmt::format(
+        "<tr class=\"row-{}\">{}<td>{}</td><td>{}</td><td>{}</td><td>{:.3f}</td><td>{:.1f}</td>"
+        "<td>{:.1f}</td></tr>\n",
+        CheckStatusName(status), report::StatusCell(status), report::Escape(s.log),
+        report::Escape(s.column), s.samples, s.autocorrelation, s.autocorrelation_z, s.runs_z);
+  }
+  page->Html(rows + "</table>\n");
+  page->Paragraph(fmt::format(
+      "Each signal's residuals at the optimum, in units of its noise. White noise has a lag-1 "
+      "autocorrelation near 0 (z = autocorrelation x sqrt(samples)) and about as many runs of "
+      "one sign as chance gives (runs z near 0; negative: long runs, slow structure). A signal "
+      "is marked when either |z| exceeds {:.2f}, which all {} signals of white noise do "
+      "together with probability {:g}. The fitted model replayed from the logged start costs "
+      "{:.6g} against the nominal one's {:.6g} (in units of the noise){}.",
+      m.threshold, m.signals.size(), m.false_alarm, m.after_cost, m.before_cost,
+      m.worse_than_nominal ? ": worse" : ""));
+}
+
 // The cost per iteration and the delay scan.
 void SolveSection(report::Page* page, const IdentifyResult& r) {
   page->Heading("The solve");
-  page->Paragraph(fmt::format(
-      "The {}. Residual variance {:.3g}: about 1 when the model explains everything but the "
-      "noise.",
-      DescribeSolves(r), r.residual_variance));
+  page->Paragraph(fmt::format("The {}.", DescribeSolves(r)));
+  page->Paragraph(DescribeResidualVariance(r) + ".");
   report::Chart cost("Cost per iteration", {"iteration"}, {"cost", true});
   std::vector<double> first_x, final_x;
   for (std::size_t i = 0; i < r.first_pass_cost.size(); ++i) first_x.push_back(double(i));
@@ -182,6 +225,11 @@ void SolveSection(report::Page* page, const IdentifyResult& r) {
 
 }  // namespace
 
+CheckStatus FitStatus(const SignalFit& f) {
+  if (f.rms <= kFitNoiseMargin * f.noise) return CheckStatus::kPass;
+  return f.fit >= kFitFailPercent ? CheckStatus::kWarn : CheckStatus::kFail;
+}
+
 void WriteReplayReport(const std::string& path, const Model& model, const RobotLog& log,
                        const ReplayResult& result, const ReplayOptions& options,
                        const ReportInfo& info) {
@@ -212,6 +260,7 @@ void WriteIdentifyReport(const std::string& path, const Model& model,
   report::Page page = report::StartPage("identify", model, info);
   for (const RobotLog& log : logs) page.Meta("log", log.source);
   EstimatesSection(&page, r);
+  ResidualsSection(&page, r);
   SolveSection(&page, r);
   for (std::size_t l = 0; l < logs.size(); ++l) {
     page.Heading("Log " + logs[l].source);

@@ -167,7 +167,9 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
                        {"rms", Number(f.rms)},
                        {"max_abs", Number(f.max_abs)},
                        {"worst_time", f.worst_time},
-                       {"fit", Number(f.fit)}});
+                       {"fit", Number(f.fit)},
+                       {"noise", Number(f.noise)},
+                       {"noise_fit", Number(f.noise_fit)}});
   }
   j["signals"] = signals;
   j["fit"] = Number(r.fit);
@@ -176,6 +178,33 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
   j["notes"] = r.notes;
   return j.dump(2) + "\n";
 }
+
+namespace {
+
+// The residuals' diagnosis of a fit (plumb identify).
+Json MisspecificationJson(const Misspecification& m) {
+  Json signals = Json::array();
+  for (const ResidualStructure& s : m.signals) {
+    signals.push_back({{"log", s.log},
+                       {"column", s.column},
+                       {"samples", s.samples},
+                       {"autocorrelation", Number(s.autocorrelation)},
+                       {"autocorrelation_z", Number(s.autocorrelation_z)},
+                       {"runs_z", Number(s.runs_z)},
+                       {"structured", s.structured}});
+  }
+  return {{"detected", m.detected},
+          {"reason", m.reason},
+          {"threshold", m.threshold},
+          {"false_alarm", m.false_alarm},
+          {"structured", m.structured},
+          {"before_cost", Number(m.before_cost)},
+          {"after_cost", Number(m.after_cost)},
+          {"worse_than_nominal", m.worse_than_nominal},
+          {"signals", signals}};
+}
+
+}  // namespace
 
 std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
                            const std::vector<RobotLog>& logs, DelayKind delay,
@@ -188,6 +217,7 @@ std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
                          {"nominal", e.nominal},
                          {"value", e.value},
                          {"std_error", Number(e.std_error)},
+                         {"classical_std_error", Number(e.classical_std_error)},
                          {"lo", Number(e.lo)},
                          {"hi", Number(e.hi)},
                          {"at_bound", e.at_bound},
@@ -210,6 +240,10 @@ std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
   j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
   j["cost"] = r.cost;
   j["residual_variance"] = Number(r.residual_variance);
+  j["std_errors"] = {{"kind", StdErrorKindName(r.std_errors.kind)},
+                     {"bandwidth", r.std_errors.bandwidth},
+                     {"why", r.std_errors.why}};
+  j["misspecification"] = MisspecificationJson(r.misspecification);
   Json per_log = Json::array();
   for (std::size_t l = 0; l < logs.size(); ++l) {
     Json noise;

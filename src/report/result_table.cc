@@ -66,8 +66,10 @@ std::string EstimatesTable(const IdentifyResult& r, DelayKind delay, std::size_t
                                ? fmt::format("[{:.5g}, {:.5g}]", e.value - 1.96 * e.std_error,
                                              e.value + 1.96 * e.std_error)
                                : std::string("-");
-    out += fmt::format("{:<{}} {:>12.6g} {:>12.6g} {:>11.3g} {:>25}{}\n", e.path, width, e.nominal,
-                       e.value, e.std_error, interval, e.at_bound ? "  (on its bound)" : "");
+    std::string se = r.std_errors.kind == StdErrorKind::kWithheld ? std::string("withheld")
+                                                                  : Num(e.std_error, "{:.3g}");
+    out += fmt::format("{:<{}} {:>12.6g} {:>12.6g} {:>11} {:>25}{}\n", e.path, width, e.nominal,
+                       e.value, se, interval, e.at_bound ? "  (on its bound)" : "");
   }
   if (delay != DelayKind::kNone) {
     out += fmt::format(
@@ -192,10 +194,9 @@ std::string IdentifyTable(const std::string& model, const IdentifyResult& r,
   std::size_t width = 10;
   for (const Estimate& e : r.estimates) width = std::max(width, e.path.size());
   out += EstimatesTable(r, delay, width);
-  out += fmt::format(
-      "\nsolver: {}\nresidual variance {:.3g} (about 1 when the model explains all but the "
-      "noise)\n",
-      DescribeSolves(r), r.residual_variance);
+  out += fmt::format("\nsolver: {}\n{}\n", DescribeSolves(r), DescribeResidualVariance(r));
+  if (r.misspecification.detected) out += "WARN misspecified: " + r.misspecification.reason + "\n";
+  out += "standard errors: " + r.std_errors.why + "\n";
   out += "\nnoise per signal (rms of the residuals):\n";
   for (std::size_t l = 0; l < logs.size(); ++l) {
     for (std::size_t i = 0; i < logs[l].measured.size(); ++i) {

@@ -219,6 +219,22 @@ Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
   return Replayer(model, data, log, options, start_offsets).Run();
 }
 
+double NoiseFromDifferences(const std::vector<double>& v) {
+  std::vector<double> d;
+  for (std::size_t k = 3; k < v.size(); ++k) {
+    d.push_back(std::fabs(v[k] - 3 * v[k - 1] + 3 * v[k - 2] - v[k - 3]));
+  }
+  if (d.size() >= 8) {
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    double sigma = d[d.size() / 2] / 0.6744897501960817 / std::sqrt(20.0);
+    if (sigma > 0 && std::isfinite(sigma)) return sigma;
+  }
+  double mean = 0, spread = 0;
+  for (double x : v) mean += x / v.size();
+  for (double x : v) spread += (x - mean) * (x - mean) / v.size();
+  return spread > 0 ? std::sqrt(spread) : 1.0;
+}
+
 std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simulated) {
   std::vector<SignalFit> fits;
   for (std::size_t i = 0; i < log.measured.size(); ++i) {
@@ -242,6 +258,8 @@ std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simu
     }
     f.rms = std::sqrt(error2 / f.samples);
     f.fit = spread2 > 0 ? 100 * (1 - std::sqrt(error2 / spread2)) : (error2 == 0 ? 100 : -INFINITY);
+    f.noise = NoiseFromDifferences(s.value);
+    f.noise_fit = spread2 > 0 ? 100 * (1 - f.noise / std::sqrt(spread2 / f.samples)) : 100;
     fits.push_back(f);
   }
   return fits;

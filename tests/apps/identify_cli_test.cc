@@ -169,5 +169,51 @@ TEST_F(CliIdentifyTest, AValidationLogIsReported) {
   EXPECT_GT(j["validation"]["fit_fitted"].get<double>(), 99.9);
 }
 
+// A model that lacks the log's spring, its damping fitted: the table warns, names the evidence
+// and never reassures with the residual variance; the JSON and the report say the same, and
+// which standard errors are given. The right model gets the reassurance and classical ones.
+TEST_F(CliIdentifyTest, AMisspecifiedFitWarnsAndSaysWhichStandardErrors) {
+  testing::LogSpec spec;
+  spec.set = {"qpos[hinge]=0.7", "jnt_stiffness[hinge]=3"};
+  spec.noise = {0.002, 0.01};
+  spec.until = 4;
+  spec.every = 5;
+  testing::MakeLog(dir_.File("spring.csv"), spec);
+  spec.set = {"qpos[hinge]=0.7"};
+  testing::MakeLog(dir_.File("right.csv"), spec);
+  const std::string identify =
+      "identify '" + testing::kPendulum + "' --fit 'dof_damping[hinge]' --log ";
+  auto r = testing::RunPlumb(identify + "spring.csv --report spring.html", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("WARN misspecified: the model cannot explain the logs up to their noise: "
+                       "2 of 2 signals' residuals have structure over time"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("lag-1 autocorrelation 0.9"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("about 1 when"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("standard errors: "), std::string::npos) << r.out;
+  std::string html = testing::ReadFile(dir_.File("spring.html"));
+  EXPECT_NE(html.find("WARN misspecified"), std::string::npos);
+  EXPECT_NE(html.find("Standard errors: "), std::string::npos);
+  EXPECT_EQ(html.find("about 1 when"), std::string::npos);
+
+  r = testing::RunPlumb(identify + "spring.csv --format json", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["misspecification"]["detected"].get<bool>());
+  EXPECT_EQ(j["misspecification"]["signals"].size(), 2u);
+  EXPECT_GT(j["misspecification"]["signals"][0]["autocorrelation"].get<double>(), 0.5);
+  EXPECT_NE(j["std_errors"]["kind"], "classical");
+  EXPECT_FALSE(j["std_errors"]["why"].get<std::string>().empty());
+  EXPECT_TRUE(j["estimates"][0]["classical_std_error"].is_number());
+
+  r = testing::RunPlumb(identify + "right.csv", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(about 1 when the model explains all but the noise"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("standard errors: classical"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("WARN"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace plumb

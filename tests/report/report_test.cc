@@ -11,6 +11,7 @@
 #include "fixture.h"
 #include "plumb/error.h"
 #include "plumb/render.h"
+#include "sim/log_maker.h"
 
 namespace plumb {
 namespace {
@@ -137,6 +138,46 @@ TEST(ReportTest, TheAnimationHasTheFramesAskedFor) {
   html = testing::ReadFile(dir.File("s.html"));
   EXPECT_EQ(Count(html, "data:image/png;base64,"), 2);
   EXPECT_EQ(html.find("class=\"flipbook\""), std::string::npos);
+}
+
+// A log whose replay leaves only its noise (the right model, measured with a noise of 5.5 % of
+// each signal's spread) fits at about 94.5 %, which a fixed 95 % threshold marked WARN; judged
+// against the noise the log's differences show, it passes. A model with the wrong damping,
+// whose error is a slow wave well above the noise, does not.
+TEST(ReportTest, PureNoiseResidualsPassTheFitThreshold) {
+  testing::TempDir dir;
+  testing::LogSpec spec;
+  spec.set = {"qpos[hinge]=0.7"};
+  spec.until = 3;
+  spec.noise = {0.0, 0.0};
+  Model model = Model::Load(testing::kPendulum);
+  RobotLog clean =
+      LoadRobotLog(model, testing::MakeLog(dir.File("clean.csv"), spec), model->opt.timestep);
+  ReplayResult exact = Replay(model, clean, {});
+  spec.noise.clear();
+  for (const SignalFit& f : exact.signals) {
+    double spread = 0, mean = 0;
+    const std::vector<double>& v = clean.measured[spec.noise.size()].value;
+    for (double x : v) mean += x / v.size();
+    for (double x : v) spread += (x - mean) * (x - mean) / v.size();
+    spec.noise.push_back(0.055 * std::sqrt(spread));
+    EXPECT_EQ(FitStatus(f), CheckStatus::kPass) << f.column;  // no error at all
+  }
+  RobotLog noisy =
+      LoadRobotLog(model, testing::MakeLog(dir.File("noisy.csv"), spec), model->opt.timestep);
+  ReplayResult r = Replay(model, noisy, {});
+  for (const SignalFit& f : r.signals) {
+    EXPECT_LT(f.fit, 95) << f.column;  // the old threshold's WARN
+    EXPECT_GT(f.fit, 93) << f.column;
+    EXPECT_NEAR(f.noise_fit, f.fit, 1.5) << f.column;
+    EXPECT_EQ(FitStatus(f), CheckStatus::kPass)
+        << f.column << " rms " << f.rms << " noise " << f.noise;
+  }
+  Model wrong = model.Clone();
+  ApplyParameterAssignments(wrong, {"dof_damping[hinge]=0.2"});
+  for (const SignalFit& f : Replay(wrong, noisy, {}).signals) {
+    EXPECT_NE(FitStatus(f), CheckStatus::kPass) << f.column << " fit " << f.fit;
+  }
 }
 
 TEST(ReportTest, AnUnwritableReportLeavesNothing) {

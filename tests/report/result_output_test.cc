@@ -112,6 +112,7 @@ TEST(ResultOutputTest, ReplayAndIdentifyShowEverySignalLogAndEstimate) {
   EXPECT_EQ(r["window"], 0.5);
   EXPECT_EQ(r["signals"][0]["path"], "qpos[hinge]");
   EXPECT_EQ(r["fit"], 97.5);
+  EXPECT_TRUE(r["signals"][0].contains("noise_fit"));
   std::string table = ReplayTable("arm.xml", log, options, replay);
   EXPECT_NE(table.find("restarted from the logged state every 0.5 s"), std::string::npos) << table;
   EXPECT_NE(table.find("overall fit 97.50 %"), std::string::npos) << table;
@@ -136,8 +137,26 @@ TEST(ResultOutputTest, ReplayAndIdentifyShowEverySignalLogAndEstimate) {
   EXPECT_FALSE(
       nlohmann::json::parse(IdentifyToJson("arm.xml", id, {log}, DelayKind::kNone, nullptr))
           .contains("delay"));
+  EXPECT_EQ(i["std_errors"]["kind"], "classical");
+  EXPECT_FALSE(i["misspecification"]["detected"].get<bool>());
   std::string text = IdentifyTable("arm.xml", id, {log}, DelayKind::kInput, &held);
   EXPECT_NE(text.find("input delay [s]"), std::string::npos) << text;
+  // misspecified, no robust standard error: withheld in the table, said why, and no
+  // reassurance from the residual variance
+  IdentifyResult wrong = id;
+  wrong.misspecification.detected = true;
+  wrong.misspecification.reason = "the evidence";
+  wrong.std_errors = {StdErrorKind::kWithheld, 0, "withheld: the reason"};
+  wrong.estimates[0].std_error = NAN;
+  std::string warned = IdentifyTable("arm.xml", wrong, {log}, DelayKind::kNone, nullptr);
+  EXPECT_NE(warned.find("withheld"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("WARN misspecified: the evidence"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("standard errors: withheld: the reason"), std::string::npos) << warned;
+  EXPECT_EQ(warned.find("about 1 when"), std::string::npos) << warned;
+  nlohmann::json w =
+      nlohmann::json::parse(IdentifyToJson("arm.xml", wrong, {log}, DelayKind::kNone, nullptr));
+  EXPECT_EQ(w["std_errors"]["kind"], "withheld");
+  EXPECT_TRUE(w["estimates"][0]["std_error"].is_null());
   EXPECT_NE(text.find("dof_damping[hinge]: 0.05 -> 0.1 (+100.0 %)"), std::string::npos) << text;
   EXPECT_NE(text.find("validation on run1.csv"), std::string::npos) << text;
 }
