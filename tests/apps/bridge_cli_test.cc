@@ -165,8 +165,14 @@ TEST(CliBridgeTest, AFlightLogWithLatencyGivesTheLatencyBack) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(r.out);
   EXPECT_NEAR(j["delay"]["value"].get<double>(), 0.010, 1e-9) << r.out;
-  double value = j["estimates"][0]["value"], se = j["estimates"][0]["std_error"];
-  EXPECT_NEAR(value, 0.05, std::max(3 * se, 1e-6)) << r.out;
+  // the log has no noise, so the bridge's ppm-level timing differences show as structure in
+  // the residuals: identify may call the fit misspecified and withhold its standard errors
+  // (saying why); the estimate is the truth to 1e-4 either way
+  EXPECT_NEAR(j["estimates"][0]["value"].get<double>(), 0.05, 1e-4 * 0.05) << r.out;
+  if (j["estimates"][0]["std_error"].is_null()) {
+    EXPECT_EQ(j["std_errors"]["kind"], "withheld") << r.out;
+    EXPECT_FALSE(j["std_errors"]["why"].get<std::string>().empty()) << r.out;
+  }
 }
 
 TEST(CliBridgeTest, AGo2StandsUp) {
