@@ -118,7 +118,7 @@ Model FloatingRobot() {
             "</body></body>";
   }
   return Model::FromXmlString(
-      "<mujoco model=\"dog\"><option timestep=\"0.002\"/><worldbody>"
+      "<mujoco model=\"dog\"><compiler autolimits=\"true\"/><option timestep=\"0.002\"/><worldbody>"
       "<geom name=\"floor\" type=\"plane\" size=\"2 2 0.1\"/>"
       "<body name=\"trunk\" pos=\"0 0 0.35\"><freejoint/>"
       "<geom type=\"box\" size=\"0.25 0.1 0.05\" mass=\"5\"/>" +
