@@ -38,17 +38,6 @@ nlohmann::json AxisJson(const Axis& axis) { return {{"label", axis.label}, {"log
 
 }  // namespace
 
-std::vector<std::size_t> Thin(std::size_t count, std::size_t most) {
-  std::vector<std::size_t> kept;
-  if (count == 0) return kept;
-  if (count <= most || most < 2) {
-    for (std::size_t i = 0; i < count && (most >= 2 || i < most); ++i) kept.push_back(i);
-    return kept;
-  }
-  for (std::size_t k = 0; k < most; ++k) kept.push_back(k * (count - 1) / (most - 1));
-  return kept;
-}
-
 std::vector<std::size_t> KeepExtremes(const std::vector<double>& x, const std::vector<double>& y,
                                       std::size_t buckets) {
   std::size_t count = std::min(x.size(), y.size());

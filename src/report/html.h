@@ -63,9 +63,6 @@ struct Histogram {
   std::string how_to_read;
 };
 
-// Keeps at most `most` points of a curve, evenly by index (the first and last kept).
-std::vector<std::size_t> Thin(std::size_t count, std::size_t most);
-
 // The samples of a curve (x[i], y[i]) worth drawing when it has more than a chart can
 // show: split into `buckets` runs of consecutive samples, each keeps its first and last
 // and those with the smallest and largest finite x and y, in their order. The kept points

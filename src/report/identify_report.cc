@@ -13,10 +13,10 @@ namespace {
 
 constexpr std::size_t kMostSignals = 12;   // charts per log
 
-std::vector<double> Pick(const std::vector<double>& v, const std::vector<std::size_t>& at) {
-  std::vector<double> out;
-  out.reserve(at.size());
-  for (std::size_t i : at) out.push_back(i < v.size() ? v[i] : NAN);
+// `v` as long as the log's `n` samples: a simulation that stopped early ends in NaN.
+std::vector<double> Padded(const std::vector<double>& v, std::size_t n) {
+  std::vector<double> out(v.begin(), v.begin() + static_cast<long>(std::min(n, v.size())));
+  out.resize(n, NAN);
   return out;
 }
 
@@ -50,18 +50,18 @@ void SignalCharts(report::Page* page, const RobotLog& log,
   for (std::size_t i = 0; i < log.measured.size() && i < kMostSignals; ++i) {
     const LogSignal& s = log.measured[i];
     // every sample: the page draws a long signal from its extremes (report::KeepExtremes)
-    std::vector<std::size_t> at = report::Thin(s.time.size(), s.time.size());
-    std::vector<double> t = Pick(s.time, at);
+    const std::vector<double>& t = s.time;
+    const std::size_t n = t.size();
     report::Chart chart(s.column + ": logged and simulated", {"t (s)"}, {s.path.text});
     chart.series.push_back(
-        {"logged", t, Pick(s.value, at), report::Series::kPoints, "#888", false, "circle"});
+        {"logged", t, Padded(s.value, n), report::Series::kPoints, "#888", false, "circle"});
     for (const auto& [label, run] : runs) {
-      chart.series.push_back({label, t, Pick(run->simulated.values[i], at)});
+      chart.series.push_back({label, t, Padded(run->simulated.values[i], n)});
     }
     const ReplayResult& last = *runs.back().second;
     double rms = last.signals[i].rms;
     if (std::isfinite(rms) && rms > 0) {
-      std::vector<double> sim = Pick(last.simulated.values[i], at), hi = sim, lo = sim;
+      std::vector<double> sim = Padded(last.simulated.values[i], n), hi = sim, lo = sim;
       for (double& v : hi) v += rms;
       for (double& v : lo) v -= rms;
       chart.series.push_back(
@@ -78,7 +78,7 @@ void SignalCharts(report::Page* page, const RobotLog& log,
     page->Add(chart);
     report::Chart error(s.column + ": simulated - logged", {"t (s)"}, {"error"});
     for (const auto& [label, run] : runs) {
-      std::vector<double> e = Pick(run->simulated.values[i], at), logged = Pick(s.value, at);
+      std::vector<double> e = Padded(run->simulated.values[i], n), logged = Padded(s.value, n);
       for (std::size_t k = 0; k < e.size(); ++k) e[k] -= logged[k];
       error.series.push_back({label, t, e, report::Series::kPoints, "", false, "circle"});
     }
