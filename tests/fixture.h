@@ -25,6 +25,7 @@
 
 #include "plumb/error.h"
 #include "plumb/model.h"
+#include "plumb/strings.h"
 
 namespace plumb::testing {
 
@@ -61,9 +62,7 @@ inline std::string CompiledMujocoVersion() { return plumb::CompiledMujocoVersion
 // True when `text` names line `line` of a MuJoCo load error, however this MuJoCo words it
 // ("line = 5" on 2.x, "line 5" on 3.x): tests never match MuJoCo's own wording.
 inline bool NamesLine(const std::string& text, int line) {
-  std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::string lower = plumb::Lowercase(text);
   for (const std::string sep : {"line = ", "line ", "line: ", "line="}) {
     if (lower.find(sep + std::to_string(line)) != std::string::npos) return true;
   }
