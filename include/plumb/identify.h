@@ -150,6 +150,19 @@ struct IdentifyResult {
   double weight_change = 0;
   bool solved_again = true;
   long runs = 0;  // simulations of the logs (each of every log) for the solves and the errors
+  // What the runs were: Jacobians taken, each one run per model parameter, one per group of
+  // start-state offsets (the k-th offset of every window is one group, since an offset moves
+  // only its own window) and one at the point; the rest are the solver's trial points. A run
+  // already made at the same point is not made again.
+  long jacobians = 0;
+  long jacobian_runs = 0;        // of `runs`, made for the Jacobians
+  long runs_per_jacobian = 0;    // parameters + start_groups + 1
+  long start_unknowns = 0;       // start-state offsets fitted (0: the logged starts are used)
+  long start_groups = 0;
+  // Bates and Watts's relative offset where the fit ended: the Gauss–Newton step still left,
+  // over sqrt(unknowns) standard errors. About 0 at a best fit; the solve stops below 0.01, and
+  // above 1 the fit warns that it stopped short (a problem far from linear).
+  double relative_offset = NAN;
   bool converged = false;
   std::string termination;  // Ceres's words
   long residuals = 0;
@@ -185,6 +198,10 @@ void ApplyEstimates(Model& model, const IdentifyResult& result);
 // What the solves did, in a sentence: iterations and cost of each, whether the problem was
 // solved again with the residuals' noise, how it ended and how many runs of the logs it took.
 std::string DescribeSolves(const IdentifyResult& result);
+
+// What the simulations of the logs went to (IdentifyResult::jacobians and the counts beside it),
+// one clause: the end of DescribeSolves.
+std::string DescribeRuns(const IdentifyResult& result);
 
 // The residual variance in a line. With no misspecification found, with what it means (about 1
 // when the model explains all but the noise); else that it says nothing of the model here,

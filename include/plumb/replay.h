@@ -75,13 +75,25 @@ struct ReplayResult {
 std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
                                  const ReplayOptions& options);
 
+// The window (an index into WindowStarts) whose simulation gives each sample of each measured
+// signal: [signal][sample], in the log's order.
+std::vector<std::vector<std::size_t>> SampleWindows(const Model& model, const RobotLog& log,
+                                                    const ReplayOptions& options);
+
 // The log's state columns (qpos and qvel elements), in the log's order: what each window
 // starts from.
 std::vector<const LogSignal*> StateSignals(const RobotLog& log);
 
+// How many start-state offsets each window of `log` takes: one per StateSignals column, less
+// one for each ball or free joint whose whole quaternion is logged (a quaternion has 3 degrees
+// of freedom: its offsets are applied to the 3 components other than the one largest at the
+// window's start, and the quaternion is normalized, so no offset is without effect).
+std::size_t StartOffsetsPerWindow(const Model& model, const RobotLog& log);
+
 // Simulates `log` on `model` with `data` as scratch (reset here). Deterministic.
 // `start_offsets`, when given, is added to the logged start state: for each window in turn,
-// one value per StateSignals column (identification fits the start state this way, since a
+// StartOffsetsPerWindow values, one per StateSignals column in order but for each logged
+// quaternion's largest component (identification fits the start state this way, since a
 // logged start carries the measurement noise).
 // @throws ValueError when a window needs the logged state and the log lacks some of it;
 // Interrupted when options.stop asks; MujocoError.

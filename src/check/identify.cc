@@ -42,7 +42,7 @@ constexpr double kWeightsAgree = 0.15;
 
 // Start states are fitted while they add at most this many unknowns (windows x logged state
 // elements); beyond, the dense Jacobian grows too large and the logged starts are used.
-constexpr std::size_t kMostStartUnknowns = 200;
+constexpr std::size_t kMostStartUnknowns = 600;
 
 // The parameters' values in the worker's model, written from nominal each time so a run
 // does not depend on which runs the worker did before (body_mass rescales body_inertia).
@@ -89,12 +89,28 @@ class Residuals {
     replay_.stop = stop;  // a replay stops mid-log when asked
     std::size_t starts = 0;
     for (const RobotLog& log : logs) {
-      starts += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
+      starts += WindowStarts(nominal, log, replay).size() * StartOffsetsPerWindow(nominal, log);
     }
     fit_starts_ = starts <= kMostStartUnknowns;
+    std::size_t windows = 0;  // of the logs before this one
     for (const RobotLog& log : logs) {
       starts_.push_back(n_);
-      if (fit_starts_) n_ += WindowStarts(nominal, log, replay).size() * StateSignals(log).size();
+      std::size_t count = WindowStarts(nominal, log, replay).size();
+      std::size_t per_window = StartOffsetsPerWindow(nominal, log);
+      if (fit_starts_) {
+        n_ += count * per_window;
+        colors_ = std::max(colors_, per_window);
+        for (std::size_t w = 0; w < count; ++w) {
+          for (std::size_t j = 0; j < per_window; ++j) {
+            start_window_.push_back(windows + w);
+            start_color_.push_back(j);
+          }
+        }
+      }
+      for (const std::vector<std::size_t>& signal : SampleWindows(nominal, log, replay)) {
+        for (std::size_t w : signal) row_window_.push_back(windows + w);
+      }
+      windows += count;
     }
     starts_.push_back(n_);
     for (const RobotLog& log : logs) {
@@ -108,9 +124,20 @@ class Residuals {
 
   long size() const { return m_; }
   long runs() const { return runs_; }            // how many points At has simulated
+  // Jacobian counts its calls and the runs they made here
+  long jacobians = 0, jacobian_runs = 0;
   std::size_t parameters() const { return n_; }  // the model's, then the start states
   std::size_t physical() const { return physical_; }
   bool fit_starts() const { return fit_starts_; }
+  // The start-state unknowns in groups that one run can perturb together: an offset changes
+  // only its own window's samples, so the k-th offset of every window (of every log) is one
+  // group, and a Jacobian takes physical() + colors() + 1 runs however many windows there are.
+  std::size_t colors() const { return colors_; }
+  // Of start unknown u (counted from physical()): its group, and the window (over all logs)
+  // whose samples it moves; of residual row i: its window.
+  std::size_t start_color(std::size_t u) const { return start_color_[u]; }
+  std::size_t start_window(std::size_t u) const { return start_window_[u]; }
+  std::size_t row_window(long i) const { return row_window_[static_cast<std::size_t>(i)]; }
   // Changing the delays keeps the windows (and so the start-state offsets) as they are.
   void set_delays(double input, double sensor) {
     replay_.input_delay = input;
@@ -223,6 +250,8 @@ class Residuals {
   std::size_t physical_, n_;
   std::vector<std::size_t> starts_;  // where each log's start offsets begin in x
   bool fit_starts_ = true;
+  std::size_t colors_ = 0;
+  std::vector<std::size_t> start_color_, start_window_, row_window_;
   long m_ = 0;
   std::vector<std::vector<double>> weights_;
   ReplayOptions replay_;
@@ -238,22 +267,62 @@ class Residuals {
 // standard errors within 0.4 % of these on the arm's six parameters, at 2n + 1 runs more.
 constexpr double kStep = 1e-6;
 
-// The Jacobian (row-major, residuals x unknowns) at x, with the residuals there.
+// The Jacobian (row-major, residuals x unknowns) at x, with the residuals there: one run per
+// model parameter, one per group of start offsets (Residuals::colors), and x itself.
 void Jacobian(Residuals& f, const double* x, double* residuals, double* jacobian) {
-  std::size_t n = f.parameters();
-  std::vector<std::vector<double>> points(n + 1, std::vector<double>(x, x + n));
-  for (std::size_t j = 0; j < n; ++j) points[j][j] += kStep;
+  std::size_t n = f.parameters(), p = f.physical(), colors = f.colors();
+  std::vector<std::vector<double>> points(p + colors + 1, std::vector<double>(x, x + n));
+  for (std::size_t j = 0; j < p; ++j) points[j][j] += kStep;
+  for (std::size_t u = 0; u + p < n; ++u) points[p + f.start_color(u)][p + u] += kStep;
+  long before = f.runs();
   std::vector<std::vector<double>> r = f.At(points);
+  f.jacobians += 1;
+  f.jacobian_runs += f.runs() - before;
   const std::vector<double>& at = r.back();  // the last point is x itself
   for (long i = 0; i < f.size(); ++i) {
-    for (std::size_t j = 0; j < n; ++j) jacobian[i * n + j] = (r[j][i] - at[i]) / kStep;
+    double* row = jacobian + i * n;
+    for (std::size_t j = 0; j < p; ++j) row[j] = (r[j][i] - at[i]) / kStep;
+    std::size_t window = f.row_window(i);
+    for (std::size_t u = 0; u + p < n; ++u) {
+      row[p + u] = f.start_window(u) == window
+                       ? (r[p + f.start_color(u)][i] - at[i]) / kStep
+                       : 0.0;
+    }
   }
   if (residuals != nullptr) std::copy(at.begin(), at.end(), residuals);
 }
 
+// How far the Gauss–Newton step from the point of the last Jacobian would still move the fit,
+// in the statistical units of Bates and Watts's relative offset: the residuals' part in the
+// Jacobian's column space against the rest, sqrt((|Pr|^2 / n) / ((|r|^2 - |Pr|^2) / (m - n))).
+// It is the step's length in standard errors over sqrt(n): below kRelativeOffset no estimate
+// (start states included) would move by more than kRelativeOffset * sqrt(n) of its standard
+// error, and the solve stops there, where Ceres's tolerances would go on polishing digits the
+// noise does not support.
+double RelativeOffset(const double* jacobian, const double* residuals, long m, std::size_t n) {
+  Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
+      jacobian, m, static_cast<long>(n));
+  Eigen::Map<const Eigen::VectorXd> r(residuals, m);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(J);
+  Eigen::VectorXd step = qr.solve(r);
+  double explained = (J * step).squaredNorm(), total = r.squaredNorm();
+  double rest = std::max(total - explained, 1e-300 * std::max(total, 1e-300));
+  long dof = std::max(1L, m - static_cast<long>(n));
+  return std::sqrt((explained / static_cast<double>(n)) / (rest / static_cast<double>(dof)));
+}
+
+// Bates and Watts's suggested 0.001 polishes further than a fit to noisy logs can use; at
+// 0.01 the remaining step is within a tenth of a standard error for up to 100 unknowns.
+constexpr double kRelativeOffset = 0.01;
+
+// Beyond this relative offset where the fit ended, the step left is more than sqrt(n)
+// standard errors long: the solver stopped on a plateau of a far from linear problem (a
+// Go2's 1 s log simulated whole ends at 10), and the fit says so.
+constexpr double kFarFromLinear = 1;
+
 class ReplayCost : public ceres::CostFunction {
  public:
-  explicit ReplayCost(Residuals& f) : f_(f) {
+  ReplayCost(Residuals& f, double* offset) : f_(f), offset_(offset) {
     set_num_residuals(static_cast<int>(f.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(f.parameters()));
   }
@@ -263,6 +332,7 @@ class ReplayCost : public ceres::CostFunction {
     try {
       if (jacobians != nullptr && jacobians[0] != nullptr) {
         Jacobian(f_, x[0], residuals, jacobians[0]);
+        *offset_ = RelativeOffset(jacobians[0], residuals, f_.size(), f_.parameters());
         return true;
       }
       std::vector<double> at(x[0], x[0] + f_.parameters());
@@ -276,18 +346,26 @@ class ReplayCost : public ceres::CostFunction {
 
  private:
   Residuals& f_;
+  double* offset_;  // RelativeOffset at the last Jacobian's point
 };
 
+// Records the cost, stops the solve once the relative offset at the current point (Ceres has
+// just taken the Jacobian there after a successful step, or kept the point) is small enough,
+// and aborts it when a stop is requested.
 class CostLog : public ceres::IterationCallback {
  public:
-  CostLog(std::vector<double>* cost, const StopToken& stop) : cost_(cost), stop_(stop) {}
+  CostLog(std::vector<double>* cost, const double* offset, const StopToken& stop)
+      : cost_(cost), offset_(offset), stop_(stop) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (s.iteration == 0 || s.step_is_successful) cost_->push_back(s.cost);
-    return stop_.stop_requested() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+    if (stop_.stop_requested()) return ceres::SOLVER_ABORT;
+    return *offset_ <= kRelativeOffset ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
+                                       : ceres::SOLVER_CONTINUE;
   }
 
  private:
   std::vector<double>* cost_;
+  const double* offset_;
   const StopToken& stop_;
 };
 
@@ -298,7 +376,8 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  problem.AddResidualBlock(new ReplayCost(f), nullptr, x->data());
+  double offset = INFINITY;
+  problem.AddResidualBlock(new ReplayCost(f, &offset), nullptr, x->data());
   for (std::size_t i = 0; i < params.size(); ++i) {
     if (std::isfinite(params[i].lo)) {
       problem.SetParameterLowerBound(x->data(), static_cast<int>(i),
@@ -309,7 +388,7 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
                                      params[i].hi / params[i].scale);
     }
   }
-  CostLog log(cost, f.stop());
+  CostLog log(cost, &offset, f.stop());
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = max_iterations;
@@ -326,6 +405,12 @@ ceres::Solver::Summary Solve(Residuals& f, const std::vector<FitParameter>& para
   options.callbacks.push_back(&log);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
+  if (summary.termination_type == ceres::USER_SUCCESS) {
+    summary.message = fmt::format(
+        "the next step would move the estimates by a relative offset of {:.2g} (Bates and "
+        "Watts), within {:g}: less than the noise can tell apart",
+        offset, kRelativeOffset);
+  }
   if (f.stop().stop_requested())
     throw Interrupted("plumb identify stopped before the fit finished");
   return summary;
@@ -393,6 +478,7 @@ AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
   at.residuals.resize(m);
   std::vector<double> jac(m * all);
   Jacobian(f, x.data(), at.residuals.data(), jac.data());
+  result->relative_offset = RelativeOffset(jac.data(), at.residuals.data(), m, all);
   at.jacobian = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       jac.data(), m, static_cast<long>(all));
   const Eigen::MatrixXd& full = at.jacobian;
@@ -401,10 +487,9 @@ AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
   result->residuals = m;
   result->residual_variance = rss / static_cast<double>(m - static_cast<long>(all));
   // the covariance of everything fitted (start states included), shown for the parameters
-  Eigen::MatrixXd info = full.transpose() * full;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(info);
-  Eigen::MatrixXd cov = decomposition.pseudoInverse() * result->residual_variance;
-  bool singular = decomposition.rank() < static_cast<long>(all);
+  NormalInverse inverse = InvertNormal(full);
+  Eigen::MatrixXd cov = inverse.inverse * result->residual_variance;
+  bool singular = inverse.rank < static_cast<long>(all);
   Eigen::MatrixXd J = full.leftCols(static_cast<long>(n));
   result->correlation.assign(n, std::vector<double>(n, NAN));
   for (std::size_t i = 0; i < n; ++i) {
@@ -547,10 +632,28 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                  : options.delay == DelayKind::kSensor ? f.replay().sensor_delay
                                                        : 0;
   result.iterations = result.solved_again ? static_cast<int>(summary.iterations.size()) - 1 : 0;
-  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.converged = summary.termination_type == ceres::CONVERGENCE ||
+                     summary.termination_type == ceres::USER_SUCCESS;
   result.termination = summary.message;
   AtOptimum at = Statistics(f, params, x, &result);
   result.runs = f.runs();
+  result.jacobians = f.jacobians;
+  result.jacobian_runs = f.jacobian_runs;
+  result.start_unknowns = static_cast<long>(f.parameters() - f.physical());
+  result.start_groups = static_cast<long>(f.colors());
+  result.runs_per_jacobian = static_cast<long>(f.physical() + f.colors() + 1);
+  if (result.relative_offset > kFarFromLinear) {
+    result.warnings.push_back(fmt::format(
+        "the fit stopped where a Gauss–Newton step would still move the estimates by more than "
+        "the noise allows (relative offset {:.2g}, above {:g}): the residuals are far from linear "
+        "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
+        result.relative_offset, kFarFromLinear,
+        options.replay.window > 0
+            ? "Shorter windows (--window) keep each simulation closer to the log."
+            : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
+              "chaos): fit in windows that restart from the logged state (--window 0.25, "
+              "multiple shooting)."));
+  }
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
         "the start states were taken as logged, not fitted: with these windows and logs they "
@@ -581,6 +684,21 @@ void ApplyEstimates(Model& model, const IdentifyResult& result) {
   if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
 }
 
+std::string DescribeRuns(const IdentifyResult& r) {
+  std::size_t parameters = r.estimates.size();
+  std::string starts =
+      r.start_unknowns == 0
+          ? "the logged start states"
+          : fmt::format("{} start-state offset{} in {} group{}", r.start_unknowns,
+                        r.start_unknowns == 1 ? "" : "s", r.start_groups,
+                        r.start_groups == 1 ? "" : "s");
+  return fmt::format(
+      "the logs simulated {} times in all: {} Jacobian{} of up to {} runs ({} parameter{}, {}, "
+      "the point itself) made {}, and the solver's trial points {}",
+      r.runs, r.jacobians, r.jacobians == 1 ? "" : "s", r.runs_per_jacobian, parameters,
+      parameters == 1 ? "" : "s", starts, r.jacobian_runs, r.runs - r.jacobian_runs);
+}
+
 std::string DescribeSolves(const IdentifyResult& r) {
   auto front = [](const std::vector<double>& v) { return v.empty() ? NAN : v.front(); };
   auto back = [](const std::vector<double>& v) { return v.empty() ? NAN : v.back(); };
@@ -595,9 +713,9 @@ std::string DescribeSolves(const IdentifyResult& r) {
                            100 * kWeightsAgree, 100 * r.weight_change, back(r.cost));
   return fmt::format(
       "first solve {} iterations, cost {:.6g} -> {:.6g} (each signal weighted by its noise as "
-      "the log's differences show it); {}; {} ({}); the logs simulated {} times in all",
+      "the log's differences show it); {}; {} ({}); {}",
       r.first_pass_iterations, front(r.first_pass_cost), back(r.first_pass_cost), second,
-      r.converged ? "converged" : "stopped", r.termination, r.runs);
+      r.converged ? "converged" : "stopped", r.termination, DescribeRuns(r));
 }
 
 }  // namespace plumb

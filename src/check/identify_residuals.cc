@@ -240,13 +240,28 @@ void JudgeMisspecification(const std::vector<RobotLog>& logs,
                        m.threshold, rounding);
 }
 
+NormalInverse InvertNormal(const Eigen::MatrixXd& jacobian) {
+  Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
+  Eigen::VectorXd scale = norms.unaryExpr([](double n) { return n > 0 ? 1 / n : 0.0; });
+  // J itself is decomposed, not J'J, whose condition number would be J's squared
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(jacobian *
+                                                                         scale.asDiagonal());
+  NormalInverse out;
+  out.rank = decomposition.rank();
+  for (long j = 0; j < norms.size(); ++j) {
+    if (!(norms[j] > 0)) out.rank = std::min(out.rank, norms.size() - 1);
+  }
+  Eigen::MatrixXd pseudo = decomposition.pseudoInverse();  // n x m
+  out.inverse = scale.asDiagonal() * (pseudo * pseudo.transpose()) * scale.asDiagonal();
+  return out;
+}
+
 bool NeweyWestCovariance(const std::vector<RobotLog>& logs, const Eigen::MatrixXd& jacobian,
                          const std::vector<double>& residuals, long parameters,
                          Eigen::MatrixXd* covariance, int* bandwidth, std::string* why) {
   long m = jacobian.rows(), p = jacobian.cols();
-  Eigen::MatrixXd info = jacobian.transpose() * jacobian;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> bread(info);
-  if (bread.rank() < p) {
+  NormalInverse bread = InvertNormal(jacobian);
+  if (bread.rank < p) {
     *why = "the Jacobian is rank deficient, so no sandwich can be formed";
     return false;
   }
@@ -275,7 +290,7 @@ bool NeweyWestCovariance(const std::vector<RobotLog>& logs, const Eigen::MatrixX
     *bandwidth = std::max(*bandwidth, l);
     meat += NeweyWestLongRun(scores, l);
   }
-  Eigen::MatrixXd inverse = bread.pseudoInverse();
+  const Eigen::MatrixXd& inverse = bread.inverse;
   *covariance = inverse * meat * inverse * (static_cast<double>(m) / static_cast<double>(m - p));
   if (!covariance->allFinite()) {
     *why = "the sandwich is not finite (a divergence in the residuals)";

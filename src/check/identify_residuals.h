@@ -66,6 +66,16 @@ void JudgeMisspecification(const std::vector<RobotLog>& logs,
                            const std::vector<std::vector<double>>& weights, std::size_t unknowns,
                            IdentifyResult* result);
 
+// (J'J)^+ of `jacobian` and its rank, with the columns scaled to unit length first: unknowns in
+// very different units (a damping, a start velocity) and sensitivities (1e-1 to 1e7 on a Go2)
+// would otherwise pass for a rank deficiency at double precision. A column that is all zero,
+// or a combination of others, still lowers the rank.
+struct NormalInverse {
+  Eigen::MatrixXd inverse;
+  long rank = 0;
+};
+NormalInverse InvertNormal(const Eigen::MatrixXd& jacobian);
+
 // The Newey–West sandwich covariance of everything fitted: bread (J'J)^+ around the long-run
 // covariance of the scores J_k' r_k, summed over each log's series (signals sampled at the
 // same times are one series, their scores added per time), scaled by m / (m - unknowns).

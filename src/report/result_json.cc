@@ -238,6 +238,12 @@ std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
   j["converged"] = r.converged;
   j["termination"] = r.termination;
   j["runs"] = r.runs;  // simulations of the logs, for every solve and the standard errors
+  j["jacobians"] = r.jacobians;
+  j["jacobian_runs"] = r.jacobian_runs;
+  j["runs_per_jacobian"] = r.runs_per_jacobian;
+  j["start_unknowns"] = r.start_unknowns;
+  j["start_groups"] = r.start_groups;
+  j["relative_offset"] = Number(r.relative_offset);
   j["cost"] = r.cost;
   j["residual_variance"] = Number(r.residual_variance);
   j["std_errors"] = {{"kind", StdErrorKindName(r.std_errors.kind)},

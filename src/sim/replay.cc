@@ -2,9 +2,11 @@
 
 #include "plumb/replay.h"
 
+
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -46,6 +48,29 @@ class HeldInput {
   std::size_t next_ = 0;
 };
 
+// For each ball or free joint whose four quaternion elements are all among `state`, their
+// indices in `state` (w, x, y, z).
+std::vector<std::array<std::size_t, 4>> LoggedQuaternions(const mjModel* m,
+                                                          const std::vector<const LogSignal*>& state) {
+  std::vector<std::array<std::size_t, 4>> groups;
+  for (int j = 0; j < m->njnt; ++j) {
+    int type = m->jnt_type[j];
+    if (type != mjJNT_FREE && type != mjJNT_BALL) continue;
+    int adr = m->jnt_qposadr[j] + (type == mjJNT_FREE ? 3 : 0);
+    std::array<std::size_t, 4> group{};
+    int found = 0;
+    for (std::size_t k = 0; k < state.size(); ++k) {
+      const Path& p = state[k]->path;
+      if (p.field == "qpos" && p.first >= adr && p.first < adr + 4) {
+        group[p.first - adr] = k;
+        ++found;
+      }
+    }
+    if (found == 4) groups.push_back(group);
+  }
+  return groups;
+}
+
 class Replayer {
  public:
   Replayer(const Model& model, Data& data, const RobotLog& log, const ReplayOptions& options,
@@ -59,7 +84,8 @@ class Replayer {
         dt_(m_->opt.timestep),
         tolerance_(1e-6 * dt_),
         refresh_(model),
-        state_(StateSignals(log)) {
+        state_(StateSignals(log)),
+        quaternions_(LoggedQuaternions(m_, state_)) {
     for (const LogSignal& s : log.measured) {
       if (s.path.role == Role::kDerived) needs_refresh_ = true;
     }
@@ -84,13 +110,35 @@ class Replayer {
   void StartState(double t) {
     mjData* d = data_.get();
     mj_resetData(m_, d);
+    std::vector<std::size_t> at(state_.size());
     for (std::size_t j = 0; j < state_.size(); ++j) {
       const LogSignal* s = state_[j];
-      std::size_t i = FirstAtOrAfter(s->time, t, tolerance_);
-      if (i >= s->time.size()) continue;
+      at[j] = FirstAtOrAfter(s->time, t, tolerance_);
+      if (at[j] >= s->time.size()) continue;
       mjtNum* array = s->path.field == "qpos" ? d->qpos : d->qvel;
-      array[s->path.first] = s->value[i];
-      if (offsets_ != nullptr) array[s->path.first] += (*offsets_)[window_ * state_.size() + j];
+      array[s->path.first] = s->value[at[j]];
+    }
+    if (offsets_ != nullptr) {
+      // each quaternion's largest component at this start takes no offset
+      std::vector<bool> fixed(state_.size(), false);
+      for (const auto& group : quaternions_) {
+        std::size_t largest = group[0];
+        for (std::size_t k : group) {
+          if (std::fabs(d->qpos[state_[k]->path.first]) >
+              std::fabs(d->qpos[state_[largest]->path.first])) {
+            largest = k;
+          }
+        }
+        fixed[largest] = true;
+      }
+      std::size_t per_window = state_.size() - quaternions_.size(), next = 0;
+      for (std::size_t j = 0; j < state_.size(); ++j) {
+        if (fixed[j]) continue;
+        double offset = (*offsets_)[window_ * per_window + next++];
+        if (at[j] >= state_[j]->time.size()) continue;
+        (state_[j]->path.field == "qpos" ? d->qpos : d->qvel)[state_[j]->path.first] += offset;
+      }
+      if (!quaternions_.empty()) mj_normalizeQuat(m_, d->qpos);
     }
     d->time = t - log_.start;
   }
@@ -174,6 +222,7 @@ class Replayer {
   DerivedRefresher refresh_;
   bool needs_refresh_ = false;
   std::vector<const LogSignal*> state_;
+  std::vector<std::array<std::size_t, 4>> quaternions_;  // logged whole, indices in state_
   std::size_t window_ = 0;
   std::vector<HeldInput> inputs_;
   Simulated out_;
@@ -187,6 +236,28 @@ std::vector<const LogSignal*> StateSignals(const RobotLog& log) {
     if (s.path.field == "qpos" || s.path.field == "qvel") state.push_back(&s);
   }
   return state;
+}
+
+std::vector<std::vector<std::size_t>> SampleWindows(const Model& model, const RobotLog& log,
+                                                    const ReplayOptions& options) {
+  std::vector<double> starts = WindowStarts(model, log, options);
+  double tolerance = 1e-6 * model->opt.timestep;
+  std::vector<std::vector<std::size_t>> windows;
+  for (const LogSignal& s : log.measured) {
+    windows.emplace_back(s.time.size(), 0);
+    // as Replayer::RunWindow takes them: window w from its start up to the next one's
+    for (std::size_t w = 1; w < starts.size(); ++w) {
+      for (std::size_t k = FirstAtOrAfter(s.time, starts[w], tolerance); k < s.time.size(); ++k) {
+        windows.back()[k] = w;
+      }
+    }
+  }
+  return windows;
+}
+
+std::size_t StartOffsetsPerWindow(const Model& model, const RobotLog& log) {
+  std::vector<const LogSignal*> state = StateSignals(log);
+  return state.size() - LoggedQuaternions(model.get(), state).size();
 }
 
 std::vector<double> WindowStarts(const Model& model, const RobotLog& log,

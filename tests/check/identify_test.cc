@@ -10,6 +10,7 @@
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/replay.h"
 #include "sim/log_maker.h"
 
 namespace plumb {
@@ -135,6 +136,74 @@ TEST_F(IdentifyTest, NoJacobianIsSimulatedTwice) {
     EXPECT_LE(r.runs, jacobians * (unknowns + 1) + 1) << jacobians << " Jacobians";
     EXPECT_GE(r.runs, (jacobians - 2) * unknowns) << jacobians << " Jacobians";
   }
+}
+
+// In windows (multiple shooting) each window's start is fitted, but an offset moves only its
+// own window's samples: the k-th offset of every window shares one run, so a Jacobian costs
+// the parameters + the offsets of one window + 1 runs, however many windows there are (it cost
+// a run per offset: 5 windows of the pendulum, 12 runs a Jacobian instead of 4).
+TEST_F(IdentifyTest, WindowsShareTheirStartStateRuns) {
+  Model model = Model::Load(testing::kPendulum);
+  RobotLog log = Log(PendulumDecaySpec(), model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  o.replay.window = 1;
+  IdentifyResult r = Identify(WithDamping(model, 0.2), {log}, o);
+  EXPECT_EQ(r.start_unknowns, 10);  // 5 windows x (qpos, qvel)
+  EXPECT_EQ(r.start_groups, 2);
+  EXPECT_EQ(r.runs_per_jacobian, 4);
+  EXPECT_GE(r.jacobians, 2);
+  EXPECT_LE(r.jacobian_runs, r.jacobians * r.runs_per_jacobian);
+  EXPECT_EQ(r.runs, r.jacobian_runs + (r.runs - r.jacobian_runs));
+  const Estimate& e = r.estimates[0];
+  EXPECT_NEAR(e.value, 0.05, 3 * e.std_error) << "se " << e.std_error;
+  EXPECT_GT(e.std_error, 0);
+  EXPECT_LT(r.relative_offset, 0.5);  // near the best fit (re-weighted after the solve)
+  std::string said = DescribeSolves(r);
+  EXPECT_NE(said.find(fmt::format("the logs simulated {} times in all: {} Jacobians of up to 4 runs "
+                                  "(1 parameter, 10 start-state offsets in 2 groups",
+                                  r.runs, r.jacobians)),
+            std::string::npos)
+      << said;
+}
+
+// A free body's logged quaternion has 3 degrees of freedom, not 4: its start is fitted in a
+// chart (the largest component held, the quaternion normalized), 12 offsets for 13 logged
+// elements. With an offset per element the fourth only scaled a quaternion MuJoCo normalizes:
+// a column of nothing, and the fit of a free-base robot had no standard errors.
+TEST_F(IdentifyTest, AFreeBodysStartQuaternionHasThreeUnknowns) {
+  std::string xml = dir_.File("tumbler.xml");
+  testing::WriteFile(xml, R"(<mujoco>
+  <worldbody>
+    <body name="box" pos="0 0 1">
+      <joint name="box" type="free" damping="0.3"/>
+      <geom type="box" size="0.2 0.1 0.05" mass="1"/>
+    </body>
+  </worldbody>
+</mujoco>)");
+  testing::LogSpec spec;
+  spec.model = xml;
+  spec.set = {"qvel[box]=1,0,2,3,1,2"};  // thrown up, tumbling
+  spec.measured.clear();
+  for (int i = 0; i < 7; ++i) spec.measured.push_back(fmt::format("qpos[box][{}]", i));
+  for (int i = 0; i < 6; ++i) spec.measured.push_back(fmt::format("qvel[box][{}]", i));
+  spec.noise = {0.001, 0.001, 0.001, 0.001, 0.001, 0.001, 0.001,
+                0.01,  0.01,  0.01,  0.01,  0.01,  0.01};
+  spec.until = 1;
+  spec.every = 5;
+  Model model = Model::Load(xml);
+  RobotLog log = Log(spec, model);
+  EXPECT_EQ(StartOffsetsPerWindow(model, log), 12u);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[box][3]"};
+  Model guess = model.Clone();
+  ApplyParameterAssignments(guess, {"dof_damping[box][3]=0.1"});
+  IdentifyResult r = Identify(guess, {log}, o);
+  EXPECT_EQ(r.start_unknowns, 12);
+  for (const std::string& w : r.warnings) EXPECT_EQ(w.find("rank deficient"), std::string::npos) << w;
+  const Estimate& e = r.estimates[0];
+  ASSERT_TRUE(std::isfinite(e.std_error)) << e.std_error;
+  EXPECT_NEAR(e.value, 0.3, 3 * e.std_error) << "se " << e.std_error;
 }
 
 // Bounds hold: the pendulum's damping (0.05) fitted within [0.1, 1] ends on 0.1, said so.
@@ -376,6 +445,16 @@ TEST_F(IdentifyTest, AGo2WithTenWrongDampingsIsFlaggedMisspecified) {
     }
   }
   EXPECT_NE(DescribeResidualVariance(r).find("no sign of a good fit"), std::string::npos);
+  // and the solver stopped on a plateau where a step the linearisation promises is not
+  // realised: the fit says so, and what to try
+  EXPECT_GT(r.relative_offset, 1);
+  bool far = false;
+  for (const std::string& w : r.warnings) {
+    if (w.find("far from linear") == std::string::npos) continue;
+    far = true;
+    EXPECT_NE(w.find("--window"), std::string::npos) << w;
+  }
+  EXPECT_TRUE(far);
 }
 
 TEST_F(IdentifyTest, BadParametersAreRefused) {
