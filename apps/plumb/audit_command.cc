@@ -21,6 +21,7 @@ struct AuditCommandOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::string scenario;
   std::string accept;  // --accept FILE.toml
   bool strict = false;
@@ -33,7 +34,9 @@ struct AuditCommandOptions {
 int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   AuditOptions options;
-  options.sets = ParseAssignments(model, o.sets);
+  // a whole pose is the reference pose's state, before the --set on top
+  options.sets = PoseAssignments(model, o.pose);
+  for (Assignment& a : ParseAssignments(model, o.sets)) options.sets.push_back(std::move(a));
   options.keyframe = o.keyframe;
   if (!o.scenario.empty()) options.scenario = LoadScenario(model, o.scenario);
   AcceptList accepted = o.accept.empty() ? AcceptList() : LoadAcceptList(o.accept);
@@ -92,6 +95,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "(also a bad accept list).");
   AddModelOptions(cmd, &o->model, &o->sets, "before the audit");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--scenario", o->scenario, "a behaviour scenario (.json or .toml)");
   cmd->add_flag("--strict", o->strict, "exit 1 on warnings too");
   cmd->add_option("--accept", o->accept,

@@ -125,18 +125,35 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
                                          const StartPose& pose,
                                          const std::vector<std::string>& sets) {
   std::vector<Assignment> out = KeyframeAssignments(model, keyframe);
+  for (Assignment& a : PoseAssignments(model, pose)) out.push_back(std::move(a));
+  for (Assignment& a : ParseAssignments(model, sets)) out.push_back(std::move(a));
+  return out;
+}
+
+std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose, bool warn) {
+  std::vector<Assignment> out;
   if (!pose.file.empty()) {
     for (Assignment& a : PoseFileAssignments(model, pose.file)) {
-      WarnAboutAssignment("--pose", a.text, a.warnings);
+      if (warn) WarnAboutAssignment("--pose", a.text, a.warnings);
       out.push_back(std::move(a));
     }
   }
   if (!pose.qpos.empty()) {
     out.push_back(QposAssignment(model, pose.qpos));
-    WarnAboutAssignment("--qpos", out.back().text, out.back().warnings);
+    if (warn) WarnAboutAssignment("--qpos", out.back().text, out.back().warnings);
   }
-  for (Assignment& a : ParseAssignments(model, sets)) out.push_back(std::move(a));
   return out;
+}
+
+std::string PoseConfig(const Model& model, const StartPose& pose) {
+  std::string config;
+  for (const Assignment& a : PoseAssignments(model, pose, false)) {
+    config += " pose=" + a.path.text + "=";
+    for (std::size_t i = 0; i < a.values.size(); ++i) {
+      config += fmt::format("{}{:.17g}", i ? "," : "", a.values[i]);
+    }
+  }
+  return config;
 }
 
 void AddStartPoseOptions(CLI::App* cmd, StartPose* pose) {

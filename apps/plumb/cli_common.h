@@ -79,6 +79,13 @@ struct StartPose {
   std::string qpos;  // --qpos
 };
 void AddStartPoseOptions(CLI::App* cmd, StartPose* pose);
+// The pose's assignments: the file's, then --qpos (none when neither is given); each one's
+// warnings are printed when `warn`. @throws as StartAssignments.
+std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose,
+                                        bool warn = true);
+// What a batch's config line (--resume, merge) records of the pose: " pose=TEXT" per
+// assignment, the values as resolved, so an edited pose file is another config.
+std::string PoseConfig(const Model& model, const StartPose& pose);
 
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";

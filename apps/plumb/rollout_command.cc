@@ -36,6 +36,7 @@ struct RolloutOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   long count = 100;
   double until = 2;
   int threads = 1;
@@ -62,6 +63,7 @@ std::string Config(const RolloutOptions& o, const Model& model, const std::strin
       model_hash, o.count, o.until, o.seed, o.ctrl_noise, PLUMB_VERSION, MujocoVersion());
   config += StartStateConfig(model);
   if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
+  config += PoseConfig(model, o.pose);
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& r : o.randomize) config += " randomize=" + r;
   for (const std::string& m : o.metrics) config += " metric=" + m;
@@ -108,7 +110,7 @@ void ParseShard(const std::string& text, RolloutSpec* spec) {
 
 RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
   RolloutSpec spec;
-  spec.sets = StartAssignments(model, o.keyframe, o.sets);
+  spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   for (const std::string& r : o.randomize) spec.randomize.push_back(ParseRandomization(model, r));
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.count = o.count;
@@ -395,6 +397,7 @@ void SetupRolloutCommand(CLI::App& app, Context& ctx) {
       "plumb results FILE exports, plumb merge A B -o OUT joins shard files.");
   AddModelOptions(cmd, &o->model, &o->sets, "for every rollout");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--count", o->count, "number of rollouts (at least 1)")
       ->capture_default_str()
       ->check(CLI::Range(1L, 1L << 53));

@@ -30,6 +30,7 @@ struct SweepOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::vector<std::string> vary;
   std::vector<std::string> metrics;
   int threads = 1;
@@ -48,6 +49,7 @@ std::string Config(const SweepOptions& o, const Model& model, const std::string&
                                    o.until, PLUMB_VERSION, MujocoVersion());
   config += StartStateConfig(model);
   if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
+  config += PoseConfig(model, o.pose);
   for (const std::string& s : o.sets) config += " set=" + s;
   for (const std::string& v : o.vary) config += " vary=" + v;
   for (const std::string& m : o.metrics) config += " metric=" + m;
@@ -276,7 +278,7 @@ class EffectWatch {
 
 SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   SweepSpec spec;
-  spec.sets = StartAssignments(model, o.keyframe, o.sets);
+  spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   for (const std::string& v : o.vary) {
     spec.axes.push_back(ParseSweepAxis(model, v));
     WarnAboutAssignment("--vary", v, spec.axes.back().prototype.warnings);
@@ -442,6 +444,7 @@ void SetupSweepCommand(CLI::App& app, Context& ctx) {
       "what finished (exit 130); with --db FILE, --resume runs only the cases not yet stored.");
   AddModelOptions(cmd, &o->model, &o->sets, "applied to every case");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   cmd->add_option("--vary", o->vary, "PATH=V1,V2,... or PATH=START:STOP:COUNT (repeatable)")
       ->allow_extra_args(false)
       ->required();

@@ -19,6 +19,7 @@ struct VerifyCommandOptions {
   std::string model;
   std::vector<std::string> sets;
   std::string keyframe;
+  StartPose pose;
   std::string format = "table";
   double tol = 1e-2;
   std::optional<double> until;  // unset: the default run length
@@ -29,7 +30,7 @@ struct VerifyCommandOptions {
 int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   VerifyOptions options;
-  options.sets = StartAssignments(model, o.keyframe, o.sets);
+  options.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   options.tol = o.tol;
   options.until = o.until;
   options.stop = CommandStop().token();
@@ -60,6 +61,7 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx) {
       "Exit codes: 0 nothing failed, 1 a check failed, 2 bad input.");
   AddModelOptions(cmd, &o->model, &o->sets, "for the nominal scenario");
   AddKeyframeOption(cmd, &o->keyframe);
+  AddStartPoseOptions(cmd, &o->pose);
   AddFormatOption(cmd, &o->format, {"table", "json"});
   AddTableDetailOptions(cmd, &o->detail);
   cmd->add_option("--tol", o->tol,

@@ -260,5 +260,45 @@ TEST(CliRolloutTest, BadInputIsExit2) {
   }
 }
 
+// --pose FILE and --qpos start the batch commands and the checks where --set would: the same
+// numbers from verify, audit, rollout and sweep, and not those of the default start. A batch's
+// stored config holds the pose's values, so --resume from another pose is refused, naming it.
+TEST(CliRolloutTest, EveryCommandStartsFromAPoseFileOrAWholeQpos) {
+  TempDir dir;
+  WriteFile(dir.File("pose.txt"), "# let go from here\nqpos[hinge]=0.4\n");
+  std::string model = testing::kPendulum;
+  auto out = [&](const std::string& args) {
+    CommandResult r = RunPlumb(args, dir.path());
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return r.out;
+  };
+  const std::string set = " --set 'qpos[hinge]=0.4'";
+  for (const std::string& command :
+       {"audit " + model + " --all",
+        "rollout " + model + " --count 3 --until 0.5 --metric 'qpos[hinge]@0.5' --randomize "
+            "'dof_damping[hinge]=*U(0.5,2)' --seed 1 --format csv",
+        "sweep " + model + " --vary 'dof_damping[hinge]=0.1,0.2' --metric 'qpos[hinge]@0.5' "
+            "--until 0.5"}) {
+    SCOPED_TRACE(command);
+    std::string by_set = out(command + set);
+    EXPECT_EQ(out(command + " --qpos 0.4"), by_set);
+    EXPECT_EQ(out(command + " --pose pose.txt"), by_set);
+    EXPECT_NE(out(command), by_set);
+  }
+  // verify quotes the assignment in a note, so the file (same text) gives the same page
+  std::string verify = "verify " + model + " --all";
+  EXPECT_EQ(out(verify + " --pose pose.txt"), out(verify + set));
+  EXPECT_NE(out(verify + " --qpos 0.5").find("qpos = 0.5 rad"), std::string::npos);
+
+  std::string batch = "rollout " + model + " --count 3 --until 0.5 --metric 'qpos[hinge]@0.5' --db r.sqlite";
+  out(batch + " --pose pose.txt");
+  CommandResult again = RunPlumb(batch + " --resume --qpos 0.5", dir.path());
+  EXPECT_EQ(again.exit_code, 2) << again.err;
+  EXPECT_NE(again.err.find("stored pose=qpos[hinge]=0.40000000000000002, now pose=qpos=0.5"),
+            std::string::npos)
+      << again.err;
+  EXPECT_EQ(RunPlumb(batch + " --resume --pose pose.txt", dir.path()).exit_code, 0);
+}
+
 }  // namespace
 }  // namespace plumb
