@@ -46,18 +46,22 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
     return WriteRepro(work, run, ctx.argv, repro_dir, what);
   };
   options.stop = CommandStop().token();
-  AuditReport report = Audit(model, options);
-  ApplyAcceptList(accepted, &report.findings);
+  std::vector<Assignment> start;
+  ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
-    // the pictures show the pose the audit judged the model in
+    // the pictures show the pose the audit judged the model in, drawn while the audit runs
     ReferencePose pose = FindReferencePose(model, o.keyframe);
-    std::vector<Assignment> start;
     if (pose.keyframe >= 0) {
       std::string key = model.Name(mjOBJ_KEY, pose.keyframe);
       start = KeyframeAssignments(model, key.empty() ? "#" + std::to_string(pose.keyframe) : key);
     }
     start.insert(start.end(), options.sets.begin(), options.sets.end());
-    WriteAuditReport(o.report, model, start, report, ReportInfo{ctx.argv});
+    info.ahead = StartPictures(model, start, info);
+  }
+  AuditReport report = Audit(model, options);
+  ApplyAcceptList(accepted, &report.findings);
+  if (!o.report.empty()) {
+    WriteAuditReport(o.report, model, start, report, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string text = o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail, kSeeAllRows);

@@ -53,6 +53,11 @@ int RunConverge(const ConvergeOptions& o, const Context& ctx) {
   positive(o.tol, "--tol", "the relative tolerance");
   double dt0 = o.dt != kUnset ? o.dt : RunTimestep(model, sets);
   double until = o.until != kUnset ? o.until : DefaultDuration(metric);
+  ReportInfo info{ctx.argv};
+  if (!o.report.empty()) {
+    info.nominal_until = until;
+    info.ahead = StartPictures(model, sets, info);  // drawn while the ladder runs
+  }
   ConvergenceResult r =
       Converge(model, sets, metric, dt0, o.halvings, o.tol, until, CommandStop().token());
   if (!r.ok && !r.diverged) {
@@ -63,8 +68,6 @@ int RunConverge(const ConvergeOptions& o, const Context& ctx) {
   }
 
   if (!o.report.empty()) {
-    ReportInfo info{ctx.argv};
-    info.nominal_until = until;
     WriteConvergeReport(o.report, model, sets, {r}, nominal->opt.integrator, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }

@@ -334,7 +334,12 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   RolloutTally tally;
   tally.summaries.resize(spec.metrics.size());
   std::optional<BatchCollector> batch;
-  if (!o.report.empty()) batch.emplace(params, o.metrics);
+  ReportInfo info{ctx.argv};
+  if (!o.report.empty()) {
+    batch.emplace(params, o.metrics);
+    info.nominal_until = o.until;
+    info.ahead = StartPictures(model, spec.sets, info);  // drawn while the rollouts run
+  }
   if (stored.store && !spec.skip.empty()) {
     stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
       if (r.index % spec.shard_count != spec.shard_index) return;
@@ -363,8 +368,6 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   CompleteStoredRun(stored, spec.count);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (batch) {
-    ReportInfo info{ctx.argv};
-    info.nominal_until = o.until;
     WriteBatchReport(o.report, "rollout", model, spec.sets, *batch, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }

@@ -374,10 +374,13 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   EffectWatch effect(spec);
   SweepProblems problems(o.metrics, progress);
   std::optional<BatchCollector> batch;
+  ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
     std::vector<std::string> axes;
     for (const SweepAxis& a : spec.axes) axes.push_back(a.path.text);
     batch.emplace(axes, o.metrics);
+    info.nominal_until = o.until > 0 ? o.until : 2.0;
+    info.ahead = StartPictures(model, spec.sets, info);  // drawn while the cases run
   }
   EtaNote eta("cases", stored.store != nullptr, progress);
   long emitted = 0;
@@ -417,8 +420,6 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   }
   problems.Report(emitted * static_cast<long>(spec.metrics.size()));
   if (batch) {
-    ReportInfo info{ctx.argv};
-    info.nominal_until = o.until > 0 ? o.until : 2.0;
     WriteBatchReport(o.report, "sweep", model, spec.sets, *batch, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }

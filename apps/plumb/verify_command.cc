@@ -34,10 +34,14 @@ int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   options.tol = o.tol;
   options.until = o.until;
   options.stop = CommandStop().token();
+  ReportInfo info{ctx.argv};
+  if (!o.report.empty()) {
+    // the pictures are drawn while the check runs
+    info.nominal_until = NominalHorizon(model, options).until;
+    info.ahead = StartPictures(model, options.sets, info);
+  }
   VerifyReport report = Verify(model, options);
   if (!o.report.empty()) {
-    ReportInfo info{ctx.argv};
-    info.nominal_until = report.figures.t.empty() ? 2.0 : report.figures.t.back();
     WriteVerifyReport(o.report, model, options.sets, report, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }

@@ -22,6 +22,7 @@
 #define PLUMB_INCLUDE_PLUMB_REPORT_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@
 
 namespace plumb {
 
+// A report's model pictures being drawn on a thread of their own (StartPictures).
+class PicturesAhead;
+
 struct ReportInfo {
   std::vector<std::string> argv;  // the command line, shown in the header
   // Pictures of the model (t = 0, the end of the nominal run, a short animation) when the
@@ -45,7 +49,21 @@ struct ReportInfo {
   // Frames of the nominal run's animation (0: the two stills only). Each costs about as
   // much as a check on a meshed robot drawn by a software rasteriser: 0.1-0.2 s for a Go2.
   int frames = 12;
+  // The pictures, when StartPictures began them before the check; the report waits for them
+  // instead of drawing them itself. Null: drawn when the report is written.
+  std::shared_ptr<PicturesAhead> ahead = nullptr;
 };
+
+// Begins drawing the model pictures of a report (`info`'s pictures, nominal_until and frames,
+// started from `sets`) on a thread of their own, and returns them for ReportInfo::ahead. They
+// need only the model and its start, so a command starts them before its check and the check's
+// time covers theirs: on a software rasteriser they cost a Go2's verify about as much as the
+// check itself (bench/RESULTS.md). Null when info.pictures is false. Errors come out of the
+// report that waits for them. `model` must outlive the thread (the report waits for it; so
+// does the returned object's last owner).
+std::shared_ptr<PicturesAhead> StartPictures(const Model& model,
+                                             const std::vector<Assignment>& sets,
+                                             const ReportInfo& info);
 
 // @throws IoError naming `path` when it cannot be written (nothing is left behind then);
 // with pictures, ValueError / PathError when the model refuses `sets`, and MujocoError.

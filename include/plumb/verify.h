@@ -101,6 +101,11 @@ struct VerifyReport {
 // options.stop asks.
 VerifyReport Verify(const Model& model, const VerifyOptions& options);
 
+// The nominal run's horizon Verify(model, options) will judge on, known before it runs (a
+// report's pictures show that run while the check runs). @throws as Verify does for a bad
+// `until` or assignments the model refuses.
+VerifyHorizon NominalHorizon(const Model& model, const VerifyOptions& options);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_VERIFY_H_

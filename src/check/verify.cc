@@ -104,6 +104,13 @@ void SayShortHorizon(const VerifyHorizon& h, CheckRow& row) {
 
 int VerifyReport::Count(CheckStatus status) const { return CountStatus(checks, status); }
 
+VerifyHorizon NominalHorizon(const Model& model, const VerifyOptions& options) {
+  verify::VerifyScenario s(model, options);
+  std::string why_not;
+  bool pendulum = DetectPendulum(s.Nominal(), &why_not).has_value();
+  return NominalLength(options, s.Nominal().get(), RunTimestep(model, options.sets), pendulum);
+}
+
 VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   if (!(options.tol > 0 && std::isfinite(options.tol))) {
     throw ArgumentError("tol", fmt::format("{:g}", options.tol),

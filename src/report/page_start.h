@@ -19,15 +19,16 @@ Page StartPage(const std::string& command, const Model& model, const ReportInfo&
 
 // Pictures of the model at t = 0 and at the end of the nominal run (info.nominal_until s,
 // started from `sets`), and a short animation of that run; a note instead when the
-// renderer cannot run. Adds a "renderer" line to the header.
+// renderer cannot run. Adds a "renderer" line to the header. Takes them from info.ahead when
+// StartPictures began them, else draws them now.
 void AddModelPictures(Page* page, const Model& model, const std::vector<Assignment>& sets,
                       const ReportInfo& info);
 
-// Thumbnails (PNG bytes) of `model` at its start state with each of `elements` (names of
-// bodies, geoms or joints) highlighted, in order; empty when the renderer cannot run (and
-// `why` says why).
-std::vector<std::string> HighlightThumbnails(const Model& model,
-                                             const std::vector<Assignment>& sets,
+// Thumbnails (PNG bytes) of the model at the start state of `pictures` with each of
+// `elements` (names of bodies, geoms or joints) highlighted, in order, drawn by the pictures'
+// own renderer at half their size; empty when the renderer cannot run (and `why` says why).
+// Asked once of a PicturesAhead.
+std::vector<std::string> HighlightThumbnails(PicturesAhead& pictures,
                                              const std::vector<std::string>& elements,
                                              std::string* why);
 

@@ -140,6 +140,35 @@ TEST(ReportTest, TheAnimationHasTheFramesAskedFor) {
   EXPECT_EQ(html.find("class=\"flipbook\""), std::string::npos);
 }
 
+// The pictures a command starts before its check (StartPictures, drawn on their own thread
+// while the check runs) are the pictures the report would draw itself: the same PNGs, byte for
+// byte, stills and animation; and an audit's thumbnails come from that same renderer.
+TEST(ReportTest, PicturesDrawnAheadAreThePicturesDrawnAfter) {
+  if (!RendererBuilt()) GTEST_SKIP() << "no renderer in this build";
+  PendulumCase c;
+  ReportInfo info;
+  info.frames = 3;
+  info.ahead = StartPictures(c.model, c.options.sets, info);
+  VerifyReport result = Verify(c.model, c.options);
+  testing::TempDir dir;
+  WriteVerifyReport(dir.File("ahead.html"), c.model, c.options.sets, result, info);
+  info.ahead = nullptr;
+  WriteVerifyReport(dir.File("after.html"), c.model, c.options.sets, result, info);
+  auto pngs = [](const std::string& html) {
+    std::vector<std::string> out;
+    for (std::size_t at = html.find("data:image/png;base64,"); at != std::string::npos;
+         at = html.find("data:image/png;base64,", at + 1)) {
+      out.push_back(html.substr(at, html.find_first_of("\"&", at) - at));
+    }
+    return out;
+  };
+  std::string ahead = testing::ReadFile(dir.File("ahead.html"));
+  if (ahead.find("No pictures:") != std::string::npos) GTEST_SKIP() << "no GL context here";
+  std::vector<std::string> drawn_ahead = pngs(ahead);
+  EXPECT_EQ(drawn_ahead.size(), 2u + 1 + 1 + 3);
+  EXPECT_EQ(drawn_ahead, pngs(testing::ReadFile(dir.File("after.html"))));
+}
+
 // A log whose replay leaves only its noise (the right model, measured with a noise of 5.5 % of
 // each signal's spread) fits at about 94.5 %, which a fixed 95 % threshold marked WARN; judged
 // against the noise the log's differences show, it passes. A model with the wrong damping,
