@@ -43,6 +43,8 @@ constexpr double kWeightsAgree = 0.15;
 // Start states are fitted while they add at most this many unknowns (windows x logged state
 // elements); beyond, the dense Jacobian grows too large and the logged starts are used.
 constexpr std::size_t kMostStartUnknowns = 600;
+// and while the dense Jacobian (samples x unknowns) stays within 512 MB
+constexpr std::size_t kMostJacobianEntries = std::size_t(1) << 26;
 
 // The parameters' values in the worker's model, written from nominal each time so a run
 // does not depend on which runs the worker did before (body_mass rescales body_inertia).
@@ -91,7 +93,12 @@ class Residuals {
     for (const RobotLog& log : logs) {
       starts += WindowStarts(nominal, log, replay).size() * StartOffsetsPerWindow(nominal, log);
     }
-    fit_starts_ = starts <= kMostStartUnknowns;
+    std::size_t samples = 0;
+    for (const RobotLog& log : logs) {
+      for (const LogSignal& s : log.measured) samples += s.value.size();
+    }
+    fit_starts_ = starts <= kMostStartUnknowns &&
+                  samples * (params.size() + starts) <= kMostJacobianEntries;
     std::size_t windows = 0;  // of the logs before this one
     for (const RobotLog& log : logs) {
       starts_.push_back(n_);
@@ -657,9 +664,9 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   if (!f.fit_starts()) {
     result.warnings.push_back(fmt::format(
         "the start states were taken as logged, not fitted: with these windows and logs they "
-        "would add more than {} unknowns; their measurement noise may bias the estimates (use "
-        "longer windows)",
-        kMostStartUnknowns));
+        "would add more than {} unknowns, or a Jacobian of more than {} million entries; their "
+        "measurement noise may bias the estimates (use longer windows, or fewer samples)",
+        kMostStartUnknowns, kMostJacobianEntries >> 20));
   }
   Model fitted = model.Clone();
   ApplyEstimates(fitted, result);
