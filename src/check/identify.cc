@@ -89,44 +89,40 @@ class Residuals {
         n_(params.size()),
         replay_(replay) {
     replay_.stop = stop;  // a replay stops mid-log when asked
+    // per log: its windows and each window's start offsets; the samples and their weights
+    std::vector<std::size_t> windows_of, offsets_of;
     std::size_t starts = 0;
     for (const RobotLog& log : logs) {
-      starts += WindowStarts(nominal, log, replay).size() * StartOffsetsPerWindow(nominal, log);
-    }
-    std::size_t samples = 0;
-    for (const RobotLog& log : logs) {
-      for (const LogSignal& s : log.measured) samples += s.value.size();
-    }
-    fit_starts_ = starts <= kMostStartUnknowns &&
-                  samples * (params.size() + starts) <= kMostJacobianEntries;
-    std::size_t windows = 0;  // of the logs before this one
-    for (const RobotLog& log : logs) {
-      starts_.push_back(n_);
-      std::size_t count = WindowStarts(nominal, log, replay).size();
-      std::size_t per_window = StartOffsetsPerWindow(nominal, log);
-      if (fit_starts_) {
-        n_ += count * per_window;
-        colors_ = std::max(colors_, per_window);
-        for (std::size_t w = 0; w < count; ++w) {
-          for (std::size_t j = 0; j < per_window; ++j) {
-            start_window_.push_back(windows + w);
-            start_color_.push_back(j);
-          }
-        }
-      }
-      for (const std::vector<std::size_t>& signal : SampleWindows(nominal, log, replay)) {
-        for (std::size_t w : signal) row_window_.push_back(windows + w);
-      }
-      windows += count;
-    }
-    starts_.push_back(n_);
-    for (const RobotLog& log : logs) {
+      windows_of.push_back(WindowStarts(nominal, log, replay).size());
+      offsets_of.push_back(StartOffsetsPerWindow(nominal, log));
+      starts += windows_of.back() * offsets_of.back();
       weights_.emplace_back();
       for (const LogSignal& s : log.measured) {
         m_ += static_cast<long>(s.value.size());
         weights_.back().push_back(NoiseFromDifferences(s.value));
       }
     }
+    fit_starts_ = starts <= kMostStartUnknowns &&
+                  static_cast<std::size_t>(m_) * (params.size() + starts) <= kMostJacobianEntries;
+    std::size_t windows = 0;  // of the logs before this one
+    for (std::size_t l = 0; l < logs.size(); ++l) {
+      starts_.push_back(n_);
+      if (fit_starts_) {
+        n_ += windows_of[l] * offsets_of[l];
+        colors_ = std::max(colors_, offsets_of[l]);
+        for (std::size_t w = 0; w < windows_of[l]; ++w) {
+          for (std::size_t j = 0; j < offsets_of[l]; ++j) {
+            start_window_.push_back(windows + w);
+            start_color_.push_back(j);
+          }
+        }
+      }
+      for (const std::vector<std::size_t>& signal : SampleWindows(nominal, logs[l], replay)) {
+        for (std::size_t w : signal) row_window_.push_back(windows + w);
+      }
+      windows += windows_of[l];
+    }
+    starts_.push_back(n_);
   }
 
   long size() const { return m_; }

@@ -2,7 +2,6 @@
 
 #include "plumb/replay.h"
 
-
 #include <fmt/format.h>
 
 #include <algorithm>
