@@ -64,13 +64,56 @@ struct FaultSpec {
   std::string text;              // as the log names it: "drop of commands (p = 0.2)"
 };
 
-// Where the published IMU comes from ([imu] table). Empty: the first framequat / gyro /
-// accelerometer sensor of the model, else the base body (the first body moved by a free joint).
+// Where the published IMU comes from ([imu] table). Empty: the sensor named imu_quat / imu_gyro /
+// imu_acc (unitree_mujoco's names), else the first framequat / gyro / accelerometer sensor of the
+// model, else the base body (the first body moved by a free joint).
 struct BridgeImuSource {
   std::string quaternion;     // a framequat sensor's name
   std::string gyroscope;      // a gyro sensor's name
   std::string accelerometer;  // an accelerometer sensor's name
   std::string body;           // the body read where no sensor is named or found
+};
+
+// What rt/sportmodestate (unitree_go SportModeState_) reports ([sport_state] table): the base
+// body's position and velocity, its height above the feet, and each foot's position, velocity
+// and contact force. Published at the state rate when the model has a base body (or one is
+// named); faults on the state (latency, drop) and noise on position, velocity and foot_force
+// apply to it as to rt/lowstate.
+struct BridgeSportState {
+  bool publish = true;
+  std::string base;  // a body; empty: the first body moved by a free joint
+  // Up to 4 feet in the message's order (Unitree's quadrupeds: FR, FL, RR, RL), each a site,
+  // geom or body (looked up in that order); empty: the foot fields stay zero.
+  std::vector<std::string> feet;
+};
+
+// The elastic band ([band] table): a spring-damper from a fixed anchor to a body that holds a
+// robot up until it is released, as robots are started on a gantry. The force acts along the
+// line from the body's centre of mass to the anchor: stiffness (stretch beyond `length`) and
+// damping (the speed along the line); a slack band (shorter than `length`) pulls nothing.
+struct BridgeBand {
+  std::string body;  // empty: no band
+  // world frame, m; NaN: 1 m straight above the body's centre of mass at the start
+  double anchor[3] = {NAN, NAN, NAN};
+  double stiffness = 1000;  // N/m
+  double damping = 200;     // N*s/m
+  // rest length, m; NaN: the length at which the band holds the robot's whole weight with the
+  // body at its start position (the robot hangs where it starts)
+  double length = NAN;
+  double release_at = INFINITY;  // s of simulated time
+  std::string release_button;    // a gamepad button (R1, L1, start, ..., A, B, X, Y, ...)
+};
+
+// The wireless gamepad ([gamepad] table, --gamepad): rt/wirelesscontroller and
+// rt/wireless_controller (unitree_go WirelessController_), and the 40-byte wireless_remote field
+// of rt/lowstate, fed from a file of timed events (src/bridge/gamepad_script.h:
+// "t = 2.0: start; t = 3.0: lx = 0.5 for 1.0 s").
+struct BridgeGamepad {
+  std::string events;  // the events file; empty: no gamepad
+  double rate = 100;   // messages per second of simulated time
+  // Unitree's robots and SDK examples read rt/wirelesscontroller; unitree_mujoco's C++
+  // simulator publishes rt/wireless_controller. Both go out unless `topics` says otherwise.
+  std::vector<std::string> topics = {"rt/wirelesscontroller", "rt/wireless_controller"};
 };
 
 struct BridgeConfig {
@@ -87,6 +130,14 @@ struct BridgeConfig {
   double until = INFINITY;        // stop after this much simulated time, s
   std::string source;             // where the configuration came from, for messages
   BridgeImuSource imu;            // [imu] table
+  // [secondary_imu] table: rt/secondary_imu (the family's IMUState_), where the robot has a
+  // second IMU (the G1's torso). Published when the table is present or the model has sensors
+  // named secondary_imu_quat / _gyro / _acc (unitree_mujoco's names).
+  BridgeImuSource secondary_imu;
+  bool secondary_imu_configured = false;
+  BridgeSportState sport_state;   // [sport_state] table
+  BridgeBand band;                // [band] table
+  BridgeGamepad gamepad;          // [gamepad] table
   std::vector<FaultSpec> faults;  // [[faults]] tables
   std::uint64_t seed = 0;         // of every random draw of the faults
   // lockstep: commands that may wait for their period; beyond it the oldest is dropped
@@ -95,9 +146,12 @@ struct BridgeConfig {
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
 // "realtime", domain, control_period, motors = [names], check_crc, log, until, seed,
-// command_queue, a [watchdog] table with timeout_ms and kd, an [imu] table with quaternion,
-// gyroscope, accelerometer (sensor names) and body, and [[faults]] tables. @throws ValueError
-// naming the file, line and key for anything unknown or out of range.
+// command_queue, a [watchdog] table with timeout_ms and kd, [imu] and [secondary_imu] tables
+// with quaternion, gyroscope, accelerometer (sensor names) and body, a [sport_state] table with
+// publish, base and feet, a [band] table with body, anchor = [x, y, z], stiffness, damping,
+// length, release_at and release_button, a [gamepad] table with events (a file, relative to
+// the configuration's folder; RunBridge reads it), rate and topics, and [[faults]] tables.
+// @throws ValueError naming the file, line and key for anything unknown or out of range.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {
@@ -114,7 +168,11 @@ struct BridgeStats {
   // lockstep: dropped from a full command queue (the oldest waiting, see command_queue)
   long queue_drops = 0;
   long steps = 0;
-  double time = 0;  // simulated time at the end, s
+  long sport_states = 0;  // rt/sportmodestate published (lost to a fault included)
+  long secondary_imu_states = 0;
+  long gamepad_messages = 0;   // rt/wirelesscontroller messages (each topic's copy counts once)
+  double band_released = NAN;  // simulated time the band let go, s (NaN: it did not, or none)
+  double time = 0;             // simulated time at the end, s
   // Simulated time over wall-clock time from the first period (lockstep: the first command)
   // to the end: 1 keeps up with the wall clock; NaN when no period ran.
   double realtime_factor = NAN;

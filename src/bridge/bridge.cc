@@ -15,15 +15,19 @@
 #include <set>
 #include <thread>
 
+#include "bridge/band.h"
 #include "bridge/command_check.h"
 #include "bridge/command_queue.h"
 #include "bridge/dds_link.h"
 #include "bridge/faults.h"
 #include "bridge/flight_recorder.h"
+#include "bridge/gamepad_script.h"
 #include "bridge/imu.h"
+#include "bridge/messages.h"
 #include "bridge/motor_map.h"
 #include "bridge/pacer.h"
 #include "bridge/pd_law.h"
+#include "bridge/sport_state.h"
 #include "bridge/unitree_crc.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
@@ -37,37 +41,16 @@ using Clock = std::chrono::steady_clock;
 // the motor's limits like any other torque.
 constexpr double kStuckStiffness = 1000, kStuckDamping = 20;
 
-// The message types of a family.
-template <BridgeFamily F>
-struct Family;
-template <>
-struct Family<BridgeFamily::kGo> {
-  using Cmd = unitree_go_msg_dds__LowCmd_;
-  using State = unitree_go_msg_dds__LowState_;
-  static constexpr int kMotors = 20;
-  static const dds_topic_descriptor_t* CmdType() { return &unitree_go_msg_dds__LowCmd__desc; }
-  static const dds_topic_descriptor_t* StateType() { return &unitree_go_msg_dds__LowState__desc; }
-  static void Header(State* s) {
-    s->head[0] = 0xFE;
-    s->head[1] = 0xEF;
-    s->level_flag = 0xFF;
-  }
-};
-template <>
-struct Family<BridgeFamily::kHg> {
-  using Cmd = unitree_hg_msg_dds__LowCmd_;
-  using State = unitree_hg_msg_dds__LowState_;
-  static constexpr int kMotors = 35;
-  static const dds_topic_descriptor_t* CmdType() { return &unitree_hg_msg_dds__LowCmd__desc; }
-  static const dds_topic_descriptor_t* StateType() { return &unitree_hg_msg_dds__LowState__desc; }
-  static void Header(State*) {}
-};
+using bridge::Family;
 
 template <BridgeFamily F>
 class Loop {
  public:
   using Cmd = typename Family<F>::Cmd;
   using State = typename Family<F>::State;
+  using ImuState = typename Family<F>::ImuState;
+  using Outgoing = bridge::Outgoing<F>;
+  using Link = bridge::Link<F>;
 
   Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config,
        const BridgeNotice& notice)
@@ -99,15 +82,29 @@ class Loop {
     commands_.resize(map_.size());
     stuck_at_.assign(map_.size(), NAN);
     imu_ = bridge::Imu::Bind(work_, config.imu);
+    secondary_ = bridge::Imu::Bind(work_, config.secondary_imu, bridge::kSecondaryImu);
+    if (config.secondary_imu_configured && !secondary_.reads()) {
+      throw ValueError(
+          fmt::format("{}: [secondary_imu] reads nothing: name its sensors (quaternion, gyroscope, "
+                      "accelerometer) or its body",
+                      config.source.empty() ? "the bridge" : config.source));
+    }
+    sport_ = bridge::SportState::Bind(work_, config.sport_state);
+    band_ = bridge::Band(work_.get(), data_.get(), config.band);
+    if (!config.gamepad.events.empty()) {
+      pad_ = bridge::GamepadScript::Load(config.gamepad.events);
+      pad_on_ = true;
+    }
     if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
+    if (band_.on()) Event(band_.description());
   }
 
   BridgeStats Run(const StopToken& stop) {
-    bridge::DdsDomain domain(config_.domain);
-    bridge::DdsReader<Cmd> commands(domain, "rt/lowcmd", Family<F>::CmdType());
-    bridge::DdsWriter<State> states(domain, "rt/lowstate", Family<F>::StateType());
+    Link link(config_, sport_.enabled(), secondary_.reads());
+    auto& commands = link.commands;
     Transitions();
-    Publish(states);
+    PublishPad(link);
+    Publish(link);
     last_command_ = Clock::now();
     bool lockstep = config_.mode == BridgeMode::kLockstep;
     // said once, at the start, whether or not a command is already there: the same words
@@ -121,7 +118,7 @@ class Loop {
       // on until a late one is released, then waits for its answer)
       bool fresh = Drain(commands).fresh;
       bool wait = lockstep && !damping_ && awaiting_reply_ && queue_.empty();
-      if (wait) fresh = AwaitCommand(commands, states, stop) || fresh;
+      if (wait) fresh = AwaitCommand(link, stop) || fresh;
       bool took = TakeQueued();
       if (took) awaiting_reply_ = false;
       Watchdog(fresh);
@@ -129,8 +126,9 @@ class Loop {
       Pace(!lockstep || damping_);
       if (!StepPeriod()) break;
       Transitions();
-      ReleaseHeldStates(states);
-      Publish(states);
+      ReleaseHeldStates(link);
+      PublishPad(link);
+      Publish(link);
     }
     Summarize();
     if (recorder_) recorder_->Finish();
@@ -145,7 +143,7 @@ class Loop {
   struct Held {
     double at;  // simulated time it is released, s
     std::vector<bridge::MotorCommand> command;
-    State state;
+    Outgoing state;
   };
 
   static Clock::duration Seconds(double s) {
@@ -233,8 +231,8 @@ class Loop {
   // there is no limit: a lockstep run starts when its controller does, as Run says); the
   // state goes out again every 50 ms meanwhile, for a controller that joined late. Returns
   // whether a good command came.
-  bool AwaitCommand(bridge::DdsReader<Cmd>& commands, bridge::DdsWriter<State>& states,
-                    const StopToken& stop) {
+  bool AwaitCommand(Link& link, const StopToken& stop) {
+    bridge::DdsReader<Cmd>& commands = link.commands;
     auto deadline =
         heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
     auto republish = Clock::now() + std::chrono::milliseconds(50);
@@ -246,7 +244,7 @@ class Loop {
           std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
       fresh = Drain(commands).fresh || fresh;
       if (queue_.empty() && Clock::now() >= republish) {
-        states.Write(last_state_);
+        link.Write(last_state_);
         republish = Clock::now() + std::chrono::milliseconds(50);
       }
     }
@@ -351,10 +349,10 @@ class Loop {
     }
   }
 
-  void ReleaseHeldStates(bridge::DdsWriter<State>& writer) {
+  void ReleaseHeldStates(Link& link) {
     double t = data_->time;
     while (!held_states_.empty() && held_states_.front().at <= t + 1e-12) {
-      writer.Write(held_states_.front().state);
+      link.Write(held_states_.front().state);
       last_state_ = held_states_.front().state;
       held_states_.erase(held_states_.begin());
       awaiting_reply_ = true;
@@ -401,6 +399,7 @@ class Loop {
       else
         mj_step1(m, d);
       ApplyHeldCommands();
+      PullBand();
       for (std::size_t i = 0; i < map_.size(); ++i) {
         double q = map_.Q(d, i), dq = map_.Dq(d, i);
         double tau = damping_ ? -config_.watchdog_kd * dq : bridge::PdTorque(commands_[i], q, dq);
@@ -437,12 +436,13 @@ class Loop {
     return true;
   }
 
-  void Publish(bridge::DdsWriter<State>& writer) {
+  void Publish(Link& link) {
     refresh_(data_);  // sensors, forces and the IMU of the state whose tick goes out
-    State s;
-    std::memset(&s, 0, sizeof s);
+    Outgoing out;
+    State& s = out.low;
+    std::memset(&out, 0, sizeof out);
     Family<F>::Header(&s);
-    const mjData* d = data_.get();
+    mjData* d = data_.get();
     double t = d->time;
     std::uint32_t n = state_count_++;
     std::vector<bridge::PublishedMotor> published(map_.size());
@@ -456,7 +456,7 @@ class Loop {
       published[i] = {m.q, m.dq, m.tau_est};
     }
     if (!faults_.ImuFrozen(t) || !imu_read_) {
-      imu_reading_ = imu_.Read(work_.get(), data_.get());
+      imu_reading_ = imu_.Read(work_.get(), d);
       for (int k = 0; k < 4; ++k) imu_reading_.quaternion[k] += faults_.Noise("quat", k, t, n);
       for (int k = 0; k < 3; ++k) {
         imu_reading_.gyroscope[k] += faults_.Noise("gyro", k, t, n);
@@ -464,16 +464,27 @@ class Loop {
       }
       imu_read_ = true;
     }
-    const bridge::ImuReading& imu = imu_reading_;
-    for (int k = 0; k < 4; ++k) s.imu_state.quaternion[k] = static_cast<float>(imu.quaternion[k]);
-    for (int k = 0; k < 3; ++k) {
-      s.imu_state.gyroscope[k] = static_cast<float>(imu.gyroscope[k]);
-      s.imu_state.accelerometer[k] = static_cast<float>(imu.accelerometer[k]);
-      s.imu_state.rpy[k] = static_cast<float>(imu.rpy[k]);
-    }
+    bridge::FillImu(imu_reading_, &s.imu_state);
+    if (pad_on_) bridge::PackWirelessRemote(pad_.At(t), s.wireless_remote);
     s.tick = static_cast<std::uint32_t>(std::llround(t * 1000));
     s.crc = bridge::UnitreeCrc(s);
     ++stats_.states;
+    if (link.sport) {
+      bridge::SportReading r = sport_.Read(work_.get(), d);
+      for (int k = 0; k < 3; ++k) {
+        r.position[k] += faults_.Noise("position", k, t, n);
+        r.velocity[k] += faults_.Noise("velocity", k, t, n);
+      }
+      for (std::size_t i = 0; i < sport_.feet(); ++i) {
+        r.foot_force[i] += faults_.Noise("foot_force", static_cast<int>(i), t, n);
+      }
+      out.sport = bridge::MakeSportMessage(t, r, imu_reading_, sport_.feet());
+      ++stats_.sport_states;
+    }
+    if (link.imu) {
+      bridge::FillImu(secondary_.Read(work_.get(), d), &out.imu);
+      ++stats_.secondary_imu_states;
+    }
     if (faults_.DropState(t, n)) {
       ++stats_.dropped_states;
       if (recorder_) recorder_->State(d, published, "dropped (fault)");
@@ -481,14 +492,44 @@ class Loop {
     }
     double delay = faults_.StateLatency(t, n);
     if (delay > 0) {
-      held_states_.push_back({t + delay, {}, s});
+      held_states_.push_back({t + delay, {}, out});
       if (recorder_) recorder_->State(d, published, "held (latency)");
       return;
     }
-    writer.Write(s);
-    last_state_ = s;
+    link.Write(out);
+    last_state_ = out;
     awaiting_reply_ = true;
     if (recorder_) recorder_->State(d, published, "");
+  }
+
+  // The gamepad at its rate of simulated time (and at the start): every message on every
+  // topic, and in the flight log; the script's events as they begin.
+  void PublishPad(Link& link) {
+    if (!pad_on_) return;
+    double t = data_->time;
+    for (const std::string& text : pad_.Begun(t)) Event(text);
+    if (t < next_pad_ - 1e-9) return;
+    bridge::GamepadState pad = pad_.At(t);
+    bridge::PadMessage message = bridge::MakePadMessage(pad);
+    for (auto& writer : link.pads) writer.Write(message);
+    ++stats_.gamepad_messages;
+    if (recorder_) recorder_->Gamepad(t, bridge::PadText(pad));
+    double rate = config_.gamepad.rate;
+    next_pad_ = (std::floor(t * rate + 1e-6) + 1) / rate;
+  }
+
+  // The band's pull for the coming step, or its release (logged) when its time or button
+  // has come. `d`'s positions and velocities describe the step's start.
+  void PullBand() {
+    if (!band_.on()) return;
+    mjData* d = data_.get();
+    std::string released = band_.Release(d, pad_on_ ? pad_.At(d->time).keys : 0);
+    if (!released.empty()) {
+      stats_.band_released = d->time;
+      Event(released);
+      return;
+    }
+    band_.Apply(work_.get(), d);
   }
 
   void Event(const std::string& what) {
@@ -524,7 +565,13 @@ class Loop {
   std::vector<double> stuck_at_;                       // a stuck motor's position, or NaN
   bridge::ImuReading imu_reading_;                     // the last one (IMU freeze)
   bool imu_read_ = false;
-  State last_state_{};  // what a late controller is sent
+  Outgoing last_state_{};  // what a late controller is sent
+  bridge::SportState sport_;
+  bridge::Imu secondary_;  // reads nothing: no rt/secondary_imu
+  bridge::Band band_;
+  bridge::GamepadScript pad_;
+  bool pad_on_ = false;
+  double next_pad_ = 0;  // simulated time of the next gamepad message
   BridgeStats stats_;
 };
 

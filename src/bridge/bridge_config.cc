@@ -4,9 +4,11 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 
+#include "bridge/gamepad_script.h"
 #include "plumb/bridge.h"
 #include "plumb/error.h"
 
@@ -77,6 +79,41 @@ class Reader {
     }
   }
 
+  // The table under `key`, or nullptr when absent.
+  const toml::table* Table(const toml::table& t, const std::string& key) {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return nullptr;
+    const toml::table* table = node->as_table();
+    if (table == nullptr) Fail(node, key, "must be a table: [" + key + "]");
+    return table;
+  }
+
+  // A list of non-empty names, or `fallback` when the key is absent.
+  std::vector<std::string> Names(const toml::table& t, const std::string& key,
+                                 const std::string& what, const std::string& prefix,
+                                 std::vector<std::string> fallback = {}) {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return fallback;
+    const toml::array* names = node->as_array();
+    if (names == nullptr) Fail(node, prefix + key, "must be a list of " + what);
+    std::vector<std::string> out;
+    for (const toml::node& name : *names) {
+      std::optional<std::string> v = name.value<std::string>();
+      if (!v || v->empty()) Fail(&name, prefix + key, "every entry must be a name in quotes");
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+  bool Flag(const toml::table& t, const std::string& key, bool fallback,
+            const std::string& prefix = "") {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return fallback;
+    std::optional<bool> v = node->value<bool>();
+    if (!v) Fail(node, prefix + key, "must be true or false");
+    return *v;
+  }
+
   const std::string& path() const { return path_; }
 
  private:
@@ -137,7 +174,9 @@ FaultSpec ReadFault(Reader& r, const toml::table& f, const std::string& prefix) 
     }
     case Kind::kNoise: {
       keys.insert({"signal", "sigma", "bias"});
-      spec.signal = r.Choice(f, "signal", "q", {"q", "dq", "tau_est", "gyro", "accel", "quat"});
+      spec.signal = r.Choice(
+          f, "signal", "q",
+          {"q", "dq", "tau_est", "gyro", "accel", "quat", "position", "velocity", "foot_force"});
       spec.sigma = r.Number(f, "sigma", 0, 0, 1e6, prefix);
       spec.bias = r.Number(f, "bias", 0, -1e6, 1e6, prefix);
       std::string who = motor(false);
@@ -170,6 +209,75 @@ FaultSpec ReadFault(Reader& r, const toml::table& f, const std::string& prefix) 
   return spec;
 }
 
+BridgeImuSource ReadImu(Reader& r, const toml::table& imu, const std::string& key) {
+  std::string prefix = key + ".";
+  r.OnlyKeys(imu, {"quaternion", "gyroscope", "accelerometer", "body"}, prefix);
+  BridgeImuSource source;
+  source.quaternion = r.Text(imu, "quaternion", "a framequat sensor's name", prefix);
+  source.gyroscope = r.Text(imu, "gyroscope", "a gyro sensor's name", prefix);
+  source.accelerometer = r.Text(imu, "accelerometer", "an accelerometer sensor's name", prefix);
+  source.body = r.Text(imu, "body", "a body's name", prefix);
+  return source;
+}
+
+BridgeSportState ReadSportState(Reader& r, const toml::table& t) {
+  r.OnlyKeys(t, {"publish", "base", "feet"}, "sport_state.");
+  BridgeSportState s;
+  s.publish = r.Flag(t, "publish", true, "sport_state.");
+  s.base = r.Text(t, "base", "a body's name", "sport_state.");
+  s.feet = r.Names(t, "feet", "site, geom or body names", "sport_state.");
+  if (s.feet.size() > 4) {
+    r.Fail(t.get("feet"), "sport_state.feet",
+           fmt::format("{} feet, but SportModeState_ carries 4: name at most 4", s.feet.size()));
+  }
+  return s;
+}
+
+BridgeBand ReadBand(Reader& r, const toml::table& t) {
+  const std::string p = "band.";
+  r.OnlyKeys(
+      t, {"body", "anchor", "stiffness", "damping", "length", "release_at", "release_button"}, p);
+  BridgeBand b;
+  b.body = r.Text(t, "body", "a body's name", p);
+  if (b.body.empty()) r.Fail(&t, p + "body", "is missing: the body the band holds");
+  if (const toml::node* node = t.get("anchor")) {
+    const toml::array* xyz = node->as_array();
+    if (xyz == nullptr || xyz->size() != 3) r.Fail(node, p + "anchor", "must be [x, y, z] in m");
+    for (std::size_t k = 0; k < 3; ++k) {
+      std::optional<double> v = (*xyz)[k].value<double>();
+      if (!v || !std::isfinite(*v)) r.Fail(node, p + "anchor", "must be [x, y, z] in m");
+      b.anchor[k] = *v;
+    }
+  }
+  b.stiffness = r.Number(t, "stiffness", b.stiffness, 0, 1e9, p);
+  b.damping = r.Number(t, "damping", b.damping, 0, 1e9, p);
+  b.length = r.Number(t, "length", NAN, 0, 1e3, p);
+  b.release_at = r.Number(t, "release_at", INFINITY, 0, INFINITY, p);
+  b.release_button = r.Text(t, "release_button", "a gamepad button's name", p);
+  if (!b.release_button.empty() && bridge::ButtonBit(b.release_button) < 0) {
+    std::string names;
+    for (const char* n : bridge::kButtonNames)
+      names += (names.empty() ? "" : ", ") + std::string(n);
+    r.Fail(t.get("release_button"), p + "release_button",
+           fmt::format("'{}' is not a gamepad button (buttons: {})", b.release_button, names));
+  }
+  return b;
+}
+
+BridgeGamepad ReadGamepad(Reader& r, const toml::table& t) {
+  const std::string p = "gamepad.";
+  r.OnlyKeys(t, {"events", "rate", "topics"}, p);
+  BridgeGamepad g;
+  g.events = r.Text(t, "events", "a file name", p);
+  if (!g.events.empty() && std::filesystem::path(g.events).is_relative()) {
+    g.events = (std::filesystem::path(r.path()).parent_path() / g.events).string();
+  }
+  g.rate = r.Number(t, "rate", g.rate, 1, 10000, p);
+  g.topics = r.Names(t, "topics", "topic names", p, g.topics);
+  if (g.topics.empty()) r.Fail(t.get("topics"), p + "topics", "names no topic");
+  return g;
+}
+
 }  // namespace
 
 BridgeConfig LoadBridgeConfig(const std::string& path) {
@@ -183,7 +291,8 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   Reader r(path);
   r.OnlyKeys(table,
              {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
-              "watchdog", "imu", "faults", "seed", "command_queue"},
+              "watchdog", "imu", "secondary_imu", "sport_state", "band", "gamepad", "faults",
+              "seed", "command_queue"},
              "");
   BridgeConfig c;
   c.source = path;
@@ -196,37 +305,22 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   c.command_queue = static_cast<std::size_t>(r.Whole(table, "command_queue", 64, 1, 1e6));
   c.control_period = r.Number(table, "control_period", 0.002, 1e-5, 1);
   c.until = r.Number(table, "until", INFINITY, 0, INFINITY);
-  if (const toml::node* node = table.get("check_crc")) {
-    std::optional<bool> v = node->value<bool>();
-    if (!v) r.Fail(node, "check_crc", "must be true or false");
-    c.check_crc = *v;
-  }
+  c.check_crc = r.Flag(table, "check_crc", true);
   c.log = r.Text(table, "log", "a file name");
-  if (const toml::node* node = table.get("motors")) {
-    const toml::array* names = node->as_array();
-    if (names == nullptr) r.Fail(node, "motors", "must be a list of actuator or joint names");
-    for (const toml::node& name : *names) {
-      std::optional<std::string> v = name.value<std::string>();
-      if (!v) r.Fail(&name, "motors", "every entry must be a name in quotes");
-      c.motors.push_back(*v);
-    }
-  }
-  if (const toml::node* node = table.get("watchdog")) {
-    const toml::table* w = node->as_table();
-    if (w == nullptr) r.Fail(node, "watchdog", "must be a table: [watchdog]");
+  c.motors = r.Names(table, "motors", "actuator or joint names", "");
+  if (const toml::table* w = r.Table(table, "watchdog")) {
     r.OnlyKeys(*w, {"timeout_ms", "kd"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;
     c.watchdog_kd = r.Number(*w, "kd", 1, 0, 1e6, "watchdog.");
   }
-  if (const toml::node* node = table.get("imu")) {
-    const toml::table* imu = node->as_table();
-    if (imu == nullptr) r.Fail(node, "imu", "must be a table: [imu]");
-    r.OnlyKeys(*imu, {"quaternion", "gyroscope", "accelerometer", "body"}, "imu.");
-    c.imu.quaternion = r.Text(*imu, "quaternion", "a framequat sensor's name", "imu.");
-    c.imu.gyroscope = r.Text(*imu, "gyroscope", "a gyro sensor's name", "imu.");
-    c.imu.accelerometer = r.Text(*imu, "accelerometer", "an accelerometer sensor's name", "imu.");
-    c.imu.body = r.Text(*imu, "body", "a body's name", "imu.");
+  if (const toml::table* imu = r.Table(table, "imu")) c.imu = ReadImu(r, *imu, "imu");
+  if (const toml::table* imu = r.Table(table, "secondary_imu")) {
+    c.secondary_imu = ReadImu(r, *imu, "secondary_imu");
+    c.secondary_imu_configured = true;
   }
+  if (const toml::table* t = r.Table(table, "sport_state")) c.sport_state = ReadSportState(r, *t);
+  if (const toml::table* t = r.Table(table, "band")) c.band = ReadBand(r, *t);
+  if (const toml::table* t = r.Table(table, "gamepad")) c.gamepad = ReadGamepad(r, *t);
   double seed = r.Number(table, "seed", 0, 0, 9007199254740992.0);
   c.seed = static_cast<std::uint64_t>(seed);
   if (const toml::node* node = table.get("faults")) {

@@ -6,7 +6,9 @@
 //   latency      command or state messages held back by fixed_ms + U(0, jitter_ms)
 //   drop         command or state messages lost with `probability`
 //   noise        Gaussian noise (sigma) and a bias added to a published signal: q, dq,
-//                tau_est (one motor or all), gyro, accel, quat
+//                tau_est (one motor or all), gyro, accel, quat (rt/lowstate's IMU, which
+//                rt/sportmodestate repeats), position, velocity, foot_force (rt/sportmodestate;
+//                `motor` picks a component: an axis, or a foot)
 //   torque_limit the motors' torque clipped to +-limit (saturation below the model's)
 //   motor_failure one motor gives zero torque ("zero") or holds where it is ("stuck")
 //   imu_freeze   the IMU repeats its last reading

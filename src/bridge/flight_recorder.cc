@@ -116,8 +116,12 @@ void FlightRecorder::Command(double time, const std::vector<MotorCommand>& comma
   Line(row + Empty(3 * motors_));
 }
 
-void FlightRecorder::Event(double time, const std::string& what) {
-  Line(CsvNumber(time) + ",event," + CsvField(what) + Empty(simulated_ + 9 * motors_));
+void FlightRecorder::Event(double time, const std::string& what) { Note(time, "event", what); }
+
+void FlightRecorder::Gamepad(double time, const std::string& what) { Note(time, "gamepad", what); }
+
+void FlightRecorder::Note(double time, const char* kind, const std::string& what) {
+  Line(CsvNumber(time) + "," + kind + "," + CsvField(what) + Empty(simulated_ + 9 * motors_));
 }
 
 void FlightRecorder::Finish() {

@@ -1,12 +1,12 @@
 // The bridge's flight recorder: every state published, every command taken and every event
 // (fault started or stopped, watchdog, command dropped), one CSV row each, in time order.
 //
-// Columns: time, kind (state, command or event), event (its text, or what happened to a
-// state: "dropped (fault)", "held (latency)"), then plumb paths named as `plumb run --format
-// csv` names them (so `plumb replay` and `identify` read the log like its): qpos[joint] and
-// qvel[joint] (every element: qpos[root][0..6] for a free joint; raw rows for an unnamed
-// joint), ctrl[actuator] for each motor that is an actuator and qfrc_applied[joint] for each
-// that is a joint (what was applied), sensordata[sensor] (every element); then, per motor in
+// Columns: time, kind (state, command, event or gamepad), event (its text, what happened to a
+// state: "dropped (fault)", "held (latency)", or the gamepad message published), then plumb paths
+// named as `plumb run --format csv` names them (so `plumb replay` and `identify` read the log like
+// its): qpos[joint] and qvel[joint] (every element: qpos[root][0..6] for a free joint; raw rows for
+// an unnamed joint), ctrl[actuator] for each motor that is an actuator and qfrc_applied[joint] for
+// each that is a joint (what was applied), sensordata[sensor] (every element); then, per motor in
 // motor order, named by its actuator or joint (its slot number when unnamed), what crossed
 // the link: cmd.mode[m], cmd.q[m], cmd.dq[m], cmd.kp[m], cmd.kd[m], cmd.tau[m] (command rows)
 // and state.q[m], state.dq[m], state.tau_est[m] (state rows, as published, noise included).
@@ -45,6 +45,8 @@ class FlightRecorder {
              const std::string& note);
   void Command(double time, const std::vector<MotorCommand>& command);
   void Event(double time, const std::string& what);
+  // A gamepad message as published ("lx 0.5 ly 0 rx 0 ry 0 keys 0x0004 (start)").
+  void Gamepad(double time, const std::string& what);
   // Syncs the log to disk and closes it. @throws IoError.
   void Finish();
   ~FlightRecorder();
@@ -52,6 +54,8 @@ class FlightRecorder {
   FlightRecorder& operator=(const FlightRecorder&) = delete;
 
  private:
+  // A row of `kind` whose event column says `what`.
+  void Note(double time, const char* kind, const std::string& what);
   // Appends `text` and a newline with one write(). @throws IoError.
   void Line(const std::string& text);
   std::string path_;

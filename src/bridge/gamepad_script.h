@@ -1,6 +1,6 @@
 // A gamepad script: timed events that drive Unitree's wireless controller
-// (`rt/wireless_controller`, WirelessController_: lx, ly, rx, ry, keys) as the bridge publishes
-// it, and the `wireless_remote` bytes of LowState_.
+// (rt/wirelesscontroller and rt/wireless_controller, WirelessController_: lx, ly, rx, ry, keys) as
+// the bridge publishes it, and the `wireless_remote` bytes of LowState_.
 //
 // File format (text, one statement per line or several separated by `;`):
 //

@@ -13,20 +13,23 @@
 namespace plumb::bridge {
 namespace {
 
-// The sensordata address of the sensor called `name` (of `type`), or of the first of `type`
-// when `name` is empty; -1 when there is none unnamed.
-int FindSensor(const mjModel* m, int type, const std::string& name, const char* key,
-               const char* type_name) {
+// The sensordata address of the sensor called `name` (of `type`); when `name` is empty, of the
+// one called `preferred` or (`first`) the first of `type`; -1 when there is none unnamed.
+int FindSensor(const mjModel* m, int type, const std::string& name, const char* preferred,
+               bool first, const std::string& key, const char* type_name) {
   std::string have;
+  int first_of_type = -1;
   for (int s = 0; s < m->nsensor; ++s) {
     if (m->sensor_type[s] != type) continue;
     const char* its = mj_id2name(m, mjOBJ_SENSOR, s);
-    if (name.empty() || (its != nullptr && name == its)) return m->sensor_adr[s];
+    bool called = its != nullptr && (name.empty() ? std::string(preferred) == its : name == its);
+    if (called) return m->sensor_adr[s];
+    if (first_of_type < 0) first_of_type = m->sensor_adr[s];
     have += fmt::format("{}'{}'", have.empty() ? "" : ", ", its != nullptr ? its : "");
   }
-  if (name.empty()) return -1;
-  throw ValueError(fmt::format("[imu] {} = '{}': the model has no {} sensor of that name ({})", key,
-                               name, type_name,
+  if (name.empty()) return first ? first_of_type : -1;
+  throw ValueError(fmt::format("{} = '{}': the model has no {} sensor of that name ({})", key, name,
+                               type_name,
                                have.empty() ? std::string("it has none") : "it has " + have));
 }
 
@@ -40,22 +43,27 @@ std::array<double, 3> RollPitchYaw(const std::array<double, 4>& q) {
   return {roll, pitch, yaw};
 }
 
-Imu Imu::Bind(const Model& model, const BridgeImuSource& source) {
+Imu Imu::Bind(const Model& model, const BridgeImuSource& source, const ImuDefaults& defaults) {
   const mjModel* m = model.get();
   Imu imu;
-  imu.quat_ = FindSensor(m, mjSENS_FRAMEQUAT, source.quaternion, "quaternion", "framequat");
-  imu.gyro_ = FindSensor(m, mjSENS_GYRO, source.gyroscope, "gyroscope", "gyro");
-  imu.accel_ =
-      FindSensor(m, mjSENS_ACCELEROMETER, source.accelerometer, "accelerometer", "accelerometer");
+  std::string t = "[" + std::string(defaults.table) + "] ";
+  bool first = defaults.first_of_type;
+  imu.quat_ = FindSensor(m, mjSENS_FRAMEQUAT, source.quaternion, defaults.quaternion, first,
+                         t + "quaternion", "framequat");
+  imu.gyro_ = FindSensor(m, mjSENS_GYRO, source.gyroscope, defaults.gyroscope, first,
+                         t + "gyroscope", "gyro");
+  imu.accel_ = FindSensor(m, mjSENS_ACCELEROMETER, source.accelerometer, defaults.accelerometer,
+                          first, t + "accelerometer", "accelerometer");
   if (!source.body.empty()) {
     imu.base_ = mj_name2id(m, mjOBJ_BODY, source.body.c_str());
     if (imu.base_ <= 0) {
-      throw ValueError(fmt::format("[imu] body = '{}': the model has no such body{}", source.body,
+      throw ValueError(fmt::format("[{}] body = '{}': the model has no such body{}", defaults.table,
+                                   source.body,
                                    imu.base_ == 0 ? " (the world body cannot carry an IMU)" : ""));
     }
     return imu;
   }
-  for (int j = 0; j < m->njnt; ++j) {
+  for (int j = 0; j < m->njnt && defaults.base_body; ++j) {
     if (m->jnt_type[j] == mjJNT_FREE) {
       imu.base_ = m->jnt_bodyid[j];
       break;

@@ -97,7 +97,7 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
     if (compat::ActuatorCount(m) == 0) {
       throw ValueError("'" + model.file() +
                        "' has no actuators: name the joints the motors drive in the bridge "
-                       "configuration ([motors] names = [\"hinge\"])");
+                       "configuration (motors = [\"hinge\"])");
     }
     for (int u = 0; u < compat::ActuatorCount(m); ++u) {
       map.motors_.push_back(FromActuator(model, u, map.size()));
