@@ -24,6 +24,7 @@ struct Log {
   std::vector<std::vector<double>> rows;  // kind = state
   long commands = 0;
   std::vector<std::string> events;
+  std::vector<std::string> gamepad;  // the gamepad messages published
   double At(std::size_t row, const std::string& name) const {
     auto it = std::find(names.begin(), names.end(), name);
     return it == names.end() ? NAN : rows[row][it - names.begin()];
@@ -52,6 +53,8 @@ Log ReadLog(const std::string& path) {
     cells.push_back(cell);
     if (cells[1] == "event") {
       log.events.push_back(cells[2]);
+    } else if (cells[1] == "gamepad") {
+      log.gamepad.push_back(cells[2]);
     } else if (cells[1] == "command") {
       ++log.commands;
     } else {
@@ -201,7 +204,9 @@ TEST(CliBridgeTest, AGo2StandsUp) {
 }
 
 // An unmodified client of Unitree's own Python SDK (its channels, message classes and CRC)
-// drives the bridge in either message family: same type names, topics, layout and CRC.
+// drives the bridge in either message family: same type names, topics, layout and CRC. Its
+// message classes decode rt/sportmodestate, rt/secondary_imu and both wireless-controller
+// topics too (DDS matches a topic only when the type names agree).
 class CliBridgeSdk2Test : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
@@ -214,13 +219,19 @@ TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
   std::uint32_t domain = testing::FreeDomain();
   std::string config = PendulumConfig(domain);
   config.replace(config.find("\"go\""), 4, "\"" + family + "\"");
+  // the pendulum's link as the base and the second IMU's body; a gamepad that holds A from
+  // 0.2 s to 0.7 s and pushes the left stick from 0.3 s on
+  config +=
+      "[sport_state]\nbase = \"link\"\n[secondary_imu]\nbody = \"link\"\n"
+      "[gamepad]\nevents = \"pad.txt\"\n";
+  testing::WriteFile(dir.File("pad.txt"), "t = 0.2: A for 0.5 s\nt = 0.3: lx = 0.5\n");
   testing::WriteFile(dir.File("bridge.toml"), config);
   auto r = testing::RunShell("('" + std::string(PLUMB_CLI) + "' bridge '" + testing::kPendulum +
                                  "' --config bridge.toml --until 1.2 >bridge.out 2>bridge.err;"
                                  " echo $? >bridge.rc) & '" +
                                  python + "' '" + testing::kSourceDir +
                                  "/tests/bridge/sdk2_client.py' " + family + " --domain " +
-                                 std::to_string(domain) + " --seconds 1.0; wait",
+                                 std::to_string(domain) + " --seconds 1.0 --extras; wait",
                              dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   ASSERT_EQ(testing::ReadFile(dir.File("bridge.rc")), "0\n")
@@ -236,6 +247,33 @@ TEST_P(CliBridgeSdk2Test, UnitreesPythonSdkDrivesTheBridge) {
   double seen = std::stod(r.out.substr(at + 4));
   EXPECT_NEAR(seen, 0.5, 0.02) << r.out;
   EXPECT_NEAR(seen, log.At(500, "state.q[hinge]"), 1e-4) << r.out;
+
+  auto extras_at = r.out.find("extras ");
+  ASSERT_NE(extras_at, std::string::npos) << r.out;
+  auto extras = nlohmann::json::parse(r.out.substr(extras_at + 7));
+  // rt/sportmodestate: one per state; the link's origin is the hinge, at rest at z = 1.5
+  const auto& sport = extras["rt/sportmodestate"];
+  EXPECT_GE(sport["count"].get<int>(), 490) << extras.dump();
+  EXPECT_NEAR(sport["last"]["position"][2].get<double>(), 1.5, 1e-6) << extras.dump();
+  EXPECT_NEAR(sport["last"]["velocity"][0].get<double>(), 0, 1e-6) << extras.dump();
+  EXPECT_GT(sport["last"]["stamp"].get<double>(), 0.99) << extras.dump();
+  // rt/secondary_imu: the link turned by q about y, (cos q/2, 0, sin q/2, 0)
+  const auto& imu = extras["rt/secondary_imu"]["last"]["quaternion"];
+  EXPECT_NEAR(imu[0].get<double>(), std::cos(seen / 2), 2e-3) << extras.dump();
+  EXPECT_NEAR(imu[2].get<double>(), std::sin(seen / 2), 2e-3) << extras.dump();
+  // the gamepad on both topics, at 100 Hz: the stick held, A released at 0.7 s
+  for (const char* topic : {"rt/wirelesscontroller", "rt/wireless_controller"}) {
+    const auto& pad = extras[topic];
+    EXPECT_GE(pad["count"].get<int>(), 90) << topic << " " << extras.dump();
+    EXPECT_NEAR(pad["last"]["lx"].get<double>(), 0.5, 1e-6) << topic << " " << extras.dump();
+    EXPECT_EQ(pad["last"]["keys"].get<int>(), 0) << topic << " " << extras.dump();
+  }
+  // and every message in the flight log: A (bit 8) from 0.2 s to 0.7 s
+  ASSERT_GE(log.gamepad.size(), 100u);
+  EXPECT_EQ(log.gamepad[19], "lx 0 ly 0 rx 0 ry 0 keys 0x0000");
+  EXPECT_EQ(log.gamepad[21], "lx 0 ly 0 rx 0 ry 0 keys 0x0100 (A)");
+  EXPECT_EQ(log.gamepad[31], "lx 0.5 ly 0 rx 0 ry 0 keys 0x0100 (A)");
+  EXPECT_EQ(log.gamepad[71], "lx 0.5 ly 0 rx 0 ry 0 keys 0x0000");
 }
 
 INSTANTIATE_TEST_SUITE_P(Families, CliBridgeSdk2Test, ::testing::Values("go", "hg"));

@@ -112,5 +112,70 @@ behavior = "stuck"
   }
 }
 
+// The tables of what goes out beside rt/lowstate: the second IMU, the sport-mode state, the
+// band and the gamepad (whose events file is found beside the configuration).
+TEST(BridgeConfigTest, SportStateBandGamepadAndSecondImu) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), R"([secondary_imu]
+body = "torso_link"
+[sport_state]
+base = "pelvis"
+feet = ["left_foot", "right_foot"]
+[band]
+body = "torso_link"
+anchor = [0, 0, 2.5]
+stiffness = 500
+damping = 50
+length = 0.5
+release_at = 2
+release_button = "A"
+[gamepad]
+events = "pad.txt"
+rate = 50
+topics = ["rt/wirelesscontroller"]
+)");
+  BridgeConfig c = LoadBridgeConfig(dir.File("b.toml"));
+  EXPECT_TRUE(c.secondary_imu_configured);
+  EXPECT_EQ(c.secondary_imu.body, "torso_link");
+  EXPECT_TRUE(c.sport_state.publish);
+  EXPECT_EQ(c.sport_state.base, "pelvis");
+  EXPECT_EQ(c.sport_state.feet, (std::vector<std::string>{"left_foot", "right_foot"}));
+  EXPECT_EQ(c.band.body, "torso_link");
+  EXPECT_EQ(c.band.anchor[2], 2.5);
+  EXPECT_EQ(c.band.stiffness, 500);
+  EXPECT_EQ(c.band.damping, 50);
+  EXPECT_EQ(c.band.length, 0.5);
+  EXPECT_EQ(c.band.release_at, 2);
+  EXPECT_EQ(c.band.release_button, "A");
+  EXPECT_EQ(c.gamepad.events, dir.File("pad.txt"));
+  EXPECT_EQ(c.gamepad.rate, 50);
+  EXPECT_EQ(c.gamepad.topics, (std::vector<std::string>{"rt/wirelesscontroller"}));
+  testing::WriteFile(dir.File("e.toml"), "");
+  BridgeConfig plain = LoadBridgeConfig(dir.File("e.toml"));
+  EXPECT_FALSE(plain.secondary_imu_configured);
+  EXPECT_TRUE(plain.band.body.empty());
+  EXPECT_TRUE(plain.gamepad.events.empty());
+  EXPECT_EQ(plain.gamepad.topics.size(), 2u);
+}
+
+TEST(BridgeConfigTest, MistakesInTheNewTablesAreNamed) {
+  EXPECT_NE(Complaint("[sport_state]\nfeet = [\"a\", \"b\", \"c\", \"d\", \"e\"]\n")
+                .find("b.toml:2:8: sport_state.feet: 5 feet, but SportModeState_ carries 4"),
+            std::string::npos);
+  EXPECT_NE(Complaint("[band]\nbody = \"t\"\nrelease_button = \"jump\"\n")
+                .find("band.release_button: 'jump' is not a gamepad button (buttons: R1, L1"),
+            std::string::npos);
+  EXPECT_NE(
+      Complaint("[band]\nbody = \"t\"\nanchor = [0, 1]\n").find("band.anchor: must be [x, y, z]"),
+      std::string::npos);
+  EXPECT_NE(Complaint("[band]\nstiffness = 5\n").find("band.body: is missing"), std::string::npos);
+  EXPECT_NE(Complaint("[gamepad]\nrate = 0\n").find("gamepad.rate: must be in [1, 10000]"),
+            std::string::npos);
+  EXPECT_NE(Complaint("[gamepad]\njoystick = 1\n").find("gamepad.joystick: unknown key"),
+            std::string::npos);
+  EXPECT_NE(Complaint("gamepad = 3\n").find("gamepad: must be a table: [gamepad]"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace plumb
