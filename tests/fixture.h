@@ -23,9 +23,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
-#include "plumb/strings.h"
 
 namespace plumb::testing {
 
@@ -273,7 +273,8 @@ inline std::string TwoHingeArm(const std::string& actuators) {
       <body><joint name="a" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/>
         <body pos="0.3 0 0"><joint name="b" axis="0 1 0"/>
           <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></body></worldbody>
-    <actuator>)" + actuators + "</actuator></mujoco>";
+    <actuator>)" +
+         actuators + "</actuator></mujoco>";
 }
 
 // CorpusModel for a test that needs it: "" when it is missing, and then a failure as well

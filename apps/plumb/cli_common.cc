@@ -14,11 +14,11 @@
 #include <new>
 #include <optional>
 
+#include "core/strings.h"
 #include "plumb/describe.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/run.h"
-#include "plumb/strings.h"
 
 namespace plumb::cli {
 

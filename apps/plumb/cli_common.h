@@ -159,8 +159,10 @@ void SetupVerifyCommand(CLI::App& app, Context& ctx);
 void SetupAuditCommand(CLI::App& app, Context& ctx);
 void SetupSweepCommand(CLI::App& app, Context& ctx);
 void SetupRolloutCommand(CLI::App& app, Context& ctx);
-void SetupResultsCommands(CLI::App& app, Context& ctx);     // results and merge
-void SetupRegressionCommands(CLI::App& app, Context& ctx);  // snapshot and diff
+void SetupResultsCommand(CLI::App& app, Context& ctx);
+void SetupMergeCommand(CLI::App& app, Context& ctx);
+void SetupSnapshotCommand(CLI::App& app, Context& ctx);
+void SetupDiffCommand(CLI::App& app, Context& ctx);
 void SetupRenderCommand(CLI::App& app, Context& ctx);
 void SetupBridgeCommand(CLI::App& app, Context& ctx);
 void SetupReplayCommand(CLI::App& app, Context& ctx);

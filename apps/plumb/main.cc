@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
       "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
   SetupVerifyCommand(app, ctx);
   SetupAuditCommand(app, ctx);
-  SetupRegressionCommands(app, ctx);
+  SetupSnapshotCommand(app, ctx);
+  SetupDiffCommand(app, ctx);
   SetupRunCommand(app, ctx);
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);
@@ -42,7 +43,8 @@ int main(int argc, char** argv) {
   SetupBridgeCommand(app, ctx);
   SetupReplayCommand(app, ctx);
   SetupIdentifyCommand(app, ctx);
-  SetupResultsCommands(app, ctx);
+  SetupResultsCommand(app, ctx);
+  SetupMergeCommand(app, ctx);
   AcceptIntegerNotation(&app);
 
   plumb::MpiInit(&argc, &argv);

@@ -110,7 +110,7 @@ class Interrupted : public Error {
 class InternalError : public std::logic_error {
  public:
   InternalError(const char* file, int line, const std::string& condition);
-  // The source file (from the project's root, e.g. "src/check/worker_pool.cc") and line.
+  // The source file (from the project's root, e.g. "src/core/worker_pool.cc") and line.
   const std::string& file() const { return file_; }
   int line() const { return line_; }
 

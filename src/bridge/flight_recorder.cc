@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "plumb/atomic_file.h"
+#include "io/atomic_file.h"
 #include "plumb/error.h"
 #include "plumb/path.h"
 #include "plumb/sample_writer.h"

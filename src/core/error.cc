@@ -6,7 +6,7 @@ namespace plumb {
 namespace {
 
 // __FILE__ from the project's root: the build passes absolute paths, and a report names
-// "src/check/worker_pool.cc:50", the same on every machine.
+// "src/core/worker_pool.cc:50", the same on every machine.
 std::string FromProjectRoot(const char* file) {
   std::string path = file;
   for (const char* root : {"/src/", "/include/", "/apps/", "/tests/"}) {

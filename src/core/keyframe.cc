@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/error.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 

@@ -15,10 +15,10 @@
 #include <sstream>
 
 #include "core/derived.h"
+#include "core/file_kind.h"
 #include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/error.h"
-#include "plumb/file_kind.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "core/fields.h"
 #include "core/path_internal.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/path.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

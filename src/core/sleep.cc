@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/mujoco_compat.h"
-#include "plumb/strings.h"
+#include "core/strings.h"
 
 namespace plumb {
 
@@ -14,9 +14,9 @@ std::string SleepingStart::Describe() const {
   std::vector<std::string> quoted;
   for (const std::string& b : bodies) quoted.push_back("'" + b + "'");
   bool one = bodies.size() == 1;
-  return fmt::format(
-      "{} {} {} asleep (the sleep flag is on and {} sleep=\"init\")", one ? "Body" : "Bodies",
-      Join(quoted, ", "), one ? "starts" : "start", one ? "its tree has" : "their trees have");
+  return fmt::format("{} {} {} asleep (the sleep flag is on and {} sleep=\"init\")",
+                     one ? "Body" : "Bodies", Join(quoted, ", "), one ? "starts" : "start",
+                     one ? "its tree has" : "their trees have");
 }
 
 SleepingStart FindSleepingStart(const Model& model, const Data& data) {

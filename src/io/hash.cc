@@ -1,4 +1,4 @@
-#include "plumb/hash.h"
+#include "io/hash.h"
 
 #include <cstdint>
 #include <cstdio>

@@ -10,7 +10,7 @@
 
 #include "core/fields.h"
 #include "core/mujoco_compat.h"
-#include "plumb/atomic_file.h"
+#include "io/atomic_file.h"
 #include "plumb/error.h"
 
 namespace plumb {

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/json_output.h"
-#include "plumb/strings.h"
 #include "plumb/version.h"
 
 namespace plumb {

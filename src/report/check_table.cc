@@ -8,8 +8,8 @@
 #include <map>
 #include <tuple>
 
+#include "core/strings.h"
 #include "plumb/model.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

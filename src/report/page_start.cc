@@ -13,12 +13,12 @@
 #include <thread>
 #include <utility>
 
-#include "plumb/atomic_file.h"
+#include "core/strings.h"
+#include "io/atomic_file.h"
+#include "io/hash.h"
 #include "plumb/error.h"
-#include "plumb/hash.h"
 #include "plumb/render.h"
 #include "plumb/run.h"
-#include "plumb/strings.h"
 #include "plumb/version.h"
 
 namespace plumb::report {
@@ -108,8 +108,8 @@ ModelPictures DrawModelPictures(Renderer& renderer, const Model& model, Data& da
   out.stills = {{first, "t = 0, the start state"}, {last, end_caption}};
   if (frames.size() < 2) return out;
   out.interval_ms = int(std::lround(1000.0 * info.nominal_until / frames.size()));
-  out.animation = fmt::format("the nominal run, {} frames over {:.3g} s (real time)",
-                              frames.size(), result.steps * dt);
+  out.animation = fmt::format("the nominal run, {} frames over {:.3g} s (real time)", frames.size(),
+                              result.steps * dt);
   out.frames = std::move(frames);
   return out;
 }
@@ -169,8 +169,7 @@ class PicturesAhead {
 
   // Thumbnails (PNG) of the start state with each of `elements` highlighted; empty, with `why`
   // set, when the renderer cannot run. Asked once.
-  std::vector<std::string> Thumbnails(const std::vector<std::string>& elements,
-                                      std::string* why) {
+  std::vector<std::string> Thumbnails(const std::vector<std::string>& elements, std::string* why) {
     asked_ = true;
     elements_.set_value(elements);
     std::vector<std::string> thumbs = thumbnails_done_.get();
@@ -188,8 +187,8 @@ class PicturesAhead {
       initial.emplace(start->data.Clone());
       report::ModelPictures pictures;
       try {
-        renderer.emplace(start->model, report::SmallPicture(report::kPictureWidth,
-                                                            report::kPictureHeight));
+        renderer.emplace(start->model,
+                         report::SmallPicture(report::kPictureWidth, report::kPictureHeight));
         pictures = report::DrawModelPictures(*renderer, start->model, start->data, info);
       } catch (const UnavailableError& e) {
         renderer.reset();

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/model.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

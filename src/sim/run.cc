@@ -12,8 +12,8 @@
 
 #include "core/derived.h"
 #include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/error.h"
-#include "plumb/strings.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -121,7 +121,8 @@ std::string FatalRunProblem(const Model& model, const std::string& what) {
         ". The arena of {:.3g} MB (<size memory>) is too small for this run's contacts and "
         "constraints: raise it, e.g. <size memory=\"{}M\"/>",
         static_cast<double>(compat::ArenaBytes(model.get())) / (1 << 20),
-        std::max<long>(2, static_cast<long>(4.0 * compat::ArenaBytes(model.get()) / (1 << 20) + 1)));
+        std::max<long>(2,
+                       static_cast<long>(4.0 * compat::ArenaBytes(model.get()) / (1 << 20) + 1)));
   }
   return out;
 }

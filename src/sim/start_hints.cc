@@ -1,7 +1,7 @@
 // The chapter's common-error table as advice before a run: today, a system at rest in
 // equilibrium with nothing driving it, and bodies that start asleep.
 
-#include "plumb/start_hints.h"
+#include "sim/start_hints.h"
 
 #include <fmt/format.h>
 

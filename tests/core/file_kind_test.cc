@@ -1,4 +1,4 @@
-#include "plumb/file_kind.h"
+#include "core/file_kind.h"
 
 #include <gtest/gtest.h>
 

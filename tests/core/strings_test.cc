@@ -1,4 +1,4 @@
-#include "plumb/strings.h"
+#include "core/strings.h"
 
 #include <gtest/gtest.h>
 

@@ -13,12 +13,12 @@
 #include <sstream>
 #include <thread>
 
+#include "core/strings.h"
 #include "fixture.h"
-#include "plumb/atomic_file.h"
+#include "io/atomic_file.h"
 #include "plumb/error.h"
 #include "plumb/repro.h"
 #include "plumb/sample_writer.h"
-#include "plumb/strings.h"
 
 namespace plumb {
 namespace {

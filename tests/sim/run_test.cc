@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "fixture.h"
-#include "plumb/sample_writer.h"
 #include "plumb/error.h"
-#include "plumb/start_hints.h"
+#include "plumb/sample_writer.h"
+#include "sim/start_hints.h"
 
 namespace plumb {
 namespace {

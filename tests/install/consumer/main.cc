@@ -1,8 +1,7 @@
 // Runs the pendulum through an installed plumb and prints q at 0.5 s.
 #include <cstdio>
 
-#include "plumb/path.h"
-#include "plumb/run.h"
+#include "plumb/plumb.h"  // the umbrella: every public header compiles in a user's project
 
 namespace {
 class Last : public plumb::SampleSink {

@@ -1,0 +1,103 @@
+// plumb diff: a model against its regression snapshot (plumb snapshot writes one), in words.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cli_common.h"
+#include "core/file_kind.h"
+#include "io/atomic_file.h"
+#include "plumb/error.h"
+#include "plumb/regression.h"
+#include "plumb/result_json.h"
+#include "plumb/result_table.h"
+
+namespace plumb::cli {
+namespace {
+
+struct DiffOptions {
+  std::string snapshot;
+  std::string model;
+  std::vector<std::string> sets;
+  double tol = 1e-6;
+  std::string format = "table";
+};
+
+std::string ReadWhole(const std::string& path, bool* readable) {
+  std::ifstream in(path, std::ios::binary);
+  *readable = static_cast<bool>(in) && !std::filesystem::is_directory(path);
+  std::stringstream text;
+  if (*readable) text << in.rdbuf();
+  return text.str();
+}
+
+// Refuses a snapshot argument that is no snapshot (a model, swapped arguments, an empty
+// or binary file), saying what it is and what to run instead. @throws ValueError.
+void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
+  FileKind kind = SniffFileKind(text);
+  if (kind == FileKind::kSnapshot || kind == FileKind::kJson || kind == FileKind::kText) return;
+  std::string what = "'" + o.snapshot + "' is " + FileKindName(kind) + ", not a plumb snapshot";
+  if (kind == FileKind::kMjcf || kind == FileKind::kXml) {
+    bool readable = false;
+    std::string second = ReadWhole(o.model, &readable);
+    if (readable && SniffFileKind(second) == FileKind::kSnapshot) {
+      throw ValueError("the arguments are swapped: " + what + ", and '" + o.model +
+                       "' is the snapshot. plumb diff takes the snapshot first: plumb diff " +
+                       o.model + " " + o.snapshot);
+    }
+    throw ValueError(
+        what + ". plumb diff compares a model with a snapshot taken earlier: " + "plumb snapshot " +
+        o.snapshot + " -o before.snap.json, then plumb diff " + "before.snap.json " + o.model);
+  }
+  throw ValueError(what + " (JSON written by plumb snapshot MODEL -o FILE). Write a fresh one " +
+                   "with plumb snapshot, or restore it from version control.");
+}
+
+int RunDiff(const DiffOptions& o) {
+  bool readable = false;
+  std::string text = ReadWhole(o.snapshot, &readable);
+  if (!readable)
+    throw IoError("cannot read snapshot '" + o.snapshot + "': no such file or not readable.");
+  CheckSnapshotArgument(o, text);
+  Model model = LoadModel(o.model);
+  std::vector<Assignment> sets = ParseAssignments(model, o.sets);
+  if (!(o.tol >= 0)) throw ValueError("--tol must be >= 0");
+  SnapshotDiff diff;
+  try {
+    diff = DiffSnapshot(text, model, sets, o.tol);
+  } catch (const ValueError& e) {
+    throw ValueError(o.snapshot + ": " + e.what() +
+                     ". The file is not a snapshot or was damaged: write a fresh one with "
+                     "plumb snapshot MODEL -o FILE (or restore it from version control).");
+  }
+  std::string out =
+      o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot, "--set ");
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  if (diff.diverged) return kExitDiverged;
+  return diff.changed() ? kExitCheckFailed : kExitOk;
+}
+
+}  // namespace
+
+void SetupDiffCommand(CLI::App& app, Context& ctx) {
+  auto d = std::make_shared<DiffOptions>();
+  CLI::App* diff =
+      AddCommand(app, "diff", "Compare a model with its snapshot, in words",
+                 "Example:\n  plumb diff robot.snap.json robot.xml --tol 1e-6\n"
+                 "Prints each change (dof_damping[hinge]: 0.05 → 0.1, body added: gripper,\n"
+                 "trajectory departs at step 37: ...). Exit codes: 0 identical within --tol,\n"
+                 "1 changed, 2 bad input, 3 the golden trajectory diverges.\n"
+                 "The model is simulated with the snapshot's own --set values, then diff's --set.");
+  diff->add_option("snapshot", d->snapshot, "a file written by plumb snapshot")->required();
+  AddModelOptions(diff, &d->model, &d->sets, "before comparing");
+  diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
+  AddFormatOption(diff, &d->format, {"table", "json"},
+                  "table (in words) or json (header, then changes as {path, old, new, kind})");
+  diff->callback([d, &ctx] { ctx.action = [d] { return RunDiff(*d); }; });
+}
+
+}  // namespace plumb::cli

@@ -1,0 +1,142 @@
+// What the audit's layers share (src/audit/audit_*.cc): how a finding names an element,
+// the reference pose, and the observed runs that the actuator, contact and behaviour layers
+// judge. Private to the check layer.
+
+#ifndef PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+#define PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plumb/audit.h"
+#include "plumb/keyframe.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/run.h"
+
+namespace plumb::audit {
+
+// Per-element rows are listed for up to this many elements; beyond, a summary row.
+constexpr int kMaxListed = 60;
+
+// Cost budget of one audit run, in dof-steps (steps x max(nv, 30)): about a second of
+// compute on a laptop core, so each run of a big model is shortened, never skipped.
+constexpr double kDofStepBudget = 4e5;
+
+// Max |qvel| below which a model counts as at rest.
+constexpr double kRestSpeed = 0.05;
+
+CheckElement ElementOf(const Model& model, int obj, int id, const char* noun);
+
+// The single joint actuator u drives, -1 for tendons, sites and bodies.
+int DrivenJoint(const mjModel* m, int u);
+
+// ElementLabel(ElementOf(...)), for rows that name several elements.
+std::string Elem(const Model& model, int obj, int id, const char* noun);
+
+// A row about one element. `measured` and `threshold` are the row's texts (the threshold a
+// bound; "" for an informational row); `fix` is what to do about a WARN or FAIL, and for a
+// PASS or SKIP what the row shows or why it was skipped (its explanation).
+CheckRow Make(const char* layer, std::string check, const CheckElement& element,
+              std::string measured, std::string threshold, CheckStatus status, std::string fix);
+
+// A row about the whole model (`subject` "") or several elements (`subject` names them).
+CheckRow Make(const char* layer, std::string check, std::string subject, std::string measured,
+              std::string threshold, CheckStatus status, std::string fix);
+
+// `row` with its measurement and the reference (the threshold) it is held against as numbers
+// with units ({NaN, ""} where a row has none); its texts, status and fix stay as they are.
+CheckRow WithNumbers(CheckRow row, Quantity measured, Quantity reference = {});
+
+// When a check has more rows than `shown`, one row saying how many were listed.
+void ListedNote(const char* layer, const char* check, const char* noun, int total,
+                std::vector<CheckRow>* out, int shown = kMaxListed);
+
+// |gravity|, 0 when <flag gravity="disable"/> switches it off.
+double GravityNorm(const mjModel* m);
+
+// Moving bodies: those not welded to the world.
+bool Moves(const mjModel* m, int b);
+
+// Volume of geom g (PrimitiveVolume), NaN when it is not a primitive.
+double GeomVolume(const mjModel* m, int g);
+
+// One audit run and what the layers read from it.
+struct Observed {
+  std::string label;  // "passive settle", "step response of actuator 'elbow' (id 3)"
+  RunResult result;
+  double duration = 0;
+  double deepest = 0;  // deepest penetration relative to the smaller geom size
+  std::string deepest_pair;
+  double deepest_late = 0;  // the same over the last part of the run, once impacts are over
+  std::string deepest_late_pair;
+  double deepest_m = 0, deepest_soft = 0;  // the deepest contact in m, and its SoftDepth
+  double deepest_late_m = 0;               // that contact's penetration in m
+  double deepest_late_soft = 0;            // and the depth its softness explains (SoftDepth), in m
+  int max_iterations = 0;
+  long steps_at_limit = 0;
+  double energy0 = 0, energy_max = -INFINITY, energy_end = 0;
+  double max_speed_end = 0;    // max |qvel| at the end
+  double support_ratio = NAN;  // contact normal force / weight at the end
+  double max_slip = 0;         // tangential speed at contacts at the end
+  std::string slip_pair;
+  std::string repro;               // where AuditOptions::keep_diverged kept it ("" when not)
+  std::vector<AuditCurve> curves;  // what it looked like over time (for --report)
+};
+
+// `wanted` s of simulated time, shortened for big models to the dof-step budget (at
+// least 20 steps), as a whole number of timesteps.
+double Duration(const mjModel* m, double wanted, double budget = kDofStepBudget);
+
+// Hands a diverged run to options.keep_diverged; returns where it was kept ("" when the
+// run did not diverge or nobody keeps it).
+std::string KeepDiverged(const Model& work, const RunResult& run, const AuditOptions& options,
+                         const std::string& label);
+
+// What to do about a diverged audit run, after MuJoCo's reason.
+std::string DivergedFix(const Observed& o);
+
+// Runs `model` after `sets` from `ref` under `control` for `duration` s in four pieces;
+// when `longest` > duration it goes on, a quarter of `duration` at a time, until the
+// model is at rest or `longest` s have passed. Penetration "late" is over the last
+// piece, once impacts are over.
+Observed Observe(const Model& model, const std::vector<Assignment>& sets, const ReferencePose& ref,
+                 double duration, const std::function<void(mjData*, double)>& control,
+                 const AuditOptions& options, const std::string& label, double longest = 0);
+
+// One row per delayed element of `kind` ("actuator" or "sensor"): WARN when its delay is
+// longer than the nsample x timestep its history buffer holds (MuJoCo silently shortens it).
+void DelayRows(const Model& model, const std::string& kind, const char* layer, const char* check,
+               std::vector<CheckRow>* out);
+
+// The layers, in the order the audit runs them; each appends its findings to `out` and
+// the runs it made to `runs`.
+void StructureLayer(const Model& model, std::vector<CheckRow>* out);
+// `original` is the model as loaded, `model` after --set.
+void InertiaLayer(const Model& original, const Model& model, Data& data,
+                  std::vector<CheckRow>* out);
+void ActuatorLayer(const Model& original, const Model& model, Data& data,
+                   const std::vector<Assignment>& sets, const ReferencePose& ref,
+                   const AuditOptions& options, std::vector<Observed>* runs,
+                   std::vector<CheckRow>* out);
+// The stability margin of every servo (audit_servo.cc); `data` after mj_forward at the
+// reference pose.
+void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// Mirror pairs (named left/right, FL/FR, ...) that do not mirror (audit_mirror.cc): joints'
+// limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
+void MirrorJoints(const Model& model, std::vector<CheckRow>* out);
+void MirrorBodies(const Model& model, std::vector<CheckRow>* out);
+// `data` after mj_forward at the reference pose (the joints' axes and anchors).
+void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// Whether rotor-like actuators on a free body can act independently (audit_rank.cc).
+void ActuatorRank(const Model& model, const Data& data, std::vector<CheckRow>* out);
+void ContactLayer(const Model& model, const Observed& settle, std::vector<CheckRow>* out);
+void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
+                    const ReferencePose& ref, const Observed& settle, const AuditOptions& options,
+                    std::vector<Observed>* runs, std::vector<CheckRow>* out);
+
+}  // namespace plumb::audit
+
+#endif  // PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
