@@ -167,6 +167,7 @@ void SetupRenderCommand(CLI::App& app, Context& ctx);
 void SetupBridgeCommand(CLI::App& app, Context& ctx);
 void SetupReplayCommand(CLI::App& app, Context& ctx);
 void SetupIdentifyCommand(CLI::App& app, Context& ctx);
+void SetupHelpCommand(CLI::App& app, Context& ctx);  // the manual's pages, docs/*.md
 
 // Makes every integer option of `app` and of its subcommands take an integer written in any
 // number notation ("--count 1e3" is 1000) and refuse anything else with the option's name
