@@ -21,7 +21,7 @@
 
 namespace plumb::cli {
 
-// Documented exit codes (README, `plumb --help`).
+// Documented exit codes (docs/exit-codes.md, `plumb help exit-codes`, `plumb --help`).
 enum ExitCode : int {
   kExitOk = 0,              // success
   kExitCheckFailed = 1,     // a check failed

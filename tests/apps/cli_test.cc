@@ -707,7 +707,7 @@ TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
 TEST(CliHelpTest, PrintsACommandsPageExactly) {
   CommandResult r = RunPlumb("help verify");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(r.out, testing::ReadFile(testing::kSourceDir + "/docs/verify.md"));
+  EXPECT_EQ(r.out, ReadFile(testing::kSourceDir + "/docs/verify.md"));
 }
 
 TEST(CliHelpTest, ListsThePagesWithoutAnArgument) {
@@ -715,6 +715,16 @@ TEST(CliHelpTest, ListsThePagesWithoutAnArgument) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("  verify\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  exit-codes\n"), std::string::npos) << r.out;
+}
+
+TEST(CliHelpTest, EveryCommandHasAPage) {
+  for (const char* command :
+       {"verify", "audit", "snapshot", "diff", "run", "inspect", "converge", "sweep", "rollout",
+        "render", "bridge", "replay", "identify", "results", "merge"}) {
+    CommandResult r = RunPlumb(std::string("help ") + command);
+    EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
+    EXPECT_EQ(r.out, ReadFile(testing::kSourceDir + "/docs/" + command + ".md")) << command;
+  }
 }
 
 TEST(CliHelpTest, AnUnknownPageIsBadInputNamingTheKnownOnes) {

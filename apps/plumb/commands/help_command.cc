@@ -1,6 +1,7 @@
 // plumb help: the manual's pages (docs/*.md), embedded at build time, printed as they are.
 
 #include <cstdio>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -19,18 +20,27 @@ std::string PageNames() {
   return names;
 }
 
-int RunHelp(const std::string& page) {
-  if (page.empty()) {
-    std::string out =
-        "plumb help PAGE prints a page of plumb's manual (docs/PAGE.md in the source tree).\n"
-        "Pages:\n";
-    for (std::size_t i = 0; i < kDocPageCount; ++i) {
-      out += "  " + std::string(kDocPages[i].name) + "\n";
-    }
-    out += "Each command's options: plumb COMMAND --help.\n";
-    std::fwrite(out.data(), 1, out.size(), stdout);
-    return kExitOk;
+// Lists the pages: a command's first (those the app has), then the topics.
+int ListPages(const CLI::App& app) {
+  std::set<std::string> command_names;
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    command_names.insert(command->get_name());
   }
+  std::string commands, topics;
+  for (std::size_t i = 0; i < kDocPageCount; ++i) {
+    std::string name(kDocPages[i].name);
+    (command_names.count(name) != 0 ? commands : topics) += "  " + name + "\n";
+  }
+  std::string out =
+      "plumb help PAGE prints a page of plumb's manual (docs/PAGE.md in the source tree).\n"
+      "Commands:\n" +
+      commands + "Topics:\n" + topics + "Each command's options: plumb COMMAND --help.\n";
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  return kExitOk;
+}
+
+int RunHelp(const CLI::App& app, const std::string& page) {
+  if (page.empty()) return ListPages(app);
   for (std::size_t i = 0; i < kDocPageCount; ++i) {
     if (kDocPages[i].name == page) {
       std::string_view text = *kDocPages[i].text;
@@ -50,7 +60,7 @@ void SetupHelpCommand(CLI::App& app, Context& ctx) {
                               "plumb help alone lists the pages.");
   help->add_option("page", *page,
                    "a command (verify, run, ...) or a topic (paths, exit-codes, ...)");
-  help->callback([page, &ctx] { ctx.action = [page] { return RunHelp(*page); }; });
+  help->callback([page, &app, &ctx] { ctx.action = [page, &app] { return RunHelp(app, *page); }; });
 }
 
 }  // namespace plumb::cli
