@@ -3,8 +3,9 @@
 #
 #   scripts/check-readme-examples.sh [PLUMB] [README]
 #
-# PLUMB is the plumb binary (default build/plumb), README the Markdown file (default README.md),
-# both relative to the repository root. A command is a line inside a fenced code block that
+# PLUMB is the plumb binary (default build/plumb), README the Markdown file (default README.md,
+# or a page in docs/), both relative to the repository root; a page's commands name files
+# relative to the root too. A command is a line inside a fenced code block that
 # starts with "plumb " or, in a block showing a session, "$ build/plumb " (the lines after it
 # are its output); lines ending in a backslash continue on the next one. In such a session the
 # output shown is checked too: each shown line must be a line of the command's output (stdout
@@ -34,7 +35,11 @@ if [[ ! -f "$readme" ]]; then
   echo "check-readme-examples: no file $readme" >&2
   exit 2
 fi
+# the commands name files relative to the repository root (a page in docs/ too), as if run there
 readme_dir="$(cd "$(dirname "$readme")" && pwd)"
+case "$readme_dir/" in
+  "$root"/*) readme_dir="$root" ;;
+esac
 per_command_timeout="${PLUMB_README_TIMEOUT:-300}"
 
 # the commands, one per record: "block<TAB>line<TAB>command" (continuations joined)

@@ -21,7 +21,7 @@
 
 namespace plumb::cli {
 
-// Documented exit codes (README, `plumb --help`).
+// Documented exit codes (docs/exit-codes.md, `plumb help exit-codes`, `plumb --help`).
 enum ExitCode : int {
   kExitOk = 0,              // success
   kExitCheckFailed = 1,     // a check failed
@@ -167,6 +167,7 @@ void SetupRenderCommand(CLI::App& app, Context& ctx);
 void SetupBridgeCommand(CLI::App& app, Context& ctx);
 void SetupReplayCommand(CLI::App& app, Context& ctx);
 void SetupIdentifyCommand(CLI::App& app, Context& ctx);
+void SetupHelpCommand(CLI::App& app, Context& ctx);  // the manual's pages, docs/*.md
 
 // Makes every integer option of `app` and of its subcommands take an integer written in any
 // number notation ("--count 1e3" is 1000) and refuse anything else with the option's name

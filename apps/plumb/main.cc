@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   SetupIdentifyCommand(app, ctx);
   SetupResultsCommand(app, ctx);
   SetupMergeCommand(app, ctx);
+  SetupHelpCommand(app, ctx);
   AcceptIntegerNotation(&app);
 
   plumb::MpiInit(&argc, &argv);

@@ -52,7 +52,8 @@ TEST(CliRunTest, LoadingWarnsOfAShortenedDelay) {
       nsample="20"/>)"));
   CommandResult r = RunPlumb("run " + model + " --until 0.01");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("plumb: warning: '" + model + "': actuator 'late' (id 0): delay 0.5 s is "
+  EXPECT_NE(r.err.find("plumb: warning: '" + model +
+                       "': actuator 'late' (id 0): delay 0.5 s is "
                        "longer than its buffer of 20 samples x timestep = 0.04 s"),
             std::string::npos)
       << r.err;
@@ -700,6 +701,38 @@ TEST(CliUsageTest, HelpShowsExamplesAndExitCodes) {
   EXPECT_EQ(RunPlumb("frobnicate").exit_code, 2);
   EXPECT_NE(RunPlumb("--version").out.find("MuJoCo " + testing::CompiledMujocoVersion()),
             std::string::npos);
+}
+
+// plumb help prints the manual's pages as docs/ holds them, embedded at build time
+TEST(CliHelpTest, PrintsACommandsPageExactly) {
+  CommandResult r = RunPlumb("help verify");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, ReadFile(testing::kSourceDir + "/docs/verify.md"));
+}
+
+TEST(CliHelpTest, ListsThePagesWithoutAnArgument) {
+  CommandResult r = RunPlumb("help");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("  verify\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  exit-codes\n"), std::string::npos) << r.out;
+}
+
+TEST(CliHelpTest, EveryCommandHasAPage) {
+  for (const char* command :
+       {"verify", "audit", "snapshot", "diff", "run", "inspect", "converge", "sweep", "rollout",
+        "render", "bridge", "replay", "identify", "results", "merge"}) {
+    CommandResult r = RunPlumb(std::string("help ") + command);
+    EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
+    EXPECT_EQ(r.out, ReadFile(testing::kSourceDir + "/docs/" + command + ".md")) << command;
+  }
+}
+
+TEST(CliHelpTest, AnUnknownPageIsBadInputNamingTheKnownOnes) {
+  CommandResult r = RunPlumb("help nosuch");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("no page 'nosuch'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("verify"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("merge"), std::string::npos) << r.err;
 }
 
 }  // namespace
