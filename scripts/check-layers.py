@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The layer check: a folder of src/ includes only from its own folder and from folders in the
-layers below it (README, "How the code is laid out"). Public headers (include/plumb/NAME.h)
+layers below it (README.md, "How the code is laid out"). Public headers (include/plumb/NAME.h)
 belong to the folder whose source says the same word (src/FOLDER/NAME.cc), or to the folder
 kPublicHome names; they are checked too, as part of their folder.
 

@@ -51,7 +51,7 @@ std::pair<double, double> MassMatrixExtremes(const mjModel* m, mjData* d) {
 // How far, as a factor, a body's radius of gyration (or the square root of a principal moment)
 // may lie from its shape's before audit warns and fails. On the clean robot corpus every body
 // lies within x4.1 (Spot's body: its smallest moment is 0.06 of its mesh's), on dm_control and
-// MuJoCo's samples within x1.8 (see README, "Calibration").
+// MuJoCo's samples within x1.8 (see docs/audit.md, "Calibration").
 constexpr double kShapeWarn = 5;
 constexpr double kShapeFail = 10;
 

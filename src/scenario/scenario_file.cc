@@ -315,7 +315,7 @@ Scenario LoadScenario(const Model& model, const std::string& file) {
   } catch (const json::exception& e) {
     // a shape the checks above missed: still bad input, never a crash
     throw ValueError("scenario '" + file + "': unexpected entry: " + e.what() +
-                     ". See README \"Scenarios\" for the format.");
+                     ". See docs/audit.md (plumb help audit) for the format.");
   }
 }
 

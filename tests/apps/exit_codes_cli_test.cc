@@ -1,4 +1,4 @@
-// Every exit code in README's table, each from the situation it names (130 and 141 are in
+// Every exit code in docs/exit-codes.md's table, each from the situation it names (130 and 141 are in
 // signals_cli_test.cc: they need a signal or a closed pipe).
 
 #include <gtest/gtest.h>

@@ -87,7 +87,7 @@ void SetupAuditCommand(CLI::App& app, Context& ctx) {
       "  plumb audit robot.xml --strict --accept accepted.toml\n"
       "Scenario files (JSON or TOML): name, duration, keyframe, initial {path = value},\n"
       "controls [{actuator, type = constant|step|ramp|sine, ...}], assertions\n"
-      "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see README).\n"
+      "['xpos[torso][2] > 0.8 during [0, 2]', 'maxabs(qvel[*]) < 50'] (see plumb help audit).\n"
       "Accept lists (TOML), one table per reviewed finding:\n"
       "  [[accept]]\n"
       "  check = \"inertia.shape\"          # the row's id\n"
