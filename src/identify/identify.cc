@@ -291,6 +291,48 @@ AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
   return at;
 }
 
+// Throws unless the logs hold more samples than unknowns, and, for an input delay, an
+// input to delay.
+void RequireEnoughData(const Residuals& f, const std::vector<RobotLog>& logs,
+                       const IdentifyOptions& options) {
+  if (f.size() <= static_cast<long>(f.parameters())) {
+    throw ValueError(fmt::format(
+        "the logs hold {} measured samples for {} unknowns ({} parameters and the start states): "
+        "fitting needs more samples than unknowns",
+        f.size(), f.parameters(), f.physical()));
+  }
+  if (options.delay == DelayKind::kInput &&
+      std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
+    throw ArgumentError(
+        "delay", "ctrl",
+        "the logs have no input column (ctrl[...], qfrc_applied[...]): there is no input to "
+        "delay; name the commanded input with a column map, or estimate no delay");
+  }
+}
+
+// The warnings about how the fit ended: far from linear, or with the logged start states.
+void WarnAboutFit(const Residuals& f, const IdentifyOptions& options, IdentifyResult* result) {
+  if (result->relative_offset > kFarFromLinear) {
+    result->warnings.push_back(fmt::format(
+        "the fit stopped where a Gauss–Newton step would still move the estimates by more than "
+        "the noise allows (relative offset {:.2g}, above {:g}): the residuals are far from linear "
+        "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
+        result->relative_offset, kFarFromLinear,
+        options.replay.window > 0
+            ? "Shorter windows (--window) keep each simulation closer to the log."
+            : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
+              "chaos): fit in windows that restart from the logged state (--window 0.25, "
+              "multiple shooting)."));
+  }
+  if (!f.fit_starts()) {
+    result->warnings.push_back(fmt::format(
+        "the start states were taken as logged, not fitted: with these windows and logs they "
+        "would add more than {} unknowns, or a Jacobian of more than {} million entries; their "
+        "measurement noise may bias the estimates (use longer windows, or fewer samples)",
+        kMostStartUnknowns, kMostJacobianEntries >> 20));
+  }
+}
+
 }  // namespace
 
 std::vector<FitParameter> ResolveFitParameters(const Model& model,
@@ -366,19 +408,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   Residuals f(model, logs, params, options.replay, threads, options.stop);
   std::size_t n = params.size();
-  if (f.size() <= static_cast<long>(f.parameters())) {
-    throw ValueError(fmt::format(
-        "the logs hold {} measured samples for {} unknowns ({} parameters and the start states): "
-        "fitting needs more samples than unknowns",
-        f.size(), f.parameters(), n));
-  }
-  if (options.delay == DelayKind::kInput &&
-      std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
-    throw ArgumentError(
-        "delay", "ctrl",
-        "the logs have no input column (ctrl[...], qfrc_applied[...]): there is no input to "
-        "delay; name the commanded input with a column map, or estimate no delay");
-  }
+  RequireEnoughData(f, logs, options);
   IdentifyResult result;
   double dt = model->opt.timestep;
   std::vector<double> x(f.parameters(), 0.0);  // start offsets from 0: the logged start
@@ -419,25 +449,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.start_unknowns = static_cast<long>(f.parameters() - f.physical());
   result.start_groups = static_cast<long>(f.colors());
   result.runs_per_jacobian = static_cast<long>(f.physical() + f.colors() + 1);
-  if (result.relative_offset > kFarFromLinear) {
-    result.warnings.push_back(fmt::format(
-        "the fit stopped where a Gauss–Newton step would still move the estimates by more than "
-        "the noise allows (relative offset {:.2g}, above {:g}): the residuals are far from linear "
-        "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
-        result.relative_offset, kFarFromLinear,
-        options.replay.window > 0
-            ? "Shorter windows (--window) keep each simulation closer to the log."
-            : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
-              "chaos): fit in windows that restart from the logged state (--window 0.25, "
-              "multiple shooting)."));
-  }
-  if (!f.fit_starts()) {
-    result.warnings.push_back(fmt::format(
-        "the start states were taken as logged, not fitted: with these windows and logs they "
-        "would add more than {} unknowns, or a Jacobian of more than {} million entries; their "
-        "measurement noise may bias the estimates (use longer windows, or fewer samples)",
-        kMostStartUnknowns, kMostJacobianEntries >> 20));
-  }
+  WarnAboutFit(f, options, &result);
   Model fitted = model.Clone();
   ApplyEstimates(fitted, result);
   for (const RobotLog& log : logs) {
