@@ -188,29 +188,63 @@ void SwitchToWriteAheadLog(sqlite3* db, const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// SQLite's own recovery of a store a writer left mid-write: on the first read of a writable
+// connection, which writes nothing else; `*db` is closed first and is read-only again after.
+void RecoverForReading(sqlite3** db, const std::string& path) {
+  sqlite3_close(*db);
+  *db = nullptr;
+  sqlite3* writable = nullptr;
+  try {
+    writable = OpenDatabase(path, SQLITE_OPEN_READWRITE);
+  } catch (const IoError& e) {
+    throw IoError(std::string(e.what()) +
+                  " (a plumb writing it was killed mid-write, and SQLite can finish its "
+                  "recovery only where the file is writable)");
+  }
+  sqlite3_exec(writable, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  sqlite3_close(writable);
+  *db = OpenDatabase(path, SQLITE_OPEN_READONLY);
+}
+
+// Throws IoError unless SQLite's quick_check finds the store `db` (at `path`) sound.
+void RequireUndamaged(sqlite3* db, const std::string& path) {
+  Statement check(db, "PRAGMA quick_check", path);
+  std::string verdict = check.Step() ? check.Text(0) : "no answer";
+  if (verdict != "ok") {
+    throw IoError("results store '" + path + "' is damaged (SQLite quick_check: " + verdict +
+                  "); restore it from a copy or start a new store file.");
+  }
+}
+
+// The tables and the ids in one transaction: a store killed while it is made holds all of
+// them or none (one table alone used to make it "not a plumb results store").
+std::string CreateTablesSql() {
+  return fmt::format(
+      "BEGIN IMMEDIATE;"
+      "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, "
+      "config TEXT, command TEXT, model_file TEXT, model_hash TEXT, "
+      "plumb_version TEXT, mujoco_version TEXT, started TEXT, finished TEXT, "
+      "parameters TEXT, metrics TEXT, count INTEGER);"
+      "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
+      "PRIMARY KEY(run, idx));"
+      "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
+      "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
+      "PRIMARY KEY(run, idx));"
+      "PRAGMA application_id = {}; PRAGMA user_version = {}; COMMIT;",
+      kStoreApplicationId, kStoreFormat);
+}
+
+}  // namespace
+
 ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>()) {
   impl_->file = path;
   bool read_only = mode == Mode::kReadOnly;
   impl_->db = OpenDatabase(
       path, read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   try {
-    if (read_only && NeedsRecovery(impl_->db)) {
-      // SQLite's own recovery, on the first read of a writable connection; it writes nothing
-      // else, and the store is read-only again after it
-      sqlite3_close(impl_->db);
-      impl_->db = nullptr;
-      sqlite3* writable = nullptr;
-      try {
-        writable = OpenDatabase(path, SQLITE_OPEN_READWRITE);
-      } catch (const IoError& e) {
-        throw IoError(std::string(e.what()) +
-                      " (a plumb writing it was killed mid-write, and SQLite can finish its "
-                      "recovery only where the file is writable)");
-      }
-      sqlite3_exec(writable, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
-      sqlite3_close(writable);
-      impl_->db = OpenDatabase(path, SQLITE_OPEN_READONLY);
-    }
+    if (read_only && NeedsRecovery(impl_->db)) RecoverForReading(&impl_->db, path);
     auto integer = [&](const char* sql) {
       Statement s(impl_->db, sql, path);
       return s.Step() ? s.Int(0) : 0L;
@@ -240,33 +274,11 @@ ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make
       if (fresh) throw IoError("'" + path + "' is empty, not a plumb results store.");
       return;
     }
-    if (!fresh) {
-      Statement check(impl_->db, "PRAGMA quick_check", path);
-      std::string verdict = check.Step() ? check.Text(0) : "no answer";
-      if (verdict != "ok") {
-        throw IoError("results store '" + path + "' is damaged (SQLite quick_check: " + verdict +
-                      "); restore it from a copy or start a new store file.");
-      }
-    }
+    if (!fresh) RequireUndamaged(impl_->db, path);
     SwitchToWriteAheadLog(impl_->db, path);
     impl_->Exec("PRAGMA synchronous=NORMAL");
     if (id != kStoreApplicationId || ours != 3 || format < kStoreFormat) {
-      // the tables and the ids in one transaction: a store killed while it is made holds all
-      // of them or none (one table alone used to make it "not a plumb results store")
-      impl_->Exec(
-          fmt::format("BEGIN IMMEDIATE;"
-                      "CREATE TABLE IF NOT EXISTS runs(id INTEGER PRIMARY KEY, kind TEXT, "
-                      "config TEXT, command TEXT, model_file TEXT, model_hash TEXT, "
-                      "plumb_version TEXT, mujoco_version TEXT, started TEXT, finished TEXT, "
-                      "parameters TEXT, metrics TEXT, count INTEGER);"
-                      "CREATE TABLE IF NOT EXISTS cases(run INTEGER, idx INTEGER, params TEXT, "
-                      "PRIMARY KEY(run, idx));"
-                      "CREATE TABLE IF NOT EXISTS results(run INTEGER, idx INTEGER, metrics TEXT, "
-                      "diverged INTEGER, diverged_time REAL, problem TEXT, warnings TEXT, "
-                      "PRIMARY KEY(run, idx));"
-                      "PRAGMA application_id = {}; PRAGMA user_version = {}; COMMIT;",
-                      kStoreApplicationId, kStoreFormat)
-              .c_str());
+      impl_->Exec(CreateTablesSql().c_str());  // all tables and ids, or none
     }
   } catch (const Error&) {
     sqlite3_close(impl_->db);

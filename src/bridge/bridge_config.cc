@@ -120,6 +120,74 @@ class Reader {
   std::string path_;
 };
 
+// The settings of fault `f` that its kind takes (a latency's delays, a noise's signal and
+// sigma, ...) into `spec`, its text without the times; adds the keys it read to `keys`.
+void ReadFaultSettings(Reader& r, const toml::table& f, const std::string& prefix, FaultSpec* spec,
+                       std::set<std::string>* keys) {
+  using Kind = FaultSpec::Kind;
+  auto direction = [&] {
+    keys->insert("direction");
+    spec->state = r.Choice(f, "direction", "command", {"command", "state"}) == "state";
+    return spec->state ? "states" : "commands";
+  };
+  auto motor = [&](bool required) {
+    keys->insert("motor");
+    if (required && f.get("motor") == nullptr)
+      r.Fail(&f, prefix + "motor", "is missing: the motor's index");
+    spec->motor = static_cast<int>(r.Number(f, "motor", -1, -1, 34, prefix));
+    return spec->motor < 0 ? std::string("every motor") : fmt::format("motor {}", spec->motor);
+  };
+  switch (spec->kind) {
+    case Kind::kLatency: {
+      const char* d = direction();
+      keys->insert({"fixed_ms", "jitter_ms"});
+      spec->fixed = r.Number(f, "fixed_ms", 0, 0, 60000, prefix) / 1000;
+      spec->jitter = r.Number(f, "jitter_ms", 0, 0, 60000, prefix) / 1000;
+      spec->text = fmt::format("latency of {} ({:g} ms + up to {:g} ms)", d, spec->fixed * 1000,
+                               spec->jitter * 1000);
+      break;
+    }
+    case Kind::kDrop: {
+      const char* d = direction();
+      keys->insert("probability");
+      spec->probability = r.Number(f, "probability", 0, 0, 1, prefix);
+      spec->text = fmt::format("drop of {} (p = {:g})", d, spec->probability);
+      break;
+    }
+    case Kind::kNoise: {
+      keys->insert({"signal", "sigma", "bias"});
+      spec->signal = r.Choice(
+          f, "signal", "q",
+          {"q", "dq", "tau_est", "gyro", "accel", "quat", "position", "velocity", "foot_force"});
+      spec->sigma = r.Number(f, "sigma", 0, 0, 1e6, prefix);
+      spec->bias = r.Number(f, "bias", 0, -1e6, 1e6, prefix);
+      std::string who = motor(false);
+      spec->text = fmt::format("noise on {} of {} (sigma {:g}, bias {:g})", spec->signal, who,
+                               spec->sigma, spec->bias);
+      break;
+    }
+    case Kind::kTorqueLimit: {
+      keys->insert("limit");
+      spec->limit = r.Number(f, "limit", 0, 0, 1e6, prefix);
+      spec->text = fmt::format("torque limit {:g} N*m on {}", spec->limit, motor(false));
+      break;
+    }
+    case Kind::kMotorFailure: {
+      keys->insert("behavior");
+      std::string who = motor(true);
+      spec->stuck = r.Choice(f, "behavior", "zero", {"zero", "stuck"}) == "stuck";
+      spec->text = fmt::format("{} failed ({})", who, spec->stuck ? "stuck" : "zero torque");
+      break;
+    }
+    case Kind::kImuFreeze:
+      spec->text = "IMU frozen";
+      break;
+    case Kind::kControllerPause:
+      spec->text = "controller paused";
+      break;
+  }
+}
+
 FaultSpec ReadFault(Reader& r, const toml::table& f, const std::string& prefix) {
   using Kind = FaultSpec::Kind;
   static const std::map<std::string, Kind> kKinds = {{"latency", Kind::kLatency},
@@ -143,67 +211,7 @@ FaultSpec ReadFault(Reader& r, const toml::table& f, const std::string& prefix) 
   std::string when = std::isfinite(spec.stop)
                          ? fmt::format(" from {:g} s to {:g} s", spec.start, spec.stop)
                          : fmt::format(" from {:g} s", spec.start);
-  auto direction = [&] {
-    keys.insert("direction");
-    spec.state = r.Choice(f, "direction", "command", {"command", "state"}) == "state";
-    return spec.state ? "states" : "commands";
-  };
-  auto motor = [&](bool required) {
-    keys.insert("motor");
-    if (required && f.get("motor") == nullptr)
-      r.Fail(&f, prefix + "motor", "is missing: the motor's index");
-    spec.motor = static_cast<int>(r.Number(f, "motor", -1, -1, 34, prefix));
-    return spec.motor < 0 ? std::string("every motor") : fmt::format("motor {}", spec.motor);
-  };
-  switch (spec.kind) {
-    case Kind::kLatency: {
-      const char* d = direction();
-      keys.insert({"fixed_ms", "jitter_ms"});
-      spec.fixed = r.Number(f, "fixed_ms", 0, 0, 60000, prefix) / 1000;
-      spec.jitter = r.Number(f, "jitter_ms", 0, 0, 60000, prefix) / 1000;
-      spec.text = fmt::format("latency of {} ({:g} ms + up to {:g} ms)", d, spec.fixed * 1000,
-                              spec.jitter * 1000);
-      break;
-    }
-    case Kind::kDrop: {
-      const char* d = direction();
-      keys.insert("probability");
-      spec.probability = r.Number(f, "probability", 0, 0, 1, prefix);
-      spec.text = fmt::format("drop of {} (p = {:g})", d, spec.probability);
-      break;
-    }
-    case Kind::kNoise: {
-      keys.insert({"signal", "sigma", "bias"});
-      spec.signal = r.Choice(
-          f, "signal", "q",
-          {"q", "dq", "tau_est", "gyro", "accel", "quat", "position", "velocity", "foot_force"});
-      spec.sigma = r.Number(f, "sigma", 0, 0, 1e6, prefix);
-      spec.bias = r.Number(f, "bias", 0, -1e6, 1e6, prefix);
-      std::string who = motor(false);
-      spec.text = fmt::format("noise on {} of {} (sigma {:g}, bias {:g})", spec.signal, who,
-                              spec.sigma, spec.bias);
-      break;
-    }
-    case Kind::kTorqueLimit: {
-      keys.insert("limit");
-      spec.limit = r.Number(f, "limit", 0, 0, 1e6, prefix);
-      spec.text = fmt::format("torque limit {:g} N*m on {}", spec.limit, motor(false));
-      break;
-    }
-    case Kind::kMotorFailure: {
-      keys.insert("behavior");
-      std::string who = motor(true);
-      spec.stuck = r.Choice(f, "behavior", "zero", {"zero", "stuck"}) == "stuck";
-      spec.text = fmt::format("{} failed ({})", who, spec.stuck ? "stuck" : "zero torque");
-      break;
-    }
-    case Kind::kImuFreeze:
-      spec.text = "IMU frozen";
-      break;
-    case Kind::kControllerPause:
-      spec.text = "controller paused";
-      break;
-  }
+  ReadFaultSettings(r, f, prefix, &spec, &keys);
   r.OnlyKeys(f, keys, prefix);
   spec.text += when;
   return spec;

@@ -77,6 +77,133 @@ std::string SensorUnit(const mjModel* m, int s) {
   }
 }
 
+// Body `b`: its parent, mass, centre of mass and principal inertia.
+BodyDescription DescribeBody(const Model& model, int b) {
+  const mjModel* m = model.get();
+  BodyDescription body;
+  body.id = b;
+  body.name = b == 0 ? "world" : model.Name(mjOBJ_BODY, b);
+  body.parent = m->body_parentid[b];
+  body.mass = m->body_mass[b];
+  for (int i = 0; i < 3; ++i) {
+    body.com[i] = m->body_ipos[3 * b + i];
+    body.inertia[i] = m->body_inertia[3 * b + i];
+  }
+  return body;
+}
+
+// Joint `j`: its type, addresses, limits, passive properties and position unit.
+JointDescription DescribeJoint(const Model& model, int j) {
+  const mjModel* m = model.get();
+  JointDescription joint;
+  joint.id = j;
+  joint.name = model.Name(mjOBJ_JOINT, j);
+  int type = m->jnt_type[j];
+  joint.type = compat::NameOf(compat::kJointTypes, type);
+  joint.body = m->jnt_bodyid[j];
+  joint.qposadr = m->jnt_qposadr[j];
+  joint.dofadr = m->jnt_dofadr[j];
+  joint.nq = JointQposSize(type);
+  joint.nv = JointDofSize(type);
+  joint.limited = m->jnt_limited[j];
+  joint.range = {m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
+  joint.damping = m->dof_damping[joint.dofadr];
+  joint.armature = m->dof_armature[joint.dofadr];
+  joint.stiffness = m->jnt_stiffness[j];
+  joint.frictionloss = m->dof_frictionloss[joint.dofadr];
+  joint.position_unit = type == mjJNT_HINGE   ? "rad"
+                        : type == mjJNT_SLIDE ? "m"
+                        : type == mjJNT_BALL  ? "quat"
+                                              : "m, quat";
+  return joint;
+}
+
+// MuJoCo 3.12+ actuators may take several controls (a pid: two) and give several force
+// outputs: ctrl-sized arrays by the first control, gear by the first output
+ActuatorDescription DescribeActuator(const Model& model, int u) {
+  const mjModel* m = model.get();
+  ActuatorDescription act;
+  act.id = u;
+  auto [c, controls] = compat::ActuatorControls(m, u);
+  long output = compat::ActuatorOutputs(m, u).first;
+  act.name = model.Name(mjOBJ_ACTUATOR, u);
+  int trn = m->actuator_trntype[u];
+  act.transmission = compat::NameOf(compat::kTransmissions, trn);
+  int target_type = trn == mjTRN_TENDON ? mjOBJ_TENDON
+                    : trn == mjTRN_SITE ? mjOBJ_SITE
+                    : trn == mjTRN_BODY ? mjOBJ_BODY
+                                        : mjOBJ_JOINT;
+  act.target = model.Name(target_type, m->actuator_trnid[2 * u]);
+  act.gear = m->actuator_gear[6 * output];
+  act.ctrllimited = controls > 0 && m->actuator_ctrllimited[c];
+  if (controls > 0) {
+    act.ctrlrange = {m->actuator_ctrlrange[2 * c], m->actuator_ctrlrange[2 * c + 1]};
+  }
+  act.forcelimited = m->actuator_forcelimited[u];
+  act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
+  // the joint (tendon) receives gear x the actuator force: a torque on a hinge, a force
+  // on a slide or tendon
+  std::string position = ActuatorPositionUnit(m, u);
+  act.joint_force_unit = position == "rad" ? "N*m" : position == "m" ? "N" : "N, N*m";
+  // with a gear the actuator's force is the joint's divided by it, its length multiplied
+  bool geared = act.gear != 1;
+  act.force_unit = geared ? act.joint_force_unit + "/gear" : act.joint_force_unit;
+  if (geared) position = "gear*" + position;
+  act.kind = ActuatorKind(m, u);
+  act.ctrl_unit = act.kind == "motor"      ? act.force_unit
+                  : act.kind == "position" ? position
+                  : act.kind == "velocity" ? position + "/s"
+                  : act.kind == "muscle"   ? "activation 0..1"
+                  : act.kind == "pid"      ? position + " (then a velocity setpoint)"
+                                           : "set by gainprm";
+  // the bounds of the actuator force: a motor's gain x ctrlrange, then forcerange
+  double lo = -mjMAXVAL, hi = mjMAXVAL;
+  if (act.kind == "motor" && act.ctrllimited) {
+    double gain = m->actuator_gainprm[mjNGAIN * u];
+    lo = std::min(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
+    hi = std::max(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
+    act.joint_force_limited = true;
+  }
+  if (act.forcelimited) {
+    lo = std::max(lo, act.forcerange[0]);
+    hi = std::min(hi, act.forcerange[1]);
+    act.joint_force_limited = true;
+  }
+  if (act.joint_force_limited) {
+    act.joint_force_range = {std::min(act.gear * lo, act.gear * hi),
+                             std::max(act.gear * lo, act.gear * hi)};
+  }
+  return act;
+}
+
+// What each role of path is, where it lives, what sets it, with this model's sizes.
+std::vector<RoleDescription> Roles(const mjModel* m) {
+  auto n = [](const char* field, long size) {
+    return std::string(field) + " (" + std::to_string(size) + ")";
+  };
+  return {
+      {"parameter", "mjModel",
+       "opt.timestep, opt.gravity, body_mass, body_inertia, dof_damping, geom_size, "
+       "actuator_gear, ...",
+       "the MJCF compiler; fixed while the simulation runs (assign before a run)"},
+      {"state", "mjData",
+       "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na) +
+           (compat::PlasticSize(m) ? ", " + n("plastic", compat::PlasticSize(m)) : "") +
+           (compat::HistorySize(m)
+                ? ", " + n("history", compat::HistorySize(m)) + " (delays' ring buffer: read only)"
+                : ""),
+       "mj_step, which advances it; you may also set it, then call mj_forward"},
+      {"input", "mjData",
+       n("ctrl", m->nu) + ", " + n("qfrc_applied", m->nv) + ", " +
+           n("xfrc_applied", 6L * m->nbody) + ", " + n("mocap_pos", 3L * m->nmocap),
+       "your controller, before each mj_step"},
+      {"derived", "mjData",
+       n("qacc", m->nv) + ", " + n("xpos", 3L * m->nbody) + ", " + n("sensordata", m->nsensordata) +
+           ", contact, qfrc_bias, ...",
+       "MuJoCo, in mj_forward/mj_step; stale until one of them runs"},
+  };
+}
+
 }  // namespace
 
 std::string ActuatorPositionUnit(const mjModel* m, int actuator) {
@@ -88,9 +215,6 @@ std::string ActuatorPositionUnit(const mjModel* m, int actuator) {
   return "m, rad";
 }
 
-// Long by design (about 130 lines): one block per section of the description, in the order
-// `plumb inspect` prints them; each block is a few lines of copying, and splitting them would
-// scatter the one list a reader checks against the output.
 std::string DelayDescription::Warning() const {
   if (!shortened()) return "";
   return fmt::format(
@@ -140,96 +264,14 @@ ModelDescription Describe(const Model& model) {
   for (int i = 0; i < 3; ++i) out.gravity[i] = m->opt.gravity[i];
 
   for (int b = 0; b < m->nbody; ++b) {
-    BodyDescription body;
-    body.id = b;
-    body.name = b == 0 ? "world" : model.Name(mjOBJ_BODY, b);
-    body.parent = m->body_parentid[b];
-    body.mass = m->body_mass[b];
-    for (int i = 0; i < 3; ++i) {
-      body.com[i] = m->body_ipos[3 * b + i];
-      body.inertia[i] = m->body_inertia[3 * b + i];
-    }
-    out.total_mass += body.mass;
-    out.bodies.push_back(body);
+    out.bodies.push_back(DescribeBody(model, b));
+    out.total_mass += out.bodies.back().mass;
   }
 
-  for (int j = 0; j < m->njnt; ++j) {
-    JointDescription joint;
-    joint.id = j;
-    joint.name = model.Name(mjOBJ_JOINT, j);
-    int type = m->jnt_type[j];
-    joint.type = compat::NameOf(compat::kJointTypes, type);
-    joint.body = m->jnt_bodyid[j];
-    joint.qposadr = m->jnt_qposadr[j];
-    joint.dofadr = m->jnt_dofadr[j];
-    joint.nq = JointQposSize(type);
-    joint.nv = JointDofSize(type);
-    joint.limited = m->jnt_limited[j];
-    joint.range = {m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
-    joint.damping = m->dof_damping[joint.dofadr];
-    joint.armature = m->dof_armature[joint.dofadr];
-    joint.stiffness = m->jnt_stiffness[j];
-    joint.frictionloss = m->dof_frictionloss[joint.dofadr];
-    joint.position_unit = type == mjJNT_HINGE   ? "rad"
-                          : type == mjJNT_SLIDE ? "m"
-                          : type == mjJNT_BALL  ? "quat"
-                                                : "m, quat";
-    out.joints.push_back(joint);
-  }
+  for (int j = 0; j < m->njnt; ++j) out.joints.push_back(DescribeJoint(model, j));
 
-  // MuJoCo 3.12+ actuators may take several controls (a pid: two) and give several force
-  // outputs: ctrl-sized arrays by the first control, gear by the first output
   for (int u = 0; u < compat::ActuatorCount(m); ++u) {
-    ActuatorDescription act;
-    act.id = u;
-    auto [c, controls] = compat::ActuatorControls(m, u);
-    long output = compat::ActuatorOutputs(m, u).first;
-    act.name = model.Name(mjOBJ_ACTUATOR, u);
-    int trn = m->actuator_trntype[u];
-    act.transmission = compat::NameOf(compat::kTransmissions, trn);
-    int target_type = trn == mjTRN_TENDON ? mjOBJ_TENDON
-                      : trn == mjTRN_SITE ? mjOBJ_SITE
-                      : trn == mjTRN_BODY ? mjOBJ_BODY
-                                          : mjOBJ_JOINT;
-    act.target = model.Name(target_type, m->actuator_trnid[2 * u]);
-    act.gear = m->actuator_gear[6 * output];
-    act.ctrllimited = controls > 0 && m->actuator_ctrllimited[c];
-    if (controls > 0) act.ctrlrange = {m->actuator_ctrlrange[2 * c], m->actuator_ctrlrange[2 * c + 1]};
-    act.forcelimited = m->actuator_forcelimited[u];
-    act.forcerange = {m->actuator_forcerange[2 * u], m->actuator_forcerange[2 * u + 1]};
-    // the joint (tendon) receives gear x the actuator force: a torque on a hinge, a force
-    // on a slide or tendon
-    std::string position = ActuatorPositionUnit(m, u);
-    act.joint_force_unit = position == "rad" ? "N*m" : position == "m" ? "N" : "N, N*m";
-    // with a gear the actuator's force is the joint's divided by it, its length multiplied
-    bool geared = act.gear != 1;
-    act.force_unit = geared ? act.joint_force_unit + "/gear" : act.joint_force_unit;
-    if (geared) position = "gear*" + position;
-    act.kind = ActuatorKind(m, u);
-    act.ctrl_unit = act.kind == "motor"      ? act.force_unit
-                    : act.kind == "position" ? position
-                    : act.kind == "velocity" ? position + "/s"
-                    : act.kind == "muscle"   ? "activation 0..1"
-                    : act.kind == "pid"      ? position + " (then a velocity setpoint)"
-                                             : "set by gainprm";
-    // the bounds of the actuator force: a motor's gain x ctrlrange, then forcerange
-    double lo = -mjMAXVAL, hi = mjMAXVAL;
-    if (act.kind == "motor" && act.ctrllimited) {
-      double gain = m->actuator_gainprm[mjNGAIN * u];
-      lo = std::min(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
-      hi = std::max(gain * act.ctrlrange[0], gain * act.ctrlrange[1]);
-      act.joint_force_limited = true;
-    }
-    if (act.forcelimited) {
-      lo = std::max(lo, act.forcerange[0]);
-      hi = std::min(hi, act.forcerange[1]);
-      act.joint_force_limited = true;
-    }
-    if (act.joint_force_limited) {
-      act.joint_force_range = {std::min(act.gear * lo, act.gear * hi),
-                               std::max(act.gear * lo, act.gear * hi)};
-    }
-    out.actuators.push_back(act);
+    out.actuators.push_back(DescribeActuator(model, u));
   }
 
   for (int s = 0; s < m->nsensor; ++s) {
@@ -239,30 +281,7 @@ ModelDescription Describe(const Model& model) {
   }
   out.delays = Delays(model);
 
-  auto n = [](const char* field, long size) {
-    return std::string(field) + " (" + std::to_string(size) + ")";
-  };
-  out.roles = {
-      {"parameter", "mjModel",
-       "opt.timestep, opt.gravity, body_mass, body_inertia, dof_damping, geom_size, "
-       "actuator_gear, ...",
-       "the MJCF compiler; fixed while the simulation runs (assign before a run)"},
-      {"state", "mjData",
-       "time, " + n("qpos", m->nq) + ", " + n("qvel", m->nv) + ", " + n("act", m->na) +
-           (compat::PlasticSize(m) ? ", " + n("plastic", compat::PlasticSize(m)) : "") +
-           (compat::HistorySize(m) ? ", " + n("history", compat::HistorySize(m)) +
-                                         " (delays' ring buffer: read only)"
-                                   : ""),
-       "mj_step, which advances it; you may also set it, then call mj_forward"},
-      {"input", "mjData",
-       n("ctrl", m->nu) + ", " + n("qfrc_applied", m->nv) + ", " +
-           n("xfrc_applied", 6L * m->nbody) + ", " + n("mocap_pos", 3L * m->nmocap),
-       "your controller, before each mj_step"},
-      {"derived", "mjData",
-       n("qacc", m->nv) + ", " + n("xpos", 3L * m->nbody) + ", " + n("sensordata", m->nsensordata) +
-           ", contact, qfrc_bias, ...",
-       "MuJoCo, in mj_forward/mj_step; stale until one of them runs"},
-  };
+  out.roles = Roles(m);
   return out;
 }
 

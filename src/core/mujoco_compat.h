@@ -5,6 +5,10 @@
 // mjVERSION_HEADER is three digits up to 3.4.0 (340) and major*10^6 + minor*10^3 + patch
 // from 3.5.0 (3011000, 4000001). Code elsewhere uses enum names and the helpers below,
 // never raw enum values or version numbers.
+//
+// The enumeration name tables (kSensorTypes, NameOf, EnumFieldName, ...) live in
+// mujoco_compat_names.h, which this header includes: code includes this header only, so
+// every version difference is still reached through this one include.
 
 #ifndef PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
 #define PLUMB_SRC_CORE_MUJOCO_COMPAT_H_
@@ -19,6 +23,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "core/mujoco_compat_names.h"
 
 namespace plumb::compat {
 
@@ -117,178 +123,6 @@ inline const std::vector<OptionField>& OptionFields() {
   return fields;
 }
 
-// Integrator values and their MJCF names, in enum order.
-struct EnumName {
-  int value;
-  const char* name;
-};
-inline constexpr EnumName kIntegrators[] = {
-    {mjINT_EULER, "Euler"},
-    {mjINT_RK4, "RK4"},
-    {mjINT_IMPLICIT, "implicit"},
-#if mjVERSION_HEADER >= 233
-    {mjINT_IMPLICITFAST, "implicitfast"},
-#endif
-};
-
-// Friction cone, solver and Jacobian types by their MJCF names.
-inline constexpr EnumName kCones[] = {{mjCONE_PYRAMIDAL, "pyramidal"},
-                                      {mjCONE_ELLIPTIC, "elliptic"}};
-inline constexpr EnumName kSolvers[] = {
-    {mjSOL_PGS, "PGS"}, {mjSOL_CG, "CG"}, {mjSOL_NEWTON, "Newton"}};
-inline constexpr EnumName kJacobians[] = {
-    {mjJAC_DENSE, "dense"}, {mjJAC_SPARSE, "sparse"}, {mjJAC_AUTO, "auto"}};
-
-// Warning kinds by enum name. Values shift between releases (VGEOMFULL was removed in
-// 3.7.0), so the table is built from the names that exist in this header.
-inline constexpr EnumName kWarnings[] = {
-    {mjWARN_INERTIA, "INERTIA"},     {mjWARN_CONTACTFULL, "CONTACTFULL"},
-    {mjWARN_CNSTRFULL, "CNSTRFULL"},
-#if mjVERSION_HEADER < 3007000
-    {mjWARN_VGEOMFULL, "VGEOMFULL"},
-#endif
-    {mjWARN_BADQPOS, "BADQPOS"},     {mjWARN_BADQVEL, "BADQVEL"},
-    {mjWARN_BADQACC, "BADQACC"},     {mjWARN_BADCTRL, "BADCTRL"},
-};
-
-// Joint, transmission and sensor types by their MJCF names.
-inline constexpr EnumName kJointTypes[] = {
-    {mjJNT_FREE, "free"}, {mjJNT_BALL, "ball"}, {mjJNT_SLIDE, "slide"}, {mjJNT_HINGE, "hinge"}};
-inline constexpr EnumName kTransmissions[] = {{mjTRN_JOINT, "joint"},
-                                              {mjTRN_JOINTINPARENT, "jointinparent"},
-                                              {mjTRN_SLIDERCRANK, "slidercrank"},
-                                              {mjTRN_TENDON, "tendon"},
-                                              {mjTRN_SITE, "site"},
-                                              {mjTRN_BODY, "body"}};
-inline constexpr EnumName kSensorTypes[] = {
-    {mjSENS_TOUCH, "touch"},
-    {mjSENS_ACCELEROMETER, "accelerometer"},
-    {mjSENS_VELOCIMETER, "velocimeter"},
-    {mjSENS_GYRO, "gyro"},
-    {mjSENS_FORCE, "force"},
-    {mjSENS_TORQUE, "torque"},
-    {mjSENS_MAGNETOMETER, "magnetometer"},
-    {mjSENS_RANGEFINDER, "rangefinder"},
-    {mjSENS_JOINTPOS, "jointpos"},
-    {mjSENS_JOINTVEL, "jointvel"},
-    {mjSENS_TENDONPOS, "tendonpos"},
-    {mjSENS_TENDONVEL, "tendonvel"},
-    {mjSENS_ACTUATORPOS, "actuatorpos"},
-    {mjSENS_ACTUATORVEL, "actuatorvel"},
-    {mjSENS_ACTUATORFRC, "actuatorfrc"},
-    {mjSENS_BALLQUAT, "ballquat"},
-    {mjSENS_BALLANGVEL, "ballangvel"},
-    {mjSENS_JOINTLIMITPOS, "jointlimitpos"},
-    {mjSENS_JOINTLIMITVEL, "jointlimitvel"},
-    {mjSENS_JOINTLIMITFRC, "jointlimitfrc"},
-    {mjSENS_TENDONLIMITPOS, "tendonlimitpos"},
-    {mjSENS_TENDONLIMITVEL, "tendonlimitvel"},
-    {mjSENS_TENDONLIMITFRC, "tendonlimitfrc"},
-    {mjSENS_FRAMEPOS, "framepos"},
-    {mjSENS_FRAMEQUAT, "framequat"},
-    {mjSENS_FRAMEXAXIS, "framexaxis"},
-    {mjSENS_FRAMEYAXIS, "frameyaxis"},
-    {mjSENS_FRAMEZAXIS, "framezaxis"},
-    {mjSENS_FRAMELINVEL, "framelinvel"},
-    {mjSENS_FRAMEANGVEL, "frameangvel"},
-    {mjSENS_FRAMELINACC, "framelinacc"},
-    {mjSENS_FRAMEANGACC, "frameangacc"},
-    {mjSENS_SUBTREECOM, "subtreecom"},
-    {mjSENS_SUBTREELINVEL, "subtreelinvel"},
-    {mjSENS_SUBTREEANGMOM, "subtreeangmom"},
-    {mjSENS_CLOCK, "clock"},
-    {mjSENS_USER, "user"},
-// 3.11 has these (when each came is not pinned here: a release between 2.3 and 3.11 that
-// lacks one fails to compile this table, so they are gated at 3.11 and older releases print
-// them as "type N"); 4.0.1 has the same set
-#if mjVERSION_HEADER >= 3011000
-    {mjSENS_CAMPROJECTION, "camprojection"},
-    {mjSENS_JOINTACTFRC, "jointactuatorfrc"},
-    {mjSENS_TENDONACTFRC, "tendonactuatorfrc"},
-    {mjSENS_INSIDESITE, "insidesite"},
-    {mjSENS_GEOMDIST, "distance"},
-    {mjSENS_GEOMNORMAL, "normal"},
-    {mjSENS_GEOMFROMTO, "fromto"},
-    {mjSENS_CONTACT, "contact"},
-    {mjSENS_E_POTENTIAL, "e_potential"},
-    {mjSENS_E_KINETIC, "e_kinetic"},
-    {mjSENS_TACTILE, "tactile"},
-    {mjSENS_PLUGIN, "plugin"},
-#endif
-};
-// The sensor that measures an actuator's force at its joint (jointactuatorfrc), or -1 in a
-// MuJoCo without it.
-#if mjVERSION_HEADER >= 3011000
-inline constexpr int kSensorJointActuatorFrc = mjSENS_JOINTACTFRC;
-#else
-inline constexpr int kSensorJointActuatorFrc = -1;
-#endif
-
-// Geom, equality, actuator dynamics/gain/bias types by their MJCF names (the types both
-// 2.x and 3.x have; a newer type reads as "type N", see NameOf).
-inline constexpr EnumName kGeomTypes[] = {
-    {mjGEOM_PLANE, "plane"},       {mjGEOM_HFIELD, "hfield"},     {mjGEOM_SPHERE, "sphere"},
-    {mjGEOM_CAPSULE, "capsule"},   {mjGEOM_ELLIPSOID, "ellipsoid"}, {mjGEOM_CYLINDER, "cylinder"},
-    {mjGEOM_BOX, "box"},           {mjGEOM_MESH, "mesh"}};
-inline constexpr EnumName kEqualityTypes[] = {{mjEQ_CONNECT, "connect"},
-                                              {mjEQ_WELD, "weld"},
-                                              {mjEQ_JOINT, "joint"},
-                                              {mjEQ_TENDON, "tendon"},
-                                              {mjEQ_DISTANCE, "distance"}};
-inline constexpr EnumName kDynamicsTypes[] = {{mjDYN_NONE, "none"},
-                                              {mjDYN_INTEGRATOR, "integrator"},
-                                              {mjDYN_FILTER, "filter"},
-                                              {mjDYN_MUSCLE, "muscle"},
-                                              {mjDYN_USER, "user"}};
-// 3.11 has the dcmotor and so3 gains (when they came is not pinned here: releases before
-// 3.11 print them as "type N"); 3.12 added the pid gain, whose actuator takes two controls (a
-// position and a velocity setpoint).
-#if mjVERSION_HEADER >= 3012000
-inline constexpr int kGainPid = mjGAIN_PID;
-#else
-inline constexpr int kGainPid = -1;
-#endif
-inline constexpr EnumName kGainTypes[] = {
-    {mjGAIN_FIXED, "fixed"}, {mjGAIN_AFFINE, "affine"}, {mjGAIN_MUSCLE, "muscle"},
-#if mjVERSION_HEADER >= 3011000
-    {mjGAIN_DCMOTOR, "dcmotor"}, {mjGAIN_SO3, "so3"},
-#endif
-#if mjVERSION_HEADER >= 3012000
-    {mjGAIN_PID, "pid"},
-#endif
-    {mjGAIN_USER, "user"}};
-inline constexpr EnumName kBiasTypes[] = {
-    {mjBIAS_NONE, "none"}, {mjBIAS_AFFINE, "affine"}, {mjBIAS_MUSCLE, "muscle"},
-    {mjBIAS_USER, "user"}};
-
-// The name of `value` in `table`, or "type <value>" when the table lacks it.
-template <std::size_t N>
-std::string NameOf(const EnumName (&table)[N], int value) {
-  for (const EnumName& e : table) {
-    if (e.value == value) return e.name;
-  }
-  return "type " + std::to_string(value);
-}
-
-// The MJCF name of value `value` of the enumerated model array `field` ("sensor_type",
-// "jnt_type", ...), or nullopt when `field` holds no enumeration. MuJoCo renumbers some
-// enumerations between releases (mjtSensor did), so files store these names, never numbers.
-inline std::optional<std::string> EnumFieldName(const std::string& field, int value) {
-  if (field == "jnt_type") return NameOf(kJointTypes, value);
-  if (field == "geom_type") return NameOf(kGeomTypes, value);
-  if (field == "sensor_type") return NameOf(kSensorTypes, value);
-  if (field == "eq_type") return NameOf(kEqualityTypes, value);
-  if (field == "actuator_trntype") return NameOf(kTransmissions, value);
-  if (field == "actuator_dyntype") return NameOf(kDynamicsTypes, value);
-  if (field == "actuator_gaintype") return NameOf(kGainTypes, value);
-  if (field == "actuator_biastype") return NameOf(kBiasTypes, value);
-  if (field == "sensor_objtype" || field == "sensor_reftype") {
-    const char* name = mju_type2Str(value);
-    return name ? std::string(name) : "type " + std::to_string(value);
-  }
-  return std::nullopt;
-}
-
 // Value above which MuJoCo's own mj_checkPos/Vel/Acc consider a number diverged.
 inline constexpr double kMaxVal = mjMAXVAL;
 
@@ -318,13 +152,12 @@ long ActuatorCount(const M* m, long) {
 // counts actuators by nactuator (an actuator may take several controls, nu, and give
 // several force outputs, nout). The actuator_* arrays of mjModel are nactuator rows
 // (a few, such as actuator_gear, nout rows: the same for single-output actuators).
-inline int ActuatorCount(const mjModel* m) {
-  return static_cast<int>(detail::ActuatorCount(m, 0));
-}
+inline int ActuatorCount(const mjModel* m) { return static_cast<int>(detail::ActuatorCount(m, 0)); }
 
 namespace detail {
 template <typename M>
-auto ActuatorControls(const M* m, int i, int) -> decltype(m->actuator_ctrladr, std::pair<long, long>()) {
+auto ActuatorControls(const M* m, int i, int)
+    -> decltype(m->actuator_ctrladr, std::pair<long, long>()) {
   return {m->actuator_ctrladr[i], m->actuator_ctrlnum[i]};
 }
 template <typename M>
@@ -332,7 +165,8 @@ std::pair<long, long> ActuatorControls(const M*, int i, long) {
   return {i, 1};
 }
 template <typename M>
-auto ActuatorOutputs(const M* m, int i, int) -> decltype(m->actuator_outadr, std::pair<long, long>()) {
+auto ActuatorOutputs(const M* m, int i, int)
+    -> decltype(m->actuator_outadr, std::pair<long, long>()) {
   return {m->actuator_outadr[i], m->actuator_outnum[i]};
 }
 template <typename M>
@@ -636,9 +470,7 @@ inline Delay SensorDelay(const mjModel* m, int s) { return detail::SensorDelay(m
 // qfrc_applied, xfrc_applied, mocap_pos and mocap_quat, in that order.
 #if mjVERSION_HEADER >= 3005000
 inline constexpr const char* kIntegrationStateName = "mjSTATE_INTEGRATION";
-inline long IntegrationStateSize(const mjModel* m) {
-  return mj_stateSize(m, mjSTATE_INTEGRATION);
-}
+inline long IntegrationStateSize(const mjModel* m) { return mj_stateSize(m, mjSTATE_INTEGRATION); }
 inline void GetIntegrationState(const mjModel* m, const mjData* d, double* state) {
   mj_getState(m, d, state, mjSTATE_INTEGRATION);
 }

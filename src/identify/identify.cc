@@ -10,13 +10,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <list>
 #include <map>
 #include <memory>
 #include <set>
 #include <thread>
 
 #include "core/worker_pool.h"
+#include "identify/fit_residuals.h"
 #include "identify/identifiability.h"
 #include "identify/identify_residuals.h"
 #include "plumb/error.h"
@@ -39,230 +39,6 @@ bool MustBeNonNegative(const Path& path) {
 // again with the residuals' noise moved no estimate by more than 0.08 standard errors (the
 // arm and the pendulum, several seeds), and it is not done.
 constexpr double kWeightsAgree = 0.15;
-
-// Start states are fitted while they add at most this many unknowns (windows x logged state
-// elements); beyond, the dense Jacobian grows too large and the logged starts are used.
-constexpr std::size_t kMostStartUnknowns = 600;
-// and while the dense Jacobian (samples x unknowns) stays within 512 MB
-constexpr std::size_t kMostJacobianEntries = std::size_t(1) << 26;
-
-// The parameters' values in the worker's model, written from nominal each time so a run
-// does not depend on which runs the worker did before (body_mass rescales body_inertia).
-class ParameterWriter {
- public:
-  ParameterWriter(const Model& nominal, const std::vector<FitParameter>& params)
-      : params_(params),
-        inertia_(nominal->body_inertia, nominal->body_inertia + 3 * nominal->nbody) {
-    for (const FitParameter& p : params) arrays_ = arrays_ || ChangesModelArrays(p.path);
-  }
-
-  // Writes parameter values `x` (in scaled units) into the worker's model.
-  void Write(WorkerPool::Worker& w, const double* x) const {
-    mjModel* m = w.work.get_mutable();
-    for (const FitParameter& p : params_) WriteValues(w.work, w.data, p.path, {p.nominal});
-    std::copy(inertia_.begin(), inertia_.end(), m->body_inertia);
-    for (std::size_t i = 0; i < params_.size(); ++i) {
-      WriteValues(w.work, w.data, params_[i].path, {x[i] * params_[i].scale});
-    }
-    if (arrays_) mj_setConst(m, w.data.get());
-  }
-
- private:
-  const std::vector<FitParameter>& params_;
-  std::vector<mjtNum> inertia_;
-  bool arrays_ = false;
-};
-
-// The residual vector of given parameters: every measured sample of every log, simulated
-// minus logged, over the signal's weight. A divergence gives large, finite residuals.
-class Residuals {
- public:
-  // The start state of every window of every log is fitted too (a logged start carries the
-  // measurement noise): those offsets follow the parameters in x, in the logs' units.
-  Residuals(const Model& nominal, const std::vector<RobotLog>& logs,
-            const std::vector<FitParameter>& params, const ReplayOptions& replay, int threads,
-            const StopToken& stop)
-      : logs_(logs),
-        writer_(nominal, params),
-        pool_(nominal, threads),
-        physical_(params.size()),
-        n_(params.size()),
-        replay_(replay) {
-    replay_.stop = stop;  // a replay stops mid-log when asked
-    // per log: its windows and each window's start offsets; the samples and their weights
-    std::vector<std::size_t> windows_of, offsets_of;
-    std::size_t starts = 0;
-    for (const RobotLog& log : logs) {
-      windows_of.push_back(WindowStarts(nominal, log, replay).size());
-      offsets_of.push_back(StartOffsetsPerWindow(nominal, log));
-      starts += windows_of.back() * offsets_of.back();
-      weights_.emplace_back();
-      for (const LogSignal& s : log.measured) {
-        m_ += static_cast<long>(s.value.size());
-        weights_.back().push_back(NoiseFromDifferences(s.value));
-      }
-    }
-    fit_starts_ = starts <= kMostStartUnknowns &&
-                  static_cast<std::size_t>(m_) * (params.size() + starts) <= kMostJacobianEntries;
-    std::size_t windows = 0;  // of the logs before this one
-    for (std::size_t l = 0; l < logs.size(); ++l) {
-      starts_.push_back(n_);
-      if (fit_starts_) {
-        n_ += windows_of[l] * offsets_of[l];
-        colors_ = std::max(colors_, offsets_of[l]);
-        for (std::size_t w = 0; w < windows_of[l]; ++w) {
-          for (std::size_t j = 0; j < offsets_of[l]; ++j) {
-            start_window_.push_back(windows + w);
-            start_color_.push_back(j);
-          }
-        }
-      }
-      for (const std::vector<std::size_t>& signal : SampleWindows(nominal, logs[l], replay)) {
-        for (std::size_t w : signal) row_window_.push_back(windows + w);
-      }
-      windows += windows_of[l];
-    }
-    starts_.push_back(n_);
-  }
-
-  long size() const { return m_; }
-  long runs() const { return runs_; }  // how many points At has simulated
-  // Jacobian counts its calls and the runs they made here
-  long jacobians = 0, jacobian_runs = 0;
-  std::size_t parameters() const { return n_; }  // the model's, then the start states
-  std::size_t physical() const { return physical_; }
-  bool fit_starts() const { return fit_starts_; }
-  // The start-state unknowns in groups that one run can perturb together: an offset changes
-  // only its own window's samples, so the k-th offset of every window (of every log) is one
-  // group, and a Jacobian takes physical() + colors() + 1 runs however many windows there are.
-  std::size_t colors() const { return colors_; }
-  // Of start unknown u (counted from physical()): its group, and the window (over all logs)
-  // whose samples it moves; of residual row i: its window.
-  std::size_t start_color(std::size_t u) const { return start_color_[u]; }
-  std::size_t start_window(std::size_t u) const { return start_window_[u]; }
-  std::size_t row_window(long i) const { return row_window_[static_cast<std::size_t>(i)]; }
-  // Changing the delays keeps the windows (and so the start-state offsets) as they are.
-  void set_delays(double input, double sensor) {
-    replay_.input_delay = input;
-    replay_.sensor_delay = sensor;
-    remembered_.clear();
-  }
-  const ReplayOptions& replay() const { return replay_; }
-  const StopToken& stop() const { return replay_.stop; }
-  std::vector<std::vector<double>>& weights() { return weights_; }
-
-  // Residuals at each of `points` (scaled parameter vectors), in parallel; out[k] has size().
-  // The errors of the last points run (two Jacobians' worth) are remembered before they are
-  // weighted, and not run again: Ceres asks for the Jacobian at a trial point it has just run,
-  // the noise and the second solve's start are taken where the first solve ended, and the
-  // standard errors where the fit ended.
-  std::vector<std::vector<double>> At(const std::vector<std::vector<double>>& points) {
-    std::vector<std::shared_ptr<const std::vector<double>>> errors(points.size());
-    std::vector<long> todo;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      errors[k] = Remembered(points[k]);
-      if (!errors[k]) todo.push_back(static_cast<long>(k));
-    }
-    runs_ += static_cast<long>(todo.size());
-    std::size_t next = 0, emitted = 0;  // results come back in the order asked
-    pool_.Stream<std::vector<double>>(
-        std::max<std::size_t>(1, todo.size()),
-        [&](std::vector<long>* chunk) {
-          for (; next < todo.size(); ++next) chunk->push_back(todo[next]);
-        },
-        [&](WorkerPool::Worker& w, long index, std::vector<double>* e) {
-          writer_.Write(w, points[index].data());
-          *e = AllErrors(w, points[index]);
-          return true;
-        },
-        [&](const std::vector<double>& e) {
-          long k = todo[emitted++];
-          errors[k] = std::make_shared<const std::vector<double>>(e);
-          Remember(points[k], errors[k]);
-        },
-        stop(), [] { return Interrupted("plumb identify stopped before the fit finished"); });
-    std::vector<std::vector<double>> out;
-    out.reserve(points.size());
-    for (const auto& e : errors) out.push_back(Weighted(*e));
-    return out;
-  }
-
-  // Simulated minus logged, per signal of `log`, with the start offsets of x.
-  std::vector<std::vector<double>> Errors(WorkerPool::Worker& w, std::size_t log,
-                                          const std::vector<double>& x) const {
-    std::vector<double> offsets(x.begin() + starts_[log], x.begin() + starts_[log + 1]);
-    Simulated s = Simulate(w.work, w.data, logs_[log], replay_, fit_starts_ ? &offsets : nullptr);
-    std::vector<std::vector<double>> e(s.values.size());
-    for (std::size_t i = 0; i < s.values.size(); ++i) {
-      const std::vector<double>& logged = logs_[log].measured[i].value;
-      for (std::size_t k = 0; k < logged.size(); ++k) e[i].push_back(s.values[i][k] - logged[k]);
-    }
-    return e;
-  }
-
- private:
-  // Simulated minus logged, every measured sample of every log in order, as they are.
-  std::vector<double> AllErrors(WorkerPool::Worker& w, const std::vector<double>& x) const {
-    std::vector<double> all;
-    all.reserve(m_);
-    for (std::size_t log = 0; log < logs_.size(); ++log) {
-      for (const std::vector<double>& e : Errors(w, log, x))
-        all.insert(all.end(), e.begin(), e.end());
-    }
-    return all;
-  }
-
-  // `errors` over each signal's weight; a divergence (NaN) gives large, finite residuals.
-  std::vector<double> Weighted(const std::vector<double>& errors) const {
-    std::vector<double> r;
-    r.reserve(errors.size());
-    std::size_t at = 0;
-    for (std::size_t log = 0; log < logs_.size(); ++log) {
-      for (std::size_t i = 0; i < logs_[log].measured.size(); ++i) {
-        for (std::size_t k = 0; k < logs_[log].measured[i].value.size(); ++k, ++at) {
-          double scaled = errors[at] / weights_[log][i];
-          r.push_back(std::isfinite(scaled) ? scaled : kDiverged);
-        }
-      }
-    }
-    return r;
-  }
-
-  std::shared_ptr<const std::vector<double>> Remembered(const std::vector<double>& point) {
-    for (auto it = remembered_.begin(); it != remembered_.end(); ++it) {
-      if (it->first == point) {
-        remembered_.splice(remembered_.begin(), remembered_, it);  // the most recent first
-        return remembered_.front().second;
-      }
-    }
-    return nullptr;
-  }
-
-  void Remember(const std::vector<double>& point, std::shared_ptr<const std::vector<double>> e) {
-    remembered_.emplace_front(point, std::move(e));
-    // two Jacobians' points, within a bound on memory
-    std::size_t most = std::min(2 * (n_ + 1) + 2,
-                                std::max<std::size_t>(2, kRememberBytes / (sizeof(double) * m_)));
-    while (remembered_.size() > most) remembered_.pop_back();
-  }
-
-  static constexpr double kDiverged = 1e6;
-  const std::vector<RobotLog>& logs_;
-  ParameterWriter writer_;
-  mutable WorkerPool pool_;
-  std::size_t physical_, n_;
-  std::vector<std::size_t> starts_;  // where each log's start offsets begin in x
-  bool fit_starts_ = true;
-  std::size_t colors_ = 0;
-  std::vector<std::size_t> start_color_, start_window_, row_window_;
-  long m_ = 0;
-  std::vector<std::vector<double>> weights_;
-  ReplayOptions replay_;
-  static constexpr std::size_t kRememberBytes = 256u << 20;
-  // (point, errors) of the points run last, the most recent first
-  std::list<std::pair<std::vector<double>, std::shared_ptr<const std::vector<double>>>> remembered_;
-  long runs_ = 0;
-};
 
 // The difference step in scaled units (a parameter's nominal value is 1). Forward
 // differences, one run per unknown: the standard errors too are taken from them, at the
@@ -515,6 +291,48 @@ AtOptimum Statistics(Residuals& f, const std::vector<FitParameter>& params,
   return at;
 }
 
+// Throws unless the logs hold more samples than unknowns, and, for an input delay, an
+// input to delay.
+void RequireEnoughData(const Residuals& f, const std::vector<RobotLog>& logs,
+                       const IdentifyOptions& options) {
+  if (f.size() <= static_cast<long>(f.parameters())) {
+    throw ValueError(fmt::format(
+        "the logs hold {} measured samples for {} unknowns ({} parameters and the start states): "
+        "fitting needs more samples than unknowns",
+        f.size(), f.parameters(), f.physical()));
+  }
+  if (options.delay == DelayKind::kInput &&
+      std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
+    throw ArgumentError(
+        "delay", "ctrl",
+        "the logs have no input column (ctrl[...], qfrc_applied[...]): there is no input to "
+        "delay; name the commanded input with a column map, or estimate no delay");
+  }
+}
+
+// The warnings about how the fit ended: far from linear, or with the logged start states.
+void WarnAboutFit(const Residuals& f, const IdentifyOptions& options, IdentifyResult* result) {
+  if (result->relative_offset > kFarFromLinear) {
+    result->warnings.push_back(fmt::format(
+        "the fit stopped where a Gauss–Newton step would still move the estimates by more than "
+        "the noise allows (relative offset {:.2g}, above {:g}): the residuals are far from linear "
+        "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
+        result->relative_offset, kFarFromLinear,
+        options.replay.window > 0
+            ? "Shorter windows (--window) keep each simulation closer to the log."
+            : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
+              "chaos): fit in windows that restart from the logged state (--window 0.25, "
+              "multiple shooting)."));
+  }
+  if (!f.fit_starts()) {
+    result->warnings.push_back(fmt::format(
+        "the start states were taken as logged, not fitted: with these windows and logs they "
+        "would add more than {} unknowns, or a Jacobian of more than {} million entries; their "
+        "measurement noise may bias the estimates (use longer windows, or fewer samples)",
+        kMostStartUnknowns, kMostJacobianEntries >> 20));
+  }
+}
+
 }  // namespace
 
 std::vector<FitParameter> ResolveFitParameters(const Model& model,
@@ -590,19 +408,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   Residuals f(model, logs, params, options.replay, threads, options.stop);
   std::size_t n = params.size();
-  if (f.size() <= static_cast<long>(f.parameters())) {
-    throw ValueError(fmt::format(
-        "the logs hold {} measured samples for {} unknowns ({} parameters and the start states): "
-        "fitting needs more samples than unknowns",
-        f.size(), f.parameters(), n));
-  }
-  if (options.delay == DelayKind::kInput &&
-      std::all_of(logs.begin(), logs.end(), [](const RobotLog& l) { return l.inputs.empty(); })) {
-    throw ArgumentError(
-        "delay", "ctrl",
-        "the logs have no input column (ctrl[...], qfrc_applied[...]): there is no input to "
-        "delay; name the commanded input with a column map, or estimate no delay");
-  }
+  RequireEnoughData(f, logs, options);
   IdentifyResult result;
   double dt = model->opt.timestep;
   std::vector<double> x(f.parameters(), 0.0);  // start offsets from 0: the logged start
@@ -643,25 +449,7 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
   result.start_unknowns = static_cast<long>(f.parameters() - f.physical());
   result.start_groups = static_cast<long>(f.colors());
   result.runs_per_jacobian = static_cast<long>(f.physical() + f.colors() + 1);
-  if (result.relative_offset > kFarFromLinear) {
-    result.warnings.push_back(fmt::format(
-        "the fit stopped where a Gauss–Newton step would still move the estimates by more than "
-        "the noise allows (relative offset {:.2g}, above {:g}): the residuals are far from linear "
-        "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
-        result.relative_offset, kFarFromLinear,
-        options.replay.window > 0
-            ? "Shorter windows (--window) keep each simulation closer to the log."
-            : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
-              "chaos): fit in windows that restart from the logged state (--window 0.25, "
-              "multiple shooting)."));
-  }
-  if (!f.fit_starts()) {
-    result.warnings.push_back(fmt::format(
-        "the start states were taken as logged, not fitted: with these windows and logs they "
-        "would add more than {} unknowns, or a Jacobian of more than {} million entries; their "
-        "measurement noise may bias the estimates (use longer windows, or fewer samples)",
-        kMostStartUnknowns, kMostJacobianEntries >> 20));
-  }
+  WarnAboutFit(f, options, &result);
   Model fitted = model.Clone();
   ApplyEstimates(fitted, result);
   for (const RobotLog& log : logs) {

@@ -25,10 +25,85 @@ ordered_json StateJson(const StateSnapshot& s) {
   j["integration"] = s.integration;
   return j;
 }
+
+// `items` as a JSON array, each item by `to_json`.
+template <typename T, typename F>
+ordered_json ArrayOf(const std::vector<T>& items, F to_json) {
+  ordered_json out = ordered_json::array();
+  for (const T& item : items) out.push_back(to_json(item));
+  return out;
+}
+
+// A body: its id, name, parent, mass, centre of mass and inertia.
+ordered_json BodyJson(const BodyDescription& b) {
+  return {{"id", b.id},     {"name", b.name}, {"parent", b.parent},
+          {"mass", b.mass}, {"com", b.com},   {"inertia", b.inertia}};
+}
+
+// A joint: type, addresses, range and passive properties.
+ordered_json JointJson(const JointDescription& jt) {
+  return {{"id", jt.id},
+          {"name", jt.name},
+          {"type", jt.type},
+          {"body", jt.body},
+          {"qposadr", jt.qposadr},
+          {"dofadr", jt.dofadr},
+          {"nq", jt.nq},
+          {"nv", jt.nv},
+          {"limited", jt.limited},
+          {"range", jt.range},
+          {"position_unit", jt.position_unit},
+          {"damping", jt.damping},
+          {"armature", jt.armature},
+          {"stiffness", jt.stiffness},
+          {"frictionloss", jt.frictionloss}};
+}
+
+// An actuator: what it drives, its ranges and their units.
+ordered_json ActuatorJson(const ActuatorDescription& a) {
+  return {{"id", a.id},
+          {"name", a.name},
+          {"transmission", a.transmission},
+          {"target", a.target},
+          {"gear", a.gear},
+          {"ctrllimited", a.ctrllimited},
+          {"ctrlrange", a.ctrlrange},
+          {"forcelimited", a.forcelimited},
+          {"forcerange", a.forcerange},
+          {"kind", a.kind},
+          {"ctrl_unit", a.ctrl_unit},
+          {"force_unit", a.force_unit},
+          {"joint_force_range",
+           a.joint_force_limited ? ordered_json(a.joint_force_range) : ordered_json(nullptr)},
+          {"joint_force_unit", a.joint_force_unit}};
+}
+
+// A sensor: its type, sensordata entries and unit.
+ordered_json SensorJson(const SensorDescription& s) {
+  return {{"id", s.id},   {"name", s.name}, {"type", s.type},
+          {"adr", s.adr}, {"dim", s.dim},   {"unit", s.unit}};
+}
+
+// A delay, and whether MuJoCo shortens it to its buffer.
+ordered_json DelayJson(const DelayDescription& delay) {
+  return {{"kind", delay.kind},
+          {"id", delay.id},
+          {"name", delay.name},
+          {"delay", delay.delay},
+          {"nsample", delay.nsample},
+          {"buffer", delay.buffer},
+          {"shortened", delay.shortened()},
+          {"needed_nsample", delay.needed_nsample}};
+}
+
+// A role of path: where it lives and what writes it.
+ordered_json RoleJson(const RoleDescription& r) {
+  return {
+      {"role", r.role}, {"where", r.where}, {"fields", r.examples}, {"who_writes", r.who_writes}};
+}
+
 }  // namespace
 
-// Long by design (about 90 lines): one JSON member per field of ModelDescription, in the
-// order of the struct, so the document and the struct can be read side by side.
 std::string DescriptionToJson(const ModelDescription& d, const std::string& mujoco) {
   ordered_json j;
   j["model"] = d.file;
@@ -41,85 +116,12 @@ std::string DescriptionToJson(const ModelDescription& d, const std::string& mujo
   j["options"] = {
       {"opt.timestep", d.timestep}, {"opt.integrator", d.integrator}, {"opt.gravity", d.gravity}};
   j["total_mass"] = d.total_mass;
-  ordered_json bodies = ordered_json::array();
-  for (const BodyDescription& b : d.bodies) {
-    bodies.push_back({{"id", b.id},
-                      {"name", b.name},
-                      {"parent", b.parent},
-                      {"mass", b.mass},
-                      {"com", b.com},
-                      {"inertia", b.inertia}});
-  }
-  j["bodies"] = bodies;
-  ordered_json joints = ordered_json::array();
-  for (const JointDescription& jt : d.joints) {
-    joints.push_back({{"id", jt.id},
-                      {"name", jt.name},
-                      {"type", jt.type},
-                      {"body", jt.body},
-                      {"qposadr", jt.qposadr},
-                      {"dofadr", jt.dofadr},
-                      {"nq", jt.nq},
-                      {"nv", jt.nv},
-                      {"limited", jt.limited},
-                      {"range", jt.range},
-                      {"position_unit", jt.position_unit},
-                      {"damping", jt.damping},
-                      {"armature", jt.armature},
-                      {"stiffness", jt.stiffness},
-                      {"frictionloss", jt.frictionloss}});
-  }
-  j["joints"] = joints;
-  ordered_json actuators = ordered_json::array();
-  for (const ActuatorDescription& a : d.actuators) {
-    actuators.push_back(
-        {{"id", a.id},
-         {"name", a.name},
-         {"transmission", a.transmission},
-         {"target", a.target},
-         {"gear", a.gear},
-         {"ctrllimited", a.ctrllimited},
-         {"ctrlrange", a.ctrlrange},
-         {"forcelimited", a.forcelimited},
-         {"forcerange", a.forcerange},
-         {"kind", a.kind},
-         {"ctrl_unit", a.ctrl_unit},
-         {"force_unit", a.force_unit},
-         {"joint_force_range",
-          a.joint_force_limited ? ordered_json(a.joint_force_range) : ordered_json(nullptr)},
-         {"joint_force_unit", a.joint_force_unit}});
-  }
-  j["actuators"] = actuators;
-  ordered_json sensors = ordered_json::array();
-  for (const SensorDescription& s : d.sensors) {
-    sensors.push_back({{"id", s.id},
-                       {"name", s.name},
-                       {"type", s.type},
-                       {"adr", s.adr},
-                       {"dim", s.dim},
-                       {"unit", s.unit}});
-  }
-  j["sensors"] = sensors;
-  ordered_json delays = ordered_json::array();
-  for (const DelayDescription& delay : d.delays) {
-    delays.push_back({{"kind", delay.kind},
-                      {"id", delay.id},
-                      {"name", delay.name},
-                      {"delay", delay.delay},
-                      {"nsample", delay.nsample},
-                      {"buffer", delay.buffer},
-                      {"shortened", delay.shortened()},
-                      {"needed_nsample", delay.needed_nsample}});
-  }
-  j["delays"] = delays;
-  ordered_json roles = ordered_json::array();
-  for (const RoleDescription& r : d.roles) {
-    roles.push_back({{"role", r.role},
-                     {"where", r.where},
-                     {"fields", r.examples},
-                     {"who_writes", r.who_writes}});
-  }
-  j["roles"] = roles;
+  j["bodies"] = ArrayOf(d.bodies, BodyJson);
+  j["joints"] = ArrayOf(d.joints, JointJson);
+  j["actuators"] = ArrayOf(d.actuators, ActuatorJson);
+  j["sensors"] = ArrayOf(d.sensors, SensorJson);
+  j["delays"] = ArrayOf(d.delays, DelayJson);
+  j["roles"] = ArrayOf(d.roles, RoleJson);
   j["units"] = {{"length", "m"},
                 {"mass", "kg"},
                 {"time", "s"},

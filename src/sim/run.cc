@@ -380,6 +380,21 @@ double RoundToDecimals(double v, int decimals) {
 
 }  // namespace
 
+namespace {
+
+// The number of the step that ends at `time`: steps are numbered by the data's clock, so
+// every run that reaches one state (run's from t = 0, audit's step response after its hold)
+// names it by the same step: step n ends at t = n * dt. 0 when `time` is no whole step.
+long StepAt(double time, double dt) {
+  if (double n = std::round(time / dt);
+      n > 0 && std::fabs(time - n * dt) <= 1e-9 * std::max(1.0, time)) {
+    return static_cast<long>(n);
+  }
+  return 0;
+}
+
+}  // namespace
+
 RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& sink) {
   const mjModel* m = model.get();
   mjData* d = data.get();
@@ -412,14 +427,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     sink.Sample(row);
   };
 
-  // steps are numbered by the data's clock, so every run that reaches one state (run's from
-  // t = 0, audit's step response after its hold) names it by the same step:
-  // step n ends at t = n * dt
-  long first = 0;
-  if (double n = std::round(start_time / m->opt.timestep);
-      n > 0 && std::fabs(start_time - n * m->opt.timestep) <= 1e-9 * std::max(1.0, start_time)) {
-    first = static_cast<long>(n);
-  }
+  long first = StepAt(start_time, m->opt.timestep);
   RunResult result;
   WarningWatch warnings(d, start_time);
   PreStep before(m, d);

@@ -261,9 +261,52 @@ CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r) {
 
 // ---- convergence -------------------------------------------------------------------------
 
+namespace {
+
+// The metric the convergence check follows: the pendulum's angle, or the whole state, at
+// the end of the run.
+std::string ConvergenceMetric(const VerifyContext& ctx) {
+  const std::optional<PendulumParams>& pendulum = ctx.pendulum;
+  const Model& nominal = ctx.s.Nominal();
+  std::string joint = pendulum ? nominal.Name(mjOBJ_JOINT, pendulum->joint) : "";
+  if (joint.empty() && pendulum) joint = std::to_string(nominal->jnt_qposadr[pendulum->joint]);
+  return pendulum ? fmt::format("qpos[{}]@{:g}", joint, ctx.until)
+                  : fmt::format("state@{:g}", ctx.until);
+}
+
+// Row `r` when a level diverged: a warning when only the coarsest (2 dt) did, else a failure.
+CheckRow Diverged(CheckRow r, const ConvergenceResult& c, double dt) {
+  bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
+                       std::isfinite(c.levels[1].value);
+  r.status = CheckStatus::kWarn;
+  r.measured_text = "a level diverged";
+  r.explanation = c.problem;
+  if (!only_coarsest) r.status = CheckStatus::kFail;
+  return r;
+}
+
+// Row `r` when the levels show no order: converged to round-off, or a warning.
+CheckRow Unresolved(CheckRow r, const ConvergenceResult& c, const std::string& metric_text,
+                    const std::string& levels, const std::string& caveat) {
+  if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
+    r.status = CheckStatus::kPass;
+    r.measured_text = "round-off";
+    r.explanation =
+        fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
+                    metric_text, levels, c.estimate.note, caveat);
+  } else {
+    r.status = CheckStatus::kWarn;
+    r.measured_text = "no order visible";
+    r.explanation =
+        fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
+  }
+  return r;
+}
+
+}  // namespace
+
 CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
-  const std::optional<PendulumParams>& pendulum = ctx.pendulum;
   const Trace& nominal = ctx.trace;
   double until = ctx.until;
   double tol = ctx.tol;
@@ -273,10 +316,7 @@ CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   }
   const mjModel* m = s.Nominal().get();
   double dt = m->opt.timestep;
-  std::string joint = pendulum ? s.Nominal().Name(mjOBJ_JOINT, pendulum->joint) : "";
-  if (joint.empty() && pendulum) joint = std::to_string(m->jnt_qposadr[pendulum->joint]);
-  std::string metric_text =
-      pendulum ? fmt::format("qpos[{}]@{:g}", joint, until) : fmt::format("state@{:g}", until);
+  std::string metric_text = ConvergenceMetric(ctx);
   Metric metric = ParseMetric(s.model(), metric_text);
   ConvergenceResult c = Converge(s.model(), s.sets(), metric, 2 * dt, 4, tol, until, s.stop());
   double expected = ExpectedOrder(m->opt.integrator);
@@ -288,15 +328,7 @@ CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   std::string integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   bool contacts = nominal.max_ncon > 0;
   std::string caveat = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";
-  if (!c.ok) {
-    bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
-                         std::isfinite(c.levels[1].value);
-    r.status = CheckStatus::kWarn;
-    r.measured_text = "a level diverged";
-    r.explanation = c.problem;
-    if (!only_coarsest) r.status = CheckStatus::kFail;
-    return r;
-  }
+  if (!c.ok) return Diverged(std::move(r), c, dt);
   const ConvergenceLevel& own = c.levels[1];  // the model's own timestep
   r.reference_text = fmt::format("tol {:g} x scale {:.3g}", tol, c.scale);
   r.reference.value = tol * c.scale;
@@ -305,19 +337,7 @@ CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
     levels += fmt::format("{}dt={:g}: {:.10g}", levels.empty() ? "" : ", ", l.dt, l.value);
   }
   if (!c.estimate.resolved) {
-    if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
-      r.status = CheckStatus::kPass;
-      r.measured_text = "round-off";
-      r.explanation =
-          fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
-                      metric_text, levels, c.estimate.note, caveat);
-    } else {
-      r.status = CheckStatus::kWarn;
-      r.measured_text = "no order visible";
-      r.explanation =
-          fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
-    }
-    return r;
+    return Unresolved(std::move(r), c, metric_text, levels, caveat);
   }
   r.measured_text =
       fmt::format("error {:.3g} at dt = {:g} s (order {:.2f})", own.error, dt, c.estimate.order);

@@ -39,13 +39,14 @@ std::string Vec(const std::array<double, 3>& v) {
   return fmt::format("{:.6g} {:.6g} {:.6g}", v[0], v[1], v[2]);
 }
 
-// Long by design (about 90 lines): one block per section of `plumb inspect`, top to bottom
-// as it prints; the sections share the table's widths and nothing else.
-std::string Table(const ModelDescription& d) {
+// The text of `plumb inspect`, a line at a time.
+struct Printer {
   std::string out;
-  auto line = [&](const std::string& s) { out += s + "\n"; };
-  line(fmt::format("model {} ({}), MuJoCo {}", d.file, d.model_name, MujocoVersion()));
-  line("");
+  void operator()(const std::string& s) { out += s + "\n"; }
+};
+
+// The model's sizes and the options that set its time and gravity.
+void PrintSizes(const ModelDescription& d, Printer& line) {
   line("sizes");
   long nq = 0, nv = 0;
   for (const auto& [name, value] : d.sizes) {
@@ -64,7 +65,10 @@ std::string Table(const ModelDescription& d) {
   line(fmt::format("  {:<15} {:<24} s", "opt.timestep", fmt::format("{:g}", d.timestep)));
   line(fmt::format("  {:<15} {:<24}", "opt.integrator", d.integrator));
   line(fmt::format("  {:<15} {:<24} m/s^2", "opt.gravity", Vec(d.gravity)));
-  line("");
+}
+
+// Every body: parent, mass, centre of mass, principal inertia.
+void PrintBodies(const ModelDescription& d, Printer& line) {
   line(fmt::format("bodies (total mass {:.6g} kg)", d.total_mass));
   line(fmt::format("  {:>3} {:<16} {:>6} {:>12} {:<30} {}", "id", "name", "parent", "mass [kg]",
                    "com in body frame [m]", "principal inertia [kg*m^2]"));
@@ -72,7 +76,10 @@ std::string Table(const ModelDescription& d) {
     line(fmt::format("  {:>3} {:<16} {:>6} {:>12.6g} {:<30} {}", b.id, b.name, b.parent, b.mass,
                      Vec(b.com), Vec(b.inertia)));
   }
-  line("");
+}
+
+// Every joint: type, addresses, range, damping, armature.
+void PrintJoints(const ModelDescription& d, Printer& line) {
   line("joints (angles in rad at run time, whatever the MJCF <compiler angle> says)");
   if (d.joints.empty())
     line("  (none)");
@@ -87,7 +94,10 @@ std::string Table(const ModelDescription& d) {
                      j.name, j.type, j.body, j.qposadr, j.dofadr, range, j.damping, j.armature));
   }
   line("  units: damping N*m*s/rad (hinge) or N*s/m (slide); armature kg*m^2 or kg");
-  line("");
+}
+
+// Every actuator: its kind, what it drives, and its ranges in their units.
+void PrintActuators(const ModelDescription& d, Printer& line) {
   line("actuators");
   if (d.actuators.empty())
     line("  (none: a passive system, ctrl is empty)");
@@ -111,7 +121,10 @@ std::string Table(const ModelDescription& d) {
     line("  actuator force (N/gear: ctrl 1 with gear 10 is 10 N at the joint), a servo's ctrl");
     line("  a target of the actuator length (gear x the joint position) or its velocity");
   }
-  line("");
+}
+
+// Every sensor: its type, sensordata entries and unit.
+void PrintSensors(const ModelDescription& d, Printer& line) {
   line("sensors");
   if (d.sensors.empty())
     line("  (none: sensordata is empty)");
@@ -122,6 +135,10 @@ std::string Table(const ModelDescription& d) {
                      fmt::format("sensordata[{}..{}]", s.adr, s.adr + s.dim - 1),
                      s.unit.empty() ? "-" : s.unit));
   }
+}
+
+// The delays, and each one MuJoCo shortens to its buffer; nothing when there are none.
+void PrintDelays(const ModelDescription& d, Printer& line) {
   if (!d.delays.empty()) {
     line("");
     line("delays (MuJoCo keeps nsample past values: it delays by at most nsample x timestep)");
@@ -136,6 +153,16 @@ std::string Table(const ModelDescription& d) {
                            : fmt::format("{:g} s", delay.delay)));
     }
   }
+}
+
+std::string Table(const ModelDescription& d) {
+  Printer line;
+  line(fmt::format("model {} ({}), MuJoCo {}", d.file, d.model_name, MujocoVersion()));
+  for (auto section : {PrintSizes, PrintBodies, PrintJoints, PrintActuators, PrintSensors}) {
+    line("");
+    section(d, line);
+  }
+  PrintDelays(d, line);
   line("");
   line("what is what");
   for (const RoleDescription& r : d.roles) {
@@ -144,7 +171,7 @@ std::string Table(const ModelDescription& d) {
   }
   line("");
   line("units: length m, mass kg, time s, angle rad, torque N*m, force N");
-  return out;
+  return line.out;
 }
 
 int RunInspect(const InspectOptions& o) {

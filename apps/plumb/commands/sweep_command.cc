@@ -343,6 +343,21 @@ class SweepProblems {
   std::map<std::pair<std::size_t, std::string>, long> problems_;  // (metric, reason): cases
 };
 
+// Case `c` into the report's collection: its axis values, metrics (NaN where one failed)
+// and whether it diverged.
+void AddToReport(const SweepSpec& spec, const SweepCase& c, BatchCollector* batch) {
+  std::vector<double> values, metrics;
+  for (std::size_t a = 0; a < spec.axes.size(); ++a) {
+    values.push_back(spec.axes[a].Value(c.choice[a]).values.at(0));
+  }
+  bool diverged = false;
+  for (const Measurement& m : c.metrics) {
+    metrics.push_back(m.ok ? m.value : NAN);
+    diverged = diverged || m.diverged;
+  }
+  batch->Add(values, metrics, diverged);
+}
+
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec = MakeSweepSpec(o, model);
@@ -390,18 +405,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     if (stored.store) stored.store->Add(stored.id, StoredCase(spec, c));
     out += writer.Row(c);
     problems.See(c);
-    if (batch) {
-      std::vector<double> values, metrics;
-      for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-        values.push_back(spec.axes[a].Value(c.choice[a]).values.at(0));
-      }
-      bool diverged = false;
-      for (const Measurement& m : c.metrics) {
-        metrics.push_back(m.ok ? m.value : NAN);
-        diverged = diverged || m.diverged;
-      }
-      batch->Add(values, metrics, diverged);
-    }
+    if (batch) AddToReport(spec, c, &*batch);
     auto now = std::chrono::steady_clock::now();
     eta.See(emitted, total - static_cast<long>(stored.done.size()) - emitted);
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
