@@ -84,18 +84,18 @@ test-asan: deps
 # the threaded code (sweep's, rollout's and identify's worker pools, the stop flag, the CLI's
 # streaming writers) under ThreadSanitizer; tests/tsan.supp says why the worker pool runs its
 # chunks on std::threads here (Debian's oneTBB is not built with TSan). This build is also
-# the one without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or OSMesa):
-# render and the reports' pictures must build, say so and exit 5 (make test-norender does that
-# part alone)
+# the one without the optional parts (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
+# OSMesa; PLUMB_WITH_DDS=OFF, without CycloneDDS): render, the reports' pictures and the bridge
+# must build, say so and exit 5 (make test-norender does that part alone)
 TSAN_TARGETS := worker_pool_test stop_test sweep_test rollout_test run_test rollout_cli_test signals_cli_test budget_cli_test identify_test plumb_cli \
-  render_test report_test render_cli_test
-TSAN_TESTS   := ^(WorkerPoolTest|StopTimerTest|SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.?
+  render_test report_test render_cli_test exit_codes_cli_test
+TSAN_TESTS   := ^(WorkerPoolTest|StopTimerTest|SweepTest|RolloutTest|RunTest|CliRolloutTest|CliSignalsTest|BudgetCliTest|IdentifyTest\.(TheSameForAnyNumberOfThreads|ThePendulumsDampingFromAFreeDecay)$$|RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest|ExitCodesTest\.AMissingBridgeIsFive$$)\.?
 # the memory benchmarks among them (10^6 cases) take minutes under TSan and share no code
 # path the others do not run
 TSAN_SKIP    := SweepMemoryDoesNotGrowWithTheNumberOfCases|AHugeSweepSaysItsCost
 test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
-	  -DPLUMB_SANITIZE=thread -DPLUMB_WITH_RENDER=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF \
+	  -DPLUMB_SANITIZE=thread -DPLUMB_WITH_RENDER=OFF -DPLUMB_WITH_DDS=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF \
 	  $(TSAN_FLAGS) $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)
 	@cd $(TSAN_BUILD) && TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$(CURDIR)/tests/tsan.supp" \
@@ -120,12 +120,12 @@ test-fuzz: deps
 # a build without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
 # OSMesa): it must build, say so, and answer render and the reports' pictures with exit 5
 NORENDER_BUILD ?= build-norender
-NORENDER_TARGETS := plumb_cli render_test report_test render_cli_test
+NORENDER_TARGETS := plumb_cli render_test report_test render_cli_test exit_codes_cli_test
 test-norender: deps
 	@cmake -S . -B $(NORENDER_BUILD) -DCMAKE_BUILD_TYPE=Release -DPLUMB_WARNINGS_AS_ERRORS=ON -DPLUMB_MUJOCO=$(MUJOCO) \
-	  -DPLUMB_WITH_RENDER=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
+	  -DPLUMB_WITH_RENDER=OFF -DPLUMB_WITH_DDS=OFF -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(NORENDER_BUILD) -j $(JOBS) --target $(NORENDER_TARGETS)
-	@cd $(NORENDER_BUILD) && ctest --output-on-failure -j $(JOBS) -R '^(RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest)\.'
+	@cd $(NORENDER_BUILD) && ctest --output-on-failure -j $(JOBS) -R '^(RenderTest|RenderModelsTest|AllModels/RenderModelsTest|ReportTest|CliRenderTest|CliReportTest|ExitCodesTest\.AMissingBridgeIsFive$$)\.?'
 
 # the Release suite on every other MuJoCo of the matrix (3.11.0 and Debian's 2.2.2), without
 # the benchmark programs (they build on the default engine), optimised at -O1: these legs

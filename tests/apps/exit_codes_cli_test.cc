@@ -61,6 +61,20 @@ TEST(ExitCodesTest, AFatalMujocoErrorIsFour) {
 
 // A store row edited or damaged on disk is bad input named to the row and column (it was an
 // internal error, exit 70, until fuzz_store showed that other edits crashed the reader).
+// A build without CycloneDDS (PLUMB_WITH_DDS=OFF; the TSan leg is one): the bridge is an
+// optional part that says what to install, as the renderer does, and the exit code is 5.
+TEST(ExitCodesTest, AMissingBridgeIsFive) {
+  if (PLUMB_TEST_BRIDGE_BUILT) GTEST_SKIP() << "this build has the DDS bridge";
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), "motors = [\"hinge\"]\n");
+  testing::CommandResult r =
+      RunPlumb("bridge " + testing::kPendulum + " --config b.toml --until 0.01", dir.path());
+  EXPECT_EQ(r.exit_code, 5) << r.err;
+  EXPECT_NE(r.err.find("built without the DDS bridge"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("apt-get install cyclonedds-dev cyclonedds-tools"), std::string::npos)
+      << r.err;
+}
+
 TEST(ExitCodesTest, ADamagedStoreRowIsExit2NamingTheStoreRowAndColumn) {
   TempDir dir;
   testing::CommandResult made =
