@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +14,7 @@
 #include <optional>
 #include <string_view>
 
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -29,40 +29,11 @@ constexpr std::array<const char*, 4> kAxisNames = {"lx", "ly", "rx", "ry"};
 constexpr double kTapSeconds = 0.1;
 constexpr int kL2Bit = 5;
 
-bool SameLetters(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return std::tolower(static_cast<unsigned char>(x)) ==
-                  std::tolower(static_cast<unsigned char>(y));
-         });
-}
-
 int AxisIndex(std::string_view name) {
   for (std::size_t i = 0; i < kAxisNames.size(); ++i) {
-    if (SameLetters(name, kAxisNames[i])) return static_cast<int>(i);
+    if (EqualsIgnoreCase(name, kAxisNames[i])) return static_cast<int>(i);
   }
   return -1;
-}
-
-std::string_view Trim(std::string_view s) {
-  const char* space = " \t\r\f\v";
-  std::size_t first = s.find_first_not_of(space);
-  if (first == std::string_view::npos) return {};
-  std::size_t last = s.find_last_not_of(space);
-  return s.substr(first, last - first + 1);
-}
-
-std::vector<std::string_view> Split(std::string_view s, char separator) {
-  std::vector<std::string_view> parts;
-  std::size_t begin = 0;
-  while (true) {
-    std::size_t end = s.find(separator, begin);
-    if (end == std::string_view::npos) {
-      parts.push_back(s.substr(begin));
-      return parts;
-    }
-    parts.push_back(s.substr(begin, end - begin));
-    begin = end + 1;
-  }
 }
 
 std::vector<std::string_view> Words(std::string_view s) {
@@ -77,15 +48,10 @@ std::vector<std::string_view> Words(std::string_view s) {
   return words;
 }
 
-// The finite number that is all of `s` (an optional leading '+' allowed), or nothing.
+// The finite number that is all of `s` (plumb's number rule, ParseNumber), or nothing.
 std::optional<double> Number(std::string_view s) {
-  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-  if (s.empty() || s[0] == '+') return std::nullopt;
-  double value = 0;
-  auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), value);
-  if (error != std::errc() || end != s.data() + s.size() || !std::isfinite(value)) {
-    return std::nullopt;
-  }
+  std::optional<double> value = ParseNumber(s);
+  if (!value || !std::isfinite(*value)) return std::nullopt;
   return value;
 }
 
@@ -246,7 +212,7 @@ class Parser {
   std::optional<double> For(std::string_view action, const std::vector<std::string_view>& words,
                             std::size_t i) const {
     if (i >= words.size()) return std::nullopt;
-    if (!SameLetters(words[i], "for")) {
+    if (!EqualsIgnoreCase(words[i], "for")) {
       Fail(
           fmt::format("\"{}\": unexpected \"{}\" (after the action write only \"for SECONDS "
                       "s\", e.g. \"for 0.5 s\")",
@@ -271,7 +237,7 @@ class Parser {
     }
     std::size_t next = i + 2;
     if (next < words.size() && number.size() == words[i + 1].size() &&
-        SameLetters(words[next], "s")) {
+        EqualsIgnoreCase(words[next], "s")) {
       ++next;
     }
     if (next < words.size()) {
@@ -298,7 +264,7 @@ void PutFloat(float value, std::uint8_t* out) {
 
 int ButtonBit(const std::string& name) {
   for (std::size_t i = 0; i < kButtonNames.size(); ++i) {
-    if (SameLetters(name, kButtonNames[i])) return static_cast<int>(i);
+    if (EqualsIgnoreCase(name, kButtonNames[i])) return static_cast<int>(i);
   }
   return -1;
 }
