@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/joint_size.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -63,12 +64,7 @@ Imu Imu::Bind(const Model& model, const BridgeImuSource& source, const ImuDefaul
     }
     return imu;
   }
-  for (int j = 0; j < m->njnt && defaults.base_body; ++j) {
-    if (m->jnt_type[j] == mjJNT_FREE) {
-      imu.base_ = m->jnt_bodyid[j];
-      break;
-    }
-  }
+  if (defaults.base_body) imu.base_ = FirstFreeBody(m);
   return imu;
 }
 

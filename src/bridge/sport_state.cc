@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "core/joint_size.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -32,9 +33,7 @@ SportState SportState::Bind(const Model& model, const BridgeSportState& config) 
                       s.base_ == 0 ? " (the world body has no motion to report)" : ""));
     }
   } else {
-    for (int j = 0; j < m->njnt && s.base_ < 0; ++j) {
-      if (m->jnt_type[j] == mjJNT_FREE) s.base_ = m->jnt_bodyid[j];
-    }
+    s.base_ = FirstFreeBody(m);
   }
   if (s.base_ < 0) return s;
   for (const std::string& name : config.feet) {

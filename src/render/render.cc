@@ -9,6 +9,7 @@
 #include <cstring>
 #include <set>
 
+#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 #include "plumb/error.h"
 #include "render/gl_context.h"
@@ -21,14 +22,6 @@ constexpr int kMaxSide = 8192;
 constexpr int kMaxSceneGeoms = 10000;
 constexpr float kHighlight[4] = {1.0f, 0.15f, 0.6f, 1.0f};
 constexpr float kFade = 0.25f;  // alpha of everything else while something is highlighted
-
-// The first body moved by a free joint, or -1.
-int FirstFreeBody(const mjModel* m) {
-  for (int j = 0; j < m->njnt; ++j) {
-    if (m->jnt_type[j] == mjJNT_FREE) return m->jnt_bodyid[j];
-  }
-  return -1;
-}
 
 std::string Names(const Model& model, int type, int count) {
   std::string list;
