@@ -216,6 +216,10 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
     std::fprintf(stderr, "plumb: error: %s\n", error.what());
     return kExitUnavailable;
   }
+  if (dynamic_cast<const EngineError*>(&error)) {
+    std::fprintf(stderr, "plumb: error: %s\n", error.what());
+    return kExitEngine;
+  }
   if (!dynamic_cast<const Error*>(&error)) {
     // not an error plumb reports by design: a bug, memory exhausted, data that cannot be
     std::string command = argv.empty() ? "plumb" : ShellQuote(argv[0]);

@@ -29,6 +29,7 @@ enum ExitCode : int {
   kExitDiverged = 3,        // the simulation diverged (a repro folder was written)
   kExitMujocoError = 4,     // MuJoCo stopped with a fatal error (mju_error), not a divergence
   kExitUnavailable = 5,     // a part is missing: the renderer in this build, GL, ffmpeg
+  kExitEngine = 6,          // the engine adapter (crosscheck's MuJoCo Warp or MJX) failed
   kExitInternal = 70,       // an internal error: a plumb bug, out of memory (sysexits' EX_SOFTWARE)
   kExitInterrupted = 130,   // SIGINT/SIGTERM: what finished was kept
   kExitOutputClosed = 141,  // stdout was closed by its reader (as a SIGPIPE death)

@@ -27,8 +27,8 @@ int main(int argc, char** argv) {
   });
   app.footer(
       "Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 simulation diverged,\n"
-      "4 MuJoCo fatal error, 5 a part is missing (renderer, GL, ffmpeg), 70 internal error,\n"
-      "130 interrupted, 141 stdout closed.\n"
+      "4 MuJoCo fatal error, 5 a part is missing (renderer, GL, ffmpeg), 6 the engine\n"
+      "adapter failed (crosscheck), 70 internal error, 130 interrupted, 141 stdout closed.\n"
       "Example: plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --until 2 --every 0.1");
   SetupVerifyCommand(app, ctx);
   SetupAuditCommand(app, ctx);

@@ -4,7 +4,7 @@
 // calling mju_error) is reported as a subclass of plumb::Error carrying the whole
 // story: what failed, where (file, line, option), and what to do about it. The
 // command-line tool maps each class to an exit code in one place
-// (apps/plumb/cli_common.cc): bad input is 2, divergence is 3.
+// (apps/plumb/cli_common.cc): bad input is 2, divergence is 3, a failed engine adapter is 6.
 //
 // A broken internal contract is not an expected failure: it is an InternalError, which
 // derives from std::logic_error and not from plumb::Error, so that code handling bad input
@@ -94,6 +94,23 @@ class IoError : public Error {
 class UnavailableError : public Error {
  public:
   using Error::Error;
+};
+
+// The engine adapter (plumb crosscheck's Python process that runs MuJoCo Warp or MJX,
+// docs/engine-protocol.md) failed: it died, broke the protocol, did not answer in time, or the
+// engine raised on a model it had accepted. what() says which, with the adapter's exit status
+// or signal and its last lines on stderr (the command-line tool exits with 6).
+class EngineError : public Error {
+ public:
+  using Error::Error;
+};
+
+// The engine refuses the model or one of its options (a solver, a geom type it does not
+// support). what() is the engine's own message, verbatim. plumb crosscheck reports it as a
+// failed row, not as an error that ends the command.
+class EngineRefused : public EngineError {
+ public:
+  using EngineError::EngineError;
 };
 
 // The run was stopped by a signal (SIGINT/SIGTERM) before it finished.
