@@ -20,7 +20,7 @@ LAYERS = [
     ["io"],
     ["scenario"],
     ["verify", "audit", "batch", "identify", "regression"],
-    ["render", "bridge", "mpi"],
+    ["render", "bridge", "mpi", "crosscheck"],
     ["report"],
     ["apps"],  # the umbrella header plumb/plumb.h stands with the users of the library
 ]
