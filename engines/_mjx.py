@@ -60,14 +60,15 @@ class Engine:
         varied, unvaried = self.variable(fields)
         m = self.model
         if varied:
-            m = m.tree_replace({name: jnp.asarray(fields[name], jnp.float32).reshape(
-                (worlds,) + getattr(m, name).shape) for name in varied})
+            m = m.tree_replace({name: per_world(getattr(m, name), fields[name])
+                                for name in varied})
         one = mjx.put_data(self.mjm, mujoco.MjData(self.mjm), device=self.jax_device)
         d = jax.tree_util.tree_map(lambda x: jnp.repeat(x[None], worlds, axis=0), one)
         states = {}
         for name in STATE_FIELDS:
             values = np.stack([np.atleast_1d(getattr(mjd, name)).reshape(-1) for mjd in datas])
-            states[name] = jnp.asarray(values.reshape(getattr(d, name).shape), jnp.float32)
+            states[name] = jnp.asarray(values.reshape(getattr(d, name).shape),
+                                       getattr(d, name).dtype)
         # committed to the device like the step's output, so the warm-up step compiles the
         # only version the run needs (uncommitted inputs would compile a second one)
         d = jax.device_put(d.replace(**states), self.jax_device)
@@ -138,3 +139,8 @@ class Engine:
         constraint rows for them."""
         impl = batch.d._impl
         return {"nconmax": int(impl.contact.dist.shape[-1]), "njmax": int(impl.efc_J.shape[-2])}
+
+
+def per_world(value, rows):
+    """rows [W, size] as the Model field value with a leading world axis (and its dtype)."""
+    return jnp.asarray(rows.reshape((rows.shape[0],) + value.shape), value.dtype)

@@ -168,7 +168,9 @@ def model_fields(mjm, arrays, worlds):
 
 def capacity_for(mjm, datas):
     """Room per world for contacts and constraint rows: twice what CPU MuJoCo finds at the
-    given states, with a floor, since a rollout may gather more than its start."""
+    given states, and at least MIN_CONTACTS or 4 a geom, since a rollout may gather more
+    than its start; rows for that many contacts of the model's largest condim, plus its
+    equality, limit and friction-loss rows."""
     ncon = nefc = 0
     for mjd in datas:
         probe = mujoco.MjData(mjm)
@@ -176,9 +178,12 @@ def capacity_for(mjm, datas):
         probe.mocap_pos[:], probe.mocap_quat[:] = mjd.mocap_pos, mjd.mocap_quat
         mujoco.mj_forward(mjm, probe)
         ncon, nefc = max(ncon, probe.ncon), max(nefc, probe.nefc)
-    nconmax = max(2 * ncon, MIN_CONTACTS)
-    rows_per_contact = 6 if mjm.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC else 10
-    njmax = max(2 * nefc, nconmax * rows_per_contact + 2 * mjm.nv)
+    nconmax = max(2 * ncon, MIN_CONTACTS, 4 * mjm.ngeom)
+    condim = int(max([3, *mjm.geom_condim, *mjm.pair_dim]))
+    elliptic = mjm.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+    rows_per_contact = condim if elliptic else 2 * (condim - 1)
+    other_rows = 6 * mjm.neq + mjm.njnt + mjm.nv + mjm.ntendon
+    njmax = max(2 * nefc, nconmax * rows_per_contact + other_rows)
     return {"nconmax": nconmax, "njmax": njmax}
 
 
@@ -316,7 +321,9 @@ def record_stages(mjm, engine, batch, worlds):
             per_world["qM"].append(np.zeros(0))
         for i in range(mjd.ncon):
             c = mjd.contact[i]
-            mujoco.mj_contactForce(mjm, mjd, i, force)
+            force[:] = 0  # a contact outside the constraint (no rows) carries no force
+            if 0 <= c.efc_address < mjd.nefc:
+                mujoco.mj_contactForce(mjm, mjd, i, force)
             contacts.append(np.concatenate([[world], c.geom, [c.dist], c.pos,
                                             c.frame, [c.dim], force]))
         for j in range(mjd.nefc):

@@ -39,14 +39,17 @@ if ! python="$(PLUMB_PIP_OPTIONS="--no-deps" bash "$script" "$dir" "$lock")"; th
     "a mirror), then run it again" >&2
   exit 5
 fi
+core="$(sed -n 's/^mujoco-core==\([^ ]*\).*/\1/p' "$lock")"
 check="import mujoco, $module, sys
+if mujoco.__version__ != '$core':
+    sys.exit(f'mujoco is {mujoco.__version__}, not $core (another mujoco over mujoco-core?)')
 v = getattr(sys.modules['$module'], '__version__', None)
 if v is None:
     from importlib.metadata import version
     v = version('mujoco-warp' if '$engine' == 'warp' else 'mujoco-mjx')
 print('mujoco', mujoco.__version__, '$module', v, file=sys.stderr)"
 if ! "$python" -c "$check" >&2; then
-  echo "make-venv.sh: $python cannot import mujoco and $module; remove $dir and run" \
+  echo "make-venv.sh: $python cannot import mujoco $core and $module; remove $dir and run" \
     "make-venv.sh again (a partial or foreign environment)" >&2
   exit 5
 fi

@@ -227,8 +227,8 @@ def test_box(adapter, folder):
     header, out = adapter.request({"op": "rollout", "steps": 100, "every": 100},
                                   [("qpos", np.repeat(qpos, 2, axis=0)),
                                    ("model:body_mass", np.array([[0, 1.0], [0, 2.0]]))])
-    check(header.get("ok") and out["ncon_max"].reshape(-1).tolist() == [4, 4],
-          f"box: rollout of 2 worlds, ncon_max {out.get('ncon_max')}, {header.get('unvaried')}")
+    most = out["ncon_max"].reshape(-1).tolist() if header.get("ok") else header
+    check(most == [4, 4], f"box: rollout of 2 worlds, ncon_max {most}, {header.get('unvaried')}")
     header, _ = adapter.request({"op": "throughput", "worlds": 8, "steps": 50},
                                 [("qpos", qpos)])
     print(f"     throughput: {header}")
