@@ -36,13 +36,13 @@ class P2Quantile {
 
 class SummaryStatistics {
  public:
-  void Add(double x);  // NaN values are counted apart
+  void Add(double x);                // NaN values are counted apart
   long count() const { return n_; }  // values other than NaN
   long missing() const { return missing_; }
   double mean() const { return mean_; }
   double stddev() const { return n_ > 1 ? std::sqrt(m2_ / (n_ - 1)) : 0; }  // sample (n - 1)
-  double min() const { return min_; }  // +inf before any value
-  double max() const { return max_; }  // -inf before any value
+  double min() const { return min_; }                                       // +inf before any value
+  double max() const { return max_; }                                       // -inf before any value
   // Linear interpolation between order statistics while at most kExact values arrived, the
   // P-square estimate beyond. NaN before any value.
   double q05() const { return Quantile(0.05, q05_); }
@@ -57,6 +57,30 @@ class SummaryStatistics {
   double mean_ = 0, m2_ = 0, min_ = INFINITY, max_ = -INFINITY;
   P2Quantile q05_{0.05}, q50_{0.5}, q95_{0.95};
 };
+
+// P(T <= t) for Student's t distribution with `dof` > 0 degrees of freedom (through the
+// regularized incomplete beta function); NaN for a NaN argument.
+double StudentTCdf(double t, double dof);
+
+// The t value with P(T <= t) = p, for p in (0, 1) (bisection on StudentTCdf, to 1e-12).
+double StudentTQuantile(double p, double dof);
+
+// Two one-sided tests (Schuirmann, 1987) on paired differences d_i = a_i - b_i: the evidence
+// that the mean difference lies within (-margin, +margin). Both one-sided nulls (mean <= -margin,
+// mean >= +margin) are rejected at level alpha exactly when the 1 - 2 alpha confidence interval
+// of the mean lies inside the margin. "Not significantly different" is not this: too few
+// samples or too much spread leave a TOST undecided (equivalent false), never falsely sure.
+struct EquivalenceTest {
+  long n = 0;                       // finite differences used
+  double mean = NAN;                // of the differences
+  double standard_error = NAN;      // of the mean
+  double lower = NAN, upper = NAN;  // the 1 - 2 alpha confidence interval of the mean
+  double p_value = NAN;             // the larger of the two one-sided p-values
+  double margin = 0, alpha = 0;
+  bool equivalent = false;  // p_value < alpha (needs n >= 2)
+};
+EquivalenceTest PairedEquivalence(const std::vector<double>& differences, double margin,
+                                  double alpha);
 
 }  // namespace plumb
 

@@ -103,4 +103,87 @@ double SummaryStatistics::Quantile(double p, const P2Quantile& estimate) const {
   return SortedQuantile(sorted.data(), n_, p);
 }
 
+namespace {
+
+// The continued fraction of the regularized incomplete beta function (modified Lentz's method).
+double BetaFraction(double a, double b, double x) {
+  constexpr double kTiny = 1e-300;
+  double c = 1, d = 1 - (a + b) * x / (a + 1);
+  d = 1 / (std::abs(d) < kTiny ? kTiny : d);
+  double h = d;
+  for (int m = 1; m <= 300; ++m) {
+    for (int odd = 0; odd < 2; ++odd) {
+      const double num = odd == 0 ? m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m))
+                                  : -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1));
+      d = 1 + num * d;
+      d = 1 / (std::abs(d) < kTiny ? kTiny : d);
+      c = 1 + num / c;
+      if (std::abs(c) < kTiny) c = kTiny;
+      h *= d * c;
+      if (odd == 1 && std::abs(d * c - 1) < 1e-15) return h;
+    }
+  }
+  return h;
+}
+
+// I_x(a, b).
+double RegularizedBeta(double a, double b, double x) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) +
+                                a * std::log(x) + b * std::log1p(-x));
+  if (x < (a + 1) / (a + b + 2)) return front * BetaFraction(a, b, x) / a;
+  return 1 - front * BetaFraction(b, a, 1 - x) / b;
+}
+
+}  // namespace
+
+double StudentTCdf(double t, double dof) {
+  if (std::isnan(t) || !(dof > 0)) return NAN;
+  if (std::isinf(t)) return t > 0 ? 1 : 0;
+  const double tail = 0.5 * RegularizedBeta(0.5 * dof, 0.5, dof / (dof + t * t));
+  return t > 0 ? 1 - tail : tail;
+}
+
+double StudentTQuantile(double p, double dof) {
+  if (!(p > 0 && p < 1) || !(dof > 0)) return NAN;
+  double lo = -1, hi = 1;
+  while (StudentTCdf(lo, dof) > p) lo *= 2;
+  while (StudentTCdf(hi, dof) < p) hi *= 2;
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * std::max(1.0, std::abs(hi)); ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (StudentTCdf(mid, dof) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+EquivalenceTest PairedEquivalence(const std::vector<double>& differences, double margin,
+                                  double alpha) {
+  EquivalenceTest test;
+  test.margin = margin;
+  test.alpha = alpha;
+  SummaryStatistics s;
+  for (double d : differences) {
+    if (std::isfinite(d)) s.Add(d);
+  }
+  test.n = s.count();
+  if (test.n < 2) return test;
+  test.mean = s.mean();
+  test.standard_error = s.stddev() / std::sqrt(static_cast<double>(test.n));
+  const double dof = static_cast<double>(test.n - 1);
+  if (test.standard_error == 0) {  // every difference the same
+    test.lower = test.upper = test.mean;
+    test.p_value = std::abs(test.mean) < margin ? 0 : 1;
+  } else {
+    const double p_low = 1 - StudentTCdf((test.mean + margin) / test.standard_error, dof);
+    const double p_high = StudentTCdf((test.mean - margin) / test.standard_error, dof);
+    test.p_value = std::max(p_low, p_high);
+    const double t = StudentTQuantile(1 - alpha, dof);
+    test.lower = test.mean - t * test.standard_error;
+    test.upper = test.mean + t * test.standard_error;
+  }
+  test.equivalent = test.p_value < alpha;
+  return test;
+}
+
 }  // namespace plumb

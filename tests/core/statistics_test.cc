@@ -85,5 +85,53 @@ TEST(P2QuantileTest, FewerThanFiveValuesInterpolateExactly) {
   EXPECT_DOUBLE_EQ(median.Value(), 4);
 }
 
+TEST(StudentTTest, CdfAndQuantileMatchTabulatedValues) {
+  // tabulated: P(T <= 2) = 0.963306 with 10 degrees of freedom; t(0.975, 10) = 2.228139;
+  // one degree of freedom is Cauchy's: P(T <= 1) = 0.75
+  EXPECT_NEAR(StudentTCdf(2.0, 10), 0.9633060, 1e-6);
+  EXPECT_NEAR(StudentTCdf(-2.0, 10), 1 - 0.9633060, 1e-6);
+  EXPECT_NEAR(StudentTCdf(1.0, 1), 0.75, 1e-12);
+  EXPECT_DOUBLE_EQ(StudentTCdf(0.0, 3), 0.5);
+  EXPECT_NEAR(StudentTQuantile(0.975, 10), 2.228139, 1e-6);
+  EXPECT_NEAR(StudentTQuantile(0.95, 30), 1.697261, 1e-6);
+  EXPECT_NEAR(StudentTQuantile(0.95, 1e6), 1.644854, 1e-5);  // the normal's
+  EXPECT_TRUE(std::isnan(StudentTCdf(NAN, 4)));
+  EXPECT_TRUE(std::isnan(StudentTQuantile(1.0, 4)));
+}
+
+TEST(EquivalenceTest, TwoOneSidedTestsDecideOnlyWithEvidence) {
+  // small differences, many samples: equivalent within 0.1
+  std::vector<double> small;
+  for (int i = 0; i < 40; ++i) small.push_back(0.01 * ((i % 5) - 2));
+  EquivalenceTest a = PairedEquivalence(small, 0.1, 0.05);
+  EXPECT_TRUE(a.equivalent);
+  EXPECT_EQ(a.n, 40);
+  EXPECT_NEAR(a.mean, 0, 1e-12);
+  EXPECT_LT(a.upper, 0.1);
+  EXPECT_GT(a.lower, -0.1);
+  // the same spread with three samples: not shown (no difference shown either)
+  EquivalenceTest b = PairedEquivalence({0.05, -0.05, 0.06}, 0.1, 0.05);
+  EXPECT_FALSE(b.equivalent);
+  EXPECT_LT(b.lower, -0.1 + 0.2);
+  EXPECT_GT(b.upper, 0.1 - 0.2);
+  // a clear offset beyond the margin: not equivalent, interval outside
+  std::vector<double> offset;
+  for (int i = 0; i < 30; ++i) offset.push_back(0.5 + 0.01 * (i % 3));
+  EquivalenceTest c = PairedEquivalence(offset, 0.1, 0.05);
+  EXPECT_FALSE(c.equivalent);
+  EXPECT_GT(c.lower, 0.1);
+  // identical values: equivalent when inside the margin, with p 0; NaN left out
+  EquivalenceTest d = PairedEquivalence({0.0, 0.0, NAN, 0.0}, 0.1, 0.05);
+  EXPECT_TRUE(d.equivalent);
+  EXPECT_EQ(d.n, 3);
+  EXPECT_EQ(d.p_value, 0);
+  // p-value: one-sided t tests by hand for mean 0.05, se 0.02, margin 0.1, 9 dof
+  std::vector<double> e = {0.05 - 0.06, 0.05 + 0.06, 0.05, 0.05, 0.05 - 0.03,
+                           0.05 + 0.03, 0.05,        0.05, 0.05, 0.05};
+  EquivalenceTest f = PairedEquivalence(e, 0.1, 0.05);
+  const double se = f.standard_error;
+  EXPECT_NEAR(f.p_value, StudentTCdf((0.05 - 0.1) / se, 9), 1e-12);
+}
+
 }  // namespace
 }  // namespace plumb
