@@ -73,6 +73,11 @@ struct RolloutSpec {
   std::vector<long> skip;
   // Called after each finished rollout with (done, total), from a worker thread.
   std::function<void(long, long)> progress;
+  // For a caller that runs the same rollouts elsewhere (plumb crosscheck): called on the
+  // worker thread for rollout `index` with step 0 once its start is made (draws, state,
+  // mj_forward: `work` holds the rollout's parameters), then before each step k = 1, 2, ...
+  // with the controls that step takes. Empty: not called.
+  std::function<void(long index, long step, const Model& work, const mjData* data)> observe;
 };
 
 struct RolloutResult {

@@ -155,6 +155,7 @@ class OneRollout {
       return Refuse(*bad);
     }
     w_.data.Forward();
+    if (spec_.observe) spec_.observe(index_, 0, w_.work, w_.data.get());
     Simulate();
     Restore();
     return out_;
@@ -273,7 +274,12 @@ class OneRollout {
     run.stop = stop_;
     // one sample at the end: the probe reads every step
     run.every = static_cast<double>(std::max(1L, StepsToReach(spec_.until, dt))) * dt;
-    if (spec_.ctrl_noise > 0) run.before_step = [&](mjData* d, long step) { CtrlNoise(d, step); };
+    if (spec_.ctrl_noise > 0 || spec_.observe) {
+      run.before_step = [&](mjData* d, long step) {
+        if (spec_.ctrl_noise > 0) CtrlNoise(d, step);
+        if (spec_.observe) spec_.observe(index_, step, w_.work, d);
+      };
+    }
     run.after_step = [&](const mjData*, long step) { probe.Observe(w_.data, step); };
     probe.Observe(w_.data, 0);
     NullSink sink;
