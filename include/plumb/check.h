@@ -42,11 +42,12 @@ struct Quantity {
 struct CheckElement {
   std::string kind;  // the noun: "body", "joint", "actuator", "geom", ...
   std::string name;  // "" when unnamed
-  int id = -1;
+  int id = -1;       // -1 for what has a name but no id (an option, a flag)
   bool empty() const { return kind.empty(); }
 };
 
-// How an element reads in text: "body 'hand' (id 3)", or "body #3" when unnamed; "" for none.
+// How an element reads in text: "body 'hand' (id 3)", or "body #3" when unnamed, or "option
+// 'solver'" for a named element without an id (id -1); "" for none.
 std::string ElementLabel(const CheckElement& element);
 
 struct CheckRow {

@@ -25,6 +25,7 @@ const char* CheckStatusName(CheckStatus status) {
 std::string ElementLabel(const CheckElement& element) {
   if (element.empty()) return "";
   if (element.name.empty()) return fmt::format("{} #{}", element.kind, element.id);
+  if (element.id < 0) return fmt::format("{} '{}'", element.kind, element.name);  // an option
   return fmt::format("{} '{}' (id {})", element.kind, element.name, element.id);
 }
 

@@ -31,6 +31,27 @@ inline double PrimitiveVolume(int type, const mjtNum* size) {
   }
 }
 
+// Angle in rad between the directions of two 3-vectors (any lengths), accurate near 0 and pi
+// (atan2 of the cross and dot products, where acos of the dot loses half the digits).
+inline double AngleBetween(const double* a, const double* b) {
+  const double cx = a[1] * b[2] - a[2] * b[1];
+  const double cy = a[2] * b[0] - a[0] * b[2];
+  const double cz = a[0] * b[1] - a[1] * b[0];
+  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), dot);
+}
+
+// The rotation angle in rad, in [0, pi], that takes orientation `a` to `b` (quaternions w, x,
+// y, z of any length; q and -q are one orientation), accurate for tiny angles.
+inline double RotationAngle(const double* a, const double* b) {
+  // the relative rotation conj(a) * b: its vector part's length is sin(angle / 2) |a| |b|
+  const double w = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  const double x = a[0] * b[1] - a[1] * b[0] - a[2] * b[3] + a[3] * b[2];
+  const double y = a[0] * b[2] + a[1] * b[3] - a[2] * b[0] - a[3] * b[1];
+  const double z = a[0] * b[3] - a[1] * b[2] + a[2] * b[1] - a[3] * b[0];
+  return 2 * std::atan2(std::sqrt(x * x + y * y + z * z), std::abs(w));
+}
+
 }  // namespace plumb
 
 #endif  // PLUMB_SRC_CORE_GEOMETRY_H_

@@ -406,6 +406,20 @@ inline int ActuatorPlugin(const mjModel* m, int u) { return detail::ActuatorPlug
 
 namespace detail {
 template <typename M>
+auto PluginCount(const M* m, int) -> decltype(m->nplugin, int()) {
+  return m->nplugin;
+}
+template <typename M>
+int PluginCount(const M*, long) {
+  return 0;
+}
+}  // namespace detail
+
+// Plugin instances of the model (0 on 2.x, which has no plugins).
+inline int PluginCount(const mjModel* m) { return detail::PluginCount(m, 0); }
+
+namespace detail {
+template <typename M>
 auto KeyPlastic(const M* m, int) -> decltype(m->key_plastic, std::pair<const double*, long>()) {
   return {m->key_plastic, static_cast<long>(m->nplastic)};
 }
@@ -434,6 +448,43 @@ inline long PlasticSize(const mjModel* m) { return KeyPlastic(m).second; }
 // The length of d->history, MuJoCo's ring buffer of past controls and sensor values for
 // actuator and sensor delays (3.5+), or 0.
 inline long HistorySize(const mjModel* m) { return detail::HistorySize(m, 0); }
+
+// Actuator groups the model disables (opt.disableactuator bits; 0 before 3.x had them).
+inline int DisabledActuatorGroups(const mjModel* m) {
+#if mjVERSION_HEADER >= 3002000
+  return m->opt.disableactuator;
+#else
+  (void)m;
+  return 0;
+#endif
+}
+
+// Whether MuJoCo's own box-box and convex collision code (nativeccd) is switched off.
+inline bool NativeCcdDisabled(const mjModel* m) {
+#if mjVERSION_HEADER >= 3003000
+  return (m->opt.disableflags & mjDSBL_NATIVECCD) != 0;
+#else
+  (void)m;
+  return true;  // 2.x has no nativeccd: its box-box is the classic one
+#endif
+}
+
+// The option flags set in `m` that MJX accepts and never reads: disable flags MIDPHASE,
+// NATIVECCD, ISLAND, AUTORESET and the enable flag SLEEP, by their MJCF names.
+inline std::vector<std::string> FlagsMjxIgnores(const mjModel* m) {
+  std::vector<std::string> out;
+#if mjVERSION_HEADER >= 3011000
+  const int d = m->opt.disableflags, e = m->opt.enableflags;
+  if (d & mjDSBL_MIDPHASE) out.push_back("midphase");
+  if (d & mjDSBL_NATIVECCD) out.push_back("nativeccd");
+  if (d & mjDSBL_ISLAND) out.push_back("island");
+  if (d & mjDSBL_AUTORESET) out.push_back("autoreset");
+  if (e & mjENBL_SLEEP) out.push_back("sleep");
+#else
+  (void)m;
+#endif
+  return out;
+}
 
 // An actuator's or sensor's delay (3.5+: delay="..." nsample="..."): the delay as written, s,
 // and the samples of history kept for it, which bound the delay MuJoCo can apply to
