@@ -1,0 +1,26 @@
+// The statistics check: N randomized worlds (plumb rollout's --randomize, --ctrl-noise and
+// --metric) run in CPU MuJoCo and in the engine with the same parameters, starts and controls;
+// each metric's paired differences go through two one-sided tests against a stated margin.
+
+#ifndef PLUMB_SRC_CROSSCHECK_STATISTICS_CHECK_H_
+#define PLUMB_SRC_CROSSCHECK_STATISTICS_CHECK_H_
+
+#include <vector>
+
+#include "crosscheck/engine_session.h"
+#include "plumb/crosscheck.h"
+
+namespace plumb {
+
+// The metrics measured when none are given: the final position of the first free joint (x, y,
+// z), else the final coordinate of up to four hinge or slide joints.
+std::vector<Metric> DefaultCrosscheckMetrics(const Model& model, double until);
+
+// `nominal` is the model as given (options.sets are applied per world, as plumb rollout does);
+// `loaded` the one the engine holds (nominal with options.sets applied).
+std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
+                                      EngineSession& engine, const CrosscheckOptions& options);
+
+}  // namespace plumb
+
+#endif  // PLUMB_SRC_CROSSCHECK_STATISTICS_CHECK_H_
