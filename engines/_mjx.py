@@ -124,6 +124,7 @@ class Engine:
     def world_into(self, batch, world, mjd):
         one = jax.tree_util.tree_map(lambda x: x[world], batch.d)
         mjx.get_data_into(mjd, self.mjm, one)
+        name_rows(self.mjm, mjd)
 
     def tally(self, batch, tally):
         """The most contacts each world held so far, kept on the device."""
@@ -139,6 +140,62 @@ class Engine:
         constraint rows for them."""
         impl = batch.d._impl
         return {"nconmax": int(impl.contact.dist.shape[-1]), "njmax": int(impl.efc_J.shape[-2])}
+
+
+def name_rows(mjm, mjd):
+    """Fills efc_id of the non-contact rows, which mjx.get_data_into leaves unset (measured: stray
+    integers). MJX emits them in MuJoCo's order: equalities, dof and tendon friction, joint and
+    tendon limits. An equality's or a friction's rows follow the elements in order; a limit row
+    is the limited element whose distance to its range, in the engine's own state, is the row's."""
+    c = mujoco.mjtConstraint
+    eq = [i for i in range(mjm.neq) if mjd.eq_active[i]
+          for _ in range({0: 3, 1: 6}.get(int(mjm.eq_type[i]), 1))]
+    queues = {int(c.mjCNSTR_EQUALITY): eq,
+              int(c.mjCNSTR_FRICTION_DOF): [i for i in range(mjm.nv) if mjm.dof_frictionloss[i] > 0],
+              int(c.mjCNSTR_FRICTION_TENDON):
+                  [i for i in range(mjm.ntendon) if mjm.tendon_frictionloss[i] > 0]}
+    used = {k: 0 for k in queues}
+    after = {int(c.mjCNSTR_LIMIT_JOINT): (-1, 1), int(c.mjCNSTR_LIMIT_TENDON): (-1, 1)}
+    for row in range(mjd.nefc):
+        kind = int(mjd.efc_type[row])
+        if kind in queues and used[kind] < len(queues[kind]):
+            mjd.efc_id[row] = queues[kind][used[kind]]
+            used[kind] += 1
+        elif kind in after:
+            joints = kind == int(c.mjCNSTR_LIMIT_JOINT)
+            found = limited(
+                mjm.njnt if joints else mjm.ntendon,
+                mjm.jnt_limited if joints else mjm.tendon_limited,
+                mjm.jnt_range if joints else mjm.tendon_range,
+                mjm.jnt_margin if joints else mjm.tendon_margin,
+                (lambda j: joint_value(mjm, mjd, j)) if joints else (lambda t: mjd.ten_length[t]),
+                mjd.efc_pos[row], after[kind])
+            after[kind] = found
+            mjd.efc_id[row] = found[0]
+
+
+def joint_value(mjm, mjd, j):
+    """A hinge's or slide's coordinate; a ball's rotation angle."""
+    adr = mjm.jnt_qposadr[j]
+    if mjm.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
+        return 2 * np.arctan2(np.linalg.norm(mjd.qpos[adr + 1:adr + 4]), abs(mjd.qpos[adr]))
+    return mjd.qpos[adr]
+
+
+def limited(count, is_limited, ranges, margins, value, pos, after):
+    """(element, side) of the limit row with distance `pos`: the first limited element past
+    `after` (rows come in element order, lower side first) whose distance to that side of its
+    range, in the engine's own state, is `pos` to float32 rounding; (-1, 1) when none is."""
+    for i in range(max(after[0], 0), count):
+        if not is_limited[i]:
+            continue
+        v, (low, high) = value(i), ranges[i]
+        for side, distance in enumerate((v - low - margins[i], high - v - margins[i])):
+            if (i, side) <= after:
+                continue
+            if abs(distance - pos) < 1e-4 * max(1.0, abs(pos)):
+                return i, side
+    return -1, 1
 
 
 def per_world(value, rows):

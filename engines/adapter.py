@@ -202,11 +202,27 @@ def compile_model(path, edits):
         if not (isinstance(edit, list) and len(edit) == 3 and isinstance(edit[0], str)):
             raise Failure("bad_request", f"edit {edit!r} is not [field, index, value]")
         field, index, value = edit
+        if field.startswith("opt."):  # an option: a scalar, or an array such as opt.gravity
+            set_option(mjm.opt, field[4:], int(index), value, edit)
+            continue
         target = getattr(mjm, field, None)
         if not isinstance(target, np.ndarray) or not 0 <= int(index) < target.size:
             raise Failure("bad_request", f"edit {edit!r}: no such MjModel element")
         target.flat[int(index)] = value
     return mjm
+
+
+def set_option(opt, name, index, value, edit):
+    """Writes element `index` of option `name` (mjOption's field)."""
+    current = getattr(opt, name, None)
+    if isinstance(current, np.ndarray):
+        if not 0 <= index < current.size:
+            raise Failure("bad_request", f"edit {edit!r}: no such option element")
+        current.flat[index] = value
+    elif current is not None and index == 0:
+        setattr(opt, name, type(current)(value))
+    else:
+        raise Failure("bad_request", f"edit {edit!r}: no such option")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -259,6 +275,9 @@ class Session:
         self.engine.sync(batch)
         _, overflow = self.engine.tally_result(batch, self.engine.tally(batch, None))
         out = record_stages(self.mjm, self.engine, batch, worlds)
+        # the step starts from the given state again, warm start included, as plumb's does:
+        # an engine's forward may keep its solution as the next warm start
+        batch, _, _ = self.start(arrays)
         self.engine.step(batch)
         self.engine.sync(batch)
         after = self.engine.read(batch, ("qpos", "qvel", "act"))
@@ -326,8 +345,9 @@ def record_stages(mjm, engine, batch, worlds):
                 mujoco.mj_contactForce(mjm, mjd, i, force)
             contacts.append(np.concatenate([[world], c.geom, [c.dist], c.pos,
                                             c.frame, [c.dim], force]))
+        owner = contact_of_rows(mjd)
         for j in range(mjd.nefc):
-            rows.append([world, mjd.efc_type[j], mjd.efc_id[j], mjd.efc_pos[j],
+            rows.append([world, mjd.efc_type[j], owner.get(j, mjd.efc_id[j]), mjd.efc_pos[j],
                          mjd.efc_force[j]])
     out = [(k, np.stack(v)) for k, v in per_world.items()]
     c = np.array(contacts, dtype=float).reshape(-1, 23)
@@ -339,6 +359,24 @@ def record_stages(mjm, engine, batch, worlds):
     out += [(name, r[:, i:i + 1]) for i, name in
             enumerate(("efc_world", "efc_type", "efc_id", "efc_pos", "efc_force"))]
     return out
+
+
+CONTACT_ROWS = None  # the mjtConstraint values of contact rows (set in main)
+
+
+def contact_of_rows(mjd):
+    """{row: index of its contact in this world's list} for contact rows: an engine may number
+    a contact row's efc_id across all worlds (Warp does), the protocol numbers it per world. A
+    contact's rows run from its efc_address to the next contact's (or the last contact row)."""
+    starts = sorted((c.efc_address, i) for i, c in enumerate(mjd.contact) if c.efc_address >= 0)
+    owner = {}
+    for k, (address, i) in enumerate(starts):
+        end = starts[k + 1][0] if k + 1 < len(starts) else mjd.nefc
+        for j in range(address, end):
+            if mjd.efc_type[j] not in CONTACT_ROWS:
+                break
+            owner[j] = i
+    return owner
 
 
 def run_rollout(engine, batch, steps, every, controls, nu):
@@ -428,9 +466,12 @@ def main():
     requests, replies = protocol_streams()
     if options.engine == "mjx" and options.device == "cpu":
         os.environ["JAX_PLATFORMS"] = "cpu"
-    global mujoco, np  # imported after the streams are set, like the engines
+    global mujoco, np, CONTACT_ROWS  # imported after the streams are set, like the engines
     import mujoco
     import numpy as np
+    c = mujoco.mjtConstraint
+    CONTACT_ROWS = {int(c.mjCNSTR_CONTACT_FRICTIONLESS), int(c.mjCNSTR_CONTACT_PYRAMIDAL),
+                    int(c.mjCNSTR_CONTACT_ELLIPTIC)}
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     try:
         if options.engine == "warp":
