@@ -13,6 +13,7 @@
 
 #include "plumb/audit.h"
 #include "plumb/check.h"
+#include "plumb/crosscheck.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -48,6 +49,11 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
 // where its status would, and "FAIL accepted: REASON" where its fix would.
 std::string AuditTable(const AuditReport& report, TableDetail detail,
                        const std::string& how_to_see_all = "");
+
+// crosscheck's table, one section per check: as verify's, each row naming its element, plus
+// the engine and how the model was sent.
+std::string CrosscheckTable(const CrosscheckReport& report, TableDetail detail,
+                            const std::string& how_to_see_all = "");
 
 // Wraps `text` at `width` columns, each line prefixed with `indent` and ending in a newline.
 std::string Wrap(const std::string& text, std::size_t width, const std::string& indent);

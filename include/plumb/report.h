@@ -28,6 +28,7 @@
 
 #include "plumb/audit.h"
 #include "plumb/converge.h"
+#include "plumb/crosscheck.h"
 #include "plumb/identify.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
@@ -140,6 +141,13 @@ struct HeldOutLog {
   const RobotLog* log = nullptr;
   ReplayResult nominal, fitted;
 };
+
+// plumb crosscheck --report: the engine and how the model was sent, the rows of the five
+// checks, and when each signal parted in the engine against the chaos baseline. `until` is the
+// runs' length, s. @throws as WriteVerifyReport does.
+void WriteCrosscheckReport(const std::string& path, const Model& model,
+                           const std::vector<Assignment>& sets, const CrosscheckReport& result,
+                           double until, const ReportInfo& info);
 
 // plumb identify --report: the estimates with their 95 % intervals, the correlation matrix,
 // the cost per iteration, the delay scan, and per log (and for the held-out log, when given)

@@ -26,6 +26,7 @@
 
 #include "plumb/audit.h"
 #include "plumb/converge.h"
+#include "plumb/crosscheck.h"
 #include "plumb/identify.h"
 #include "plumb/regression.h"
 #include "plumb/replay.h"
@@ -41,6 +42,13 @@ std::string VerifyToJson(const VerifyReport& report);
 
 // {"model", "mujoco_version", "layers": {layer: [row...]}, "repro_folders", "summary"}
 std::string AuditToJson(const AuditReport& report);
+
+// {"model", "mujoco_version", "engine": {engine, engine_version, backend, mujoco_version,
+//  mujoco_library, device, precision}, "model_transfer", "checks": [row...], "divergence":
+//  [{signal, element, threshold, engine: [s...], chaos: [s...]}], "throughput": {worlds, steps,
+//  engine_steps_per_second, engine_compile_seconds, cpu_steps_per_second, cpu_threads},
+//  "summary"}
+std::string CrosscheckToJson(const CrosscheckReport& report);
 
 // {"metric", "model", "integrator_expected_order", "levels": [{dt, value, diff, order, error,
 //  error_is_richardson, roundoff}], "observed_order", "order_resolved", "extrapolated", "scale",

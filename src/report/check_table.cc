@@ -176,6 +176,29 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
                       kWidth, "");
 }
 
+std::string CrosscheckTable(const CrosscheckReport& report, TableDetail detail,
+                            const std::string& how_to_see_all) {
+  std::vector<std::string> texts;
+  for (const CheckRow& c : report.rows) {
+    std::string text = Head(c, 28) + " " + c.title + "\n";
+    if (c.status != CheckStatus::kSkip) {
+      std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
+      if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
+      text += Wrap(numbers, kWidth, kIndent);
+    }
+    text += Wrap(c.explanation, kWidth, kIndent);
+    if (!c.fix.empty()) text += Wrap("fix: " + c.fix, kWidth, kIndent);
+    texts.push_back(text + AcceptedLine(c));
+  }
+  const EngineInfo& e = report.engine;
+  return CheckTable(fmt::format("plumb crosscheck {} (MuJoCo {}) against {} {} (MuJoCo {}, {} on "
+                                "{}; model sent as {})",
+                                report.model, report.mujoco_version, e.engine, e.engine_version,
+                                e.mujoco_version, e.precision, e.device,
+                                report.model_transfer.empty() ? "-" : report.model_transfer),
+                    report.rows, texts, detail, how_to_see_all);
+}
+
 std::string AuditTable(const AuditReport& report, TableDetail detail,
                        const std::string& how_to_see_all) {
   std::vector<std::string> texts;

@@ -101,6 +101,42 @@ std::string AuditToJson(const AuditReport& report) {
   return j.dump(2) + "\n";
 }
 
+std::string CrosscheckToJson(const CrosscheckReport& report) {
+  Json j;
+  j["model"] = report.model;
+  j["mujoco_version"] = report.mujoco_version;
+  const EngineInfo& e = report.engine;
+  j["engine"] = {{"engine", e.engine},
+                 {"engine_version", e.engine_version},
+                 {"backend", e.backend},
+                 {"mujoco_version", e.mujoco_version},
+                 {"mujoco_library", e.mujoco_library},
+                 {"device", e.device},
+                 {"precision", e.precision}};
+  j["model_transfer"] = report.model_transfer;
+  Json checks = Json::array();
+  for (const CheckRow& row : report.rows) checks.push_back(RowJson(row));
+  j["checks"] = checks;
+  Json divergence = Json::array();
+  for (const DivergenceTrack& t : report.divergence) {
+    divergence.push_back({{"signal", t.signal},
+                          {"element", ElementLabel(t.element)},
+                          {"threshold", t.threshold},
+                          {"engine", NumberArray(t.engine)},
+                          {"chaos", NumberArray(t.chaos)}});
+  }
+  j["divergence"] = divergence;
+  const ThroughputFigures& f = report.throughput;
+  j["throughput"] = {{"worlds", f.worlds},
+                     {"steps", f.steps},
+                     {"engine_steps_per_second", f.engine_steps_per_second},
+                     {"engine_compile_seconds", f.engine_compile_seconds},
+                     {"cpu_steps_per_second", f.cpu_steps_per_second},
+                     {"cpu_threads", f.cpu_threads}};
+  j["summary"] = Summary(report.rows);
+  return j.dump(2) + "\n";
+}
+
 std::string ConvergeToJson(const ConvergenceResult& r) {
   Json j;
   j["metric"] = r.metric;
