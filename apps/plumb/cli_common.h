@@ -156,6 +156,7 @@ void InstallSignalHandlers();
 void SetupRunCommand(CLI::App& app, Context& ctx);
 void SetupInspectCommand(CLI::App& app, Context& ctx);
 void SetupConvergeCommand(CLI::App& app, Context& ctx);
+void SetupCrosscheckCommand(CLI::App& app, Context& ctx);
 void SetupVerifyCommand(CLI::App& app, Context& ctx);
 void SetupAuditCommand(CLI::App& app, Context& ctx);
 void SetupSweepCommand(CLI::App& app, Context& ctx);

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   SetupRunCommand(app, ctx);
   SetupInspectCommand(app, ctx);
   SetupConvergeCommand(app, ctx);
+  SetupCrosscheckCommand(app, ctx);
   SetupSweepCommand(app, ctx);
   SetupRolloutCommand(app, ctx);
   SetupRenderCommand(app, ctx);
