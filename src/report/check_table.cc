@@ -152,19 +152,29 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
   return out + "\n";
 }
 
+namespace {
+
+// A row of a measuring check (verify's, crosscheck's): its head and title, what was measured
+// against what, its explanation, its fix when `with_fix`, and the accepted line.
+std::string MeasuredRowText(const CheckRow& c, int head_width, bool with_fix) {
+  std::string text = Head(c, head_width) + " " + c.title + "\n";
+  if (c.status != CheckStatus::kSkip) {
+    std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
+    if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
+    if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
+    text += Wrap(numbers, kWidth, kIndent);
+  }
+  text += Wrap(c.explanation, kWidth, kIndent);
+  if (with_fix && !c.fix.empty()) text += Wrap("fix: " + c.fix, kWidth, kIndent);
+  return text + AcceptedLine(c);
+}
+
+}  // namespace
+
 std::string VerifyTable(const VerifyReport& report, TableDetail detail,
                         const std::string& how_to_see_all) {
   std::vector<std::string> texts;
-  for (const CheckRow& c : report.checks) {
-    std::string text = Head(c, 24) + " " + c.title + "\n";
-    if (c.status != CheckStatus::kSkip) {
-      std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
-      if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
-      if (std::isfinite(c.rel_error)) numbers += fmt::format("   rel. error {:.2g}", c.rel_error);
-      text += Wrap(numbers, kWidth, kIndent);
-    }
-    texts.push_back(text + Wrap(c.explanation, kWidth, kIndent) + AcceptedLine(c));
-  }
+  for (const CheckRow& c : report.checks) texts.push_back(MeasuredRowText(c, 24, false));
   std::string table = CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
                                              MujocoVersion(), report.tol),
                                  report.checks, texts, detail, how_to_see_all);
@@ -179,17 +189,7 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
 std::string CrosscheckTable(const CrosscheckReport& report, TableDetail detail,
                             const std::string& how_to_see_all) {
   std::vector<std::string> texts;
-  for (const CheckRow& c : report.rows) {
-    std::string text = Head(c, 28) + " " + c.title + "\n";
-    if (c.status != CheckStatus::kSkip) {
-      std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
-      if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
-      text += Wrap(numbers, kWidth, kIndent);
-    }
-    text += Wrap(c.explanation, kWidth, kIndent);
-    if (!c.fix.empty()) text += Wrap("fix: " + c.fix, kWidth, kIndent);
-    texts.push_back(text + AcceptedLine(c));
-  }
+  for (const CheckRow& c : report.rows) texts.push_back(MeasuredRowText(c, 28, true));
   const EngineInfo& e = report.engine;
   return CheckTable(fmt::format("plumb crosscheck {} (MuJoCo {}) against {} {} (MuJoCo {}, {} on "
                                 "{}; model sent as {})",
