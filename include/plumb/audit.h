@@ -50,8 +50,8 @@ struct AuditOptions {
 
 // One curve of an audit run, kept for pictures (--report).
 struct AuditCurve {
-  std::string label;      // the run: "passive settle", "step response of actuator 'elbow' (id 3)"
-  std::string quantity;   // what y is, with its unit: "total energy (J)"
+  std::string label;     // the run: "passive settle", "step response of actuator 'elbow' (id 3)"
+  std::string quantity;  // what y is, with its unit: "total energy (J)"
   std::vector<double> t;  // s, every step
   std::vector<double> y;
   double start = NAN;   // a step response's value before the step

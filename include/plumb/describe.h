@@ -96,9 +96,9 @@ struct DelayDescription {
   std::string kind;  // "actuator" or "sensor"
   int id = 0;
   std::string name;
-  double delay = 0;         // as written, s
-  long nsample = 0;         // history samples kept
-  double buffer = 0;        // nsample x timestep, s: the longest delay MuJoCo applies
+  double delay = 0;   // as written, s
+  long nsample = 0;   // history samples kept
+  double buffer = 0;  // nsample x timestep, s: the longest delay MuJoCo applies
   long needed_nsample = 0;  // the nsample that covers `delay`
   bool shortened() const { return delay > buffer * (1 + 1e-9); }
   // "actuator 'm' (id 0): delay 0.5 s is longer than its buffer ... ", or "" when covered.

@@ -155,9 +155,9 @@ struct IdentifyResult {
   // only its own window) and one at the point; the rest are the solver's trial points. A run
   // already made at the same point is not made again.
   long jacobians = 0;
-  long jacobian_runs = 0;      // of `runs`, made for the Jacobians
-  long runs_per_jacobian = 0;  // parameters + start_groups + 1
-  long start_unknowns = 0;     // start-state offsets fitted (0: the logged starts are used)
+  long jacobian_runs = 0;        // of `runs`, made for the Jacobians
+  long runs_per_jacobian = 0;    // parameters + start_groups + 1
+  long start_unknowns = 0;       // start-state offsets fitted (0: the logged starts are used)
   long start_groups = 0;
   // Bates and Watts's relative offset where the fit ended: the Gauss–Newton step still left,
   // over sqrt(unknowns) standard errors. About 0 at a best fit; the solve stops below 0.01, and

@@ -62,7 +62,7 @@ class Renderer {
   // @throws UnavailableError when this build has no renderer or no GL context can be made;
   //         ValueError for a size below 1 or above 8192 pixels, an unknown camera or
   //         highlight name (the message lists the valid ones), or an unknown backend;
-  //         MujocoError when MuJoCo cannot set up its render context on the GL context.
+//         MujocoError when MuJoCo cannot set up its render context on the GL context.
   Renderer(const Model& model, RenderOptions options);
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -74,7 +74,7 @@ class Renderer {
 
   // Draws the state `data` holds (its positions must be current: after mj_forward or
   // mj_step) into `image`, reusing its buffer. Rows come out top-down.
-  // @throws UnavailableError when the GL context cannot be made current again; MujocoError.
+// @throws UnavailableError when the GL context cannot be made current again; MujocoError.
   void Render(Data& data, Image* image);
   Image Render(Data& data);
 

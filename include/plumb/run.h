@@ -79,7 +79,7 @@ Schedule MakeSchedule(double timestep, double until, double every);
 
 // State of the simulation at one step, as a repro needs it.
 struct StateSnapshot {
-  long step = 0;    // by the data's clock: the state after step n is at t = n * timestep
+  long step = 0;  // by the data's clock: the state after step n is at t = n * timestep
   double time = 0;  // simulation time of this state, s
   std::vector<double> qpos, qvel, act, ctrl;
   // Everything the next step starts from, as one vector: on MuJoCo 3.5+ mj_getState's

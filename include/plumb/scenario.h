@@ -1,6 +1,5 @@
 // The scenario language of plumb audit: a start state, control schedules and assertions on
-// paths over time windows, read from a JSON or TOML file (see docs/audit.md, "Scenarios are JSON or
-// TOML").
+// paths over time windows, read from a JSON or TOML file (see docs/audit.md, "Scenarios are JSON or TOML").
 //
 // Example:
 //   plumb::Scenario sc = plumb::LoadScenario(model, "stand.toml");

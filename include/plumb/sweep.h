@@ -92,7 +92,8 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec);
 // thread count. @throws ValueError as ValidateSweepSpec; Interrupted; MujocoError; what `emit`
 // throws.
 void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& skip,
-           const std::function<void(const SweepCase&)>& emit, const StopToken& stop = {});
+           const std::function<void(const SweepCase&)>& emit,
+           const StopToken& stop = {});
 
 // Runs every case and returns them all (a small sweep; the streaming Sweep above for large
 // ones). Results come back in case order and are bit-identical whatever the

@@ -79,8 +79,7 @@ void MetricAgainstParameters(report::Page* page, const BatchCollector& b, std::s
     chart.how_to_read =
         "Each point is one case. Healthy: the metric changes smoothly with the parameter, the "
         "way the physics says it should (the same force moves a heavier body less, more damping "
-        "settles it sooner), and the spread at one parameter value is what the other parameters "
-        "explain. "
+        "settles it sooner), and the spread at one parameter value is what the other parameters explain. "
         "Sick: red crosses (diverged runs) clustered at one end of a range, which marks the "
         "edge of where the model is stable, or a sudden jump in the metric, which usually "
         "means a contact or limit switching on.";

@@ -11,7 +11,7 @@
 namespace plumb {
 namespace {
 
-constexpr std::size_t kMostSignals = 12;  // charts per log
+constexpr std::size_t kMostSignals = 12;   // charts per log
 
 // `v` as long as the log's `n` samples: a simulation that stopped early ends in NaN.
 std::vector<double> Padded(const std::vector<double>& v, std::size_t n) {

@@ -10,7 +10,7 @@
 namespace plumb::report {
 namespace {
 
-constexpr std::size_t kJointsPerChart = 6;       // lines a chart keeps apart (and its palette)
+constexpr std::size_t kJointsPerChart = 6;     // lines a chart keeps apart (and its palette)
 constexpr std::size_t kMostPhasePortraits = 24;  // beyond: none, the page says why
 
 // What the nominal run is for the model at hand, so the notes say what healthy looks like.
@@ -41,64 +41,54 @@ RunNotes NotesFor(RunKind kind) {
       "shrink when the timestep is halved.";
   switch (kind) {
     case RunKind::kPendulum:
-      n.q =
-          "A damped pendulum swings with an amplitude that shrinks a little every period and "
-          "a period that grows slightly at large angles. Healthy: smooth curves that repeat. "
-          "Sick: a kink or a jump (a contact or a limit acting hard, or a timestep too large), "
-          "growth where nothing drives the system (energy is being created), or a flat line "
-          "where something should move.";
-      n.qdot =
-          "The velocity leads the angle by a quarter period and is largest where the angle "
-          "crosses its rest value. " +
-          n.qdot;
-      n.phase =
-          "Angle against velocity: an undamped swing is a closed loop traced again and "
-          "again; damping turns it into a spiral that winds slowly inwards to the rest "
-          "point. Sick: a spiral that winds outwards (energy is being created: the "
-          "integrator or the timestep), or loops that do not close on an undamped model.";
-      n.energy =
-          "With damping the energy falls, in steps where the speed is highest, and never "
-          "rises without an actuator driving. Undamped it should stay on the dashed "
-          "start line to within the integrator's error (RK4: invisible; semi-implicit "
-          "Euler: a small oscillation that does not grow). Sick: a steady climb (energy "
-          "created: too large a timestep, stiff contacts) or a sudden jump (an impact "
-          "resolved badly).";
+      n.q = "A damped pendulum swings with an amplitude that shrinks a little every period and "
+            "a period that grows slightly at large angles. Healthy: smooth curves that repeat. "
+            "Sick: a kink or a jump (a contact or a limit acting hard, or a timestep too large), "
+            "growth where nothing drives the system (energy is being created), or a flat line "
+            "where something should move.";
+      n.qdot = "The velocity leads the angle by a quarter period and is largest where the angle "
+               "crosses its rest value. " + n.qdot;
+      n.phase = "Angle against velocity: an undamped swing is a closed loop traced again and "
+                "again; damping turns it into a spiral that winds slowly inwards to the rest "
+                "point. Sick: a spiral that winds outwards (energy is being created: the "
+                "integrator or the timestep), or loops that do not close on an undamped model.";
+      n.energy = "With damping the energy falls, in steps where the speed is highest, and never "
+                 "rises without an actuator driving. Undamped it should stay on the dashed "
+                 "start line to within the integrator's error (RK4: invisible; semi-implicit "
+                 "Euler: a small oscillation that does not grow). Sick: a steady climb (energy "
+                 "created: too large a timestep, stiff contacts) or a sudden jump (an impact "
+                 "resolved badly).";
       return n;
     case RunKind::kFloating:
-      n.q = std::string(
-                "Zero control from the start pose: a floating robot with no controller "
-                "drops onto whatever is below it, its joints give way under its weight "
-                "until links, limits or the ground hold them, and then stay still. "
-                "Healthy: quick changes in the first moments, then flat lines.") +
+      n.q = std::string("Zero control from the start pose: a floating robot with no controller "
+                        "drops onto whatever is below it, its joints give way under its weight "
+                        "until links, limits or the ground hold them, and then stay still. "
+                        "Healthy: quick changes in the first moments, then flat lines.") +
             sick_curve;
-      n.energy =
-          "The robot falls and lands, so the energy drops (gravity's work goes into "
-          "impacts, friction and damping) and then stays flat; with no actuator driving "
-          "it never rises. Sick: a climb (interpenetrating geoms pushing apart, a "
-          "too-large timestep) or an energy that keeps oscillating after landing "
-          "(nothing damps the joints: add damping or armature).";
+      n.energy = "The robot falls and lands, so the energy drops (gravity's work goes into "
+                 "impacts, friction and damping) and then stays flat; with no actuator driving "
+                 "it never rises. Sick: a climb (interpenetrating geoms pushing apart, a "
+                 "too-large timestep) or an energy that keeps oscillating after landing "
+                 "(nothing damps the joints: add damping or armature).";
       break;
     case RunKind::kFixedBase:
-      n.q = std::string(
-                "Zero control from the start pose: each joint sags or swings under "
-                "gravity and comes to rest on its damping, springs or limits (with "
-                "little damping it keeps swinging, slowly losing amplitude). Healthy: "
-                "smooth curves that settle or repeat.") +
+      n.q = std::string("Zero control from the start pose: each joint sags or swings under "
+                        "gravity and comes to rest on its damping, springs or limits (with "
+                        "little damping it keeps swinging, slowly losing amplitude). Healthy: "
+                        "smooth curves that settle or repeat.") +
             sick_curve;
-      n.energy =
-          "With no actuator driving, the energy only falls (damping, friction and "
-          "contacts take it) or, with nothing to take it, stays on the dashed start "
-          "line to within the integrator's error. Sick: a steady climb (energy created: "
-          "too large a timestep, stiff contacts) or a sudden jump (an impact resolved "
-          "badly).";
+      n.energy = "With no actuator driving, the energy only falls (damping, friction and "
+                 "contacts take it) or, with nothing to take it, stays on the dashed start "
+                 "line to within the integrator's error. Sick: a steady climb (energy created: "
+                 "too large a timestep, stiff contacts) or a sudden jump (an impact resolved "
+                 "badly).";
       break;
   }
-  n.phase =
-      "The joint's coordinate against its velocity. A joint that comes to rest ends on a "
-      "point of the zero-velocity line; one that swings loops around its rest value, "
-      "winding inwards when damped. Sick: loops that grow with no actuator (energy "
-      "created), or a tangle near zero velocity that never shrinks (jitter at contacts "
-      "or constraints).";
+  n.phase = "The joint's coordinate against its velocity. A joint that comes to rest ends on a "
+            "point of the zero-velocity line; one that swings loops around its rest value, "
+            "winding inwards when damped. Sick: loops that grow with no actuator (energy "
+            "created), or a tangle near zero velocity that never shrinks (jitter at contacts "
+            "or constraints).";
   return n;
 }
 
@@ -152,10 +142,9 @@ void AddRunCharts(Page* page, const Model& model, const VerifyFigures& f) {
   page->Heading("The nominal run");
   if (!f.q.empty()) {
     if (f.q.size() > kJointsPerChart) {
-      page->Paragraph(
-          fmt::format("All {} hinge and slide joints, {} to a chart; click a name "
-                      "in a legend to hide or show that joint.",
-                      f.q.size(), kJointsPerChart));
+      page->Paragraph(fmt::format("All {} hinge and slide joints, {} to a chart; click a name "
+                                  "in a legend to hide or show that joint.",
+                                  f.q.size(), kJointsPerChart));
     }
     for (std::size_t first = 0; first < f.q.size(); first += kJointsPerChart) {
       AddJointGroup(page, f, first, std::min(f.q.size(), first + kJointsPerChart), notes);
