@@ -76,13 +76,14 @@ class Engine:
         return Batch(m, d, worlds, self.functions(m, tuple(varied))), unvaried
 
     def variable(self, fields):
-        """The fields MJX can vary per world, and {field: reason} for the others."""
+        """The fields MJX can vary per world, and {field: reason} for the others. A field MJX's
+        Model does not have is one it never reads: it is left out."""
         varied, unvaried = [], {}
         for name in fields:
             value = getattr(self.model, name, None)
             if value is None:
-                unvaried[name] = "MJX's Model has no field " + name
-            elif not isinstance(value, jax.Array):
+                continue
+            if not isinstance(value, jax.Array):
                 unvaried[name] = "MJX keeps " + name + " as a static numpy array"
             elif value.size != fields[name].shape[1]:
                 unvaried[name] = "MJX stores " + name + " in another layout"

@@ -122,14 +122,16 @@ def counts_now(batch):
 
 
 def batchable(fields):
-    """The fields Warp can vary per world, and {field: reason} for the others."""
+    """The fields Warp can vary per world, and {field: reason} for the others. A field Warp's
+    Model does not have is one it never reads (a constant CPU MuJoCo derives for itself): it is
+    left out, as nothing depends on it."""
     specs = {f.name: f.type for f in dataclasses.fields(mjw_types.Model)}
     varied, unvaried = [], {}
     for name in fields:
         spec = specs.get(name)
         if spec is None:
-            unvaried[name] = "MuJoCo Warp's Model has no field " + name
-        elif tuple(getattr(spec, "shape", ()))[:1] != ("*",):
+            continue
+        if tuple(getattr(spec, "shape", ()))[:1] != ("*",):
             unvaried[name] = "MuJoCo Warp shares " + name + " across worlds (not batchable)"
         else:
             varied.append(name)

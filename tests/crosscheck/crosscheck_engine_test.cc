@@ -93,6 +93,31 @@ TEST(CrosscheckWarpTest, ThePendulumAgreesInAllFiveChecks) {
   EXPECT_NE(r.model_transfer.find("edit"), std::string::npos) << r.model_transfer;
 }
 
+TEST(CrosscheckWarpTest, RandomizedWorldsRunAsTheSameWorldsInTheEngine) {
+  SKIP_UNLESS_ENGINES_MUJOCO();
+  Model model = Model::Load(testing::kPendulum);
+  CrosscheckOptions o;
+  o.setup = Ready("warp");
+  o.until = 1;
+  o.worlds = 16;
+  o.checks = {"statistics"};
+  o.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  // parameters (a mass, whose derived constants go over too), the start and the controls'
+  // noise all differ from world to world
+  for (const char* r :
+       {"dof_damping[hinge]=U(0,0.5)", "body_mass[link]=*U(0.5,1.5)", "qpos[hinge]=U(0.3,1.2)"}) {
+    o.randomize.push_back(ParseRandomization(model, r));
+  }
+  o.ctrl_noise = 0.1;
+  CrosscheckReport r = Crosscheck(model, o);
+  ASSERT_EQ(r.rows.size(), 1u) << Rows(r);  // nothing the engine could not vary
+  const CheckRow& row = r.rows[0];
+  EXPECT_EQ(row.status, CheckStatus::kPass) << Rows(r);
+  // the worlds spread (0.26 rad at 1 s), and each engine world lands on its CPU twin
+  EXPECT_GT(row.reference.value, 0.02);
+  EXPECT_LT(std::abs(row.measured.value), 1e-5) << row.measured_text;
+}
+
 TEST(CrosscheckWarpTest, ABoxRestingOnAPlaneAgreesContactByContact) {
   SKIP_UNLESS_ENGINES_MUJOCO();
   CrosscheckReport r =
