@@ -121,8 +121,9 @@ CrosscheckReport Crosscheck(const Model& model, const CrosscheckOptions& options
 const std::vector<std::string>& CrosscheckEngines();
 
 // Where plumb finds `engine`'s adapter and virtual environment:
-// - the adapter folder: $PLUMB_ENGINES_DIR, else the installed share/plumb/engines, else the
-//   source tree's engines/ (a build tree);
+// - the adapter folder: $PLUMB_ENGINES_DIR, else share/plumb/engines beside the running
+//   program (an installed plumb, wherever its prefix went), else the configured install
+//   prefix's, else the source tree's engines/ (a build tree);
 // - the environment: $PLUMB_ENGINE_VENVS/ENGINE-HASH, else $XDG_CACHE_HOME (or ~/.cache)
 //   /plumb/engines/ENGINE-HASH, HASH that of the engine's lock file, so a new lock makes a
 //   new environment. @throws ArgumentError for an unknown engine; UnavailableError when no

@@ -28,8 +28,14 @@ std::string Env(const char* name) {
 std::string AdapterFolder() {
   std::string given = Env("PLUMB_ENGINES_DIR");
   if (!given.empty()) return given;
-  for (const char* dir : {PLUMB_INSTALL_ENGINES_DIR, PLUMB_SOURCE_ENGINES_DIR}) {
-    if (fs::exists(fs::path(dir) / "adapter.py")) return dir;
+  // an installed plumb moved to another prefix finds the adapter beside its own program
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const std::string beside =
+      ec ? "" : (exe.parent_path().parent_path() / "share/plumb/engines").string();
+  for (const std::string& dir :
+       {beside, std::string(PLUMB_INSTALL_ENGINES_DIR), std::string(PLUMB_SOURCE_ENGINES_DIR)}) {
+    if (!dir.empty() && fs::exists(fs::path(dir) / "adapter.py")) return dir;
   }
   throw UnavailableError(fmt::format(
       "plumb crosscheck: the engine adapter is not installed (looked in {} and {}): reinstall "

@@ -36,6 +36,15 @@ if(rc OR NOT cli_out MATCHES "analytic.period")
   message(FATAL_ERROR "the installed plumb CLI failed to verify the pendulum (${rc}):\n${cli_out}\n${cli_err}")
 endif()
 
+# plumb crosscheck's engine adapter, its locks and the scripts that make an environment are
+# installed beside plumb, where the installed plumb looks first
+foreach(file adapter.py _warp.py _mjx.py requirements-warp.txt requirements-mjx.txt make-venv.sh
+    test-venv.sh)
+  if(NOT EXISTS "${prefix}/share/plumb/engines/${file}")
+    message(FATAL_ERROR "make install did not install share/plumb/engines/${file}")
+  endif()
+endforeach()
+
 # built against a release folder (a wheel version in the cache), the installed plumb
 # carries that MuJoCo beside its library and loads it from there, not from the cache
 file(GLOB bundled "${prefix}/lib*/libmujoco.so*")
