@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -12,6 +13,11 @@
 #include "core/demand.h"
 
 namespace plumb {
+
+int ThreadsOrAllCores(int threads) {
+  return threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 namespace {
 
 // One job on the worker of the thread that runs it: the worker is made on first use, and

@@ -19,6 +19,10 @@
 
 namespace plumb {
 
+// The threads a call asked for, or one per core when it asked for 0 (at least 1): what an
+// options struct's `threads = 0` means everywhere.
+int ThreadsOrAllCores(int threads);
+
 class WorkerPool {
  public:
   // What each thread works with: its own copy of the nominal model and a data for it.

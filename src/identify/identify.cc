@@ -13,7 +13,6 @@
 #include <map>
 #include <memory>
 #include <set>
-#include <thread>
 
 #include "core/worker_pool.h"
 #include "identify/fit_residuals.h"
@@ -403,9 +402,7 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
 IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                         const IdentifyOptions& options) {
   std::vector<FitParameter> params = ResolveFitParameters(model, options.fit, options.bounds);
-  int threads = options.threads > 0
-                    ? options.threads
-                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = ThreadsOrAllCores(options.threads);
   Residuals f(model, logs, params, options.replay, threads, options.stop);
   std::size_t n = params.size();
   RequireEnoughData(f, logs, options);
