@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <thread>
 
+#include "core/worker_pool.h"
 #include "crosscheck/engine_session.h"
 #include "crosscheck/stage_compare.h"
 #include "crosscheck/statistics_check.h"
@@ -61,46 +61,46 @@ void Validate(const CrosscheckOptions& o) {
   }
 }
 
-// States of the CPU run from `start` at steps `at` (sorted), as independent copies.
-std::vector<Data> StatesAlongRun(const Model& model, const Data& start, const std::vector<long>& at,
-                                 const StopToken& stop) {
-  std::vector<Data> out;
-  Data d = start.Clone();
-  long step = 0;
-  for (long want : at) {
-    while (step < want) {
-      if (stop.stop_requested()) throw Interrupted("plumb crosscheck: interrupted");
-      mj_step(model.get(), d.get());
-      ++step;
-    }
-    out.push_back(d.Clone());
-  }
-  return out;
-}
-
-// The geom pairs in contact at any step of CPU MuJoCo's run of `steps` from `start`.
-GeomPairs Touching(const Model& model, const Data& start, long steps, const StopToken& stop) {
-  GeomPairs pairs;
-  Data d = start.Clone();
-  for (long step = 0; step <= steps; ++step) {
-    if (step > 0) {
-      if (stop.stop_requested()) throw Interrupted("plumb crosscheck: interrupted");
-      mj_step(model.get(), d.get());
-    }
-    for (int i = 0; i < d->ncon; ++i) {
-      const int a = d->contact[i].geom1, b = d->contact[i].geom2;
-      pairs.insert({std::min(a, b), std::max(a, b)});
-    }
-  }
-  return pairs;
-}
-
 std::vector<long> EvenSteps(long steps, int count, double fraction) {
   std::vector<long> at;
   for (int k = 0; k < count; ++k) {
     at.push_back(static_cast<long>(std::llround(fraction * steps * k / count)));
   }
   return at;
+}
+
+// CPU MuJoCo's nominal run of `until` from `start`, made once for every check: the states the
+// stage check samples (evenly along it), the trajectory check's starts (evenly along its first
+// half), and the geom pairs in contact at any step (what the support table's collision entries
+// judge).
+struct NominalRun {
+  std::vector<Data> samples, starts;
+  GeomPairs touching;
+};
+
+NominalRun RunNominal(const Model& model, const Data& start, const CrosscheckOptions& o) {
+  const long steps = StepsToReach(o.until, model->opt.timestep);
+  const std::vector<long> samples = EvenSteps(steps, o.samples, 1);
+  const std::vector<long> starts = EvenSteps(steps, o.starts, 0.5);
+  NominalRun run;
+  Data d = start.Clone();
+  for (long step = 0; step <= steps; ++step) {
+    if (step > 0) {
+      if (o.stop.stop_requested()) throw Interrupted("plumb crosscheck: interrupted");
+      mj_step(model.get(), d.get());
+    }
+    for (int i = 0; i < d->ncon; ++i) {
+      const int a = d->contact[i].geom1, b = d->contact[i].geom2;
+      run.touching.insert({std::min(a, b), std::max(a, b)});
+    }
+    for (long at : samples) {
+      if (at == step) run.samples.push_back(d.Clone());
+    }
+    for (long at : starts) {
+      if (at == step) run.starts.push_back(d.Clone());
+    }
+  }
+  return run;
 }
 
 std::vector<const mjData*> Pointers(const std::vector<Data>& states) {
@@ -118,10 +118,8 @@ CheckRow Skipped(const char* check, const std::string& why) {
   return row;
 }
 
-std::vector<CheckRow> StageCheck(const Model& loaded, const Data& start, EngineSession& engine,
-                                 const CrosscheckOptions& o) {
-  const long steps = StepsToReach(o.until, loaded->opt.timestep);
-  std::vector<Data> states = StatesAlongRun(loaded, start, EvenSteps(steps, o.samples, 1), o.stop);
+std::vector<CheckRow> StageCheck(const Model& loaded, const std::vector<Data>& states,
+                                 EngineSession& engine) {
   std::vector<double> times;
   for (const Data& d : states) times.push_back(d->time);
   const StageValues cpu = CpuStages(loaded, Pointers(states));
@@ -145,8 +143,7 @@ CheckRow ThroughputCheck(const Model& model, const Model& loaded, const Data& st
   spec.count = o.worlds;
   spec.until = o.throughput_steps * loaded->opt.timestep;
   spec.sets = o.sets;
-  spec.threads = o.threads > 0 ? o.threads
-                               : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  spec.threads = ThreadsOrAllCores(o.threads);
   figures->cpu_threads = spec.threads;
   const auto begin = std::chrono::steady_clock::now();
   Rollout(
@@ -208,9 +205,9 @@ CrosscheckReport Crosscheck(const Model& model, const CrosscheckOptions& o) {
   auto add = [&](std::vector<CheckRow> rows) {
     report.rows.insert(report.rows.end(), rows.begin(), rows.end());
   };
-  const long steps = StepsToReach(o.until, loaded->opt.timestep);
-  std::vector<CheckRow> support = SupportRows(loaded, report.engine, report.mujoco_version,
-                                              Touching(loaded, start, steps, o.stop));
+  const NominalRun nominal = RunNominal(loaded, start, o);
+  std::vector<CheckRow> support =
+      SupportRows(loaded, report.engine, report.mujoco_version, nominal.touching);
   try {
     report.model_transfer = engine.Load(loaded);
   } catch (const EngineRefused& refused) {
@@ -222,11 +219,9 @@ CrosscheckReport Crosscheck(const Model& model, const CrosscheckOptions& o) {
     return report;
   }
   if (Wants(o, "support")) add(support);
-  if (Wants(o, "stages")) add(StageCheck(loaded, start, engine, o));
+  if (Wants(o, "stages")) add(StageCheck(loaded, nominal.samples, engine));
   if (Wants(o, "trajectory")) {
-    std::vector<Data> starts =
-        StatesAlongRun(loaded, start, EvenSteps(steps, o.starts, 0.5), o.stop);
-    add(TrajectoryCheck(loaded, Pointers(starts), engine, o, &report.divergence));
+    add(TrajectoryCheck(loaded, Pointers(nominal.starts), engine, o, &report.divergence));
   }
   if (Wants(o, "statistics")) add(StatisticsCheck(model, loaded, engine, o));
   if (Wants(o, "throughput")) {
