@@ -6,9 +6,9 @@
 #include <cmath>
 #include <map>
 #include <set>
-#include <thread>
 
 #include "core/fields.h"
+#include "core/worker_pool.h"
 #include "plumb/statistics.h"
 #include "plumb/timing.h"
 #include "scenario/metric_probe.h"
@@ -22,10 +22,6 @@ struct WorldRecord {
   std::unique_ptr<Data> start;
   std::vector<double> ctrl;  // [steps][nu]
 };
-
-int AllCores(int threads) {
-  return threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-}
 
 // The engine's per-world values of every field some world changed.
 std::vector<WorldField> VariedFields(const Model& loaded, const std::vector<WorldRecord>& worlds) {
@@ -51,17 +47,18 @@ std::vector<WorldField> VariedFields(const Model& loaded, const std::vector<Worl
 
 // CPU MuJoCo's rollouts, recording each world's parameters, start and controls.
 std::vector<std::vector<double>> CpuRollouts(const Model& nominal, const Model& loaded,
-                                             const CrosscheckOptions& o, long steps,
+                                             const CrosscheckOptions& o,
+                                             const std::vector<Metric>& metrics, long steps,
                                              std::vector<WorldRecord>* worlds) {
   RolloutSpec spec;
   spec.count = o.worlds;
   spec.until = o.until;
   spec.seed = o.seed;
-  spec.threads = AllCores(o.threads);
+  spec.threads = ThreadsOrAllCores(o.threads);
   spec.sets = o.sets;
   spec.randomize = o.randomize;
   spec.ctrl_noise = o.ctrl_noise;
-  spec.metrics = o.metrics.empty() ? DefaultCrosscheckMetrics(nominal, o.until) : o.metrics;
+  spec.metrics = metrics;
   worlds->resize(o.worlds);
   for (WorldRecord& w : *worlds) {
     w.start = std::make_unique<Data>(loaded);
@@ -76,11 +73,11 @@ std::vector<std::vector<double>> CpuRollouts(const Model& nominal, const Model& 
       std::copy(d->ctrl, d->ctrl + work->nu, w.ctrl.begin() + (step - 1) * work->nu);
     }
   };
-  std::vector<std::vector<double>> metrics(o.worlds);
+  std::vector<std::vector<double>> measured(o.worlds);
   ValidateRolloutSpec(nominal, spec);
   Rollout(
-      nominal, spec, [&](const RolloutResult& r) { metrics[r.index] = r.metrics; }, o.stop);
-  return metrics;
+      nominal, spec, [&](const RolloutResult& r) { measured[r.index] = r.metrics; }, o.stop);
+  return measured;
 }
 
 // The metrics of the engine's runs, measured by the probe plumb rollout uses.
@@ -180,11 +177,11 @@ std::vector<Metric> DefaultCrosscheckMetrics(const Model& model, double until) {
 std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
                                       EngineSession& engine, const CrosscheckOptions& options) {
   const long steps = StepsToReach(options.until, loaded->opt.timestep);
-  std::vector<WorldRecord> worlds;
-  const std::vector<std::vector<double>> cpu =
-      CpuRollouts(nominal, loaded, options, steps, &worlds);
   const std::vector<Metric> metrics =
       options.metrics.empty() ? DefaultCrosscheckMetrics(nominal, options.until) : options.metrics;
+  std::vector<WorldRecord> worlds;
+  const std::vector<std::vector<double>> cpu =
+      CpuRollouts(nominal, loaded, options, metrics, steps, &worlds);
   std::vector<const mjData*> starts;
   std::vector<double> ctrl(static_cast<std::size_t>(steps) * worlds.size() * loaded->nu);
   for (std::size_t w = 0; w < worlds.size(); ++w) {
