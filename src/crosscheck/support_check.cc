@@ -44,13 +44,12 @@ Detect TouchingPairs(int a, int b) {
     for (auto [g1, g2] : touching) {
       const int t1 = model->geom_type[g1], t2 = model->geom_type[g2];
       if ((t1 == a && (b < 0 || t2 == b)) || (t2 == a && (b < 0 || t1 == b))) {
-        out.push_back({"geom pair", GeomPairName(model, g1, g2), g1});
+        out.push_back({"geom pair", GeomPairName(model, g1, g2), -1});
       }
     }
     return out;
   };
 }
-
 
 Detect Plugins() {
   return [](const Model& model, const GeomPairs&) {
@@ -209,6 +208,7 @@ std::vector<CheckRow> SupportRows(const Model& model, const EngineInfo& engine,
       CheckRow row;
       row.id = rule.id;
       row.section = "support";
+      row.title = "computed differently by the engine";
       row.status = CheckStatus::kWarn;
       row.finding = rule.behaviour;
       row.element = element;
@@ -221,6 +221,7 @@ std::vector<CheckRow> SupportRows(const Model& model, const EngineInfo& engine,
     CheckRow row;
     row.id = "support.table";
     row.section = "support";
+    row.title = "nothing the engine is known to compute differently";
     row.status = CheckStatus::kPass;
     row.explanation = fmt::format(
         "the model uses nothing that {} is known to compute differently "
@@ -248,8 +249,7 @@ CheckRow RefusalRow(const Model& model, const std::string& engine, const std::st
     row.element = Option("integrator");
   } else if (message.find("oslip") != std::string::npos) {
     row.element = Option("noslip_iterations");
-  } else if (message.find("one") != std::string::npos &&
-             message.find("cone") != std::string::npos) {
+  } else if (message.find("cone") != std::string::npos) {
     row.element = Option("cone");
   }
   return row;

@@ -155,9 +155,12 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
 namespace {
 
 // A row of a measuring check (verify's, crosscheck's): its head and title, what was measured
-// against what, its explanation, its fix when `with_fix`, and the accepted line.
-std::string MeasuredRowText(const CheckRow& c, int head_width, bool with_fix) {
-  std::string text = Head(c, head_width) + " " + c.title + "\n";
+// against what, its explanation, and the accepted line; with `findings`, also what the row is
+// about (its element or subject) and its fix.
+std::string MeasuredRowText(const CheckRow& c, int head_width, bool findings) {
+  const std::string about = findings ? c.About() : "";
+  std::string text = Head(c, head_width) + " " + c.title +
+                     (about.empty() ? "" : (c.title.empty() ? "" : ": ") + about) + "\n";
   if (c.status != CheckStatus::kSkip) {
     std::string numbers = "measured " + (c.measured_text.empty() ? "-" : c.measured_text);
     if (!c.reference_text.empty()) numbers += "   reference " + c.reference_text;
@@ -165,7 +168,7 @@ std::string MeasuredRowText(const CheckRow& c, int head_width, bool with_fix) {
     text += Wrap(numbers, kWidth, kIndent);
   }
   text += Wrap(c.explanation, kWidth, kIndent);
-  if (with_fix && !c.fix.empty()) text += Wrap("fix: " + c.fix, kWidth, kIndent);
+  if (findings && !c.fix.empty()) text += Wrap("fix: " + c.fix, kWidth, kIndent);
   return text + AcceptedLine(c);
 }
 
