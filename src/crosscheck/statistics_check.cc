@@ -96,10 +96,10 @@ std::vector<std::vector<double>> EngineMetrics(const Model& loaded, const Engine
     for (long row = 0; row < run.rows; ++row) {
       mjData* d = data.get();
       const std::size_t at = static_cast<std::size_t>(row) * count + w;
-      std::copy_n(&run.qpos[at * m->nq], m->nq, d->qpos);
-      std::copy_n(&run.qvel[at * m->nv], m->nv, d->qvel);
-      std::copy_n(&run.act[at * m->na], m->na, d->act);
-      if (row > 0) std::copy_n(&worlds[w].ctrl[(row - 1) * m->nu], m->nu, d->ctrl);
+      std::copy_n(run.qpos.data() + at * m->nq, m->nq, d->qpos);
+      std::copy_n(run.qvel.data() + at * m->nv, m->nv, d->qvel);
+      std::copy_n(run.act.data() + at * m->na, m->na, d->act);  // data(): na may be 0
+      if (row > 0) std::copy_n(worlds[w].ctrl.data() + (row - 1) * m->nu, m->nu, d->ctrl);
       d->time = worlds[w].start->get()->time + row * m->opt.timestep;
       probe.Observe(data, row);
     }
@@ -187,8 +187,8 @@ std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
   for (std::size_t w = 0; w < worlds.size(); ++w) {
     starts.push_back(worlds[w].start->get());
     for (long s = 0; s < steps; ++s) {
-      std::copy_n(&worlds[w].ctrl[s * loaded->nu], loaded->nu,
-                  &ctrl[(s * worlds.size() + w) * loaded->nu]);
+      std::copy_n(worlds[w].ctrl.data() + s * loaded->nu, loaded->nu,
+                  ctrl.data() + (s * worlds.size() + w) * loaded->nu);  // nu may be 0
     }
   }
   const EngineRollout run =
