@@ -11,29 +11,6 @@
 namespace plumb {
 namespace {
 
-void AddRows(report::Page* page, const std::vector<CheckRow>& rows) {
-  std::string html;
-  std::string section;
-  for (const CheckRow& c : rows) {
-    if (c.section != section) {
-      section = c.section;
-      html += fmt::format("<tr><th colspan=\"5\">{}</th></tr>\n", report::Escape(section));
-    }
-    const std::string about = c.About();
-    html += fmt::format(
-        "<tr class=\"row-{}\">{}<td><code>{}</code>{}</td><td>{}</td><td>{}</td>"
-        "<td class=\"detail\">{}</td></tr>\n",
-        CheckStatusName(c.status), report::StatusCell(c.status), report::Escape(c.id),
-        about.empty() ? "" : "<br>" + report::Escape(about), report::Escape(c.measured_text),
-        report::Escape(c.reference_text),
-        report::Escape(c.explanation + (c.fix.empty() ? "" : " Fix: " + c.fix)));
-  }
-  page->Html(
-      "<table><tr><th>status</th><th>check</th><th>measured</th><th>reference</th>"
-      "<th>explanation</th></tr>\n" +
-      html + "</table>\n");
-}
-
 // Per signal, the time it parted at each start: the engine against the chaos baseline.
 void AddDivergenceChart(report::Page* page, const std::vector<DivergenceTrack>& tracks,
                         double horizon) {
@@ -77,7 +54,7 @@ void WriteCrosscheckReport(const std::string& path, const Model& model,
   page.Heading("Checks");
   page.StatusSummary(result.Count(CheckStatus::kPass), result.Count(CheckStatus::kWarn),
                      result.Count(CheckStatus::kFail), result.Count(CheckStatus::kSkip));
-  AddRows(&page, result.rows);
+  page.Html(report::CheckRowsTable(result.rows, /*findings=*/true));
   AddDivergenceChart(&page, result.divergence, until);
   report::WritePage(page, path);
 }

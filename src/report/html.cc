@@ -122,6 +122,32 @@ std::string StatusCell(CheckStatus status) {
   return fmt::format("<td class=\"status {0}\">{0}</td>", name);
 }
 
+std::string CheckRowsTable(const std::vector<CheckRow>& rows, bool findings) {
+  std::string html;
+  std::string section;
+  for (const CheckRow& c : rows) {
+    if (findings && c.section != section) {
+      section = c.section;
+      html += fmt::format("<tr><th colspan=\"5\">{}</th></tr>\n", Escape(section));
+    }
+    std::string check = Escape(c.title);
+    std::string explanation = c.explanation;
+    if (findings) {
+      const std::string about = c.About();
+      if (!about.empty()) check += (check.empty() ? "" : "<br>") + Escape(about);
+      if (!c.fix.empty()) explanation += " Fix: " + c.fix;
+    }
+    html += fmt::format(
+        "<tr class=\"row-{}\">{}<td><code>{}</code><br>{}</td><td>{}</td><td>{}</td>"
+        "<td class=\"detail\">{}</td></tr>\n",
+        CheckStatusName(c.status), StatusCell(c.status), Escape(c.id), check,
+        Escape(c.measured_text), Escape(c.reference_text), Escape(explanation));
+  }
+  return "<table><tr><th>status</th><th>check</th><th>measured</th><th>reference</th>"
+         "<th>explanation</th></tr>\n" +
+         html + "</table>\n";
+}
+
 Page::Page(std::string title) : title_(std::move(title)) {}
 
 void Page::Meta(const std::string& key, const std::string& value) {

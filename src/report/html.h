@@ -113,6 +113,11 @@ class Page {
 // Row markup for a status table: <tr class="row-FAIL"><td class="status FAIL">FAIL</td>...
 std::string StatusCell(CheckStatus status);
 
+// A table of check rows: status, the check (its id over its title), measured, reference and
+// explanation. With `findings`, a check also names what it is about (its element or subject),
+// the explanation ends with the fix, and a heading row starts each section.
+std::string CheckRowsTable(const std::vector<CheckRow>& rows, bool findings);
+
 }  // namespace plumb::report
 
 #endif  // PLUMB_SRC_REPORT_HTML_H_

@@ -20,20 +20,7 @@ void WriteVerifyReport(const std::string& path, const Model& model,
   page.Heading("Checks");
   page.StatusSummary(result.Count(CheckStatus::kPass), result.Count(CheckStatus::kWarn),
                      result.Count(CheckStatus::kFail), result.Count(CheckStatus::kSkip));
-  std::string rows;
-  for (const CheckRow& c : result.checks) {
-    const char* status = CheckStatusName(c.status);
-    rows += fmt::format(
-        "<tr class=\"row-{}\">{}<td><code>{}</code><br>{}</td><td>{}</td><td>{}</td>"
-        "<td class=\"detail\">{}</td></tr>\n",
-        status, report::StatusCell(c.status), report::Escape(c.id), report::Escape(c.title),
-        report::Escape(c.measured_text), report::Escape(c.reference_text),
-        report::Escape(c.explanation));
-  }
-  page.Html(
-      "<table><tr><th>status</th><th>check</th><th>measured</th><th>reference</th>"
-      "<th>explanation</th></tr>\n" +
-      rows + "</table>\n");
+  page.Html(report::CheckRowsTable(result.checks, /*findings=*/false));
 
   report::AddRunCharts(&page, model, result.figures);
   report::AddConvergenceChart(&page, result.figures.convergence_metric, result.figures.convergence,
