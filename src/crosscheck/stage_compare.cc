@@ -63,12 +63,35 @@ std::string GeomPair(const Model& model, int g1, int g2) {
          ElementLabel(Element(model, "geom", mjOBJ_GEOM, g2));
 }
 
+using PairKey = std::pair<int, std::pair<int, int>>;  // world, geom pair (smaller id first)
+
+using PairContacts = std::map<PairKey, std::vector<int>>;
+
+// Each side's contacts by state and geom pair (indices into its contact list).
+PairContacts ContactsByPair(const StageValues& v) {
+  PairContacts pairs;
+  for (int i = 0; i < static_cast<int>(v.contacts.size()); ++i) {
+    const StageContact& c = v.contacts[i];
+    pairs[{c.world, {std::min(c.geom1, c.geom2), std::max(c.geom1, c.geom2)}}].push_back(i);
+  }
+  return pairs;
+}
+
 struct Context {
+  Context(const Model& m, const StageValues& a, const StageValues& b, const std::vector<double>& t)
+      : model(m),
+        cpu(a),
+        engine(b),
+        times(t),
+        length(MaxAbs(a.xpos, 1)),
+        cpu_pairs(ContactsByPair(a)),
+        engine_pairs(ContactsByPair(b)) {}
   const Model& model;
   const StageValues& cpu;
   const StageValues& engine;
   const std::vector<double>& times;
-  double length = 1;  // m: the model's extent, at least 1
+  double length;  // m: the model's extent, at least 1
+  PairContacts cpu_pairs, engine_pairs;
   // States where a contact at the edge of detection is on one side only: rounding decides its
   // contact set, so what follows from contacts is not compared there.
   std::vector<bool> edge;
@@ -110,17 +133,6 @@ Worst MassMatrix(const Context& c) {
     }
   }
   return w;
-}
-
-using PairKey = std::pair<int, std::pair<int, int>>;  // world, geom pair (smaller id first)
-
-std::map<PairKey, std::vector<int>> ContactsByPair(const StageValues& v) {
-  std::map<PairKey, std::vector<int>> pairs;
-  for (int i = 0; i < static_cast<int>(v.contacts.size()); ++i) {
-    const StageContact& c = v.contacts[i];
-    pairs[{c.world, {std::min(c.geom1, c.geom2), std::max(c.geom1, c.geom2)}}].push_back(i);
-  }
-  return pairs;
 }
 
 // Contacts of both sides, matched within each geom pair by nearest position.
@@ -188,7 +200,8 @@ ContactMatch Contacts(const Context& c) {
   out.edge.assign(c.cpu.worlds, false);
   const double tol = StageFactor("contacts") * kEps * c.length;
   const double angle_tol = StageFactor("contacts") * kEps;
-  const auto cpu = ContactsByPair(c.cpu), engine = ContactsByPair(c.engine);
+  const PairContacts& cpu = c.cpu_pairs;
+  const PairContacts& engine = c.engine_pairs;
   static const std::vector<int> kNone;
   for (const auto& [key, list] : cpu) {
     auto it = engine.find(key);
@@ -345,7 +358,8 @@ PairWrench SumWrench(const StageValues& v, const std::vector<int>& contacts, con
 }
 
 void ComparePairWrenches(const Context& c, double force_tol, Worst* forces) {
-  const auto cpu = ContactsByPair(c.cpu), engine = ContactsByPair(c.engine);
+  const PairContacts& cpu = c.cpu_pairs;
+  const PairContacts& engine = c.engine_pairs;
   static const std::vector<int> kNone;
   auto compare = [&](const PairKey& key, const std::vector<int>& a, const std::vector<int>& b) {
     if (c.Skipped(key.first)) return;
@@ -387,7 +401,7 @@ RowsAndForces ConstraintsAndForces(const Context& c, const ContactMatch& match) 
   for (const StageConstraint& r : c.cpu.constraints) {
     force_scale = std::max(force_scale, std::abs(r.force));
   }
-  for (const auto& [key, list] : ContactsByPair(c.cpu)) {
+  for (const auto& [key, list] : c.cpu_pairs) {
     const double origin[3] = {0, 0, 0};
     const PairWrench w = SumWrench(c.cpu, list, origin);
     force_scale = std::max(force_scale, std::hypot(w.force[0], w.force[1], w.force[2]));
@@ -549,7 +563,7 @@ double StageFactor(const char* stage) {
 
 std::vector<CheckRow> CompareStages(const Model& model, const StageValues& cpu,
                                     const StageValues& engine, const std::vector<double>& times) {
-  Context c{model, cpu, engine, times, MaxAbs(cpu.xpos, 1), {}};
+  Context c(model, cpu, engine, times);
   const ContactMatch match = Contacts(c);
   c.edge = match.edge;
   const long edge = std::count(c.edge.begin(), c.edge.end(), true);
