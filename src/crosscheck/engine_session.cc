@@ -22,24 +22,29 @@ constexpr int kProtocol = 1;
 // The named state arrays of the protocol: one row per world.
 struct StateField {
   const char* name;
-  mjtNum* (*at)(mjData*);
+  const mjtNum* (*at)(const mjData*);
   long (*size)(const mjModel*);
 };
 const StateField kStateFields[] = {
-    {"time", [](mjData* d) { return &d->time; }, [](const mjModel*) { return 1L; }},
-    {"qpos", [](mjData* d) { return d->qpos; }, [](const mjModel* m) { return long(m->nq); }},
-    {"qvel", [](mjData* d) { return d->qvel; }, [](const mjModel* m) { return long(m->nv); }},
-    {"act", [](mjData* d) { return d->act; }, [](const mjModel* m) { return long(m->na); }},
-    {"ctrl", [](mjData* d) { return d->ctrl; }, [](const mjModel* m) { return long(m->nu); }},
-    {"qacc_warmstart", [](mjData* d) { return d->qacc_warmstart; },
+    {"time", [](const mjData* d) -> const mjtNum* { return &d->time; },
+     [](const mjModel*) { return 1L; }},
+    {"qpos", [](const mjData* d) -> const mjtNum* { return d->qpos; },
+     [](const mjModel* m) { return long(m->nq); }},
+    {"qvel", [](const mjData* d) -> const mjtNum* { return d->qvel; },
      [](const mjModel* m) { return long(m->nv); }},
-    {"qfrc_applied", [](mjData* d) { return d->qfrc_applied; },
+    {"act", [](const mjData* d) -> const mjtNum* { return d->act; },
+     [](const mjModel* m) { return long(m->na); }},
+    {"ctrl", [](const mjData* d) -> const mjtNum* { return d->ctrl; },
+     [](const mjModel* m) { return long(m->nu); }},
+    {"qacc_warmstart", [](const mjData* d) -> const mjtNum* { return d->qacc_warmstart; },
      [](const mjModel* m) { return long(m->nv); }},
-    {"xfrc_applied", [](mjData* d) { return d->xfrc_applied; },
+    {"qfrc_applied", [](const mjData* d) -> const mjtNum* { return d->qfrc_applied; },
+     [](const mjModel* m) { return long(m->nv); }},
+    {"xfrc_applied", [](const mjData* d) -> const mjtNum* { return d->xfrc_applied; },
      [](const mjModel* m) { return 6L * m->nbody; }},
-    {"mocap_pos", [](mjData* d) { return d->mocap_pos; },
+    {"mocap_pos", [](const mjData* d) -> const mjtNum* { return d->mocap_pos; },
      [](const mjModel* m) { return 3L * m->nmocap; }},
-    {"mocap_quat", [](mjData* d) { return d->mocap_quat; },
+    {"mocap_quat", [](const mjData* d) -> const mjtNum* { return d->mocap_quat; },
      [](const mjModel* m) { return 4L * m->nmocap; }},
 };
 
@@ -51,7 +56,7 @@ std::vector<EngineArray> StateArrays(const mjModel* m, const std::vector<const m
     EngineArray a{f.name, {w, n}, {}};
     a.values.reserve(w * n);
     for (const mjData* d : states) {
-      const mjtNum* p = f.at(const_cast<mjData*>(d));
+      const mjtNum* p = f.at(d);
       a.values.insert(a.values.end(), p, p + n);
     }
     arrays.push_back(std::move(a));
@@ -102,8 +107,6 @@ void WriteElement(compat::ElemType type, double value, unsigned char* p) {
       break;
   }
 }
-
-void ReadRows(const EngineArray& a, std::vector<double>* out) { *out = a.values; }
 
 }  // namespace
 
@@ -269,14 +272,14 @@ StageValues EngineSession::Stages(const Model& model, const std::vector<const mj
   EngineReply r = Ask({{"op", "stages"}}, StateArrays(m, states));
   StageValues v;
   v.worlds = static_cast<int>(states.size());
-  ReadRows(r.Get("xpos"), &v.xpos);
-  ReadRows(r.Get("xquat"), &v.xquat);
-  ReadRows(r.Get("qM"), &v.qM);
-  ReadRows(r.Get("qacc"), &v.qacc);
-  ReadRows(r.Get("sensordata"), &v.sensordata);
-  ReadRows(r.Get("next_qpos"), &v.next_qpos);
-  ReadRows(r.Get("next_qvel"), &v.next_qvel);
-  ReadRows(r.Get("next_act"), &v.next_act);
+  v.xpos = r.Get("xpos").values;
+  v.xquat = r.Get("xquat").values;
+  v.qM = r.Get("qM").values;
+  v.qacc = r.Get("qacc").values;
+  v.sensordata = r.Get("sensordata").values;
+  v.next_qpos = r.Get("next_qpos").values;
+  v.next_qvel = r.Get("next_qvel").values;
+  v.next_act = r.Get("next_act").values;
   const std::vector<double>& cw = r.Get("contact_world").values;
   const std::vector<double>& geom = r.Get("contact_geom").values;
   const std::vector<double>& dist = r.Get("contact_dist").values;
@@ -324,10 +327,10 @@ EngineRollout EngineSession::Rollout(const Model& model, const std::vector<const
   EngineReply r = Ask({{"op", "rollout"}, {"steps", steps}, {"every", every}}, arrays);
   EngineRollout out;
   out.rows = steps / every + 1;
-  ReadRows(r.Get("qpos"), &out.qpos);
-  ReadRows(r.Get("qvel"), &out.qvel);
-  ReadRows(r.Get("act"), &out.act);
-  ReadRows(r.Get("ncon_max"), &out.ncon_max);
+  out.qpos = r.Get("qpos").values;
+  out.qvel = r.Get("qvel").values;
+  out.act = r.Get("act").values;
+  out.ncon_max = r.Get("ncon_max").values;
   if (static_cast<long>(out.qpos.size()) != out.rows * w * m->nq) {
     throw EngineError(
         fmt::format("the engine adapter returned {} qpos values for a rollout of "
