@@ -138,6 +138,10 @@ bool EngineEnvironmentReady(const EngineSetup& setup);
 // cannot (no network, no python3-venv).
 void MakeEngineEnvironment(const std::string& engine, const EngineSetup& setup);
 
+// FindEngineSetup, with the environment made first when it is not ready (a first crosscheck).
+// @throws as those two do.
+EngineSetup ReadyEngineSetup(const std::string& engine);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_CROSSCHECK_H_

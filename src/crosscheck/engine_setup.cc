@@ -107,4 +107,10 @@ void MakeEngineEnvironment(const std::string& engine, const EngineSetup& setup) 
   }
 }
 
+EngineSetup ReadyEngineSetup(const std::string& engine) {
+  EngineSetup setup = FindEngineSetup(engine);
+  if (!EngineEnvironmentReady(setup)) MakeEngineEnvironment(engine, setup);
+  return setup;
+}
+
 }  // namespace plumb

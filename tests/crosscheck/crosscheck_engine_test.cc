@@ -31,20 +31,13 @@ std::string Scene(const std::string& name) {
     GTEST_SKIP() << "the engines run MuJoCo 4.0.1, this build " << mj_versionString(); \
   }
 
-// The engine's environment, made once per machine (test-venv.sh's lock lets tests wait for it).
-EngineSetup Ready(const std::string& engine) {
-  EngineSetup setup = FindEngineSetup(engine);
-  if (!EngineEnvironmentReady(setup)) MakeEngineEnvironment(engine, setup);
-  return setup;
-}
-
 CrosscheckReport Check(const std::string& engine, const std::string& path,
                        const std::vector<std::string>& sets = {},
                        const std::vector<std::string>& checks = {}, const std::string& key = "") {
   Model model = Model::Load(path);
   CrosscheckOptions o;
   o.engine = engine;
-  o.setup = Ready(engine);
+  o.setup = ReadyEngineSetup(engine);
   o.until = 0.5;
   o.worlds = 8;
   if (!key.empty()) o.sets = KeyframeAssignments(model, key);
@@ -97,7 +90,7 @@ TEST(CrosscheckWarpTest, RandomizedWorldsRunAsTheSameWorldsInTheEngine) {
   SKIP_UNLESS_ENGINES_MUJOCO();
   Model model = Model::Load(testing::kPendulum);
   CrosscheckOptions o;
-  o.setup = Ready("warp");
+  o.setup = ReadyEngineSetup("warp");
   o.until = 1;
   o.worlds = 16;
   o.checks = {"statistics"};
@@ -207,7 +200,7 @@ TEST(CrosscheckMjxTest, ThePendulumAgreesInAllFiveChecks) {
 
 TEST(CrosscheckCliTest, JsonReportAndExitCodes) {
   SKIP_UNLESS_ENGINES_MUJOCO();
-  Ready("warp");
+  ReadyEngineSetup("warp");
   testing::TempDir dir;
   testing::CommandResult ok =
       testing::RunPlumb("crosscheck '" + testing::kPendulum +
@@ -262,7 +255,7 @@ pid_t AdapterOf(pid_t parent) {
 
 TEST(CrosscheckCliTest, AKilledAdapterIsExitSixWithNoReportAndNoProcessLeft) {
   SKIP_UNLESS_ENGINES_MUJOCO();
-  Ready("warp");
+  ReadyEngineSetup("warp");
   testing::TempDir dir;
   const std::string report = dir.File("r.html");
   const std::string cmd = std::string(PLUMB_CLI) + " crosscheck " + testing::kPendulum +

@@ -27,16 +27,9 @@ struct CrosscheckCommandOptions {
   std::string report;
 };
 
-// The engine's environment, made on first use (it downloads from PyPI).
-EngineSetup ReadyEngine(const std::string& engine, bool remake) {
-  EngineSetup setup = FindEngineSetup(engine);
-  if (remake || !EngineEnvironmentReady(setup)) MakeEngineEnvironment(engine, setup);
-  return setup;
-}
-
 int RunCrosscheck(CrosscheckCommandOptions& o, const Context& ctx) {
   if (o.setup && o.model.empty()) {
-    EngineSetup setup = ReadyEngine(o.spec.engine, false);
+    EngineSetup setup = ReadyEngineSetup(o.spec.engine);  // made on first use
     std::printf("%s\n", setup.python.c_str());
     return kExitOk;
   }
@@ -51,7 +44,7 @@ int RunCrosscheck(CrosscheckCommandOptions& o, const Context& ctx) {
   for (const std::string& r : o.randomize) spec.randomize.push_back(ParseRandomization(model, r));
   for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   if (!o.checks.empty()) spec.checks = o.checks;
-  spec.setup = ReadyEngine(spec.engine, false);
+  spec.setup = ReadyEngineSetup(spec.engine);
   spec.stop = CommandStop().token();
   CrosscheckReport result = Crosscheck(model, spec);
   if (!o.report.empty()) {
