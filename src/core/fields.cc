@@ -243,4 +243,53 @@ std::size_t ElemSize(compat::ElemType type) {
   return 0;
 }
 
+double ReadElement(ElemType type, const void* at) {
+  switch (type) {
+    case ElemType::kNum:
+      return *static_cast<const mjtNum*>(at);
+    case ElemType::kInt:
+      return *static_cast<const int*>(at);
+    case ElemType::kInt64:
+      return static_cast<double>(*static_cast<const long long*>(at));
+    case ElemType::kByte:
+      return *static_cast<const mjtByte*>(at);
+    case ElemType::kBool:
+      return *static_cast<const bool*>(at) ? 1 : 0;
+    case ElemType::kFloat:
+      return *static_cast<const float*>(at);
+    case ElemType::kChar:
+      return *static_cast<const char*>(at);
+    case ElemType::kOther:
+      break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+bool WriteElement(ElemType type, void* at, double value) {
+  switch (type) {
+    case ElemType::kNum:
+      *static_cast<mjtNum*>(at) = value;
+      return true;
+    case ElemType::kFloat:
+      *static_cast<float*>(at) = static_cast<float>(value);
+      return true;
+    case ElemType::kInt:
+      *static_cast<int*>(at) = static_cast<int>(value);
+      return true;
+    case ElemType::kInt64:
+      *static_cast<long long*>(at) = static_cast<long long>(value);
+      return true;
+    case ElemType::kByte:
+      *static_cast<mjtByte*>(at) = static_cast<mjtByte>(value);
+      return true;
+    case ElemType::kBool:
+      *static_cast<bool*>(at) = value != 0;
+      return true;
+    case ElemType::kChar:
+    case ElemType::kOther:
+      break;
+  }
+  return false;
+}
+
 }  // namespace plumb

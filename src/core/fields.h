@@ -48,6 +48,13 @@ const void* FieldBase(const FieldInfo& field, const mjModel* m, const mjData* d)
 // Size in bytes of one element.
 std::size_t ElemSize(compat::ElemType type);
 
+// The element of `type` at `at` as a double (a char's code; NaN for kOther).
+double ReadElement(compat::ElemType type, const void* at);
+
+// Writes `value` into the element of `type` at `at`, converted to the type (it does not check
+// the value fits: see WriteValues). Returns false, writing nothing, for kChar and kOther.
+bool WriteElement(compat::ElemType type, void* at, double value);
+
 }  // namespace plumb
 
 #endif  // PLUMB_SRC_CORE_FIELDS_H_

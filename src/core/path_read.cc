@@ -109,25 +109,7 @@ double ReadValue(const Model& model, const Data& data, const Path& path, long k)
   RequireCurrentRow(field, model.get(), data.get(), path, k);
   const char* at = static_cast<const char*>(FieldBase(field, model.get(), data.get())) +
                    (path.first + k) * ElemSize(field.type);
-  switch (field.type) {
-    case ElemType::kNum:
-      return *reinterpret_cast<const mjtNum*>(at);
-    case ElemType::kInt:
-      return *reinterpret_cast<const int*>(at);
-    case ElemType::kInt64:
-      return static_cast<double>(*reinterpret_cast<const long long*>(at));
-    case ElemType::kByte:
-      return *reinterpret_cast<const mjtByte*>(at);
-    case ElemType::kBool:
-      return *reinterpret_cast<const bool*>(at) ? 1 : 0;
-    case ElemType::kFloat:
-      return *reinterpret_cast<const float*>(at);
-    case ElemType::kChar:
-      return *reinterpret_cast<const char*>(at);
-    case ElemType::kOther:
-      break;
-  }
-  return std::numeric_limits<double>::quiet_NaN();
+  return ReadElement(field.type, at);
 }
 
 }  // namespace plumb

@@ -127,28 +127,8 @@ void WriteValues(Model& model, Data& data, const Path& path, const std::vector<d
   for (long k = 0; k < path.count; ++k) {
     double v = values[k];
     void* at = MutableElement(model, data, path, k);
-    switch (field.type) {
-      case ElemType::kNum:
-        *static_cast<mjtNum*>(at) = v;
-        break;
-      case ElemType::kFloat:
-        *static_cast<float*>(at) = static_cast<float>(v);
-        break;
-      case ElemType::kInt:
-        *static_cast<int*>(at) = static_cast<int>(v);
-        break;
-      case ElemType::kInt64:
-        *static_cast<long long*>(at) = static_cast<long long>(v);
-        break;
-      case ElemType::kByte:
-        *static_cast<mjtByte*>(at) = static_cast<mjtByte>(v);
-        break;
-      case ElemType::kBool:
-        *static_cast<bool*>(at) = v != 0;
-        break;
-      case ElemType::kChar:
-      case ElemType::kOther:
-        throw PathError("cannot set '" + path.text + "': it is not numeric.");
+    if (!WriteElement(field.type, at, v)) {
+      throw PathError("cannot set '" + path.text + "': it is not numeric.");
     }
   }
 }

@@ -64,50 +64,6 @@ std::vector<EngineArray> StateArrays(const mjModel* m, const std::vector<const m
   return arrays;
 }
 
-double ElementAsDouble(compat::ElemType type, const unsigned char* p) {
-  switch (type) {
-    case compat::ElemType::kNum:
-      return *reinterpret_cast<const mjtNum*>(p);
-    case compat::ElemType::kFloat:
-      return *reinterpret_cast<const float*>(p);
-    case compat::ElemType::kInt:
-      return *reinterpret_cast<const int*>(p);
-    case compat::ElemType::kInt64:
-      return double(*reinterpret_cast<const long long*>(p));
-    case compat::ElemType::kByte:
-      return *p;
-    case compat::ElemType::kBool:
-      return *reinterpret_cast<const bool*>(p) ? 1 : 0;
-    default:
-      return 0;
-  }
-}
-
-void WriteElement(compat::ElemType type, double value, unsigned char* p) {
-  switch (type) {
-    case compat::ElemType::kNum:
-      *reinterpret_cast<mjtNum*>(p) = value;
-      break;
-    case compat::ElemType::kFloat:
-      *reinterpret_cast<float*>(p) = static_cast<float>(value);
-      break;
-    case compat::ElemType::kInt:
-      *reinterpret_cast<int*>(p) = static_cast<int>(value);
-      break;
-    case compat::ElemType::kInt64:
-      *reinterpret_cast<long long*>(p) = static_cast<long long>(value);
-      break;
-    case compat::ElemType::kByte:
-      *p = static_cast<unsigned char>(value);
-      break;
-    case compat::ElemType::kBool:
-      *reinterpret_cast<bool*>(p) = value != 0;
-      break;
-    default:
-      break;
-  }
-}
-
 }  // namespace
 
 nlohmann::json ModelEdits(const Model& base, const Model& model) {
@@ -123,7 +79,7 @@ nlohmann::json ModelEdits(const Model& base, const Model& model) {
     if (n == 0 || std::memcmp(a, b, n * size) == 0) continue;
     for (long i = 0; i < n; ++i) {
       if (std::memcmp(a + i * size, b + i * size, size) == 0) continue;
-      edits.push_back({f.name, i, ElementAsDouble(f.type, b + i * size)});
+      edits.push_back({f.name, i, ReadElement(f.type, b + i * size)});
     }
   }
   return edits;
@@ -135,7 +91,7 @@ std::vector<double> FieldValues(const Model& model, const std::string& field) {
   const long n = f->rows(model.get()) * f->cols(model.get());
   auto* base = static_cast<const unsigned char*>(FieldBase(*f, model.get(), nullptr));
   std::vector<double> out(n);
-  for (long i = 0; i < n; ++i) out[i] = ElementAsDouble(f->type, base + i * ElemSize(f->type));
+  for (long i = 0; i < n; ++i) out[i] = ReadElement(f->type, base + i * ElemSize(f->type));
   return out;
 }
 
@@ -145,7 +101,7 @@ void ApplyEdits(const nlohmann::json& edits, Model& model) {
     PLUMB_DEMAND(f != nullptr);
     auto* base =
         static_cast<unsigned char*>(const_cast<void*>(FieldBase(*f, model.get_mutable(), nullptr)));
-    WriteElement(f->type, e.at(2).get<double>(), base + e.at(1).get<long>() * ElemSize(f->type));
+    WriteElement(f->type, base + e.at(1).get<long>() * ElemSize(f->type), e.at(2).get<double>());
   }
 }
 
