@@ -25,10 +25,7 @@ bool Wants(const CrosscheckOptions& o, const char* check) {
 }
 
 void Validate(const CrosscheckOptions& o) {
-  const auto& engines = CrosscheckEngines();
-  if (std::find(engines.begin(), engines.end(), o.engine) == engines.end()) {
-    throw ArgumentError("engine", Quoted(o.engine), "plumb knows the engines warp and mjx");
-  }
+  RequireKnownEngine(o.engine);
   if (o.device != "cpu" && o.device != "cuda") {
     throw ArgumentError("device", Quoted(o.device), "use cpu or cuda");
   }

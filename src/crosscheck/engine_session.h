@@ -95,6 +95,10 @@ class EngineSession {
   std::string temp_dir_;  // a model given as text is written here
 };
 
+// @throws ArgumentError naming the engines plumb knows (CrosscheckEngines) when `engine` is not
+// one of them.
+void RequireKnownEngine(const std::string& engine);
+
 // The model-array and option elements in which `model` differs from `base` (the same file
 // freshly compiled), as the adapter applies them: [field, flat index, value].
 nlohmann::json ModelEdits(const Model& base, const Model& model);

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "crosscheck/engine_session.h"
 #include "io/hash.h"
 #include "plumb/crosscheck.h"
 #include "plumb/error.h"
@@ -53,11 +54,15 @@ std::string VenvRoot() {
 
 }  // namespace
 
-EngineSetup FindEngineSetup(const std::string& engine) {
+void RequireKnownEngine(const std::string& engine) {
   const auto& engines = CrosscheckEngines();
   if (std::find(engines.begin(), engines.end(), engine) == engines.end()) {
     throw ArgumentError("engine", Quoted(engine), "plumb knows the engines warp and mjx");
   }
+}
+
+EngineSetup FindEngineSetup(const std::string& engine) {
+  RequireKnownEngine(engine);
   const std::string folder = AdapterFolder();
   const std::string lock = folder + "/requirements-" + engine + ".txt";
   EngineSetup setup;
