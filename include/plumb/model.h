@@ -43,6 +43,13 @@ class Model {
   // @throws LoadError as Load does.
   static Model FromXmlString(std::string_view xml, std::string_view name = "<string>");
 
+  // Wraps a model someone else owns (the `mujoco` Python package's MjModel) without copying
+  // it: `m` is never freed here and must outlive the returned Model and everything made from
+  // it. `name` stands for the file in messages and results. Clone() makes an owned copy.
+  static Model Borrow(mjModel* m, std::string name);
+  // Whether this Model owns its mjModel (false for Borrow).
+  bool owned() const { return m_.get_deleter().owned; }
+
   Model(Model&&) noexcept;
   Model& operator=(Model&&) noexcept;
   Model(const Model&) = delete;
@@ -83,6 +90,7 @@ class Model {
 
  private:
   struct Deleter {
+    bool owned;  // false for Borrow
     void operator()(mjModel* m) const;
   };
   Model(mjModel* m, std::string file);
@@ -148,6 +156,29 @@ std::vector<std::string> TakeMujocoWarnings();
 // themselves). Also checks that the MuJoCo library matches the headers plumb was built
 // with. @throws Error when it does not.
 void InstallMujocoHandlers();
+
+// How plumb's MuJoCo handlers are installed.
+//   kProcess (the default; programs of their own, the plumb command): once, for the whole
+//     process, with every plugin library beside MuJoCo loaded.
+//   kAroundCalls (plumb inside a process that uses MuJoCo too: the Python module beside the
+//     `mujoco` package): only while a MujocoCallScope is alive on some thread, and then only
+//     for threads inside one. A MuJoCo error or warning on any other thread goes to the
+//     handler that was there before (the `mujoco` package's, raising mujoco.FatalError). No
+//     plugin library is loaded: the other user of MuJoCo loads its own.
+// Set it before the first Model is made. Thread-safety: not synchronised with calls.
+enum class MujocoHandlerMode { kProcess, kAroundCalls };
+void SetMujocoHandlerMode(MujocoHandlerMode mode);
+
+// Marks the calling thread as running plumb's code for its lifetime (scopes nest), and in
+// kAroundCalls mode installs plumb's handlers while any scope is alive. plumb's worker
+// threads hold one per job; a caller in kAroundCalls mode holds one around each call.
+class MujocoCallScope {
+ public:
+  MujocoCallScope();
+  ~MujocoCallScope();
+  MujocoCallScope(const MujocoCallScope&) = delete;
+  MujocoCallScope& operator=(const MujocoCallScope&) = delete;
+};
 
 // "2.2.2"-style version of the MuJoCo library in use.
 std::string MujocoVersion();

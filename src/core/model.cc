@@ -57,6 +57,33 @@ void OnMujocoWarning(const char* msg) {
   if (t_warnings.size() < kMaxKeptWarnings) t_warnings.push_back(Trimmed(msg));
 }
 
+// MujocoHandlerMode::kAroundCalls: plumb's handler chains to the one it replaced, and takes a
+// message only on a thread inside a MujocoCallScope.
+MujocoHandlerMode g_mode = MujocoHandlerMode::kProcess;
+thread_local int t_call_depth = 0;
+
+#if PLUMB_MUJOCO_HAS_LOG_HANDLER
+std::mutex g_scope_mutex;
+int g_scopes_alive = 0;  // guarded by g_scope_mutex
+mjfLogHandler g_previous_log_handler = nullptr;  // guarded by g_scope_mutex while installed
+
+void OnMujocoLog(const mjLogMessage* message) {
+  bool ours = t_call_depth > 0 &&
+              (message->level == mjLOG_ERROR || message->level == mjLOG_WARNING);
+  if (!ours) {
+    g_previous_log_handler(message);
+    return;
+  }
+  std::string text = message->subject;
+  if (message->body != nullptr && *message->body != '\0') text += std::string("\n") + message->body;
+  if (message->level == mjLOG_ERROR) {
+    OnMujocoError(text.c_str());  // throws
+  } else {
+    OnMujocoWarning(text.c_str());
+  }
+}
+#endif
+
 bool EndsWith(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -189,12 +216,40 @@ void InstallMujocoHandlers() {
                 ", or -DMUJOCO_ROOT=<release folder>), or run it with the library it was "
                 "built with.");
   }
+  if (g_mode == MujocoHandlerMode::kAroundCalls) return;  // MujocoCallScope installs them
   static std::once_flag once;
   std::call_once(once, [] {
     compat::SetMujocoHandlers(&OnMujocoError, &OnMujocoWarning);
     std::string plugins = MujocoPluginPath();
     if (!plugins.empty()) compat::LoadPluginLibraries(plugins);
   });
+}
+
+void SetMujocoHandlerMode(MujocoHandlerMode mode) {
+#if !PLUMB_MUJOCO_HAS_LOG_HANDLER
+  if (mode == MujocoHandlerMode::kAroundCalls) {
+    throw UnavailableError("plumb cannot install its MuJoCo handlers around its own calls on "
+                           "MuJoCo " + CompiledMujocoVersion() +
+                           ": that needs mju_setLogHandler (MuJoCo 3.11 or later)");
+  }
+#endif
+  g_mode = mode;
+}
+
+MujocoCallScope::MujocoCallScope() {
+  if (t_call_depth++ > 0 || g_mode != MujocoHandlerMode::kAroundCalls) return;
+#if PLUMB_MUJOCO_HAS_LOG_HANDLER
+  std::lock_guard<std::mutex> lock(g_scope_mutex);
+  if (g_scopes_alive++ == 0) g_previous_log_handler = mju_setLogHandler(&OnMujocoLog);
+#endif
+}
+
+MujocoCallScope::~MujocoCallScope() {
+  if (--t_call_depth > 0 || g_mode != MujocoHandlerMode::kAroundCalls) return;
+#if PLUMB_MUJOCO_HAS_LOG_HANDLER
+  std::lock_guard<std::mutex> lock(g_scope_mutex);
+  if (--g_scopes_alive == 0) mju_setLogHandler(g_previous_log_handler);
+#endif
 }
 
 std::string CompiledMujocoVersion() { return compat::VersionText(mjVERSION_HEADER); }
@@ -228,9 +283,18 @@ std::vector<std::string> TakeMujocoWarnings() {
 
 std::string MujocoVersion() { return mj_versionString(); }
 
-void Model::Deleter::operator()(mjModel* m) const { mj_deleteModel(m); }
+void Model::Deleter::operator()(mjModel* m) const {
+  if (owned) mj_deleteModel(m);
+}
 
-Model::Model(mjModel* m, std::string file) : m_(m), file_(std::move(file)) {}
+Model Model::Borrow(mjModel* m, std::string name) {
+  InstallMujocoHandlers();
+  Model model(m, std::move(name));
+  model.m_.get_deleter().owned = false;
+  return model;
+}
+
+Model::Model(mjModel* m, std::string file) : m_(m, Deleter{true}), file_(std::move(file)) {}
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 Model::~Model() = default;

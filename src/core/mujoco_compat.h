@@ -280,6 +280,11 @@ inline void SetMujocoHandlers(void (*error)(const char*), void (*warning)(const 
   mju_user_warning = warning;
 }
 
+// MuJoCo's structured log handler (mju_setLogHandler), which every error, warning and info
+// message goes through and which another user of MuJoCo in the process (the `mujoco` Python
+// package) installs; plumb chains to it (MujocoHandlerMode::kAroundCalls). Tested from 3.11.
+#define PLUMB_MUJOCO_HAS_LOG_HANDLER (mjVERSION_HEADER >= 3011000)
+
 // mj_resetData for what a rollout reads: state, inputs and statistics. On MuJoCo 2.x
 // mj_resetData also clears the whole stack arena (megabytes for a humanoid), which costs
 // as much as several steps; everything else in mjData is recomputed by mj_forward.

@@ -27,6 +27,7 @@ template <typename Finished>
 void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
             const std::function<bool(WorkerPool::Worker&, std::size_t)>& run, std::size_t i,
             Finished* finished) {
+  MujocoCallScope scope;  // MuJoCo's errors on this thread are plumb's
   if (!worker) worker.emplace(nominal);
   bool done;
   try {

@@ -1,0 +1,370 @@
+#include "common.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "plumb/error.h"
+#include "plumb/keyframe.h"
+
+namespace plumb::python {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The exception classes, made once by BindErrors (module state lives as long as the module).
+struct ErrorTypes {
+  PyObject* error = nullptr;
+  PyObject* load = nullptr;
+  PyObject* path = nullptr;
+  PyObject* value = nullptr;
+  PyObject* argument = nullptr;
+  PyObject* mujoco = nullptr;
+  PyObject* io = nullptr;
+  PyObject* unavailable = nullptr;
+  PyObject* engine = nullptr;
+  PyObject* engine_refused = nullptr;
+  PyObject* internal = nullptr;
+};
+ErrorTypes g_errors;
+
+// Raises `type`(message) with the given attributes set on the instance.
+void Raise(PyObject* type, const char* message,
+           const std::vector<std::pair<const char*, std::string>>& attributes = {}) {
+  nb::object instance = nb::steal(PyObject_CallFunction(type, "s", message));
+  if (!instance.is_valid()) return;  // the call raised; that error stands
+  for (const auto& [name, value] : attributes) instance.attr(name) = nb::str(value.c_str());
+  PyErr_SetObject(type, instance.ptr());
+}
+
+PyObject* NewError(nb::module_& m, const char* name, nb::handle bases, const char* doc) {
+  std::string full = std::string("plumb.") + name;
+  PyObject* type = PyErr_NewExceptionWithDoc(full.c_str(), doc, bases.ptr(), nullptr);
+  if (type == nullptr) throw nb::python_error();
+  m.attr(name) = nb::borrow(type);
+  return type;
+}
+
+std::string ValueText(nb::handle value) {
+  if (nb::isinstance<nb::bool_>(value)) return nb::cast<bool>(value) ? "1" : "0";
+  if (nb::isinstance<nb::int_>(value)) return nb::str(value).c_str();
+  if (nb::isinstance<nb::float_>(value)) return fmt::format("{:.17g}", nb::cast<double>(value));
+  if (nb::isinstance<nb::str>(value)) return nb::cast<std::string>(value);
+  // a sequence of numbers (opt.gravity, a free joint's qpos): comma separated
+  if (nb::hasattr(value, "__iter__")) {
+    std::string out;
+    for (nb::handle item : value) {
+      if (!out.empty()) out += ",";
+      out += ValueText(item);
+    }
+    return out;
+  }
+  throw nb::type_error(fmt::format("set: a value must be a number, a string or a sequence of "
+                                   "numbers, not {}",
+                                   nb::type_name(value.type()).c_str())
+                           .c_str());
+}
+
+}  // namespace
+
+PyModel::PyModel(std::shared_ptr<Model> model, nb::object mjmodel, std::string keyframe,
+                 std::vector<std::string> sets)
+    : model_(std::move(model)),
+      mjmodel_(std::move(mjmodel)),
+      keyframe_(std::move(keyframe)),
+      sets_(std::move(sets)) {}
+
+std::vector<Assignment> PyModel::Start(const std::vector<std::string>& more) const {
+  std::vector<Assignment> out = KeyframeAssignments(*model_, keyframe_);
+  for (const std::string& text : sets_) out.push_back(ParseAssignment(*model_, text));
+  for (const std::string& text : more) out.push_back(ParseAssignment(*model_, text));
+  return out;
+}
+
+std::vector<std::string> PyModel::SetTexts(const std::vector<std::string>& more) const {
+  std::vector<std::string> out = sets_;
+  out.insert(out.end(), more.begin(), more.end());
+  return out;
+}
+
+std::shared_ptr<Model> PyModel::EditableFor(const std::vector<Assignment>& assignments) const {
+  for (const Assignment& a : assignments) {
+    if (a.path.role == Role::kParameter) {
+      return std::make_shared<Model>(model_->Clone());
+    }
+  }
+  return model_;
+}
+
+std::shared_ptr<PyModel> ToModel(nb::handle model) {
+  if (nb::isinstance<PyModel>(model)) return nb::cast<std::shared_ptr<PyModel>>(model);
+  nb::handle type = model.type();
+  std::string type_name = nb::type_name(type).c_str();
+  if (type_name == "mujoco._structs.MjModel" || type_name == "MjModel") {
+    auto address = nb::cast<std::uintptr_t>(model.attr("_address"));
+    auto* m = reinterpret_cast<mjModel*>(address);
+    std::string name = fmt::format("<MjModel '{}'>", m->nnames > 0 ? m->names : "");
+    MujocoCallScope scope;
+    auto borrowed = std::make_shared<Model>(Model::Borrow(m, name));
+    return std::make_shared<PyModel>(std::move(borrowed), nb::borrow(model), "",
+                                     std::vector<std::string>{});
+  }
+  nb::object fspath = nb::module_::import_("os").attr("fspath");
+  if (nb::isinstance<nb::str>(model) || nb::hasattr(model, "__fspath__")) {
+    std::string path = nb::cast<std::string>(fspath(model));
+    std::shared_ptr<Model> loaded;
+    {
+      nb::gil_scoped_release release;
+      MujocoCallScope scope;
+      loaded = std::make_shared<Model>(Model::Load(path));
+    }
+    return std::make_shared<PyModel>(std::move(loaded), nb::none(), "",
+                                     std::vector<std::string>{});
+  }
+  throw nb::type_error(fmt::format("model: expected a plumb.Model, a mujoco.MjModel or a path "
+                                   "to an MJCF or .mjb file, not {}",
+                                   type_name)
+                           .c_str());
+}
+
+std::vector<std::string> SetTexts(nb::handle set) {
+  std::vector<std::string> out;
+  if (set.is_none()) return out;
+  if (nb::isinstance<nb::str>(set)) return {nb::cast<std::string>(set)};
+  if (nb::isinstance<nb::dict>(set)) {
+    for (auto [key, value] : nb::borrow<nb::dict>(set)) {
+      out.push_back(nb::cast<std::string>(nb::str(key)) + "=" + ValueText(value));
+    }
+    return out;
+  }
+  for (nb::handle item : set) out.push_back(nb::cast<std::string>(item));
+  return out;
+}
+
+std::vector<std::string> StringList(nb::handle value, const char* argument) {
+  std::vector<std::string> out;
+  if (value.is_none()) return out;
+  if (nb::isinstance<nb::str>(value)) return {nb::cast<std::string>(value)};
+  try {
+    for (nb::handle item : value) out.push_back(nb::cast<std::string>(item));
+  } catch (const nb::cast_error&) {
+    throw nb::type_error(
+        fmt::format("{}: expected a string or a list of strings", argument).c_str());
+  }
+  return out;
+}
+
+nb::object FromJson(const std::string& json) {
+  return nb::module_::import_("json").attr("loads")(nb::str(json.c_str(), json.size()));
+}
+
+std::string ReportHtml(const std::function<void(const std::string& path)>& write) {
+  std::string pattern = (fs::temp_directory_path() / "plumb-report-XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr) {
+    throw IoError("could not make a temporary folder for the report in " +
+                  fs::temp_directory_path().string());
+  }
+  fs::path dir = pattern;
+  std::string html;
+  try {
+    std::string path = (dir / "report.html").string();
+    write(path);
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    html = text.str();
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    throw;
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return html;
+}
+
+nb::list RowList(const std::vector<CheckRow>& rows) {
+  nb::list out;
+  for (const CheckRow& row : rows) out.append(nb::cast(row));
+  return out;
+}
+
+nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns) {
+  nb::object pandas;
+  try {
+    pandas = nb::module_::import_("pandas");
+  } catch (const nb::python_error&) {
+    throw nb::import_error("to_pandas() needs pandas, which is not installed: pip install pandas");
+  }
+  nb::dict data;
+  for (const auto& [name, values] : columns) data[name.c_str()] = values;
+  return pandas.attr("DataFrame")(data);
+}
+
+nb::object Array(const std::vector<double>& values) {
+  std::vector<double> copy = values;
+  return Matrix(std::move(copy), values.size(), 1).attr("reshape")(values.size());
+}
+
+nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols) {
+  auto* owned = new std::vector<double>(std::move(values));
+  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
+  return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<2>>(owned->data(), {rows, cols}, owner));
+}
+
+void BindErrors(nb::module_& m) {
+  nb::handle builtins = nb::module_::import_("builtins");
+  g_errors.error = NewError(m, "Error", PyExc_Exception,
+                            "Base of every error plumb raises for bad input or a failed run: the "
+                            "message says what failed, where, and what to do.");
+  nb::handle base = g_errors.error;
+  g_errors.load = NewError(m, "LoadError", base,
+                           "A model file could not be read or compiled (.hint: advice, or '').");
+  g_errors.path = NewError(m, "PathError", base, "A path such as qpos[hinge] names nothing in "
+                                                 "the model; the message lists the nearest names.");
+  g_errors.value = NewError(m, "ValueError", nb::make_tuple(base, builtins.attr("ValueError")),
+                            "A value is unusable (non-numeric, out of range, inconsistent).");
+  g_errors.argument = NewError(m, "ArgumentError", g_errors.value,
+                               "A keyword argument's value is unusable: .argument names it, "
+                               ".value is what was passed, .problem what is wrong.");
+  g_errors.mujoco = NewError(m, "MujocoError", base, "MuJoCo stopped a plumb call with a fatal "
+                                                     "error (mju_error).");
+  g_errors.io = NewError(m, "IoError", nb::make_tuple(base, builtins.attr("OSError")),
+                         "A file could not be written or read.");
+  g_errors.unavailable = NewError(m, "UnavailableError", base,
+                                  "Something plumb needs from the machine is missing (GL, "
+                                  "ffmpeg); the message says how to get it.");
+  g_errors.engine = NewError(m, "EngineError", base, "The engine adapter failed.");
+  g_errors.engine_refused = NewError(m, "EngineRefused", g_errors.engine,
+                                     "The engine refuses the model or an option.");
+  g_errors.internal = NewError(m, "InternalError", builtins.attr("RuntimeError"),
+                               "A bug in plumb (a broken internal contract), never bad input.");
+  nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+    try {
+      std::rethrow_exception(p);
+    } catch (const Interrupted& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    } catch (const ArgumentError& e) {
+      Raise(g_errors.argument, e.what(),
+            {{"argument", e.argument()}, {"value", e.value()}, {"problem", e.problem()}});
+    } catch (const LoadError& e) {
+      Raise(g_errors.load, e.what(), {{"hint", e.hint()}});
+    } catch (const PathError& e) {
+      Raise(g_errors.path, e.what());
+    } catch (const ValueError& e) {
+      Raise(g_errors.value, e.what());
+    } catch (const MujocoError& e) {
+      Raise(g_errors.mujoco, e.what());
+    } catch (const IoError& e) {
+      Raise(g_errors.io, e.what());
+    } catch (const UnavailableError& e) {
+      Raise(g_errors.unavailable, e.what());
+    } catch (const EngineRefused& e) {
+      Raise(g_errors.engine_refused, e.what());
+    } catch (const EngineError& e) {
+      Raise(g_errors.engine, e.what());
+    } catch (const Error& e) {
+      Raise(g_errors.error, e.what());
+    } catch (const InternalError& e) {
+      Raise(g_errors.internal, e.what());
+    }
+  });
+}
+
+void BindCore(nb::module_& m) {
+  nb::enum_<CheckStatus>(m, "Status", "A check row's verdict.")
+      .value("PASS", CheckStatus::kPass)
+      .value("WARN", CheckStatus::kWarn)
+      .value("FAIL", CheckStatus::kFail)
+      .value("SKIP", CheckStatus::kSkip);
+
+  nb::class_<CheckRow>(m, "CheckRow",
+                       "One row of a check: its verdict, the element it judges, the measured "
+                       "value against its reference, and what to do. The fields are those of "
+                       "the CLI's JSON rows.")
+      .def_prop_ro("status", [](const CheckRow& r) { return std::string(CheckStatusName(r.status)); },
+                   "'PASS', 'WARN', 'FAIL' or 'SKIP'")
+      .def_ro("id", &CheckRow::id)
+      .def_ro("section", &CheckRow::section)
+      .def_ro("title", &CheckRow::title)
+      .def_prop_ro("element", [](const CheckRow& r) { return r.About(); },
+                   "the element's label or the row's subject ('' for the whole model)")
+      .def_prop_ro("element_type", [](const CheckRow& r) { return r.element.kind; })
+      .def_prop_ro("element_name", [](const CheckRow& r) { return r.element.name; })
+      .def_prop_ro("element_id", [](const CheckRow& r) { return r.element.id; })
+      .def_prop_ro("measured", [](const CheckRow& r) { return r.measured.value; },
+                   "the measured number (nan when the row has none)")
+      .def_prop_ro("measured_unit", [](const CheckRow& r) { return r.measured.unit; })
+      .def_ro("measured_text", &CheckRow::measured_text)
+      .def_prop_ro("reference", [](const CheckRow& r) { return r.reference.value; },
+                   "the reference or threshold (nan when none)")
+      .def_prop_ro("reference_unit", [](const CheckRow& r) { return r.reference.unit; })
+      .def_ro("reference_text", &CheckRow::reference_text)
+      .def_ro("threshold", &CheckRow::threshold)
+      .def_ro("rel_error", &CheckRow::rel_error)
+      .def_ro("explanation", &CheckRow::explanation)
+      .def_ro("fix", &CheckRow::fix)
+      .def_ro("accepted", &CheckRow::accepted)
+      .def_prop_ro("ok", [](const CheckRow& r) { return r.status != CheckStatus::kFail; },
+                   "not FAIL")
+      .def("__repr__", [](const CheckRow& r) {
+        std::string about = r.About();
+        return fmt::format("<CheckRow {} {}{}{}>", CheckStatusName(r.status), r.id,
+                           about.empty() ? "" : " ", about);
+      });
+
+  nb::class_<PyModel>(m, "Model",
+                      "A compiled model and the start its calls begin from. plumb.load makes "
+                      "one; every call also takes a mujoco.MjModel or a path directly.")
+      .def_prop_ro("name", &PyModel::name, "the file, or <MjModel 'NAME'> for a wrapped MjModel")
+      .def_prop_ro("mjmodel", &PyModel::mjmodel,
+                   "the mujoco.MjModel this wraps (not a copy), or None when plumb loaded the "
+                   "file")
+      .def_prop_ro("address",
+                   [](const PyModel& p) {
+                     return reinterpret_cast<std::uintptr_t>(p.model().get());
+                   },
+                   "the mjModel's address (MjModel._address of a wrapped model)")
+      .def_prop_ro("keyframe", &PyModel::keyframe)
+      .def_prop_ro("sets", [](const PyModel& p) { return p.sets(); },
+                   "the start's set assignments, as PATH=VALUE")
+      .def_prop_ro("nq", [](const PyModel& p) { return p.model()->nq; })
+      .def_prop_ro("nv", [](const PyModel& p) { return p.model()->nv; })
+      .def_prop_ro("nu", [](const PyModel& p) { return p.model()->nu; })
+      .def_prop_ro("nbody", [](const PyModel& p) { return p.model()->nbody; })
+      .def_prop_ro("timestep", [](const PyModel& p) { return p.model()->opt.timestep; })
+      .def("__repr__", [](const PyModel& p) {
+        return fmt::format("<plumb.Model {} nq={} nv={} nu={}{}>", p.name(), p.model()->nq,
+                           p.model()->nv, p.model()->nu,
+                           p.sets().empty() && p.keyframe().empty() ? "" : " (with a start)");
+      });
+
+  m.def(
+      "load",
+      [](nb::handle model, nb::handle set, std::optional<std::string> keyframe) {
+        std::shared_ptr<PyModel> base = ToModel(model);
+        std::vector<std::string> sets = base->SetTexts(SetTexts(set));
+        auto out = std::make_shared<PyModel>(base->shared(), base->mjmodel(),
+                                             keyframe.value_or(base->keyframe()), sets);
+        MujocoCallScope scope;
+        out->Start();  // validates the keyframe and every assignment now
+        return out;
+      },
+      nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(),
+      "Loads an MJCF or .mjb file, or wraps a mujoco.MjModel without copying it, with the start "
+      "its calls begin from: the keyframe, then each set assignment "
+      "(set={'qpos[hinge]': 0.7}, the CLI's --set). Raises plumb.LoadError, plumb.PathError, "
+      "plumb.ArgumentError.");
+
+  m.def("mujoco_version", &MujocoVersion, "the version of the MuJoCo library in use");
+  m.def("compiled_mujoco_version", &CompiledMujocoVersion,
+        "the MuJoCo version plumb was built against");
+  m.def("mujoco_library", &MujocoLibraryPath, "the file of the MuJoCo library in use");
+}
+
+}  // namespace plumb::python

@@ -1,0 +1,164 @@
+// What every binding of plumb's Python module shares: the model a call is given, the CLI's
+// vocabulary for keyword arguments, plumb's errors as Python exceptions, long calls that
+// release the GIL and stop on Ctrl-C, and the JSON and HTML every result offers.
+//
+// Each binding file (checks.cc, run.cc, batch.cc, identify.cc) registers its functions and
+// result types with one Bind* function that module.cc calls.
+
+#ifndef PLUMB_PYTHON_SRC_COMMON_H_
+#define PLUMB_PYTHON_SRC_COMMON_H_
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/shared_ptr.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "plumb/check.h"
+#include "plumb/model.h"
+#include "plumb/path.h"
+#include "plumb/stop.h"
+
+namespace plumb::python {
+
+namespace nb = nanobind;
+
+// plumb.Model: a compiled model and the start it was loaded with (a keyframe, then `set`
+// assignments). Made from a path (plumb owns the model) or from a mujoco.MjModel, which it
+// wraps without copying and keeps alive; nothing plumb does changes the caller's MjModel
+// (calls that edit parameters work on a copy).
+class PyModel {
+ public:
+  PyModel(std::shared_ptr<Model> model, nb::object mjmodel, std::string keyframe,
+          std::vector<std::string> sets);
+
+  const Model& model() const { return *model_; }
+  // The caller's mujoco.MjModel this wraps, or None for a model plumb loaded.
+  const nb::object& mjmodel() const { return mjmodel_; }
+  const std::string& keyframe() const { return keyframe_; }
+  const std::vector<std::string>& sets() const { return sets_; }
+  // The file it came from, or "<MjModel 'NAME'>" for a wrapped MjModel.
+  const std::string& name() const { return model_->file(); }
+
+  // The assignments a call starts from: the keyframe, the load's `set`, then `more` (the
+  // call's own `set`, CLI syntax "PATH=VALUE"). @throws PathError / ArgumentError.
+  std::vector<Assignment> Start(const std::vector<std::string>& more = {}) const;
+  // The keyframe and every `set` text, in order (the CLI's --keyframe and --set words).
+  std::vector<std::string> SetTexts(const std::vector<std::string>& more = {}) const;
+
+  // A model the call may edit: a copy when any of `assignments` changes a model array (the
+  // caller's MjModel stays as it was), else this model (shared, read only).
+  std::shared_ptr<Model> EditableFor(const std::vector<Assignment>& assignments) const;
+  std::shared_ptr<Model> shared() const { return model_; }
+
+ private:
+  std::shared_ptr<Model> model_;
+  nb::object mjmodel_;
+  std::string keyframe_;
+  std::vector<std::string> sets_;
+};
+
+// A call's `model` argument: a plumb.Model, a mujoco.MjModel (wrapped, not copied) or a path
+// (str or os.PathLike). @throws LoadError for a path that does not load; TypeError otherwise.
+std::shared_ptr<PyModel> ToModel(nb::handle model);
+
+// A `set` argument in the CLI's vocabulary: None, {"qpos[hinge]": 0.7, "opt.gravity":
+// [0, 0, -1.62], "opt.integrator": "RK4"}, or a list of "PATH=VALUE" strings. Values are
+// written with 17 significant digits, so a float goes over exactly.
+std::vector<std::string> SetTexts(nb::handle set);
+// A list argument that also takes one string (randomize="body_mass[*]=*U(0.9,1.1)").
+std::vector<std::string> StringList(nb::handle value, const char* argument);
+
+// The JSON text as Python objects (json.loads).
+nb::object FromJson(const std::string& json);
+
+// The HTML document `write` writes to the path it is given (a report writer), as a string.
+// The file lives in a temporary folder that is removed afterwards.
+std::string ReportHtml(const std::function<void(const std::string& path)>& write);
+
+// The check rows as a list of plumb.CheckRow.
+nb::list RowList(const std::vector<CheckRow>& rows);
+// A pandas.DataFrame of `columns` (name, array-like); ImportError naming pip when pandas is
+// not installed.
+nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns);
+// A 1-D float64 numpy array holding a copy of `values`.
+nb::object Array(const std::vector<double>& values);
+// A rows x cols float64 numpy array that takes over `values` (row major) without copying.
+nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols);
+
+// Runs `body(token)` on a thread of its own while the calling thread waits without the GIL,
+// so other Python threads run. Every 20 ms the caller checks for signals (PyErr_CheckSignals:
+// Ctrl-C on the main thread); when one raised, it asks `body` to stop through its token,
+// waits for it (a rollout or sweep keeps what it finished) and raises the signal's exception
+// (KeyboardInterrupt). `body` runs inside a MujocoCallScope; what it throws is rethrown here.
+template <typename Body>
+auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
+  using Result = decltype(body(StopToken{}));
+  StopSource source;
+  std::optional<Result> result;
+  std::exception_ptr error;
+  bool done = false, signalled = false;
+  std::mutex mutex;
+  std::condition_variable finished;
+  {
+    nb::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        MujocoCallScope scope;
+        result.emplace(body(source.token()));
+      } catch (...) {
+        error = std::current_exception();
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+      finished.notify_all();
+    });
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        if (finished.wait_for(lock, std::chrono::milliseconds(20), [&] { return done; })) break;
+      }
+      if (!signalled) {
+        nb::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) {
+          signalled = true;
+          source.RequestStop();
+        }
+      }
+    }
+    worker.join();
+  }
+  if (signalled) throw nb::python_error();  // the signal handler's exception
+  if (error) std::rethrow_exception(error);
+  return std::move(*result);
+}
+
+// Registers plumb's exceptions (plumb.Error and its subclasses) and their translation.
+void BindErrors(nb::module_& m);
+// plumb.Model, plumb.load, plumb.CheckRow.
+void BindCore(nb::module_& m);
+// verify, audit, converge, snapshot, diff (checks.cc).
+void BindChecks(nb::module_& m);
+// run, inspect, render (run.cc).
+void BindRun(nb::module_& m);
+// sweep, rollout (batch.cc).
+void BindBatch(nb::module_& m);
+// replay, identify (identify.cc).
+void BindIdentify(nb::module_& m);
+
+}  // namespace plumb::python
+
+#endif  // PLUMB_PYTHON_SRC_COMMON_H_

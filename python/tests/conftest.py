@@ -1,0 +1,42 @@
+"""Shared fixtures of plumb's Python tests (run by CTest with the build's venv: label python)."""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def root() -> pathlib.Path:
+    """The checkout (tests run from it)."""
+    return ROOT
+
+
+@pytest.fixture
+def pendulum() -> str:
+    """The chapter's pendulum."""
+    return str(ROOT / "models" / "pendulum.xml")
+
+
+def run_cli(*args: str, check_codes=(0, 1)) -> subprocess.CompletedProcess:
+    """Runs the plumb command of this build ($PLUMB) and returns the finished process."""
+    plumb = os.environ.get("PLUMB")
+    if not plumb:
+        pytest.skip("$PLUMB (the plumb command of this build) is not set: run through CTest")
+    done = subprocess.run([plumb, *args], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode in check_codes, done.stderr
+    return done
+
+
+@pytest.fixture
+def cli_json():
+    """cli_json("verify", "models/pendulum.xml", ...) -> the parsed --format json output."""
+
+    def call(*args: str):
+        return json.loads(run_cli(*args, "--format", "json").stdout)
+
+    return call
