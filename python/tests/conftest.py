@@ -10,6 +10,13 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
+@pytest.fixture(autouse=True)
+def _outside_the_checkout(tmp_path, monkeypatch):
+    """Every test runs in a folder of its own: nothing it (or MuJoCo's MUJOCO_LOG.TXT) writes
+    lands in the checkout. Name the repository's files through `root` or `pendulum`."""
+    monkeypatch.chdir(tmp_path)
+
+
 @pytest.fixture
 def root() -> pathlib.Path:
     """The checkout (tests run from it)."""
