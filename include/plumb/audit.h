@@ -69,6 +69,8 @@ struct AuditReport {
   std::vector<AuditCurve> settle;
   std::vector<std::string> repro_folders;  // what keep_diverged returned, in run order
   int Count(CheckStatus status) const;
+  // Whether the audit fails: a FAIL that no accept list accepts, or with `strict` a WARN.
+  bool Failed(bool strict) const;
 };
 
 // Audits `model` (not modified). @throws only for bad options (ValueError for an unknown

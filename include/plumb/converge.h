@@ -14,10 +14,13 @@
 #ifndef PLUMB_INCLUDE_PLUMB_CONVERGE_H_
 #define PLUMB_INCLUDE_PLUMB_CONVERGE_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "plumb/metric.h"
+#include "plumb/path.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -55,6 +58,7 @@ struct ConvergenceResult {
   std::string model;  // the model's file
   std::string metric;
   double until = 0;                      // s, the run length of every level
+  int integrator = 0;                    // mjtIntegrator of the runs, after `sets`
   double expected_order = 0;             // the integrator's order (ExpectedOrder), after `sets`
   std::vector<ConvergenceLevel> levels;  // coarsest first
   OrderEstimate estimate;
@@ -78,6 +82,26 @@ struct ConvergenceResult {
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol, double until,
                            const StopToken& stop = {});
+
+// What plumb converge takes (the command's flags, the Python keywords): the start, the
+// coarsest timestep and run length (unset: the model's timestep after `sets`, and the metric's
+// DefaultDuration), the ladder and the tolerance.
+struct ConvergeOptions {
+  std::vector<Assignment> sets;
+  std::optional<double> dt;
+  int halvings = 4;
+  double tol = 1e-3;
+  std::optional<double> until;
+  StopToken stop;  // when it asks, the ladder ends with Interrupted (default: never)
+};
+
+// Converge with the options resolved and checked. A metric that cannot be measured on this
+// run (not a divergence: a period of a joint that never swings) is the caller's to change.
+// @throws ArgumentError ("dt", "until", "tol", "halvings": not positive and finite; "metric":
+// it cannot be measured, saying why); as Converge otherwise. A diverged level is a result
+// (ok false, diverged true).
+ConvergenceResult Converge(const Model& model, const Metric& metric,
+                           const ConvergeOptions& options);
 
 // The caveat every convergence report (converge's table and JSON, verify's convergence
 // check) gives when contacts occur: contacts make trajectories non-smooth in time, so

@@ -45,6 +45,7 @@
 // the checks and batches
 #include "plumb/accept.h"
 #include "plumb/audit.h"
+#include "plumb/batch.h"
 #include "plumb/converge.h"
 #include "plumb/identify.h"
 #include "plumb/regression.h"

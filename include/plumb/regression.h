@@ -81,7 +81,8 @@ struct SnapshotDiff {
 // Parameters differ when |a - b| > tol * max(|a|, |b|) (relative: 1e-8 -> 2e-8 is a
 // change); trajectory values when |a - b| > tol * max(1, |a|, |b|). @throws ValueError
 // when the text is not a plumb snapshot or is damaged, naming the entry, e.g.
-// "structure.body.link.body_mass: expected a number, got \"x\""; ValueError / PathError when
+// "structure.body.link.body_mass: expected a number, got \"x\""; ArgumentError ("tol") for a
+// negative or NaN tol; ValueError / PathError when
 // the model refuses `sets` (a recorded --set it refuses is listed as a change instead);
 // MujocoError.
 SnapshotDiff DiffSnapshot(const std::string& snapshot_text, const Model& model,

@@ -32,6 +32,7 @@
 #include "plumb/identify.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/regression.h"
 #include "plumb/replay.h"
 #include "plumb/robot_log.h"
 #include "plumb/verify.h"
@@ -83,6 +84,13 @@ void WriteConvergeReport(const std::string& path, const Model& model,
                          const std::vector<Assignment>& sets,
                          const std::vector<ConvergenceResult>& results, int integrator,
                          const ReportInfo& info);
+
+// plumb diff --report: the snapshot's versions and assignments, the notes, then every change
+// beyond tolerance and what another release's compiler derived differently, in tables (kind,
+// path, old, new, in words). `snapshot` is the snapshot as the caller named it. @throws
+// IoError as WriteVerifyReport does.
+void WriteDiffReport(const std::string& path, const Model& model, const SnapshotDiff& diff,
+                     const std::string& snapshot, const ReportInfo& info);
 
 // The cases of a sweep or a rollout batch, gathered as they finish for the report. It keeps
 // every case up to `most` and a uniform sample beyond (reservoir sampling with a fixed

@@ -1,37 +1,72 @@
 // plumb.verify, plumb.audit, plumb.converge, plumb.snapshot and plumb.diff: the checks, each
-// returning a result with typed rows, the CLI's JSON and the HTML report.
+// returning a result with typed rows or figures, the CLI's JSON and table, and its HTML report.
 
 #include <fmt/format.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "common.h"
+#include "core/file_kind.h"
+#include "io/atomic_file.h"
+#include "plumb/accept.h"
+#include "plumb/audit.h"
 #include "plumb/check_table.h"
+#include "plumb/converge.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
+#include "plumb/regression.h"
+#include "plumb/repro.h"
 #include "plumb/report.h"
 #include "plumb/result_json.h"
+#include "plumb/result_table.h"
+#include "plumb/scenario.h"
 #include "plumb/verify.h"
+#include "report/html.h"
 
 namespace plumb::python {
 namespace {
 
-// plumb.VerifyResult: what Verify returned, with the model and start it judged.
+ReportInfo PythonReportInfo(const char* call) {
+  return ReportInfo{{"python", fmt::format("plumb.{}(...)", call)}};
+}
+
+// How many of `rows` have `status` ('PASS', 'WARN', 'FAIL', 'SKIP'), accepted ones included.
+int CountRows(const std::vector<CheckRow>& rows, const std::string& status) {
+  for (CheckStatus s :
+       {CheckStatus::kPass, CheckStatus::kWarn, CheckStatus::kFail, CheckStatus::kSkip}) {
+    if (status == CheckStatusName(s)) return CountStatus(rows, s);
+  }
+  throw ArgumentError("status", Quoted(status), "expected PASS, WARN, FAIL or SKIP");
+}
+
+// A result's rows as a pandas.DataFrame: the JSON rows' columns.
+nb::object RowsFrame(const nb::object& rows_json) { return Pandas().attr("DataFrame")(rows_json); }
+
+// ---- verify ------------------------------------------------------------------------------
+
 struct VerifyResult {
   std::shared_ptr<PyModel> model;
   std::vector<Assignment> sets;
   VerifyReport report;
-  std::string html;  // the report, made on first _repr_html_
+  std::string html;
+
+  std::string Json() const { return VerifyToJson(report); }
+  std::string Table() const {
+    return VerifyTable(report, TableDetail::kFindings, "result.rows holds every row");
+  }
+  void WriteReport(const std::string& path) const {
+    WriteVerifyReport(path, model->model(), sets, report, PythonReportInfo("verify"));
+  }
 };
 
-ReportInfo PythonReportInfo(const char* call) {
-  ReportInfo info{{"python", fmt::format("plumb.{}(...)", call)}};
-  return info;
-}
-
 void BindVerify(nb::module_& m) {
-  nb::class_<VerifyResult>(m, "VerifyResult",
-                           "plumb.verify's result: .rows (plumb.CheckRow), .ok, the run it "
-                           "judged (.horizon), the CLI's JSON (to_json, to_dict) and the HTML "
-                           "report (_repr_html_ shows it in a notebook).")
-      .def_prop_ro("rows", [](const VerifyResult& r) { return RowList(r.report.checks); })
+  nb::class_<VerifyResult> type(
+      m, "VerifyResult",
+      "plumb.verify's result: .rows (plumb.CheckRow), .ok, the run it judged (.horizon), the "
+      "CLI's JSON (to_json, to_dict) and table (repr), and the HTML report (_repr_html_ shows it "
+      "in a notebook, save_report writes it).");
+  type.def_prop_ro("rows", [](const VerifyResult& r) { return RowList(r.report.checks); })
       .def_prop_ro("ok", [](const VerifyResult& r) { return !r.report.failed(); },
                    "no check FAILed")
       .def_prop_ro("model", [](const VerifyResult& r) { return r.report.model; })
@@ -48,47 +83,13 @@ void BindVerify(nb::module_& m) {
                    "the nominal run: until and requested (s), steps, and why it is shorter")
       .def("count",
            [](const VerifyResult& r, const std::string& status) {
-             for (CheckStatus s : {CheckStatus::kPass, CheckStatus::kWarn, CheckStatus::kFail,
-                                   CheckStatus::kSkip}) {
-               if (status == CheckStatusName(s)) return r.report.Count(s);
-             }
-             throw ArgumentError("status", Quoted(status), "expected PASS, WARN, FAIL or SKIP");
+             return CountRows(r.report.checks, status);
            },
            nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
-      .def("to_json", [](const VerifyResult& r) { return VerifyToJson(r.report); },
-           "the JSON document `plumb verify --format json` prints")
-      .def("to_dict", [](const VerifyResult& r) { return FromJson(VerifyToJson(r.report)); },
-           "to_json() as Python objects")
       .def("to_pandas",
-           [](const VerifyResult& r) {
-             return nb::module_::import_("pandas").attr("DataFrame")(
-                 FromJson(VerifyToJson(r.report))["checks"]);
-           },
-           "the rows as a pandas.DataFrame (the JSON rows' columns)")
-      .def("save_report",
-           [](const VerifyResult& r, const std::string& path) {
-             RunLong([&](StopToken) {
-               WriteVerifyReport(path, r.model->model(), r.sets, r.report,
-                                 PythonReportInfo("verify"));
-               return 0;
-             });
-           },
-           nb::arg("path"), "writes the self-contained HTML report (as --report FILE.html)")
-      .def("_repr_html_",
-           [](VerifyResult& r) {
-             if (r.html.empty()) {
-               r.html = RunLong([&](StopToken) {
-                 return ReportHtml([&](const std::string& path) {
-                   WriteVerifyReport(path, r.model->model(), r.sets, r.report,
-                                     PythonReportInfo("verify"));
-                 });
-               });
-             }
-             return r.html;
-           })
-      .def("__repr__", [](const VerifyResult& r) {
-        return VerifyTable(r.report, TableDetail::kFindings, "print(result.rows) lists every row");
-      });
+           [](const VerifyResult& r) { return RowsFrame(FromJson(r.Json())["checks"]); },
+           "the rows as a pandas.DataFrame (the JSON rows' columns)");
+  AddResultMethods(type, "verify");
 
   m.def(
       "verify",
@@ -111,12 +112,351 @@ void BindVerify(nb::module_& m) {
       nb::arg("until") = nb::none(),
       "Checks that a model's numbers are credible (plumb verify): determinism, warnings, "
       "convergence as the timestep shrinks, energy, and for a single hinge pendulum the "
-      "analytic references and the chapter's experiments. Returns a VerifyResult; raises "
-      "plumb.Error subclasses for bad input, KeyboardInterrupt on Ctrl-C.");
+      "analytic references and the chapter's experiments. `set` takes the CLI's --set "
+      "assignments ({'qpos[hinge]': 0.7}), `tol` the relative tolerance, `until` the nominal "
+      "run's length in s. Returns a VerifyResult; raises plumb.Error subclasses for bad input "
+      "and KeyboardInterrupt on Ctrl-C.");
+}
+
+// ---- audit -------------------------------------------------------------------------------
+
+struct AuditResult {
+  std::shared_ptr<PyModel> model;
+  std::vector<Assignment> start;  // the pose the pictures show
+  AuditReport report;
+  bool strict = false;
+  std::string html;
+
+  std::string Json() const { return AuditToJson(report); }
+  std::string Table() const {
+    return AuditTable(report, TableDetail::kFindings, "result.rows holds every row");
+  }
+  void WriteReport(const std::string& path) const {
+    WriteAuditReport(path, model->model(), start, report, PythonReportInfo("audit"));
+  }
+};
+
+void BindAudit(nb::module_& m) {
+  nb::class_<AuditResult> type(
+      m, "AuditResult",
+      "plumb.audit's result: .rows (one plumb.CheckRow per finding; .section is its layer), "
+      ".ok, .repro_folders, the CLI's JSON and table, and the HTML report.");
+  type.def_prop_ro("rows", [](const AuditResult& r) { return RowList(r.report.findings); })
+      .def_prop_ro("ok", [](const AuditResult& r) { return !r.report.Failed(r.strict); },
+                   "no unaccepted FAIL (and with strict=True no unaccepted WARN)")
+      .def_prop_ro("model", [](const AuditResult& r) { return r.report.model; })
+      .def_prop_ro("repro_folders", [](const AuditResult& r) { return r.report.repro_folders; },
+                   "the repro folders written for runs that diverged (with repro=)")
+      .def("count",
+           [](const AuditResult& r, const std::string& status) {
+             return CountRows(r.report.findings, status);
+           },
+           nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
+      .def("to_pandas",
+           [](const AuditResult& r) {
+             nb::list rows;
+             for (auto [layer, findings] : nb::borrow<nb::dict>(FromJson(r.Json())["layers"])) {
+               for (nb::handle row : findings) rows.append(row);
+             }
+             return RowsFrame(rows);
+           },
+           "the rows as a pandas.DataFrame (the JSON rows' columns; 'section' is the layer)");
+  AddResultMethods(type, "audit");
+
+  m.def(
+      "audit",
+      [](nb::handle model, bool strict, nb::handle accept, nb::handle set,
+         std::optional<std::string> keyframe, nb::handle scenario, nb::handle repro) {
+        auto result = std::make_shared<AuditResult>();
+        result->model = ToModel(model);
+        result->strict = strict;
+        std::vector<std::string> sets = result->model->SetTexts(SetTexts(set));
+        std::string accept_file = accept.is_none() ? "" : PathArg(accept);
+        std::string scenario_file = scenario.is_none() ? "" : PathArg(scenario);
+        std::string repro_dir = repro.is_none() ? "" : PathArg(repro);
+        std::string key = keyframe.value_or(result->model->keyframe());
+        result->report = RunLong([&](StopToken stop) {
+          const Model& work = result->model->model();
+          AuditOptions options;
+          for (const std::string& text : sets) options.sets.push_back(ParseAssignment(work, text));
+          options.keyframe = key;
+          if (!scenario_file.empty()) options.scenario = LoadScenario(work, scenario_file);
+          AcceptList accepted = accept_file.empty() ? AcceptList() : LoadAcceptList(accept_file);
+          if (!repro_dir.empty()) {
+            options.keep_diverged = [&](const Model& ran, const RunResult& run,
+                                        const std::string& what) {
+              return WriteRepro(ran, run, {"python", "plumb.audit(...)"}, repro_dir, what);
+            };
+          }
+          options.stop = stop;
+          // the pictures show the pose the audit judged the model in
+          ReferencePose pose = FindReferencePose(work, key);
+          if (pose.keyframe >= 0) {
+            std::string name = work.Name(mjOBJ_KEY, pose.keyframe);
+            result->start = KeyframeAssignments(
+                work, name.empty() ? "#" + std::to_string(pose.keyframe) : name);
+          }
+          result->start.insert(result->start.end(), options.sets.begin(), options.sets.end());
+          AuditReport report = Audit(work, options);
+          ApplyAcceptList(accepted, &report.findings);
+          return report;
+        });
+        return result;
+      },
+      nb::arg("model"), nb::arg("strict") = false, nb::arg("accept") = nb::none(),
+      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(),
+      nb::arg("scenario") = nb::none(), nb::arg("repro") = nb::none(),
+      "Audits a model (plumb audit): structure, inertia, actuators, contacts, behaviour and "
+      "warnings, one row per finding. `accept` is a reviewed accept list (TOML, as --accept), "
+      "`strict` fails on WARN too, `keyframe` names the reference pose, `scenario` a scenario "
+      "file, `repro` a folder for repro folders of runs that diverge (none are written "
+      "without it). Returns an AuditResult.");
+}
+
+// ---- converge ----------------------------------------------------------------------------
+
+struct ConvergeResult {
+  std::shared_ptr<PyModel> model;
+  std::vector<Assignment> sets;
+  ConvergenceResult result;
+  std::string html;
+
+  std::string Json() const { return ConvergeToJson(result); }
+  std::string Table() const { return ConvergeTable(result); }
+  void WriteReport(const std::string& path) const {
+    WriteConvergeReport(path, model->model(), sets, {result}, result.integrator,
+                        PythonReportInfo("converge"));
+  }
+};
+
+void BindConverge(nb::module_& m) {
+  nb::class_<ConvergeResult> type(
+      m, "ConvergeResult",
+      "plumb.converge's result: the metric at each timestep of the ladder (.dt, .values, "
+      ".errors as numpy arrays), the observed order, the recommended timestep, .ok, the CLI's "
+      "JSON and table, and the HTML report.");
+  type.def_prop_ro("ok", [](const ConvergeResult& r) { return r.result.ok; },
+                   "every level ran (False: one diverged; .problem says where)")
+      .def_prop_ro("diverged", [](const ConvergeResult& r) { return r.result.diverged; })
+      .def_prop_ro("problem", [](const ConvergeResult& r) { return r.result.problem; })
+      .def_prop_ro("metric", [](const ConvergeResult& r) { return r.result.metric; })
+      .def_prop_ro("dt",
+                   [](const ConvergeResult& r) {
+                     std::vector<double> v;
+                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.dt);
+                     return Array(v);
+                   },
+                   "each level's timestep (s), coarsest first")
+      .def_prop_ro("values",
+                   [](const ConvergeResult& r) {
+                     std::vector<double> v;
+                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.value);
+                     return Array(v);
+                   },
+                   "the metric at each level")
+      .def_prop_ro("errors",
+                   [](const ConvergeResult& r) {
+                     std::vector<double> v;
+                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.error);
+                     return Array(v);
+                   },
+                   "each level's estimated error (nan where none)")
+      .def_prop_ro("observed_order", [](const ConvergeResult& r) { return r.result.estimate.order; })
+      .def_prop_ro("expected_order", [](const ConvergeResult& r) { return r.result.expected_order; })
+      .def_prop_ro("recommended_dt", [](const ConvergeResult& r) { return r.result.recommended_dt; },
+                   "the coarsest tested timestep within the tolerance (0: none)")
+      .def("to_pandas",
+           [](const ConvergeResult& r) { return RowsFrame(FromJson(r.Json())["levels"]); },
+           "the levels as a pandas.DataFrame (the JSON levels' columns)");
+  AddResultMethods(type, "converge");
+
+  m.def(
+      "converge",
+      [](nb::handle model, const std::string& metric, nb::handle set, std::optional<double> dt,
+         int halvings, double tol, std::optional<double> until) {
+        auto result = std::make_shared<ConvergeResult>();
+        result->model = ToModel(model);
+        std::vector<std::string> sets = SetTexts(set);
+        result->result = RunLong([&](StopToken stop) {
+          ConvergeOptions options;
+          options.sets = result->model->Start(sets);
+          options.dt = dt;
+          options.halvings = halvings;
+          options.tol = tol;
+          options.until = until;
+          options.stop = stop;
+          result->sets = options.sets;
+          return Converge(result->model->model(), ParseMetric(result->model->model(), metric),
+                          options);
+        });
+        return result;
+      },
+      nb::arg("model"), nb::arg("metric"), nb::arg("set") = nb::none(),
+      nb::arg("dt") = nb::none(), nb::arg("halvings") = 4, nb::arg("tol") = 1e-3,
+      nb::arg("until") = nb::none(),
+      "Runs `metric` (the CLI's vocabulary: 'qpos[hinge]@2', 'period(qpos[hinge])', "
+      "'maxabs(PATH)', 'energy_drift', 'state@T') at dt, dt/2, ... dt/2^halvings (plumb "
+      "converge): observed order, extrapolation, the recommended timestep. `dt` defaults to the "
+      "model's, `until` to the metric's run. Returns a ConvergeResult.");
+}
+
+// ---- snapshot and diff -------------------------------------------------------------------
+
+// A regression snapshot: the JSON text plumb snapshot writes, and where it came from.
+struct Snapshot {
+  std::string text;
+  std::string source;  // the file it was loaded from, or the model it was taken of
+
+  static Snapshot Load(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in || std::filesystem::is_directory(path)) {
+      throw IoError("cannot read snapshot '" + path + "': no such file or not readable.");
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    FileKind kind = SniffFileKind(text.str());
+    if (kind != FileKind::kSnapshot && kind != FileKind::kJson && kind != FileKind::kText) {
+      throw ValueError("'" + path + "' is " + FileKindName(kind) +
+                       ", not a plumb snapshot: take one with plumb.snapshot(model).save(path).");
+    }
+    return {text.str(), path};
+  }
+};
+
+struct DiffResult {
+  std::shared_ptr<PyModel> model;
+  std::string snapshot;  // as given
+  SnapshotDiff diff;
+  std::string html;
+
+  std::string Json() const { return DiffToJson(diff, snapshot); }
+  std::string Table() const { return DiffTable(diff, snapshot, "set "); }
+  void WriteReport(const std::string& path) const {
+    WriteDiffReport(path, model->model(), diff, snapshot, PythonReportInfo("diff"));
+  }
+};
+
+nb::list ChangeList(const std::vector<SnapshotChange>& changes) {
+  nb::list out;
+  for (const SnapshotChange& c : changes) {
+    nb::dict d;
+    d["kind"] = c.kind;
+    d["path"] = c.path;
+    d["old"] = FromJson(c.old_value);
+    d["new"] = FromJson(c.new_value);
+    d["step"] = c.step;
+    d["what"] = c.what;
+    out.append(d);
+  }
+  return out;
+}
+
+void BindSnapshot(nb::module_& m) {
+  nb::class_<Snapshot>(m, "Snapshot",
+                       "A model's regression snapshot (plumb snapshot): its sizes, every "
+                       "element's parameters and a golden trajectory, as JSON text.")
+      .def_ro("text", &Snapshot::text, "the JSON text, as plumb snapshot writes it")
+      .def_ro("source", &Snapshot::source, "the file it was loaded from, or the model's name")
+      .def("save",
+           [](const Snapshot& s, nb::handle path) {
+             AtomicFile file(PathArg(path));
+             std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
+             file.Commit();
+           },
+           nb::arg("path"), "writes it (whole or not at all), for plumb diff or plumb.diff")
+      .def_static("load", [](nb::handle path) { return Snapshot::Load(PathArg(path)); },
+                  nb::arg("path"), "reads a snapshot file (plumb snapshot -o FILE)")
+      .def("to_json", [](const Snapshot& s) { return s.text; }, "the JSON text")
+      .def("to_dict", [](const Snapshot& s) { return FromJson(s.text); })
+      .def("_repr_html_",
+           [](const Snapshot& s) {
+             return fmt::format("<p><b>plumb snapshot</b> of {} ({} bytes of JSON): "
+                                "<code>.save(path)</code> keeps it, <code>plumb.diff(snapshot, "
+                                "model)</code> compares a model with it.</p>",
+                                report::Escape(s.source), s.text.size());
+           })
+      .def("__repr__", [](const Snapshot& s) {
+        return fmt::format("<plumb.Snapshot of {} ({} bytes)>", s.source, s.text.size());
+      });
+
+  m.def(
+      "snapshot",
+      [](nb::handle model, nb::handle set) {
+        std::shared_ptr<PyModel> p = ToModel(model);
+        std::vector<std::string> sets = p->SetTexts(SetTexts(set));
+        return RunLong([&](StopToken) {
+          std::vector<Assignment> parsed;
+          for (const std::string& text : sets) parsed.push_back(ParseAssignment(p->model(), text));
+          std::string divergence;
+          Snapshot s{MakeSnapshot(p->model(), parsed, &divergence), p->name()};
+          if (!divergence.empty()) {
+            throw Error("no snapshot: the golden trajectory of " + p->name() +
+                        " diverges: " + divergence +
+                        ". Fix the model first (plumb.audit shows where), e.g. a smaller "
+                        "timestep or more damping.");
+          }
+          return s;
+        });
+      },
+      nb::arg("model"), nb::arg("set") = nb::none(),
+      "Takes a model's regression snapshot (plumb snapshot), with the `set` assignments "
+      "recorded so that plumb.diff applies them again. Raises plumb.Error when the golden "
+      "trajectory diverges.");
+
+  nb::class_<DiffResult> type(
+      m, "DiffResult",
+      "plumb.diff's result: .changes (dicts: kind, path, old, new, step, what), .compiler "
+      "(what another MuJoCo's compiler derived differently), .notes, .ok (identical within "
+      "tol), .diverged, the CLI's JSON and table, and an HTML page of the changes.");
+  type.def_prop_ro("ok", [](const DiffResult& r) { return !r.diff.changed() && !r.diff.diverged; },
+                   "identical within tol, and the trajectory did not diverge")
+      .def_prop_ro("changes", [](const DiffResult& r) { return ChangeList(r.diff.changes); })
+      .def_prop_ro("compiler", [](const DiffResult& r) { return ChangeList(r.diff.compiler); })
+      .def_prop_ro("notes", [](const DiffResult& r) { return r.diff.notes; })
+      .def_prop_ro("diverged", [](const DiffResult& r) { return r.diff.diverged; })
+      .def("to_pandas",
+           [](const DiffResult& r) { return RowsFrame(FromJson(r.Json())["changes"]); },
+           "the changes as a pandas.DataFrame");
+  AddResultMethods(type, "diff");
+
+  m.def(
+      "diff",
+      [](nb::handle snapshot, nb::handle model, nb::handle set, double tol) {
+        Snapshot s = nb::isinstance<Snapshot>(snapshot) ? nb::cast<Snapshot>(snapshot)
+                                                         : Snapshot::Load(PathArg(snapshot));
+        auto result = std::make_shared<DiffResult>();
+        result->snapshot = s.source;
+        std::shared_ptr<PyModel> p = ToModel(model);
+        result->model = p;
+        std::vector<std::string> sets = p->SetTexts(SetTexts(set));
+        result->diff = RunLong([&](StopToken) {
+          std::vector<Assignment> parsed;
+          for (const std::string& text : sets) parsed.push_back(ParseAssignment(p->model(), text));
+          try {
+            return DiffSnapshot(s.text, p->model(), parsed, tol);
+          } catch (const ArgumentError&) {
+            throw;
+          } catch (const ValueError& e) {
+            throw ValueError(s.source + ": " + e.what() +
+                             ". The snapshot is damaged or not a snapshot: take a fresh one with "
+                             "plumb.snapshot(model).save(path).");
+          }
+        });
+        return result;
+      },
+      nb::arg("snapshot"), nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = 1e-6,
+      "Compares a model with a snapshot (a plumb.Snapshot or a file plumb snapshot wrote), in "
+      "words (plumb diff): sizes, options, every element's parameters and where the golden "
+      "trajectory departs. Returns a DiffResult; .ok is False when anything changed.");
 }
 
 }  // namespace
 
-void BindChecks(nb::module_& m) { BindVerify(m); }
+void BindChecks(nb::module_& m) {
+  BindVerify(m);
+  BindAudit(m);
+  BindConverge(m);
+  BindSnapshot(m);
+}
 
 }  // namespace plumb::python

@@ -114,9 +114,8 @@ std::shared_ptr<PyModel> ToModel(nb::handle model) {
     return std::make_shared<PyModel>(std::move(borrowed), nb::borrow(model), "",
                                      std::vector<std::string>{});
   }
-  nb::object fspath = nb::module_::import_("os").attr("fspath");
   if (nb::isinstance<nb::str>(model) || nb::hasattr(model, "__fspath__")) {
-    std::string path = nb::cast<std::string>(fspath(model));
+    std::string path = PathArg(model);
     std::shared_ptr<Model> loaded;
     {
       nb::gil_scoped_release release;
@@ -159,6 +158,10 @@ std::vector<std::string> StringList(nb::handle value, const char* argument) {
   return out;
 }
 
+std::string PathArg(nb::handle path) {
+  return nb::cast<std::string>(nb::module_::import_("os").attr("fspath")(path));
+}
+
 nb::object FromJson(const std::string& json) {
   return nb::module_::import_("json").attr("loads")(nb::str(json.c_str(), json.size()));
 }
@@ -194,16 +197,18 @@ nb::list RowList(const std::vector<CheckRow>& rows) {
   return out;
 }
 
-nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns) {
-  nb::object pandas;
+nb::object Pandas() {
   try {
-    pandas = nb::module_::import_("pandas");
+    return nb::module_::import_("pandas");
   } catch (const nb::python_error&) {
     throw nb::import_error("to_pandas() needs pandas, which is not installed: pip install pandas");
   }
+}
+
+nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns) {
   nb::dict data;
   for (const auto& [name, values] : columns) data[name.c_str()] = values;
-  return pandas.attr("DataFrame")(data);
+  return Pandas().attr("DataFrame")(data);
 }
 
 nb::object Array(const std::vector<double>& values) {

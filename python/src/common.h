@@ -91,6 +91,9 @@ std::string ReportHtml(const std::function<void(const std::string& path)>& write
 
 // The check rows as a list of plumb.CheckRow.
 nb::list RowList(const std::vector<CheckRow>& rows);
+// The pandas module; ImportError naming pip when it is not installed (plumb never needs it
+// but for to_pandas()).
+nb::object Pandas();
 // A pandas.DataFrame of `columns` (name, array-like); ImportError naming pip when pandas is
 // not installed.
 nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns);
@@ -144,6 +147,46 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
   if (signalled) throw nb::python_error();  // the signal handler's exception
   if (error) std::rethrow_exception(error);
   return std::move(*result);
+}
+
+// A file argument: str or os.PathLike (pathlib.Path), as os.fspath gives it.
+std::string PathArg(nb::handle path);
+
+// The methods every result type has, made from what its struct provides:
+//   std::string Json() const;                          the CLI's --format json document
+//   std::string Table() const;                         the CLI's table text
+//   void WriteReport(const std::string& path) const;   the CLI's --report HTML
+//   std::string html;                                  the report, kept once made
+// to_json(), to_dict(), save_report(path), _repr_html_() and __repr__.
+template <typename Result>
+void AddResultMethods(nb::class_<Result>& type, const char* command) {
+  type.def("to_json", &Result::Json,
+           (std::string("the JSON document `plumb ") + command + " --format json` prints").c_str())
+      .def("to_dict", [](const Result& r) { return FromJson(r.Json()); },
+           "to_json() as Python objects (json.loads)")
+      .def("save_report",
+           [](const Result& r, nb::handle path) {
+             std::string file = PathArg(path);
+             RunLong([&](StopToken) {
+               r.WriteReport(file);
+               return 0;
+             });
+           },
+           nb::arg("path"),
+           (std::string("writes the self-contained HTML report (`plumb ") + command +
+            " --report FILE.html`): whole or not at all")
+               .c_str())
+      .def("_repr_html_",
+           [](Result& r) {
+             if (r.html.empty()) {
+               r.html = RunLong([&](StopToken) {
+                 return ReportHtml([&](const std::string& path) { r.WriteReport(path); });
+               });
+             }
+             return r.html;
+           },
+           "the HTML report, which a notebook shows inline")
+      .def("__repr__", &Result::Table);
 }
 
 // Registers plumb's exceptions (plumb.Error and its subclasses) and their translation.

@@ -40,6 +40,12 @@ void Warnings(const std::vector<audit::Observed>& runs, AuditReport* report) {
 
 int AuditReport::Count(CheckStatus status) const { return CountStatus(findings, status); }
 
+bool AuditReport::Failed(bool strict) const {
+  // accepted findings fail nothing; a stale accept entry is a WARN of its own
+  return CountUnaccepted(findings, CheckStatus::kFail) > 0 ||
+         (strict && CountUnaccepted(findings, CheckStatus::kWarn) > 0);
+}
+
 AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   AuditReport report;
   report.model = loaded.file();

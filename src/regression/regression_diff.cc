@@ -1,6 +1,8 @@
 // plumb diff: a snapshot against the current model, change by change: sizes, options, every
 // recorded field of every element, and where the golden trajectory departs.
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -465,6 +467,7 @@ void Notes(const ordered_json& before, const ordered_json& after, SnapshotDiff* 
 
 SnapshotDiff DiffSnapshot(const std::string& text, const Model& model,
                           const std::vector<Assignment>& sets, double tol) {
+  if (!(tol >= 0)) throw ArgumentError("tol", fmt::format("{:g}", tol), "must be >= 0");
   ordered_json parsed;
   try {
     parsed = ordered_json::parse(text);

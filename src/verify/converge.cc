@@ -9,6 +9,7 @@
 
 #include "plumb/error.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 
@@ -194,6 +195,7 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     Model nominal = model.Clone();  // `sets` may choose the integrator
     Data data(nominal);
     ApplyAssignments(nominal, data, sets);
+    out.integrator = nominal->opt.integrator;
     out.expected_order = ExpectedOrder(nominal->opt.integrator);
   }
   std::vector<Measurement> measured;
@@ -253,6 +255,28 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   LevelErrors(metric, diffs, &out);
   Recommend(diffs, tol, &out);
   return out;
+}
+
+ConvergenceResult Converge(const Model& model, const Metric& metric,
+                           const ConvergeOptions& options) {
+  auto positive = [](const std::optional<double>& v, const char* argument, const char* what) {
+    if (v && !(*v > 0 && std::isfinite(*v))) {
+      throw ArgumentError(argument, fmt::format("{:g}", *v),
+                          fmt::format("{} must be a positive, finite number", what));
+    }
+  };
+  positive(options.dt, "dt", "the coarsest timestep (s)");
+  positive(options.until, "until", "the run length (s)");
+  positive(options.tol, "tol", "the relative tolerance");
+  double dt0 = options.dt ? *options.dt : RunTimestep(model, options.sets);
+  double until = options.until ? *options.until : DefaultDuration(metric);
+  ConvergenceResult r = Converge(model, options.sets, metric, dt0, options.halvings, options.tol,
+                                 until, options.stop);
+  if (!r.ok && !r.diverged) {
+    throw ArgumentError("metric", Quoted(metric.text),
+                        r.problem + ". Start the motion (set a qpos or qvel) or choose another metric.");
+  }
+  return r;
 }
 
 }  // namespace plumb

@@ -67,11 +67,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   std::string text =
       o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
-  // accepted findings fail nothing; a stale entry is a WARN of its own
-  const std::vector<CheckRow>& findings = report.findings;
-  bool failed = CountUnaccepted(findings, CheckStatus::kFail) > 0 ||
-                (o.strict && CountUnaccepted(findings, CheckStatus::kWarn) > 0);
-  return failed ? kExitCheckFailed : kExitOk;
+  return report.Failed(o.strict) ? kExitCheckFailed : kExitOk;
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "io/atomic_file.h"
 #include "plumb/error.h"
 #include "plumb/regression.h"
+#include "plumb/report.h"
 #include "plumb/result_json.h"
 #include "plumb/result_table.h"
 
@@ -25,6 +26,7 @@ struct DiffOptions {
   std::vector<std::string> sets;
   double tol = 1e-6;
   std::string format = "table";
+  std::string report;  // --report FILE.html
 };
 
 std::string ReadWhole(const std::string& path, bool* readable) {
@@ -57,7 +59,7 @@ void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
                    "with plumb snapshot, or restore it from version control.");
 }
 
-int RunDiff(const DiffOptions& o) {
+int RunDiff(const DiffOptions& o, const Context& ctx) {
   bool readable = false;
   std::string text = ReadWhole(o.snapshot, &readable);
   if (!readable)
@@ -65,14 +67,19 @@ int RunDiff(const DiffOptions& o) {
   CheckSnapshotArgument(o, text);
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);
-  if (!(o.tol >= 0)) throw ValueError("--tol must be >= 0");
   SnapshotDiff diff;
   try {
     diff = DiffSnapshot(text, model, sets, o.tol);
+  } catch (const ArgumentError&) {
+    throw;  // a bad --tol, not a damaged snapshot
   } catch (const ValueError& e) {
     throw ValueError(o.snapshot + ": " + e.what() +
                      ". The file is not a snapshot or was damaged: write a fresh one with "
                      "plumb snapshot MODEL -o FILE (or restore it from version control).");
+  }
+  if (!o.report.empty()) {
+    WriteDiffReport(o.report, model, diff, o.snapshot, ReportInfo{ctx.argv});
+    std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string out =
       o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot, "--set ");
@@ -97,7 +104,8 @@ void SetupDiffCommand(CLI::App& app, Context& ctx) {
   diff->add_option("--tol", d->tol, "relative tolerance for numbers")->capture_default_str();
   AddFormatOption(diff, &d->format, {"table", "json"},
                   "table (in words) or json (header, then changes as {path, old, new, kind})");
-  diff->callback([d, &ctx] { ctx.action = [d] { return RunDiff(*d); }; });
+  AddReportOption(diff, &d->report);
+  diff->callback([d, &ctx] { ctx.action = [d, &ctx] { return RunDiff(*d, ctx); }; });
 }
 
 }  // namespace plumb::cli

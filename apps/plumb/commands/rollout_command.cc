@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #ifdef __GLIBC__
@@ -17,16 +16,14 @@
 #include "budget.h"
 #include "cli_common.h"
 #include "core/strings.h"
-#include "io/hash.h"
+#include "plumb/batch.h"
 #include "plumb/error.h"
 #include "plumb/mpi_rollout.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
 #include "plumb/rollout_csv.h"
 #include "plumb/sample_writer.h"
-#include "plumb/statistics.h"
 #include "plumb/store.h"
-#include "plumb/version.h"
 #include "run_store.h"
 
 namespace plumb::cli {
@@ -52,60 +49,34 @@ struct RolloutOptions {
   std::string report;  // --report FILE.html
 };
 
-// Everything that decides a rollout batch's results, as one canonical line: the same
-// config means the same rows, so --resume may continue it and merge may join shards.
-// The model enters as the hash of its compiled form (included files count), and the
-// versions of plumb and MuJoCo, which decide the numbers as much as the options do.
-std::string Config(const RolloutOptions& o, const Model& model, const std::string& model_hash) {
-  std::string config = fmt::format(
-      "rollout model={} count={} until={:.17g} seed={} "
-      "ctrl_noise={:.17g} plumb={} mujoco={}",
-      model_hash, o.count, o.until, o.seed, o.ctrl_noise, PLUMB_VERSION, MujocoVersion());
-  config += StartStateConfig(model);
-  if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
-  config += PoseConfig(model, o.pose);
-  for (const std::string& s : o.sets) config += " set=" + s;
-  for (const std::string& r : o.randomize) config += " randomize=" + r;
-  for (const std::string& m : o.metrics) config += " metric=" + m;
-  return config;
-}
-
-// "I/N", or the Slurm job array's task id and count when --shard is absent.
-void ParseShard(const std::string& text, RolloutSpec* spec) {
-  std::string shard = text;
-  if (shard.empty()) {
-    // array ids run from SLURM_ARRAY_TASK_MIN (often 1, as in --array=1-8), not from 0
-    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
-    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-    const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-    if (!id || !count) return;
-    std::optional<long> i = ParseIndex(id), lowest = ParseIndex(min ? min : "0");
-    if (!i || !lowest || *i < *lowest) {
-      throw ValueError(fmt::format(
-          "Slurm: SLURM_ARRAY_TASK_ID={} with SLURM_ARRAY_TASK_MIN={} is not a task of the "
-          "array; pass --shard I/N explicitly.",
-          id, min ? min : "(unset)"));
-    }
-    shard = std::to_string(*i - *lowest) + "/" + count;
+// --shard I/N, or the Slurm job array's task id and count when --shard is absent.
+void ShardFromOptions(const std::string& text, RolloutSpec* spec) {
+  if (!text.empty()) {
+    ParseShard(text, spec);
+    return;
   }
-  std::vector<std::string> parts = Split(shard, '/');
-  std::optional<long> i = parts.size() == 2 ? ParseIndex(parts[0]) : std::nullopt;
-  std::optional<long> n = parts.size() == 2 ? ParseIndex(parts[1]) : std::nullopt;
-  if (!i || !n || *n < 1 || *i >= *n) {
-    if (text.empty()) {
-      // the user passed no --shard: name what they did set
-      const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-      throw ValueError(fmt::format(
-          "Slurm: SLURM_ARRAY_TASK_ID={} and SLURM_ARRAY_TASK_COUNT={} (SLURM_ARRAY_TASK_MIN={}) "
-          "do not name a task of the array (task ID - MIN must be below COUNT); check the "
-          "job's --array, or pass --shard I/N explicitly.",
-          std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT"),
-          min ? min : "unset"));
-    }
-    throw ValueError("--shard '" + shard + "': expected I/N with 0 <= I < N, e.g. 0/4.");
+  // array ids run from SLURM_ARRAY_TASK_MIN (often 1, as in --array=1-8), not from 0
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+  if (!id || !count) return;
+  std::optional<long> i = ParseIndex(id), lowest = ParseIndex(min ? min : "0");
+  if (!i || !lowest || *i < *lowest) {
+    throw ValueError(fmt::format(
+        "Slurm: SLURM_ARRAY_TASK_ID={} with SLURM_ARRAY_TASK_MIN={} is not a task of the "
+        "array; pass --shard I/N explicitly.",
+        id, min ? min : "(unset)"));
   }
-  spec->shard_index = *i;
-  spec->shard_count = *n;
+  try {
+    ParseShard(std::to_string(*i - *lowest) + "/" + count, spec);
+  } catch (const ArgumentError&) {
+    // the user passed no --shard: name what they did set
+    throw ValueError(fmt::format(
+        "Slurm: SLURM_ARRAY_TASK_ID={} and SLURM_ARRAY_TASK_COUNT={} (SLURM_ARRAY_TASK_MIN={}) "
+        "do not name a task of the array (task ID - MIN must be below COUNT); check the "
+        "job's --array, or pass --shard I/N explicitly.",
+        id, count, min ? min : "unset"));
+  }
 }
 
 RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
@@ -118,7 +89,7 @@ RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
   spec.threads = o.threads;
   spec.seed = o.seed;
   spec.ctrl_noise = o.ctrl_noise;
-  ParseShard(o.shard, &spec);
+  ShardFromOptions(o.shard, &spec);
   ValidateRolloutSpec(model, spec);
   return spec;
 }
@@ -126,18 +97,12 @@ RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
 // The results store: a new run, or the same run continued with --resume. Under MPI the
 // other ranks wait for rank 0 to get this far (an error here must not leave them waiting).
 StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Model& model,
-                           const std::vector<std::string>& params) {
+                           const RolloutSpec& spec) {
   StoredRun stored;
   try {
-    // the compiled model's hash names the run in the store; hashing a big mesh model costs
-    // a tenth of a second, so only when there is a store
-    std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-    RunInfo info =
-        NewRunInfo("rollout", Config(o, model, model_hash), ctx.argv, o.model, model_hash);
-    info.parameters = params;
-    info.metrics = o.metrics;
-    info.count = o.count;
-    stored = OpenBatchStore(o.db, o.resume, info);
+    BatchOrigin origin{o.model, ctx.argv,
+                       StartConfig(model, o.keyframe, PoseConfig(model, o.pose), o.sets)};
+    stored = OpenBatchStore(o.db, o.resume, RolloutRunInfo(model, spec, origin, o.db));
   } catch (...) {
     MpiGo(false);
     throw;
@@ -153,13 +118,13 @@ class RolloutWriter {
  public:
   RolloutWriter(const std::string& format, const std::vector<std::string>& params,
                 const std::vector<std::string>& metrics, ProgressBar& progress)
-      : format_(format), params_(params), metrics_(metrics), progress_(progress) {
+      : format_(format), json_(params, metrics), progress_(progress) {
     std::vector<std::string> columns = RolloutCsvColumns(params, metrics);
     if (format == "table") columns.resize(columns.size() - 2);  // problems go to stderr
     if (format == "csv") {
       out_ += CsvLine(columns);
     } else if (format == "json") {
-      out_ += "[\n";
+      out_ += json_.Begin();
     } else {
       for (const std::string& c : columns) {
         widths_.push_back(std::max<int>(10, static_cast<int>(c.size()) + 2));
@@ -171,11 +136,10 @@ class RolloutWriter {
   }
 
   void Row(const RolloutResult& r) {
-    ++rows_;
     if (format_ == "csv") {
       out_ += RolloutCsvRow(r);
     } else if (format_ == "json") {
-      out_ += (rows_ > 1 ? ",\n  " : "  ") + JsonRow(r).dump();
+      out_ += json_.Row(r);
     } else {
       TableRow(r);
     }
@@ -186,7 +150,7 @@ class RolloutWriter {
   }
 
   void Finish() {
-    if (format_ == "json") out_ += "\n]\n";
+    if (format_ == "json") out_ += json_.End();
     Flush();
   }
 
@@ -200,23 +164,6 @@ class RolloutWriter {
   }
 
  private:
-  nlohmann::ordered_json JsonRow(const RolloutResult& r) const {
-    nlohmann::ordered_json row;
-    row["rollout"] = r.index;
-    nlohmann::ordered_json p = nlohmann::ordered_json::object(), m = p;
-    for (std::size_t k = 0; k < r.params.size(); ++k) p[params_[k]] = r.params[k];
-    for (std::size_t k = 0; k < r.metrics.size(); ++k) {
-      m[metrics_[k]] = std::isnan(r.metrics[k]) ? nlohmann::ordered_json(nullptr)
-                                                : nlohmann::ordered_json(r.metrics[k]);
-    }
-    row["params"] = p;
-    row["metrics"] = m;
-    row["diverged"] = r.diverged;
-    if (r.diverged) row["diverged_time"] = r.diverged_time;
-    if (!r.problem.empty()) row["problem"] = r.problem;
-    return row;
-  }
-
   void TableRow(const RolloutResult& r) {
     std::size_t w = 0;
     out_ += fmt::format("{:>{}}", r.index, widths_[w++]);
@@ -233,50 +180,11 @@ class RolloutWriter {
   }
 
   const std::string& format_;
-  const std::vector<std::string>& params_;
-  const std::vector<std::string>& metrics_;
+  RolloutJson json_;
   ProgressBar& progress_;
   std::vector<int> widths_;
   std::string out_;
-  long rows_ = 0;
   std::chrono::steady_clock::time_point last_write_ = std::chrono::steady_clock::now();
-};
-
-// What the summary says: every row of the shard, stored before a --resume or run now.
-struct RolloutTally {
-  std::vector<SummaryStatistics> summaries;
-  long diverged = 0, run_now = 0, resumed = 0;
-
-  void Add(const RolloutResult& r) {
-    diverged += r.diverged;
-    for (std::size_t k = 0; k < r.metrics.size() && k < summaries.size(); ++k) {
-      summaries[k].Add(r.metrics[k]);
-    }
-  }
-
-  std::string Text(const std::vector<std::string>& metrics, double seconds) const {
-    long all = run_now + resumed;
-    std::string summary = fmt::format(
-        "\n{} rollouts{}, {} diverged ({:.1f}%), {:.1f} rollouts/s\n", all,
-        resumed ? fmt::format(" ({} stored before this --resume, {} run now)", resumed, run_now)
-                : "",
-        diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? run_now / seconds : 0.0);
-    for (std::size_t k = 0; k < summaries.size(); ++k) {
-      const SummaryStatistics& s = summaries[k];
-      if (s.count() == 0) {
-        // no value to summarise: no mean, and no +-inf from empty minima and maxima
-        summary +=
-            fmt::format("{}: n 0, no value measured ({} missing)\n", metrics[k], s.missing());
-        continue;
-      }
-      summary += fmt::format(
-          "{}: n {} mean {:.6g} std {:.6g} min {:.6g} q05 {:.6g} median {:.6g} q95 {:.6g} max "
-          "{:.6g}{}\n",
-          metrics[k], s.count(), s.mean(), s.stddev(), s.min(), s.q05(), s.q50(), s.q95(), s.max(),
-          s.missing() ? fmt::format(" ({} not measured)", s.missing()) : "");
-    }
-    return summary;
-  }
 };
 
 // Runs the shard's rollouts not stored yet, `1 << 16` indices at a time (memory does not
@@ -323,7 +231,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     MpiRollout(model, spec, {}, nullptr, CommandStop().token());
     return kExitOk;
   }
-  StoredRun stored = OpenRolloutStore(o, ctx, model, params);
+  StoredRun stored = OpenRolloutStore(o, ctx, model, spec);
   spec.skip = stored.done;
   // from here on an error on rank 0 stops every rank (see main)
   long total = 0;
@@ -332,8 +240,8 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   }
   ProgressBar progress(total, "rollouts");
   RolloutWriter writer(o.format, params, o.metrics, progress);
-  RolloutTally tally;
-  tally.summaries.resize(spec.metrics.size());
+  // the summary: every row of the shard, stored before a --resume or run now
+  BatchSummary tally(spec.metrics.size());
   std::optional<BatchCollector> batch;
   ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
@@ -373,7 +281,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   // the human summary: after the table, or on stderr when stdout carries data
-  std::string summary = tally.Text(o.metrics, seconds);
+  std::string summary = tally.Text(o.metrics, "rollouts", seconds);
   if (o.format == "table") {
     WriteStdout(summary);
   } else {

@@ -8,19 +8,17 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "budget.h"
 #include "cli_common.h"
-#include "io/hash.h"
+#include "plumb/batch.h"
 #include "plumb/error.h"
 #include "plumb/report.h"
 #include "plumb/sample_writer.h"
 #include "plumb/store.h"
 #include "plumb/sweep.h"
 #include "plumb/timing.h"
-#include "plumb/version.h"
 #include "run_store.h"
 
 namespace plumb::cli {
@@ -41,38 +39,6 @@ struct SweepOptions {
   bool resume = false;
   std::string report;  // --report FILE.html
 };
-
-// Everything that decides a sweep's results, as one canonical line (see rollout's Config):
-// the same config means the same rows, so --resume may continue it.
-std::string Config(const SweepOptions& o, const Model& model, const std::string& model_hash) {
-  std::string config = fmt::format("sweep model={} until={:.17g} plumb={} mujoco={}", model_hash,
-                                   o.until, PLUMB_VERSION, MujocoVersion());
-  config += StartStateConfig(model);
-  if (!o.keyframe.empty()) config += " keyframe=" + o.keyframe;
-  config += PoseConfig(model, o.pose);
-  for (const std::string& s : o.sets) config += " set=" + s;
-  for (const std::string& v : o.vary) config += " vary=" + v;
-  for (const std::string& m : o.metrics) config += " metric=" + m;
-  return config;
-}
-
-// A case as a results-store row: its values as parameters, one metric each (NaN when not
-// measured, with the reason as the problem).
-RolloutResult StoredCase(const SweepSpec& spec, const SweepCase& c) {
-  RolloutResult r;
-  r.index = c.index;
-  for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-    r.params.push_back(spec.axes[a].Value(c.choice[a]).values[0]);
-  }
-  for (const Measurement& m : c.metrics) {
-    r.metrics.push_back(m.ok ? m.value : NAN);
-    if (!m.ok) {
-      r.diverged = r.diverged || m.diverged;
-      r.problem += (r.problem.empty() ? "" : "; ") + m.problem;
-    }
-  }
-  return r;
-}
 
 // The sweep's cost, said before anything runs: cases, runs, steps, and what the output
 // and the store will hold.
@@ -110,16 +76,11 @@ std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec&
 // How a sweep's rows are written: a table, CSV or JSON, one case at a time.
 class SweepWriter {
  public:
-  SweepWriter(const SweepOptions& o, const SweepSpec& spec) : o_(o), spec_(spec) {}
+  SweepWriter(const SweepOptions& o, const SweepSpec& spec)
+      : o_(o), spec_(spec), json_(o.model, AxisNames(spec), o.metrics) {}
 
   std::string Header() {
-    if (o_.format == "json") {
-      nlohmann::ordered_json axes = nlohmann::ordered_json::array();
-      for (const SweepAxis& a : spec_.axes) axes.push_back(a.path.text);
-      return "{\n  \"model\": " + nlohmann::ordered_json(o_.model).dump() +
-             ",\n  \"vary\": " + axes.dump() +
-             ",\n  \"metrics\": " + nlohmann::ordered_json(o_.metrics).dump() + ",\n  \"cases\": [";
-    }
+    if (o_.format == "json") return json_.Begin();
     if (o_.format == "csv") {
       std::vector<std::string> header = {"case"};
       for (const SweepAxis& a : spec_.axes) header.push_back(a.path.text);
@@ -148,18 +109,11 @@ class SweepWriter {
 
   std::string Row(const SweepCase& c) {
     if (o_.format == "json") {
-      nlohmann::ordered_json values, metrics, problems = nlohmann::ordered_json::object();
+      std::vector<double> values;
       for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
-        values[spec_.axes[a].path.text] = spec_.axes[a].Value(c.choice[a]).values[0];
+        values.push_back(spec_.axes[a].Value(c.choice[a]).values[0]);
       }
-      for (std::size_t m = 0; m < c.metrics.size(); ++m) {
-        const Measurement& r = c.metrics[m];
-        metrics[o_.metrics[m]] = r.ok ? nlohmann::ordered_json(r.value) : nullptr;
-        if (!r.ok) problems[o_.metrics[m]] = r.problem;
-      }
-      nlohmann::ordered_json row = {{"case", c.index}, {"values", values}, {"metrics", metrics}};
-      if (!problems.empty()) row["problems"] = problems;
-      return std::string(rows_++ ? ",\n    " : "\n    ") + row.dump();
+      return json_.Row(c.index, values, c.metrics);
     }
     if (o_.format == "csv") {
       std::string line = std::to_string(c.index);
@@ -184,15 +138,15 @@ class SweepWriter {
   }
 
   std::string Footer() const {
-    if (o_.format == "json") return std::string(rows_ ? "\n  " : "") + "]\n}\n";
+    if (o_.format == "json") return json_.End();
     return "";
   }
 
  private:
   const SweepOptions& o_;
   const SweepSpec& spec_;
+  SweepJson json_;
   std::vector<int> widths_;
-  long rows_ = 0;
 };
 
 // Watches whether each axis changes anything: the cases where every other axis takes its
@@ -292,16 +246,12 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   return spec;
 }
 
-// The store: a new run, or the same run continued with --resume. The compiled model's hash
-// names the run; hashing a big mesh model costs a tenth of a second, so only with a store.
+// The store: a new run, or the same run continued with --resume.
 StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
-                         const SweepSpec& spec, long total) {
-  std::string model_hash = o.db.empty() ? std::string() : HashModel(model);
-  RunInfo info = NewRunInfo("sweep", Config(o, model, model_hash), ctx.argv, o.model, model_hash);
-  for (const SweepAxis& a : spec.axes) info.parameters.push_back(a.path.text);
-  info.metrics = o.metrics;
-  info.count = total;
-  return OpenBatchStore(o.db, o.resume, info);
+                         const SweepSpec& spec) {
+  BatchOrigin origin{o.model, ctx.argv,
+                     StartConfig(model, o.keyframe, PoseConfig(model, o.pose), o.sets)};
+  return OpenBatchStore(o.db, o.resume, SweepRunInfo(model, spec, origin, o.db));
 }
 
 // Measurements that could not be made: each reason said once, as it first happens, and how
@@ -343,26 +293,11 @@ class SweepProblems {
   std::map<std::pair<std::size_t, std::string>, long> problems_;  // (metric, reason): cases
 };
 
-// Case `c` into the report's collection: its axis values, metrics (NaN where one failed)
-// and whether it diverged.
-void AddToReport(const SweepSpec& spec, const SweepCase& c, BatchCollector* batch) {
-  std::vector<double> values, metrics;
-  for (std::size_t a = 0; a < spec.axes.size(); ++a) {
-    values.push_back(spec.axes[a].Value(c.choice[a]).values.at(0));
-  }
-  bool diverged = false;
-  for (const Measurement& m : c.metrics) {
-    metrics.push_back(m.ok ? m.value : NAN);
-    diverged = diverged || m.diverged;
-  }
-  batch->Add(values, metrics, diverged);
-}
-
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   SweepSpec spec = MakeSweepSpec(o, model);
   const long total = CaseCount(spec.axes);
-  StoredRun stored = OpenSweepStore(o, ctx, model, spec, total);
+  StoredRun stored = OpenSweepStore(o, ctx, model, spec);
   SweepWriter writer(o, spec);
   std::string header = writer.Header();
   std::size_t row_bytes =
@@ -391,9 +326,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   std::optional<BatchCollector> batch;
   ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
-    std::vector<std::string> axes;
-    for (const SweepAxis& a : spec.axes) axes.push_back(a.path.text);
-    batch.emplace(axes, o.metrics);
+    batch.emplace(AxisNames(spec), o.metrics);
     info.nominal_until = o.until > 0 ? o.until : 2.0;
     info.ahead = StartPictures(model, spec.sets, info);  // drawn while the cases run
   }
@@ -402,10 +335,11 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   auto emit = [&](const SweepCase& c) {
     ++emitted;
     effect.See(c);
-    if (stored.store) stored.store->Add(stored.id, StoredCase(spec, c));
+    RolloutResult row = SweepCaseResult(spec, c);
+    if (stored.store) stored.store->Add(stored.id, row);
     out += writer.Row(c);
     problems.See(c);
-    if (batch) AddToReport(spec, c, &*batch);
+    if (batch) batch->Add(row.params, row.metrics, row.diverged);
     auto now = std::chrono::steady_clock::now();
     eta.See(emitted, total - static_cast<long>(stored.done.size()) - emitted);
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();

@@ -1,0 +1,176 @@
+"""What the Python package promises beside its calls: one MuJoCo shared with the `mujoco`
+package, the caller's model never changed, mujoco's own errors untouched, the GIL released."""
+
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import mujoco
+import numpy as np
+import pytest
+
+import plumb
+
+
+def test_one_mujoco_library_in_the_process():
+    assert plumb.mujoco_version() == mujoco.mj_versionString() == plumb.compiled_mujoco_version()
+    lib = os.path.realpath(plumb.mujoco_library())
+    assert lib.startswith(os.path.realpath(os.path.dirname(mujoco.__file__)))
+    maps = open("/proc/self/maps").read()
+    loaded = {line.split()[-1] for line in maps.splitlines() if "libmujoco.so" in line}
+    assert len({os.path.realpath(p) for p in loaded}) == 1, loaded
+
+
+def test_a_wrapped_mjmodel_is_the_same_memory(pendulum):
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    wrapped = plumb.load(model)
+    assert wrapped.address == model._address
+    assert wrapped.mjmodel is model
+    # an edit through mujoco is seen by plumb: nothing was copied
+    model.opt.timestep = 0.001
+    assert wrapped.timestep == 0.001
+
+
+def test_load_keeps_a_start_and_validates_it(pendulum):
+    loaded = plumb.load(pendulum, set={"qpos[hinge]": 0.7})
+    assert loaded.sets == ["qpos[hinge]=0.69999999999999996"]
+    assert plumb.verify(loaded).ok
+    with pytest.raises(plumb.PathError):
+        plumb.load(pendulum, set={"qpos[nothing]": 1})
+    with pytest.raises(plumb.ValueError, match="keyframe"):
+        plumb.load(pendulum, keyframe="nowhere")
+    with pytest.raises(TypeError, match="mujoco.MjModel or a path"):
+        plumb.load(42)
+
+
+def _mjmodel_arrays(model):
+    return {
+        name: np.array(getattr(model, name), copy=True)
+        for name in ("body_mass", "body_inertia", "dof_damping", "qpos0", "geom_size",
+                     "body_subtreemass", "dof_invweight0")
+    } | {"timestep": model.opt.timestep, "integrator": model.opt.integrator}
+
+
+def test_the_callers_model_is_never_changed(pendulum):
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    before = _mjmodel_arrays(model)
+    edits = {"body_mass[link]": 2.0, "dof_damping[hinge]": 0.3, "opt.timestep": 0.001,
+             "opt.integrator": "RK4", "qpos[hinge]": 0.7}
+    plumb.verify(model, set=edits)
+    plumb.audit(model, set=edits)
+    plumb.converge(model, "qpos[hinge]@0.5", set=edits, halvings=2)
+    plumb.snapshot(model, set=edits)
+    after = _mjmodel_arrays(model)
+    for name, value in before.items():
+        np.testing.assert_array_equal(after[name], value, err_msg=name)
+
+
+def test_mujoco_fatal_error_still_raises_after_import_plumb(pendulum):
+    # an arena too small for a step: mju_error in mj_step, which mujoco turns into FatalError
+    xml = (
+        '<mujoco><size memory="6K"/><worldbody><geom type="plane" size="5 5 .1"/>'
+        + "".join(
+            f'<body pos="0 0 {0.05 + 0.19 * i}"><freejoint/><geom type="box" size=".1 .1 .1"/></body>'
+            for i in range(8)
+        )
+        + "</worldbody></mujoco>"
+    )
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    plumb.verify(pendulum)  # plumb's handlers came and went
+    with pytest.raises(mujoco.FatalError, match="mj_stackAlloc"):
+        for _ in range(10):
+            mujoco.mj_step(model, data)
+    # plumb's own calls turn the same error into plumb.MujocoError ...
+    with pytest.raises(plumb.MujocoError, match="mj_stackAlloc"):
+        plumb.audit(model)
+    # ... and afterwards mujoco's are mujoco's again
+    mujoco.mj_resetData(model, data)
+    with pytest.raises(mujoco.FatalError, match="mj_stackAlloc"):
+        for _ in range(10):
+            mujoco.mj_step(model, data)
+
+
+def test_mujoco_errors_on_another_thread_during_a_plumb_call_stay_mujocos(pendulum):
+    xml = ('<mujoco><size memory="6K"/><worldbody><geom type="plane" size="5 5 .1"/>'
+           + "".join(f'<body pos="0 0 {0.05 + 0.19 * i}"><freejoint/><geom type="box" '
+                     'size=".1 .1 .1"/></body>' for i in range(8))
+           + "</worldbody></mujoco>")
+    model = mujoco.MjModel.from_xml_string(xml)
+    raised = []
+
+    def step_until_error():
+        data = mujoco.MjData(model)
+        try:
+            for _ in range(10):
+                mujoco.mj_step(model, data)
+        except mujoco.FatalError as error:
+            raised.append(error)
+
+    worker = threading.Thread(target=lambda: plumb.verify(pendulum, set={"qpos[hinge]": 0.7}))
+    worker.start()
+    time.sleep(0.2)  # verify is running, its handler installed
+    step_until_error()
+    worker.join()
+    assert raised, "mujoco.FatalError was not raised while plumb ran on another thread"
+
+
+def test_another_python_thread_runs_during_a_long_call(pendulum):
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.005)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.monotonic()
+    plumb.verify(pendulum, set={"qpos[hinge]": 0.7})
+    elapsed = time.monotonic() - start
+    stop.set()
+    counter.join()
+    during = [t for t in ticks if start <= t <= start + elapsed]
+    # the counter sleeps 5 ms a tick: with the GIL held for the whole call it would not tick
+    assert elapsed > 0.2 and len(during) >= 0.5 * elapsed / 0.005 * 0.5
+
+
+def test_a_mujoco_of_another_version_is_refused(tmp_path, root):
+    fake = tmp_path / "mujoco"
+    fake.mkdir()
+    (fake / "__init__.py").write_text('__version__ = "3.11.0"\n')
+    (fake / "libmujoco.so.3.11.0").write_bytes(b"")
+    env = dict(os.environ, PYTHONPATH=f"{tmp_path}:{os.environ.get('PYTHONPATH', '')}")
+    done = subprocess.run([sys.executable, "-c", "import plumb"], env=env, capture_output=True,
+                          text=True)
+    assert done.returncode != 0
+    assert "ImportError" in done.stderr
+    assert "3.11.0" in done.stderr and plumb.compiled_mujoco_version() in done.stderr
+    assert str(fake / "libmujoco.so.3.11.0") in done.stderr
+
+
+def test_ctrl_c_stops_a_long_call_with_keyboard_interrupt(root):
+    script = textwrap.dedent(
+        f"""
+        import time, plumb
+        start = time.monotonic()
+        try:
+            plumb.verify({str(root / 'models' / 'pendulum.xml')!r}, set={{"qpos[hinge]": 0.7}},
+                         until=200.0)
+        except KeyboardInterrupt:
+            print("interrupted", time.monotonic() - start, flush=True)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(2.0)
+    sent = time.monotonic()
+    proc.send_signal(2)
+    out, err = proc.communicate(timeout=60)
+    waited = time.monotonic() - sent
+    assert "interrupted" in out, err
+    assert waited < 5.0  # the process ends promptly (its start-up is not counted here)
