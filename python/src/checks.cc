@@ -16,8 +16,8 @@
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/regression.h"
-#include "plumb/repro.h"
 #include "plumb/report.h"
+#include "plumb/repro.h"
 #include "plumb/result_json.h"
 #include "plumb/result_table.h"
 #include "plumb/scenario.h"
@@ -67,28 +67,31 @@ void BindVerify(nb::module_& m) {
       "CLI's JSON (to_json, to_dict) and table (repr), and the HTML report (_repr_html_ shows it "
       "in a notebook, save_report writes it).");
   type.def_prop_ro("rows", [](const VerifyResult& r) { return RowList(r.report.checks); })
-      .def_prop_ro("ok", [](const VerifyResult& r) { return !r.report.failed(); },
-                   "no check FAILed")
+      .def_prop_ro(
+          "ok", [](const VerifyResult& r) { return !r.report.failed(); }, "no check FAILed")
       .def_prop_ro("model", [](const VerifyResult& r) { return r.report.model; })
       .def_prop_ro("tol", [](const VerifyResult& r) { return r.report.tol; })
-      .def_prop_ro("horizon",
-                   [](const VerifyResult& r) {
-                     nb::dict d;
-                     d["until"] = r.report.horizon.until;
-                     d["requested"] = r.report.horizon.requested;
-                     d["steps"] = r.report.horizon.steps;
-                     d["why"] = r.report.horizon.why;
-                     return d;
-                   },
-                   "the nominal run: until and requested (s), steps, and why it is shorter")
-      .def("count",
-           [](const VerifyResult& r, const std::string& status) {
-             return CountRows(r.report.checks, status);
-           },
-           nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
-      .def("to_pandas",
-           [](const VerifyResult& r) { return RowsFrame(FromJson(r.Json())["checks"]); },
-           "the rows as a pandas.DataFrame (the JSON rows' columns)");
+      .def_prop_ro(
+          "horizon",
+          [](const VerifyResult& r) {
+            nb::dict d;
+            d["until"] = r.report.horizon.until;
+            d["requested"] = r.report.horizon.requested;
+            d["steps"] = r.report.horizon.steps;
+            d["why"] = r.report.horizon.why;
+            return d;
+          },
+          "the nominal run: until and requested (s), steps, and why it is shorter")
+      .def(
+          "count",
+          [](const VerifyResult& r, const std::string& status) {
+            return CountRows(r.report.checks, status);
+          },
+          nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
+      .def(
+          "to_pandas",
+          [](const VerifyResult& r) { return RowsFrame(FromJson(r.Json())["checks"]); },
+          "the rows as a pandas.DataFrame (the JSON rows' columns)");
   AddResultMethods(type, "verify");
 
   m.def(
@@ -142,25 +145,29 @@ void BindAudit(nb::module_& m) {
       "plumb.audit's result: .rows (one plumb.CheckRow per finding; .section is its layer), "
       ".ok, .repro_folders, the CLI's JSON and table, and the HTML report.");
   type.def_prop_ro("rows", [](const AuditResult& r) { return RowList(r.report.findings); })
-      .def_prop_ro("ok", [](const AuditResult& r) { return !r.report.Failed(r.strict); },
-                   "no unaccepted FAIL (and with strict=True no unaccepted WARN)")
+      .def_prop_ro(
+          "ok", [](const AuditResult& r) { return !r.report.Failed(r.strict); },
+          "no unaccepted FAIL (and with strict=True no unaccepted WARN)")
       .def_prop_ro("model", [](const AuditResult& r) { return r.report.model; })
-      .def_prop_ro("repro_folders", [](const AuditResult& r) { return r.report.repro_folders; },
-                   "the repro folders written for runs that diverged (with repro=)")
-      .def("count",
-           [](const AuditResult& r, const std::string& status) {
-             return CountRows(r.report.findings, status);
-           },
-           nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
-      .def("to_pandas",
-           [](const AuditResult& r) {
-             nb::list rows;
-             for (auto [layer, findings] : nb::borrow<nb::dict>(FromJson(r.Json())["layers"])) {
-               for (nb::handle row : findings) rows.append(row);
-             }
-             return RowsFrame(rows);
-           },
-           "the rows as a pandas.DataFrame (the JSON rows' columns; 'section' is the layer)");
+      .def_prop_ro(
+          "repro_folders", [](const AuditResult& r) { return r.report.repro_folders; },
+          "the repro folders written for runs that diverged (with repro=)")
+      .def(
+          "count",
+          [](const AuditResult& r, const std::string& status) {
+            return CountRows(r.report.findings, status);
+          },
+          nb::arg("status"), "how many rows have this status ('PASS', 'WARN', 'FAIL', 'SKIP')")
+      .def(
+          "to_pandas",
+          [](const AuditResult& r) {
+            nb::list rows;
+            for (auto [layer, findings] : nb::borrow<nb::dict>(FromJson(r.Json())["layers"])) {
+              for (nb::handle row : findings) rows.append(row);
+            }
+            return RowsFrame(rows);
+          },
+          "the rows as a pandas.DataFrame (the JSON rows' columns; 'section' is the layer)");
   AddResultMethods(type, "audit");
 
   m.def(
@@ -221,6 +228,12 @@ struct ConvergeResult {
   ConvergenceResult result;
   std::string html;
 
+  // One number of every level, coarsest first, as a numpy array.
+  nb::object Levels(double ConvergenceLevel::*field) const {
+    std::vector<double> out;
+    for (const ConvergenceLevel& level : result.levels) out.push_back(level.*field);
+    return Array(out);
+  }
   std::string Json() const { return ConvergeToJson(result); }
   std::string Table() const { return ConvergeTable(result); }
   void WriteReport(const std::string& path) const {
@@ -235,39 +248,32 @@ void BindConverge(nb::module_& m) {
       "plumb.converge's result: the metric at each timestep of the ladder (.dt, .values, "
       ".errors as numpy arrays), the observed order, the recommended timestep, .ok, the CLI's "
       "JSON and table, and the HTML report.");
-  type.def_prop_ro("ok", [](const ConvergeResult& r) { return r.result.ok; },
-                   "every level ran (False: one diverged; .problem says where)")
+  type.def_prop_ro(
+          "ok", [](const ConvergeResult& r) { return r.result.ok; },
+          "every level ran (False: one diverged; .problem says where)")
       .def_prop_ro("diverged", [](const ConvergeResult& r) { return r.result.diverged; })
       .def_prop_ro("problem", [](const ConvergeResult& r) { return r.result.problem; })
       .def_prop_ro("metric", [](const ConvergeResult& r) { return r.result.metric; })
-      .def_prop_ro("dt",
-                   [](const ConvergeResult& r) {
-                     std::vector<double> v;
-                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.dt);
-                     return Array(v);
-                   },
-                   "each level's timestep (s), coarsest first")
-      .def_prop_ro("values",
-                   [](const ConvergeResult& r) {
-                     std::vector<double> v;
-                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.value);
-                     return Array(v);
-                   },
-                   "the metric at each level")
-      .def_prop_ro("errors",
-                   [](const ConvergeResult& r) {
-                     std::vector<double> v;
-                     for (const ConvergenceLevel& l : r.result.levels) v.push_back(l.error);
-                     return Array(v);
-                   },
-                   "each level's estimated error (nan where none)")
-      .def_prop_ro("observed_order", [](const ConvergeResult& r) { return r.result.estimate.order; })
-      .def_prop_ro("expected_order", [](const ConvergeResult& r) { return r.result.expected_order; })
-      .def_prop_ro("recommended_dt", [](const ConvergeResult& r) { return r.result.recommended_dt; },
-                   "the coarsest tested timestep within the tolerance (0: none)")
-      .def("to_pandas",
-           [](const ConvergeResult& r) { return RowsFrame(FromJson(r.Json())["levels"]); },
-           "the levels as a pandas.DataFrame (the JSON levels' columns)");
+      .def_prop_ro(
+          "dt", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::dt); },
+          "each level's timestep (s), coarsest first")
+      .def_prop_ro(
+          "values", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::value); },
+          "the metric at each level")
+      .def_prop_ro(
+          "errors", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::error); },
+          "each level's estimated error (nan where none)")
+      .def_prop_ro("observed_order",
+                   [](const ConvergeResult& r) { return r.result.estimate.order; })
+      .def_prop_ro("expected_order",
+                   [](const ConvergeResult& r) { return r.result.expected_order; })
+      .def_prop_ro(
+          "recommended_dt", [](const ConvergeResult& r) { return r.result.recommended_dt; },
+          "the coarsest tested timestep within the tolerance (0: none)")
+      .def(
+          "to_pandas",
+          [](const ConvergeResult& r) { return RowsFrame(FromJson(r.Json())["levels"]); },
+          "the levels as a pandas.DataFrame (the JSON levels' columns)");
   AddResultMethods(type, "converge");
 
   m.def(
@@ -291,9 +297,8 @@ void BindConverge(nb::module_& m) {
         });
         return result;
       },
-      nb::arg("model"), nb::arg("metric"), nb::arg("set") = nb::none(),
-      nb::arg("dt") = nb::none(), nb::arg("halvings") = 4, nb::arg("tol") = 1e-3,
-      nb::arg("until") = nb::none(),
+      nb::arg("model"), nb::arg("metric"), nb::arg("set") = nb::none(), nb::arg("dt") = nb::none(),
+      nb::arg("halvings") = 4, nb::arg("tol") = 1e-3, nb::arg("until") = nb::none(),
       "Runs `metric` (the CLI's vocabulary: 'qpos[hinge]@2', 'period(qpos[hinge])', "
       "'maxabs(PATH)', 'energy_drift', 'state@T') at dt, dt/2, ... dt/2^halvings (plumb "
       "converge): observed order, extrapolation, the recommended timestep. `dt` defaults to the "
@@ -357,23 +362,27 @@ void BindSnapshot(nb::module_& m) {
                        "element's parameters and a golden trajectory, as JSON text.")
       .def_ro("text", &Snapshot::text, "the JSON text, as plumb snapshot writes it")
       .def_ro("source", &Snapshot::source, "the file it was loaded from, or the model's name")
-      .def("save",
-           [](const Snapshot& s, nb::handle path) {
-             AtomicFile file(PathArg(path));
-             std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
-             file.Commit();
-           },
-           nb::arg("path"), "writes it (whole or not at all), for plumb diff or plumb.diff")
-      .def_static("load", [](nb::handle path) { return Snapshot::Load(PathArg(path)); },
-                  nb::arg("path"), "reads a snapshot file (plumb snapshot -o FILE)")
-      .def("to_json", [](const Snapshot& s) { return s.text; }, "the JSON text")
+      .def(
+          "save",
+          [](const Snapshot& s, nb::handle path) {
+            AtomicFile file(PathArg(path));
+            std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
+            file.Commit();
+          },
+          nb::arg("path"), "writes it (whole or not at all), for plumb diff or plumb.diff")
+      .def_static(
+          "load", [](nb::handle path) { return Snapshot::Load(PathArg(path)); }, nb::arg("path"),
+          "reads a snapshot file (plumb snapshot -o FILE)")
+      .def(
+          "to_json", [](const Snapshot& s) { return s.text; }, "the JSON text")
       .def("to_dict", [](const Snapshot& s) { return FromJson(s.text); })
       .def("_repr_html_",
            [](const Snapshot& s) {
-             return fmt::format("<p><b>plumb snapshot</b> of {} ({} bytes of JSON): "
-                                "<code>.save(path)</code> keeps it, <code>plumb.diff(snapshot, "
-                                "model)</code> compares a model with it.</p>",
-                                report::Escape(s.source), s.text.size());
+             return fmt::format(
+                 "<p><b>plumb snapshot</b> of {} ({} bytes of JSON): "
+                 "<code>.save(path)</code> keeps it, <code>plumb.diff(snapshot, "
+                 "model)</code> compares a model with it.</p>",
+                 report::Escape(s.source), s.text.size());
            })
       .def("__repr__", [](const Snapshot& s) {
         return fmt::format("<plumb.Snapshot of {} ({} bytes)>", s.source, s.text.size());
@@ -408,22 +417,23 @@ void BindSnapshot(nb::module_& m) {
       "plumb.diff's result: .changes (dicts: kind, path, old, new, step, what), .compiler "
       "(what another MuJoCo's compiler derived differently), .notes, .ok (identical within "
       "tol), .diverged, the CLI's JSON and table, and an HTML page of the changes.");
-  type.def_prop_ro("ok", [](const DiffResult& r) { return !r.diff.changed() && !r.diff.diverged; },
-                   "identical within tol, and the trajectory did not diverge")
+  type.def_prop_ro(
+          "ok", [](const DiffResult& r) { return !r.diff.changed() && !r.diff.diverged; },
+          "identical within tol, and the trajectory did not diverge")
       .def_prop_ro("changes", [](const DiffResult& r) { return ChangeList(r.diff.changes); })
       .def_prop_ro("compiler", [](const DiffResult& r) { return ChangeList(r.diff.compiler); })
       .def_prop_ro("notes", [](const DiffResult& r) { return r.diff.notes; })
       .def_prop_ro("diverged", [](const DiffResult& r) { return r.diff.diverged; })
-      .def("to_pandas",
-           [](const DiffResult& r) { return RowsFrame(FromJson(r.Json())["changes"]); },
-           "the changes as a pandas.DataFrame");
+      .def(
+          "to_pandas", [](const DiffResult& r) { return RowsFrame(FromJson(r.Json())["changes"]); },
+          "the changes as a pandas.DataFrame");
   AddResultMethods(type, "diff");
 
   m.def(
       "diff",
       [](nb::handle snapshot, nb::handle model, nb::handle set, double tol) {
         Snapshot s = nb::isinstance<Snapshot>(snapshot) ? nb::cast<Snapshot>(snapshot)
-                                                         : Snapshot::Load(PathArg(snapshot));
+                                                        : Snapshot::Load(PathArg(snapshot));
         auto result = std::make_shared<DiffResult>();
         result->snapshot = s.source;
         std::shared_ptr<PyModel> p = ToModel(model);

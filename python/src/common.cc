@@ -122,8 +122,7 @@ std::shared_ptr<PyModel> ToModel(nb::handle model) {
       MujocoCallScope scope;
       loaded = std::make_shared<Model>(Model::Load(path));
     }
-    return std::make_shared<PyModel>(std::move(loaded), nb::none(), "",
-                                     std::vector<std::string>{});
+    return std::make_shared<PyModel>(std::move(loaded), nb::none(), "", std::vector<std::string>{});
   }
   throw nb::type_error(fmt::format("model: expected a plumb.Model, a mujoco.MjModel or a path "
                                    "to an MJCF or .mjb file, not {}",
@@ -230,23 +229,25 @@ void BindErrors(nb::module_& m) {
   nb::handle base = g_errors.error;
   g_errors.load = NewError(m, "LoadError", base,
                            "A model file could not be read or compiled (.hint: advice, or '').");
-  g_errors.path = NewError(m, "PathError", base, "A path such as qpos[hinge] names nothing in "
-                                                 "the model; the message lists the nearest names.");
+  g_errors.path = NewError(m, "PathError", base,
+                           "A path such as qpos[hinge] names nothing in "
+                           "the model; the message lists the nearest names.");
   g_errors.value = NewError(m, "ValueError", nb::make_tuple(base, builtins.attr("ValueError")),
                             "A value is unusable (non-numeric, out of range, inconsistent).");
   g_errors.argument = NewError(m, "ArgumentError", g_errors.value,
                                "A keyword argument's value is unusable: .argument names it, "
                                ".value is what was passed, .problem what is wrong.");
-  g_errors.mujoco = NewError(m, "MujocoError", base, "MuJoCo stopped a plumb call with a fatal "
-                                                     "error (mju_error).");
+  g_errors.mujoco = NewError(m, "MujocoError", base,
+                             "MuJoCo stopped a plumb call with a fatal "
+                             "error (mju_error).");
   g_errors.io = NewError(m, "IoError", nb::make_tuple(base, builtins.attr("OSError")),
                          "A file could not be written or read.");
   g_errors.unavailable = NewError(m, "UnavailableError", base,
                                   "Something plumb needs from the machine is missing (GL, "
                                   "ffmpeg); the message says how to get it.");
   g_errors.engine = NewError(m, "EngineError", base, "The engine adapter failed.");
-  g_errors.engine_refused = NewError(m, "EngineRefused", g_errors.engine,
-                                     "The engine refuses the model or an option.");
+  g_errors.engine_refused =
+      NewError(m, "EngineRefused", g_errors.engine, "The engine refuses the model or an option.");
   g_errors.internal = NewError(m, "InternalError", builtins.attr("RuntimeError"),
                                "A bug in plumb (a broken internal contract), never bad input.");
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
@@ -292,22 +293,26 @@ void BindCore(nb::module_& m) {
                        "One row of a check: its verdict, the element it judges, the measured "
                        "value against its reference, and what to do. The fields are those of "
                        "the CLI's JSON rows.")
-      .def_prop_ro("status", [](const CheckRow& r) { return std::string(CheckStatusName(r.status)); },
-                   "'PASS', 'WARN', 'FAIL' or 'SKIP'")
+      .def_prop_ro(
+          "status", [](const CheckRow& r) { return std::string(CheckStatusName(r.status)); },
+          "'PASS', 'WARN', 'FAIL' or 'SKIP'")
       .def_ro("id", &CheckRow::id)
       .def_ro("section", &CheckRow::section)
       .def_ro("title", &CheckRow::title)
-      .def_prop_ro("element", [](const CheckRow& r) { return r.About(); },
-                   "the element's label or the row's subject ('' for the whole model)")
+      .def_prop_ro(
+          "element", [](const CheckRow& r) { return r.About(); },
+          "the element's label or the row's subject ('' for the whole model)")
       .def_prop_ro("element_type", [](const CheckRow& r) { return r.element.kind; })
       .def_prop_ro("element_name", [](const CheckRow& r) { return r.element.name; })
       .def_prop_ro("element_id", [](const CheckRow& r) { return r.element.id; })
-      .def_prop_ro("measured", [](const CheckRow& r) { return r.measured.value; },
-                   "the measured number (nan when the row has none)")
+      .def_prop_ro(
+          "measured", [](const CheckRow& r) { return r.measured.value; },
+          "the measured number (nan when the row has none)")
       .def_prop_ro("measured_unit", [](const CheckRow& r) { return r.measured.unit; })
       .def_ro("measured_text", &CheckRow::measured_text)
-      .def_prop_ro("reference", [](const CheckRow& r) { return r.reference.value; },
-                   "the reference or threshold (nan when none)")
+      .def_prop_ro(
+          "reference", [](const CheckRow& r) { return r.reference.value; },
+          "the reference or threshold (nan when none)")
       .def_prop_ro("reference_unit", [](const CheckRow& r) { return r.reference.unit; })
       .def_ro("reference_text", &CheckRow::reference_text)
       .def_ro("threshold", &CheckRow::threshold)
@@ -315,8 +320,8 @@ void BindCore(nb::module_& m) {
       .def_ro("explanation", &CheckRow::explanation)
       .def_ro("fix", &CheckRow::fix)
       .def_ro("accepted", &CheckRow::accepted)
-      .def_prop_ro("ok", [](const CheckRow& r) { return r.status != CheckStatus::kFail; },
-                   "not FAIL")
+      .def_prop_ro(
+          "ok", [](const CheckRow& r) { return r.status != CheckStatus::kFail; }, "not FAIL")
       .def("__repr__", [](const CheckRow& r) {
         std::string about = r.About();
         return fmt::format("<CheckRow {} {}{}{}>", CheckStatusName(r.status), r.id,
@@ -330,14 +335,14 @@ void BindCore(nb::module_& m) {
       .def_prop_ro("mjmodel", &PyModel::mjmodel,
                    "the mujoco.MjModel this wraps (not a copy), or None when plumb loaded the "
                    "file")
-      .def_prop_ro("address",
-                   [](const PyModel& p) {
-                     return reinterpret_cast<std::uintptr_t>(p.model().get());
-                   },
-                   "the mjModel's address (MjModel._address of a wrapped model)")
+      .def_prop_ro(
+          "address",
+          [](const PyModel& p) { return reinterpret_cast<std::uintptr_t>(p.model().get()); },
+          "the mjModel's address (MjModel._address of a wrapped model)")
       .def_prop_ro("keyframe", &PyModel::keyframe)
-      .def_prop_ro("sets", [](const PyModel& p) { return p.sets(); },
-                   "the start's set assignments, as PATH=VALUE")
+      .def_prop_ro(
+          "sets", [](const PyModel& p) { return p.sets(); },
+          "the start's set assignments, as PATH=VALUE")
       .def_prop_ro("nq", [](const PyModel& p) { return p.model()->nq; })
       .def_prop_ro("nv", [](const PyModel& p) { return p.model()->nv; })
       .def_prop_ro("nu", [](const PyModel& p) { return p.model()->nu; })

@@ -162,30 +162,33 @@ template <typename Result>
 void AddResultMethods(nb::class_<Result>& type, const char* command) {
   type.def("to_json", &Result::Json,
            (std::string("the JSON document `plumb ") + command + " --format json` prints").c_str())
-      .def("to_dict", [](const Result& r) { return FromJson(r.Json()); },
-           "to_json() as Python objects (json.loads)")
-      .def("save_report",
-           [](const Result& r, nb::handle path) {
-             std::string file = PathArg(path);
-             RunLong([&](StopToken) {
-               r.WriteReport(file);
-               return 0;
-             });
-           },
-           nb::arg("path"),
-           (std::string("writes the self-contained HTML report (`plumb ") + command +
-            " --report FILE.html`): whole or not at all")
-               .c_str())
-      .def("_repr_html_",
-           [](Result& r) {
-             if (r.html.empty()) {
-               r.html = RunLong([&](StopToken) {
-                 return ReportHtml([&](const std::string& path) { r.WriteReport(path); });
-               });
-             }
-             return r.html;
-           },
-           "the HTML report, which a notebook shows inline")
+      .def(
+          "to_dict", [](const Result& r) { return FromJson(r.Json()); },
+          "to_json() as Python objects (json.loads)")
+      .def(
+          "save_report",
+          [](const Result& r, nb::handle path) {
+            std::string file = PathArg(path);
+            RunLong([&](StopToken) {
+              r.WriteReport(file);
+              return 0;
+            });
+          },
+          nb::arg("path"),
+          (std::string("writes the self-contained HTML report (`plumb ") + command +
+           " --report FILE.html`): whole or not at all")
+              .c_str())
+      .def(
+          "_repr_html_",
+          [](Result& r) {
+            if (r.html.empty()) {
+              r.html = RunLong([&](StopToken) {
+                return ReportHtml([&](const std::string& path) { r.WriteReport(path); });
+              });
+            }
+            return r.html;
+          },
+          "the HTML report, which a notebook shows inline")
       .def("__repr__", &Result::Table);
 }
 

@@ -30,22 +30,22 @@ void WriteDiffReport(const std::string& path, const Model& model, const Snapshot
                      const std::string& snapshot, const ReportInfo& info) {
   report::Page page = report::StartPage("diff", model, info);
   page.Meta("snapshot", snapshot);
-  page.Meta("snapshot written by", "plumb " + diff.snapshot_plumb_version + ", MuJoCo " +
-                                       diff.snapshot_mujoco_version);
+  page.Meta("snapshot written by",
+            "plumb " + diff.snapshot_plumb_version + ", MuJoCo " + diff.snapshot_mujoco_version);
   std::string sets;
   for (const std::string& s : diff.sets) sets += (sets.empty() ? "" : ", ") + s;
   for (const std::string& s : diff.model_sets) sets += (sets.empty() ? "" : ", ") + s;
   if (!sets.empty()) page.Meta("assignments", sets);
   page.Heading("Verdict");
-  CheckStatus status = diff.diverged   ? CheckStatus::kFail
+  CheckStatus status = diff.diverged    ? CheckStatus::kFail
                        : diff.changed() ? CheckStatus::kWarn
                                         : CheckStatus::kPass;
-  page.Html(fmt::format("<table><tr>{}<td>{}</td></tr></table>\n", report::StatusCell(status),
-                        report::Escape(diff.diverged ? "the golden trajectory diverges now"
-                                       : diff.changed()
-                                           ? fmt::format("{} change(s) beyond tol {:g}",
-                                                         diff.changes.size(), diff.tol)
-                                           : fmt::format("identical within tol {:g}", diff.tol))));
+  page.Html(fmt::format(
+      "<table><tr>{}<td>{}</td></tr></table>\n", report::StatusCell(status),
+      report::Escape(diff.diverged    ? "the golden trajectory diverges now"
+                     : diff.changed() ? fmt::format("{} change(s) beyond tol {:g}",
+                                                    diff.changes.size(), diff.tol)
+                                      : fmt::format("identical within tol {:g}", diff.tol))));
   for (const std::string& note : diff.notes) page.Paragraph(note);
   if (!diff.changes.empty()) {
     page.Heading("Changes");
@@ -53,8 +53,9 @@ void WriteDiffReport(const std::string& path, const Model& model, const Snapshot
   }
   if (!diff.compiler.empty()) {
     page.Heading("What this MuJoCo's compiler derived differently");
-    page.Paragraph("Values the compiler derives from meshes and body sizes: they say the "
-                   "release changed, not the model.");
+    page.Paragraph(
+        "Values the compiler derives from meshes and body sizes: they say the "
+        "release changed, not the model.");
     page.Html(ChangesTable(diff.compiler));
   }
   report::WritePage(page, path);
