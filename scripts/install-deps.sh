@@ -37,7 +37,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libtbb-dev libtomlplusplus-dev
   libopenmpi-dev openmpi-bin
-  valgrind sqlite3 python3-pip python3-venv clang libclang-rt-14-dev
+  valgrind sqlite3 python3-pip python3-venv python3-dev clang libclang-rt-14-dev
   libceres-dev libpng-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev ffmpeg libjs-chart.js
   chromium cyclonedds-dev cyclonedds-tools strace
 )
