@@ -1,7 +1,527 @@
+// plumb.sweep and plumb.rollout: batches of runs on the library's worker pool, returning a
+// plumb.Batch with the per-case table as numpy arrays, the summary, the CLI's JSON and the HTML
+// report. A batch given db= is stored as the CLI stores it (plumb/batch.h names it the same
+// way), so --resume and resume=True continue each other's runs.
+
+#include "plumb/batch.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <thread>
+
 #include "common.h"
+#include "plumb/error.h"
+#include "plumb/report.h"
+#include "plumb/rollout.h"
+#include "plumb/rollout_csv.h"
+#include "plumb/stored_run.h"
+#include "plumb/sweep.h"
 
 namespace plumb::python {
+namespace {
 
-void BindBatch(nb::module_& m) { (void)m; }
+// One case of a batch: its store row, and for a sweep each metric's measurement (the JSON says
+// why each unmeasured one is missing).
+struct BatchRow {
+  RolloutResult result;
+  std::vector<Measurement> measurements;
+};
+
+// plumb.Batch: every case of a sweep or a rollout batch in index order (those a resume found
+// stored and those run now) and the summary.
+struct Batch {
+  std::string kind;  // "rollout" or "sweep"
+  std::shared_ptr<PyModel> model;
+  std::vector<Assignment> sets;  // the start every case began from
+  std::vector<std::string> parameters, metrics;
+  double until = 0;  // s; a sweep's 0: each metric's default
+  std::string db;
+  std::vector<BatchRow> rows;
+  BatchSummary summary{0};
+  double seconds = 0;  // the cases run now took
+  std::string html;    // the report, made on first _repr_html_
+
+  // The document `plumb rollout|sweep --format json` prints.
+  std::string Json() const {
+    std::string text;
+    if (kind == "rollout") {
+      RolloutJson json(parameters, metrics);
+      text = json.Begin();
+      for (const BatchRow& row : rows) text += json.Row(row.result);
+      return text + json.End();
+    }
+    SweepJson json(model->name(), parameters, metrics);
+    text = json.Begin();
+    for (const BatchRow& row : rows) {
+      text += json.Row(row.result.index, row.result.params, row.measurements);
+    }
+    return text + json.End();
+  }
+
+  // The summary plumb rollout prints after its rows.
+  std::string Table() const {
+    std::string text = summary.Text(metrics, kind == "rollout" ? "rollouts" : "cases", seconds);
+    return text.substr(text.find_first_not_of('\n'));
+  }
+
+  // The --report page of the command.
+  void WriteReport(const std::string& path) const {
+    BatchCollector collector(parameters, metrics);
+    for (const BatchRow& row : rows) {
+      collector.Add(row.result.params, row.result.metrics, row.result.diverged);
+    }
+    ReportInfo info{{"python", fmt::format("plumb.{}(...)", kind)}};
+    info.nominal_until = until > 0 ? until : 2.0;
+    WriteBatchReport(path, kind, model->model(), sets, collector, info);
+  }
+
+  std::vector<std::string> Columns() const {
+    if (kind == "rollout") return RolloutCsvColumns(parameters, metrics);
+    std::vector<std::string> out = {"case"};
+    out.insert(out.end(), parameters.begin(), parameters.end());
+    out.insert(out.end(), metrics.begin(), metrics.end());
+    out.insert(out.end(), {"diverged", "diverged_at", "problem"});
+    return out;
+  }
+};
+
+// A 1-D numpy array that takes over `values` without copying.
+template <typename T>
+nb::object OwnedArray(std::vector<T>&& values) {
+  auto* owned = new std::vector<T>(std::move(values));
+  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+  return nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(owned->data(), {owned->size()}, owner));
+}
+
+// The rows x columns matrix of the case's parameters (`metrics` false) or metrics.
+nb::object RowMatrix(const Batch& b, bool metrics) {
+  std::size_t cols = metrics ? b.metrics.size() : b.parameters.size();
+  std::vector<double> values;
+  values.reserve(b.rows.size() * cols);
+  for (const BatchRow& row : b.rows) {
+    const std::vector<double>& v = metrics ? row.result.metrics : row.result.params;
+    values.insert(values.end(), v.begin(), v.end());
+  }
+  return Matrix(std::move(values), b.rows.size(), cols);
+}
+
+nb::object IndexArray(const Batch& b) {
+  std::vector<std::int64_t> index;
+  for (const BatchRow& row : b.rows) index.push_back(row.result.index);
+  return OwnedArray(std::move(index));
+}
+
+nb::object DivergedArray(const Batch& b) {
+  std::vector<bool> flags;
+  for (const BatchRow& row : b.rows) flags.push_back(row.result.diverged);
+  // std::vector<bool> packs bits: numpy needs one byte each
+  std::vector<std::uint8_t> bytes(flags.begin(), flags.end());
+  return OwnedArray(std::move(bytes)).attr("astype")("bool");
+}
+
+nb::object DivergedTimes(const Batch& b) {
+  std::vector<double> times;
+  for (const BatchRow& row : b.rows)
+    times.push_back(row.result.diverged ? row.result.diverged_time : NAN);
+  return OwnedArray(std::move(times));
+}
+
+nb::list Problems(const Batch& b) {
+  nb::list out;
+  for (const BatchRow& row : b.rows) out.append(nb::str(row.result.problem.c_str()));
+  return out;
+}
+
+// The table's columns, each a numpy array (problem: a list of str).
+std::vector<std::pair<std::string, nb::object>> TableColumns(const Batch& b) {
+  std::vector<std::string> names = b.Columns();
+  std::vector<std::pair<std::string, nb::object>> out;
+  std::size_t k = 0;
+  out.emplace_back(names[k++], IndexArray(b));
+  nb::object params = RowMatrix(b, false), metrics = RowMatrix(b, true);
+  for (std::size_t p = 0; p < b.parameters.size(); ++p) {
+    out.emplace_back(names[k++],
+                     params[nb::make_tuple(nb::slice(nb::none(), nb::none(), nb::none()), p)]);
+  }
+  for (std::size_t m = 0; m < b.metrics.size(); ++m) {
+    out.emplace_back(names[k++],
+                     metrics[nb::make_tuple(nb::slice(nb::none(), nb::none(), nb::none()), m)]);
+  }
+  out.emplace_back(names[k++], DivergedArray(b));
+  out.emplace_back(names[k++], DivergedTimes(b));
+  out.emplace_back(names[k++], Problems(b));
+  return out;
+}
+
+nb::dict SummaryDict(const Batch& b) {
+  nb::dict out;
+  const BatchSummary& s = b.summary;
+  out["count"] = s.run_now + s.resumed;
+  out["diverged"] = s.diverged;
+  out["resumed"] = s.resumed;
+  out["run_now"] = s.run_now;
+  out["seconds"] = b.seconds;
+  nb::dict metrics;
+  for (std::size_t k = 0; k < s.metrics.size(); ++k) {
+    const SummaryStatistics& m = s.metrics[k];
+    nb::dict d;
+    bool any = m.count() > 0;
+    d["n"] = m.count();
+    d["missing"] = m.missing();
+    d["mean"] = any ? m.mean() : NAN;
+    d["std"] = any ? m.stddev() : NAN;
+    d["min"] = any ? m.min() : NAN;
+    d["q05"] = m.q05();
+    d["median"] = m.q50();
+    d["q95"] = m.q95();
+    d["max"] = any ? m.max() : NAN;
+    metrics[b.metrics[k].c_str()] = d;
+  }
+  out["metrics"] = metrics;
+  return out;
+}
+
+// An ArgumentError of the library named as the Python keyword `keyword` (the library names
+// "metric" for what Python calls metrics, "store" for db); a ValueError parsing `text` becomes
+// one. PathError passes unchanged.
+template <typename Parse>
+auto Keyword(const char* keyword, const std::string& text, Parse&& parse) -> decltype(parse()) {
+  try {
+    return parse();
+  } catch (const ArgumentError& e) {
+    throw ArgumentError(keyword, e.value().empty() ? Quoted(text) : e.value(), e.problem());
+  } catch (const ValueError& e) {
+    throw ArgumentError(keyword, Quoted(text), e.what());
+  }
+}
+
+// The library's argument names that differ from the Python keywords.
+void RenameArgument(const ArgumentError& e) {
+  if (e.argument() == "metric") throw ArgumentError("metrics", e.value(), e.problem());
+  if (e.argument() == "store") throw ArgumentError("db", e.value(), e.problem());
+}
+
+// Runs `parse`, its ArgumentErrors naming the Python keywords.
+template <typename Parse>
+void WithKeywords(Parse&& parse) {
+  try {
+    parse();
+  } catch (const ArgumentError& e) {
+    RenameArgument(e);
+    throw;
+  }
+}
+
+// What a batch call was given, in the CLI's vocabulary.
+struct BatchArgs {
+  std::shared_ptr<PyModel> model;  // with the call's keyframe
+  std::vector<std::string> sets;   // the call's own `set`
+  std::vector<std::string> metrics;
+  double until = 0;
+  int threads = 0;
+  std::string db;
+  bool resume = false;
+  std::string call;  // the call as the store records its command
+};
+
+BatchArgs ReadArgs(nb::handle model, nb::handle set, std::optional<std::string> keyframe,
+                   nb::handle metrics, int threads, nb::handle db, bool resume) {
+  BatchArgs a;
+  std::shared_ptr<PyModel> base = ToModel(model);
+  a.model =
+      keyframe ? std::make_shared<PyModel>(base->shared(), base->mjmodel(), *keyframe, base->sets())
+               : base;
+  a.sets = SetTexts(set);
+  a.metrics = StringList(metrics, "metrics");
+  if (threads < 0) {
+    throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
+  }
+  a.threads =
+      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!db.is_none()) {
+    a.db = PathArg(db);
+  }
+  a.resume = resume;
+  return a;
+}
+
+// The batch's place in `a.db` (none without one): the run the config names, begun or resumed.
+StoredRun OpenStore(const BatchArgs& a, const RunInfo& info) {
+  try {
+    return OpenStoredRun(a.db, a.resume, info);
+  } catch (const RunAlreadyStored& e) {
+    throw ArgumentError("db", Quoted(a.db),
+                        fmt::format("the store already holds this run ({} run {}, {} of {} done): "
+                                    "pass resume=True to complete it, or use another db file.",
+                                    e.run().kind, e.run().id, e.done(), e.run().count));
+  } catch (const ArgumentError& e) {
+    RenameArgument(e);
+    throw;
+  }
+}
+
+BatchOrigin Origin(const BatchArgs& a) {
+  const Model& model = a.model->model();
+  return {a.model->name(),
+          {a.call},
+          StartConfig(model, a.model->keyframe(), "", a.model->SetTexts(a.sets))};
+}
+
+// Runs a batch into `batch` with its store (`info` in a.db): first the rows the store holds
+// (`stored` makes each one's BatchRow, or nothing for a row not of this batch), then `run(keep)`
+// runs the rest, calling keep with each case as it finishes, which stores it. On a stop (Ctrl-C:
+// the caller raises KeyboardInterrupt) what finished is committed to the store; at the end the
+// run is marked complete when it holds all `total` cases.
+template <typename FromStore, typename Run>
+void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total,
+              FromStore&& stored_row, Run&& run) {
+  batch.summary = BatchSummary(batch.metrics.size());
+  StoredRun stored = OpenStore(a, info);
+  if (stored.store && !stored.done.empty()) {
+    stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
+      std::optional<BatchRow> row = stored_row(r);
+      if (!row) return;
+      ++batch.summary.resumed;
+      batch.summary.Add(row->result);
+      batch.rows.push_back(std::move(*row));
+    });
+  }
+  auto start = std::chrono::steady_clock::now();
+  try {
+    run(stored.done, [&](BatchRow&& row) {
+      ++batch.summary.run_now;
+      batch.summary.Add(row.result);
+      if (stored.store) stored.store->Add(stored.id, row.result);
+      batch.rows.push_back(std::move(row));
+    });
+  } catch (const Interrupted&) {
+    if (stored.store) stored.store->Commit();
+    throw;
+  }
+  batch.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CompleteStoredRun(stored, total);
+  // the rows a resume found stored come first: index order
+  std::stable_sort(batch.rows.begin(), batch.rows.end(), [](const BatchRow& x, const BatchRow& y) {
+    return x.result.index < y.result.index;
+  });
+}
+
+// An empty batch of `kind` for the call `a`.
+std::shared_ptr<Batch> NewBatch(const char* kind, const BatchArgs& a) {
+  auto batch = std::make_shared<Batch>();
+  batch->kind = kind;
+  batch->model = a.model;
+  batch->metrics = a.metrics;
+  batch->until = a.until;
+  batch->db = a.db;
+  return batch;
+}
+
+// The call's metrics, parsed; an error names the keyword.
+std::vector<Metric> ParseMetrics(const Model& model, const std::vector<std::string>& metrics) {
+  std::vector<Metric> out;
+  for (const std::string& m : metrics) {
+    out.push_back(Keyword("metrics", m, [&] { return ParseMetric(model, m); }));
+  }
+  return out;
+}
+
+std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
+                                  const std::vector<std::string>& randomize, double ctrl_noise,
+                                  std::uint64_t seed, const std::string& shard) {
+  std::shared_ptr<Batch> batch = NewBatch("rollout", a);
+  RunLong([&](StopToken stop) {
+    const Model& model = a.model->model();
+    RolloutSpec spec;
+    WithKeywords([&] {
+      spec.sets = a.model->Start(a.sets);
+      for (const std::string& r : randomize) {
+        spec.randomize.push_back(
+            Keyword("randomize", r, [&] { return ParseRandomization(model, r); }));
+      }
+      spec.metrics = ParseMetrics(model, a.metrics);
+      spec.count = count;
+      spec.until = a.until;
+      spec.threads = a.threads;
+      spec.seed = seed;
+      spec.ctrl_noise = ctrl_noise;
+      if (!shard.empty()) ParseShard(shard, &spec);
+      ValidateRolloutSpec(model, spec);
+    });
+    batch->sets = spec.sets;
+    batch->parameters = ParameterNames(spec);
+    RunBatch(
+        *batch, a, RolloutRunInfo(model, spec, Origin(a), a.db), spec.count,
+        [&](const RolloutResult& r) -> std::optional<BatchRow> {
+          if (r.index % spec.shard_count != spec.shard_index) return std::nullopt;
+          return BatchRow{r, {}};
+        },
+        [&](const std::vector<long>& done, const std::function<void(BatchRow &&)>& keep) {
+          spec.skip = done;
+          Rollout(
+              model, spec,
+              [&](const RolloutResult& r) {
+                keep({r, {}});
+              },
+              stop);
+        });
+    return 0;
+  });
+  return batch;
+}
+
+std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::string>& vary) {
+  std::shared_ptr<Batch> batch = NewBatch("sweep", a);
+  RunLong([&](StopToken stop) {
+    const Model& model = a.model->model();
+    SweepSpec spec;
+    WithKeywords([&] {
+      spec.sets = a.model->Start(a.sets);
+      for (const std::string& v : vary) {
+        spec.axes.push_back(Keyword("vary", v, [&] { return ParseSweepAxis(model, v); }));
+      }
+      spec.metrics = ParseMetrics(model, a.metrics);
+      spec.threads = a.threads;
+      spec.until = a.until;
+      ValidateSweepSpec(model, spec);
+    });
+    batch->sets = spec.sets;
+    batch->parameters = AxisNames(spec);
+    RunBatch(
+        *batch, a, SweepRunInfo(model, spec, Origin(a), a.db), CaseCount(spec.axes),
+        [&](const RolloutResult& r) -> std::optional<BatchRow> {
+          // a stored case keeps its metrics and its reasons joined (the store's one problem)
+          std::vector<Measurement> measured(r.metrics.size());
+          for (std::size_t m = 0; m < r.metrics.size(); ++m) {
+            measured[m].value = r.metrics[m];
+            measured[m].ok = !std::isnan(r.metrics[m]);
+            if (!measured[m].ok) {
+              measured[m].diverged = r.diverged;
+              measured[m].problem = r.problem;
+            }
+          }
+          return BatchRow{r, std::move(measured)};
+        },
+        [&](const std::vector<long>& done, const std::function<void(BatchRow &&)>& keep) {
+          Sweep(
+              model, spec, done,
+              [&](const SweepCase& c) {
+                std::vector<Measurement> measured = c.metrics;
+                for (Measurement& m : measured) m.state.clear();  // the JSON needs no state
+                keep({SweepCaseResult(spec, c), std::move(measured)});
+              },
+              stop);
+        });
+    return 0;
+  });
+  return batch;
+}
+
+void BindBatchType(nb::module_& m) {
+  nb::class_<Batch> type(
+      m, "Batch",
+      "The result of plumb.rollout and plumb.sweep: every case in index order (a "
+      "resumed batch: those stored before and those run now) as numpy arrays "
+      "(index, params, metrics, diverged, ...; to_pandas() for a DataFrame), the "
+      "summary the CLI prints (repr, .summary), the CLI's JSON (to_json, to_dict) "
+      "and its HTML report (_repr_html_ shows it in a notebook).");
+  type.def_ro("kind", &Batch::kind, "'rollout' or 'sweep'")
+      .def_prop_ro("model", [](const Batch& b) { return b.model->name(); })
+      .def_ro("parameters", &Batch::parameters,
+              "the parameter names: a rollout's drawn parameters (one per element a "
+              "randomization matched), a sweep's axes")
+      .def_ro("metric_names", &Batch::metrics, "the metrics, as given")
+      .def_prop_ro(
+          "db", [](const Batch& b) { return b.db.empty() ? std::optional<std::string>() : b.db; },
+          "the results store file, or None")
+      .def_prop_ro("columns", &Batch::Columns,
+                   "the table's column names: rollout (or case), the parameters, the metrics, "
+                   "diverged, diverged_at, problem")
+      .def("__len__", [](const Batch& b) { return b.rows.size(); })
+      .def_prop_ro("index", &IndexArray, "the cases' indices (int64, length len(batch))")
+      .def_prop_ro(
+          "params", [](const Batch& b) { return RowMatrix(b, false); },
+          "the parameter values, len(batch) x len(parameters) (float64)")
+      .def_prop_ro(
+          "metrics", [](const Batch& b) { return RowMatrix(b, true); },
+          "the metric values, len(batch) x len(metric_names) (float64, NaN where not "
+          "measured)")
+      .def_prop_ro("diverged", &DivergedArray, "whether each case diverged (bool)")
+      .def_prop_ro("diverged_at", &DivergedTimes,
+                   "when each diverged case diverged (s; NaN for those that did not)")
+      .def_prop_ro("problems", &Problems, "why each case's metrics are missing ('' when none)")
+      .def(
+          "column",
+          [](const Batch& b, const std::string& name) {
+            for (auto& [column, values] : TableColumns(b)) {
+              if (column == name) return values;
+            }
+            throw ArgumentError("name", Quoted(name), "not a column of this batch (see .columns)");
+          },
+          nb::arg("name"), "one column of the table by its name (see .columns)")
+      .def_prop_ro("summary", &SummaryDict,
+                   "count, diverged, resumed (stored before), run_now, seconds, and per metric "
+                   "n, missing, mean, std, min, q05, median, q95, max")
+      .def(
+          "to_pandas", [](const Batch& b) { return DataFrame(TableColumns(b)); },
+          "the table as a pandas.DataFrame with .columns (pandas is imported now)");
+  AddResultMethods(type, "rollout|sweep");
+}
+
+}  // namespace
+
+void BindBatch(nb::module_& m) {
+  BindBatchType(m);
+
+  m.def(
+      "rollout",
+      [](nb::handle model, long count, nb::handle randomize, std::optional<double> ctrl_noise,
+         nb::handle metrics, nb::handle set, std::optional<std::string> keyframe, double until,
+         int threads, std::uint64_t seed, std::optional<std::string> shard, nb::handle db,
+         bool resume) {
+        BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
+        a.until = until;
+        a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
+                             count, until, seed);
+        return RunRollout(a, count, StringList(randomize, "randomize"), ctrl_noise.value_or(0),
+                          seed, shard.value_or(""));
+      },
+      nb::arg("model"), nb::arg("count"), nb::arg("randomize") = nb::none(),
+      nb::arg("ctrl_noise") = nb::none(), nb::arg("metrics") = nb::none(), nb::kw_only(),
+      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("until") = 2.0,
+      nb::arg("threads") = 0, nb::arg("seed") = 0, nb::arg("shard") = nb::none(),
+      nb::arg("db") = nb::none(), nb::arg("resume") = false,
+      "Runs `count` rollouts of the model (plumb rollout), each `until` s from the start (set, "
+      "keyframe) with parameters drawn by `randomize` ('body_mass[*]=*U(0.9,1.1)'; U, N, LogU; "
+      "*DIST scales, +DIST offsets the nominal value) and control noise `ctrl_noise` (a "
+      "fraction of each ctrlrange), measuring `metrics` ('xpos[torso][2]@1', energy_drift, "
+      "...). threads=0 uses every core; results are identical for any thread count. shard='I/N' "
+      "runs the rollouts i with i % N == I. db= records them in a results store (the CLI's "
+      "--db); resume=True continues the same batch there (also one the CLI began). Returns a "
+      "plumb.Batch. Raises plumb.ArgumentError naming the keyword for a bad argument; "
+      "KeyboardInterrupt on Ctrl-C, keeping the finished rollouts in db.");
+
+  m.def(
+      "sweep",
+      [](nb::handle model, nb::handle vary, nb::handle metrics, nb::handle set,
+         std::optional<std::string> keyframe, std::optional<double> until, int threads,
+         nb::handle db, bool resume) {
+        BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
+        a.until = until.value_or(0);
+        a.call = fmt::format("plumb.sweep({})", a.model->name());
+        return RunSweep(a, StringList(vary, "vary"));
+      },
+      nb::arg("model"), nb::arg("vary"), nb::arg("metrics"), nb::kw_only(),
+      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("until") = nb::none(),
+      nb::arg("threads") = 0, nb::arg("db") = nb::none(), nb::arg("resume") = false,
+      "Measures `metrics` over the Cartesian product of the `vary` axes (plumb sweep): "
+      "'PATH=V1,V2,...' or 'PATH=START:STOP:COUNT', the first axis slowest, each case from the "
+      "start (set, keyframe). until: the run length (s) of period/maxabs/energy_drift metrics "
+      "(None: 20 s for period, else 2 s). threads=0 uses every core; results are identical for "
+      "any thread count. db= and resume=True as in plumb.rollout. Returns a plumb.Batch; raises "
+      "plumb.ArgumentError naming the keyword for a bad argument, KeyboardInterrupt on Ctrl-C.");
+}
 
 }  // namespace plumb::python

@@ -1,0 +1,338 @@
+"""plumb.rollout and plumb.sweep: the plumb.Batch they return, their store, and Ctrl-C."""
+
+import json
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import textwrap
+import time
+
+import mujoco
+import numpy as np
+import pytest
+
+import plumb
+from conftest import run_cli
+
+RANDOMIZE = ["dof_damping[hinge]=*U(0.5,1.5)", "body_mass[link]=*U(0.8,1.2)"]
+METRICS = ["qpos[hinge]@1", "energy_drift"]
+START = ["qpos[hinge]=0.7"]
+VARY = ["dof_damping[hinge]=0:0.5:5", "opt.integrator=Euler,RK4"]
+
+# a model with an actuator (control noise) and a keyframe
+ARM = """
+<mujoco model="arm">
+  <option timestep="0.002"/>
+  <worldbody>
+    <body name="link" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0" damping="0.1"/>
+      <geom name="rod" type="capsule" fromto="0 0 0 0.5 0 0" size="0.04" mass="0.5"/>
+    </body>
+  </worldbody>
+  <actuator><motor name="motor" joint="hinge" ctrlrange="-1 1"/></actuator>
+  <keyframe><key name="up" qpos="1.2"/></keyframe>
+</mujoco>
+"""
+
+
+def _rollout(model, **more):
+    options = dict(randomize=RANDOMIZE, metrics=METRICS, set=START, until=1, seed=3)
+    options.update(more)
+    return plumb.rollout(model, 12, **options)
+
+
+def _rollout_cli(*more):
+    return [
+        "rollout", "models/pendulum.xml", "--count", "12", "--until", "1", "--seed", "3",
+        "--set", START[0], "--randomize", RANDOMIZE[0], "--randomize", RANDOMIZE[1],
+        "--metric", METRICS[0], "--metric", METRICS[1], *more,
+    ]
+
+
+@pytest.fixture
+def arm(tmp_path):
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM)
+    return str(path)
+
+
+def test_rollout_equals_the_cli_json(pendulum, cli_json):
+    batch = _rollout(pendulum)
+    assert batch.to_dict() == cli_json(*_rollout_cli())
+    assert json.loads(batch.to_json()) == batch.to_dict()
+    assert len(batch) == 12 and batch.kind == "rollout"
+
+
+def test_rollout_summary_is_what_the_cli_prints(pendulum):
+    batch = _rollout(pendulum)
+    done = run_cli(*_rollout_cli(), "--format", "json")
+    # the first line holds the rate (rollouts/s), which is a timing
+    ours = repr(batch).splitlines()
+    theirs = done.stderr.strip().splitlines()
+    assert ours[0].startswith("12 rollouts, 0 diverged (0.0%), ")
+    assert ours[1:] == theirs[1:]
+    assert len(ours) == 3  # one line per metric
+    summary = batch.summary
+    assert summary["count"] == 12 and summary["run_now"] == 12 and summary["resumed"] == 0
+    drift = summary["metrics"]["energy_drift"]
+    assert drift["n"] == 12 and drift["missing"] == 0
+    assert drift["mean"] == pytest.approx(np.mean(batch.metrics[:, 1]), rel=1e-12)
+    assert drift["min"] == np.min(batch.metrics[:, 1])
+    assert drift["median"] == pytest.approx(np.median(batch.metrics[:, 1]), rel=1e-12)
+
+
+def test_the_table_is_numpy_arrays(pendulum):
+    batch = _rollout(pendulum)
+    assert batch.parameters == ["dof_damping[hinge]", "body_mass[link]"]
+    assert batch.metric_names == METRICS
+    assert batch.columns == ["rollout", *batch.parameters, *METRICS, "diverged", "diverged_at",
+                             "problem"]
+    assert batch.index.dtype == np.int64 and list(batch.index) == list(range(12))
+    assert batch.params.shape == (12, 2) and batch.metrics.shape == (12, 2)
+    assert batch.diverged.dtype == np.bool_ and not batch.diverged.any()
+    assert np.isnan(batch.diverged_at).all()
+    assert batch.problems == [""] * 12
+    # the draws are within the distributions' bounds of the nominal values (0.05, 1)
+    assert ((batch.params[:, 0] >= 0.025) & (batch.params[:, 0] <= 0.075)).all()
+    assert ((batch.params[:, 1] >= 0.8) & (batch.params[:, 1] <= 1.2)).all()
+    rows = batch.to_dict()
+    for k, row in enumerate(rows):
+        assert batch.metrics[k, 0] == row["metrics"][METRICS[0]]
+        assert batch.params[k, 1] == row["params"]["body_mass[link]"]
+    np.testing.assert_array_equal(batch.column("energy_drift"), batch.metrics[:, 1])
+    with pytest.raises(plumb.ArgumentError):
+        batch.column("nothing")
+
+
+def test_results_are_identical_for_any_thread_count(pendulum):
+    one = _rollout(pendulum, threads=1)
+    two = _rollout(pendulum, threads=2)
+    every = _rollout(pendulum, threads=0)
+    assert one.to_json() == two.to_json() == every.to_json()
+    np.testing.assert_array_equal(one.metrics, two.metrics)
+    s1 = plumb.sweep(pendulum, VARY, METRICS, set=START, threads=1)
+    s2 = plumb.sweep(pendulum, VARY, METRICS, set=START, threads=2)
+    assert s1.to_json() == s2.to_json()
+
+
+def test_the_callers_mjmodel_is_unchanged_by_randomization(pendulum):
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    before = {name: getattr(model, name).copy()
+              for name in ("body_mass", "dof_damping", "body_inertia", "qpos0", "dof_invweight0")}
+    timestep = model.opt.timestep
+    batch = _rollout(model, set=START + ["opt.timestep=0.001", "dof_damping[hinge]=0.2"])
+    sweep = plumb.sweep(model, VARY, METRICS, set=START + ["body_mass[link]=2"])
+    # the batches did draw and vary: different masses and dampings gave different metrics
+    assert len(set(batch.metrics[:, 0])) == 12
+    assert len(set(sweep.metrics[:, 0])) == len(sweep)
+    assert model.opt.timestep == timestep
+    for name, values in before.items():
+        np.testing.assert_array_equal(getattr(model, name), values, err_msg=name)
+    # and an MjModel gives what its file gives
+    assert _rollout(model).to_json() == _rollout(pendulum).to_json()
+
+
+def test_sweep_equals_the_cli_json(pendulum, cli_json):
+    batch = plumb.sweep(pendulum, VARY, METRICS, set=START)
+    ours = batch.to_dict()
+    theirs = cli_json("sweep", "models/pendulum.xml", "--vary", VARY[0], "--vary", VARY[1],
+                      "--metric", METRICS[0], "--metric", METRICS[1], "--set", START[0])
+    # the model is named by the path each was given
+    assert ours.pop("model") == pendulum
+    theirs.pop("model")
+    assert ours == theirs
+    assert len(batch) == 10 and batch.kind == "sweep"
+    assert batch.parameters == ["dof_damping[hinge]", "opt.integrator"]
+    assert batch.columns[:3] == ["case", *batch.parameters]
+    # the first axis varies slowest; the integrator as its number (Euler 0, RK4 1)
+    np.testing.assert_array_equal(batch.params[:2], [[0, 0], [0, 1]])
+    assert repr(batch).startswith("10 cases, 0 diverged")
+
+
+def test_sweep_until_and_a_metric_that_cannot_be_measured(pendulum, cli_json):
+    # hanging still, the pendulum never crosses: no period, with the reason, as the CLI says
+    batch = plumb.sweep(pendulum, "dof_damping[hinge]=0,0.1", ["period(qpos[hinge])"], until=1)
+    theirs = cli_json("sweep", "models/pendulum.xml", "--vary", "dof_damping[hinge]=0,0.1",
+                      "--metric", "period(qpos[hinge])", "--until", "1")
+    ours = batch.to_dict()
+    ours.pop("model"), theirs.pop("model")
+    assert ours == theirs
+    assert np.isnan(batch.metrics).all()
+    assert all(batch.problems)
+    assert batch.summary["metrics"]["period(qpos[hinge])"]["missing"] == 2
+
+
+def test_ctrl_noise_keyframe_and_shard_as_the_cli(arm, cli_json):
+    options = dict(ctrl_noise=0.5, metrics=["qpos[hinge]@0.5"], keyframe="up", until=0.5)
+    batch = plumb.rollout(arm, 6, **options)
+    cli = ["rollout", arm, "--count", "6", "--ctrl-noise", "0.5", "--metric", "qpos[hinge]@0.5",
+           "--keyframe", "up", "--until", "0.5"]
+    assert batch.to_dict() == cli_json(*cli)
+    quiet = plumb.rollout(arm, 6, **dict(options, ctrl_noise=0))
+    assert not np.array_equal(batch.metrics, quiet.metrics)  # the noise moved the arm
+    assert len(set(quiet.metrics[:, 0])) == 1  # no noise, no draws: six equal runs
+    # a keyframe given to plumb.load is the start too
+    assert plumb.rollout(plumb.load(arm, keyframe="up"), 6, ctrl_noise=0.5,
+                         metrics=["qpos[hinge]@0.5"], until=0.5).to_json() == batch.to_json()
+    half = plumb.rollout(arm, 6, **options, shard="1/2")
+    assert list(half.index) == [1, 3, 5]
+    assert half.to_dict() == cli_json(*cli, "--shard", "1/2")
+    assert half.to_dict() == [row for row in batch.to_dict() if row["rollout"] % 2 == 1]
+
+
+def test_bad_arguments_name_the_python_keyword(pendulum):
+    cases = [
+        (dict(randomize="dof_damping[hinge]=*U(0.9"), "randomize"),
+        (dict(randomize=["dof_damping[hinge]=LogU(-1,1)"]), "randomize"),
+        (dict(metrics=["qpos[hinge]@0.0001"]), "metrics"),
+        (dict(metrics=["qpos[hinge]@"]), "metrics"),
+        (dict(shard="2/2"), "shard"),
+        (dict(threads=-1), "threads"),
+        (dict(resume=True), "resume"),
+        (dict(set=["qpos[hinge]=x"]), "set"),
+    ]
+    for options, keyword in cases:
+        with pytest.raises(plumb.ArgumentError) as caught:
+            plumb.rollout(pendulum, 2, **options)
+        assert caught.value.argument == keyword, (options, str(caught.value))
+        assert isinstance(caught.value, ValueError)
+    for vary in ("dof_damping[hinge]=0:1", "dof_damping[hinge]=a,b", "dof_damping[hinge]"):
+        with pytest.raises(plumb.ArgumentError) as caught:
+            plumb.sweep(pendulum, vary, "qpos[hinge]@1")
+        assert caught.value.argument == "vary", str(caught.value)
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.sweep(pendulum, VARY, "nothing(qpos[hinge])")
+    assert caught.value.argument == "metrics"
+    with pytest.raises(plumb.PathError, match="hinj"):
+        plumb.rollout(pendulum, 2, randomize="dof_damping[hinj]=*U(0.9,1.1)")
+    with pytest.raises(TypeError, match="randomize"):
+        plumb.rollout(pendulum, 2, randomize=[1, 2])
+
+
+def test_to_pandas_is_the_table(pendulum):
+    batch = _rollout(pendulum)
+    frame = batch.to_pandas()
+    assert list(frame.columns) == batch.columns
+    assert len(frame) == 12
+    np.testing.assert_array_equal(frame["energy_drift"].to_numpy(), batch.metrics[:, 1])
+    np.testing.assert_array_equal(frame["rollout"].to_numpy(), np.arange(12))
+    assert frame["diverged"].dtype == bool
+
+
+def test_repr_html_is_the_report(pendulum, tmp_path):
+    batch = plumb.sweep(pendulum, VARY, METRICS, set=START)
+    html = batch._repr_html_()
+    assert html.lstrip().lower().startswith("<!doctype html>")
+    assert html.rstrip().endswith("</html>")
+    assert "dof_damping[hinge]" in html and "energy_drift" in html
+    batch.save_report(tmp_path / "sweep.html")
+    saved = (tmp_path / "sweep.html").read_text()
+    assert saved.lstrip().lower().startswith("<!doctype html>")
+    rollout_html = _rollout(pendulum)._repr_html_()
+    assert "body_mass[link]" in rollout_html and rollout_html.rstrip().endswith("</html>")
+
+
+def _stored(db):
+    """The results table of a store: {index: (metrics, diverged)}."""
+    with sqlite3.connect(f"file:{db}?mode=ro", uri=True) as store:
+        return {idx: (json.loads(metrics), diverged)
+                for idx, metrics, diverged in store.execute(
+                    "select idx, metrics, diverged from results")}
+
+
+def test_a_python_store_is_the_clis(pendulum, tmp_path, cli_json):
+    whole = _rollout(pendulum)
+    # the even rollouts from Python; the CLI's --resume runs only the rest
+    db = str(tmp_path / "r.sqlite")
+    half = _rollout(pendulum, shard="0/2", db=db)
+    assert half.db == db and len(half) == 6
+    with pytest.raises(plumb.ArgumentError) as caught:
+        _rollout(pendulum, shard="0/2", db=db)  # stored already: resume=True to go on
+    assert caught.value.argument == "db"
+    rest = cli_json(*_rollout_cli("--db", db, "--resume"))
+    assert [row["rollout"] for row in rest] == [1, 3, 5, 7, 9, 11]
+    assert sorted(half.to_dict() + rest, key=lambda r: r["rollout"]) == whole.to_dict()
+    # plumb results reads it: one finished run with every row
+    runs = cli_json("results", db)
+    assert len(runs) == 1 and runs[0]["finished"]
+    assert [row["metrics"] for row in runs[0]["rollouts"]] == [
+        row["metrics"] for row in whole.to_dict()]
+
+    # and the other way: the CLI's odd rollouts, then Python resumes the whole batch
+    db2 = str(tmp_path / "c.sqlite")
+    cli_json(*_rollout_cli("--db", db2, "--shard", "1/2"))
+    resumed = _rollout(pendulum, db=db2, resume=True)
+    assert resumed.to_json() == whole.to_json()
+    assert resumed.summary["resumed"] == 6 and resumed.summary["run_now"] == 6
+    assert "(6 stored before this --resume, 6 run now)" in repr(resumed)
+    assert len(_stored(db2)) == 12
+
+
+def test_a_stored_sweep_resumes_from_the_cli(pendulum, tmp_path, cli_json):
+    db = str(tmp_path / "s.sqlite")
+    cli_args = ["sweep", "models/pendulum.xml", "--vary", VARY[0], "--vary", VARY[1],
+                "--metric", METRICS[0], "--set", START[0], "--db", db]
+    whole = cli_json(*cli_args)
+    again = plumb.sweep(pendulum, VARY, METRICS[0], set=START, db=db, resume=True)
+    assert again.summary["resumed"] == 10 and again.summary["run_now"] == 0
+    ours = again.to_dict()
+    ours.pop("model"), whole.pop("model")
+    assert ours == whole
+
+
+LONG_ROLLOUT = """
+import sys, time, plumb
+try:
+    plumb.rollout(sys.argv[1], 8000, randomize="dof_damping[hinge]=*U(0.5,1.5)",
+                  metrics="qpos[hinge]@1", set="qpos[hinge]=0.7", until=1, threads=2,
+                  db=sys.argv[2])
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted", time.monotonic(), flush=True)
+"""
+
+
+def test_ctrl_c_keeps_the_finished_rollouts_and_resume_completes_them(pendulum, tmp_path):
+    db = str(tmp_path / "r.sqlite")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    child = subprocess.Popen([sys.executable, "-c", textwrap.dedent(LONG_ROLLOUT), pendulum, db],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        # wait until the store holds some committed rows, then Ctrl-C
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and child.poll() is None:
+            try:
+                if len(_stored(db)) >= 200:
+                    break
+            except sqlite3.Error:
+                pass  # not made yet
+            time.sleep(0.05)
+        assert child.poll() is None, child.communicate()
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=30)
+    finally:
+        child.kill()
+    words = out.split()
+    assert words[:1] == ["interrupted"], (out, err)
+    # KeyboardInterrupt reached Python promptly (RunLong polls every 20 ms; the running
+    # rollouts stop at their next step)
+    assert float(words[1]) - sent < 0.1
+    stored = _stored(db)
+    assert 200 <= len(stored) < 8000
+    # the rows kept are those an uninterrupted run makes
+    indices = sorted(stored)
+    assert indices == list(range(len(indices)))  # in order, without holes
+    options = dict(randomize="dof_damping[hinge]=*U(0.5,1.5)", metrics="qpos[hinge]@1",
+                   set="qpos[hinge]=0.7", until=1)
+    sample = plumb.rollout(pendulum, len(indices), **options)
+    for k in (0, len(indices) // 2, len(indices) - 1):
+        assert stored[k][0] == [sample.metrics[k, 0]]
+    # resume=True completes the run: every row as the uninterrupted run, the stored ones kept
+    resumed = plumb.rollout(pendulum, 8000, **options, threads=2, db=db, resume=True)
+    assert resumed.summary["resumed"] == len(indices)
+    assert resumed.summary["run_now"] == 8000 - len(indices)
+    assert resumed.to_json() == plumb.rollout(pendulum, 8000, **options).to_json()
+    assert len(_stored(db)) == 8000
