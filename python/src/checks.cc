@@ -25,6 +25,18 @@
 #include "report/html.h"
 
 namespace plumb::python {
+
+struct SnapshotArg {  // Snapshot | str | os.PathLike
+  nb::handle object;
+};
+
+}  // namespace plumb::python
+
+namespace nanobind::detail {
+PLUMB_ANY_OBJECT_CASTER(plumb::python::SnapshotArg, "Snapshot | str | os.PathLike")
+}  // namespace nanobind::detail
+
+namespace plumb::python {
 namespace {
 
 ReportInfo PythonReportInfo(const char* call) {
@@ -96,7 +108,7 @@ void BindVerify(nb::module_& m) {
 
   m.def(
       "verify",
-      [](nb::handle model, nb::handle set, double tol, std::optional<double> until) {
+      [](ModelArg model, SetArg set, double tol, std::optional<double> until) {
         auto result = std::make_shared<VerifyResult>();
         result->model = ToModel(model);
         std::vector<std::string> sets = SetTexts(set);
@@ -172,15 +184,16 @@ void BindAudit(nb::module_& m) {
 
   m.def(
       "audit",
-      [](nb::handle model, bool strict, nb::handle accept, nb::handle set,
-         std::optional<std::string> keyframe, nb::handle scenario, nb::handle repro) {
+      [](ModelArg model, bool strict, std::optional<FileArg> accept, SetArg set,
+         std::optional<std::string> keyframe, std::optional<FileArg> scenario,
+         std::optional<FileArg> repro) {
         auto result = std::make_shared<AuditResult>();
         result->model = ToModel(model);
         result->strict = strict;
         std::vector<std::string> sets = result->model->SetTexts(SetTexts(set));
-        std::string accept_file = accept.is_none() ? "" : PathArg(accept);
-        std::string scenario_file = scenario.is_none() ? "" : PathArg(scenario);
-        std::string repro_dir = repro.is_none() ? "" : PathArg(repro);
+        std::string accept_file = OptionalPathArg(accept);
+        std::string scenario_file = OptionalPathArg(scenario);
+        std::string repro_dir = OptionalPathArg(repro);
         std::string key = keyframe.value_or(result->model->keyframe());
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
@@ -278,7 +291,7 @@ void BindConverge(nb::module_& m) {
 
   m.def(
       "converge",
-      [](nb::handle model, const std::string& metric, nb::handle set, std::optional<double> dt,
+      [](ModelArg model, const std::string& metric, SetArg set, std::optional<double> dt,
          int halvings, double tol, std::optional<double> until) {
         auto result = std::make_shared<ConvergeResult>();
         result->model = ToModel(model);
@@ -364,14 +377,14 @@ void BindSnapshot(nb::module_& m) {
       .def_ro("source", &Snapshot::source, "the file it was loaded from, or the model's name")
       .def(
           "save",
-          [](const Snapshot& s, nb::handle path) {
+          [](const Snapshot& s, FileArg path) {
             AtomicFile file(PathArg(path));
             std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
             file.Commit();
           },
           nb::arg("path"), "writes it (whole or not at all), for plumb diff or plumb.diff")
       .def_static(
-          "load", [](nb::handle path) { return Snapshot::Load(PathArg(path)); }, nb::arg("path"),
+          "load", [](FileArg path) { return Snapshot::Load(PathArg(path)); }, nb::arg("path"),
           "reads a snapshot file (plumb snapshot -o FILE)")
       .def(
           "to_json", [](const Snapshot& s) { return s.text; }, "the JSON text")
@@ -390,7 +403,7 @@ void BindSnapshot(nb::module_& m) {
 
   m.def(
       "snapshot",
-      [](nb::handle model, nb::handle set) {
+      [](ModelArg model, SetArg set) {
         std::shared_ptr<PyModel> p = ToModel(model);
         std::vector<std::string> sets = p->SetTexts(SetTexts(set));
         return RunLong([&](StopToken) {
@@ -431,9 +444,10 @@ void BindSnapshot(nb::module_& m) {
 
   m.def(
       "diff",
-      [](nb::handle snapshot, nb::handle model, nb::handle set, double tol) {
-        Snapshot s = nb::isinstance<Snapshot>(snapshot) ? nb::cast<Snapshot>(snapshot)
-                                                        : Snapshot::Load(PathArg(snapshot));
+      [](SnapshotArg snapshot, ModelArg model, SetArg set, double tol) {
+        Snapshot s = nb::isinstance<Snapshot>(snapshot.object)
+                         ? nb::cast<Snapshot>(snapshot.object)
+                         : Snapshot::Load(PathArg(snapshot.object));
         auto result = std::make_shared<DiffResult>();
         result->snapshot = s.source;
         std::shared_ptr<PyModel> p = ToModel(model);

@@ -161,6 +161,12 @@ std::string PathArg(nb::handle path) {
   return nb::cast<std::string>(nb::module_::import_("os").attr("fspath")(path));
 }
 
+std::string PathArg(FileArg path) { return PathArg(path.object); }
+
+std::string OptionalPathArg(std::optional<FileArg> path) {
+  return path && !path->object.is_none() ? PathArg(path->object) : std::string();
+}
+
 nb::object FromJson(const std::string& json) {
   return nb::module_::import_("json").attr("loads")(nb::str(json.c_str(), json.size()));
 }
@@ -356,7 +362,7 @@ void BindCore(nb::module_& m) {
 
   m.def(
       "load",
-      [](nb::handle model, nb::handle set, std::optional<std::string> keyframe) {
+      [](ModelArg model, SetArg set, std::optional<std::string> keyframe) {
         std::shared_ptr<PyModel> base = ToModel(model);
         std::vector<std::string> sets = base->SetTexts(SetTexts(set));
         auto out = std::make_shared<PyModel>(base->shared(), base->mjmodel(),

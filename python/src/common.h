@@ -36,6 +36,21 @@ namespace plumb::python {
 
 namespace nb = nanobind;
 
+// Arguments that take several Python types, each converted by the functions below; their
+// casters (at the end of this file) give the stubs (_plumb.pyi) their annotations.
+struct ModelArg {  // plumb.Model | mujoco.MjModel | str | os.PathLike
+  nb::handle object;
+};
+struct SetArg {  // {"PATH": value} | ["PATH=VALUE", ...] | "PATH=VALUE" (or None)
+  nb::handle object;
+};
+struct StringsArg {  // "text" | ["text", ...] | None
+  nb::handle object;
+};
+struct FileArg {  // str | os.PathLike
+  nb::handle object;
+};
+
 // plumb.Model: a compiled model and the start it was loaded with (a keyframe, then `set`
 // assignments). Made from a path (plumb owns the model) or from a mujoco.MjModel, which it
 // wraps without copying and keeps alive; nothing plumb does changes the caller's MjModel
@@ -74,13 +89,18 @@ class PyModel {
 // A call's `model` argument: a plumb.Model, a mujoco.MjModel (wrapped, not copied) or a path
 // (str or os.PathLike). @throws LoadError for a path that does not load; TypeError otherwise.
 std::shared_ptr<PyModel> ToModel(nb::handle model);
+inline std::shared_ptr<PyModel> ToModel(ModelArg model) { return ToModel(model.object); }
 
 // A `set` argument in the CLI's vocabulary: None, {"qpos[hinge]": 0.7, "opt.gravity":
 // [0, 0, -1.62], "opt.integrator": "RK4"}, or a list of "PATH=VALUE" strings. Values are
 // written with 17 significant digits, so a float goes over exactly.
 std::vector<std::string> SetTexts(nb::handle set);
+inline std::vector<std::string> SetTexts(SetArg set) { return SetTexts(set.object); }
 // A list argument that also takes one string (randomize="body_mass[*]=*U(0.9,1.1)").
 std::vector<std::string> StringList(nb::handle value, const char* argument);
+inline std::vector<std::string> StringList(StringsArg value, const char* argument) {
+  return StringList(value.object, argument);
+}
 
 // The JSON text as Python objects (json.loads).
 nb::object FromJson(const std::string& json);
@@ -151,6 +171,9 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
 
 // A file argument: str or os.PathLike (pathlib.Path), as os.fspath gives it.
 std::string PathArg(nb::handle path);
+// A file argument that may be None: "" for None.
+std::string PathArg(FileArg path);
+std::string OptionalPathArg(std::optional<FileArg> path);
 
 // The methods every result type has, made from what its struct provides:
 //   std::string Json() const;                          the CLI's --format json document
@@ -206,5 +229,32 @@ void BindBatch(nb::module_& m);
 void BindIdentify(nb::module_& m);
 
 }  // namespace plumb::python
+
+// The annotations the stubs show for the argument types above: any object is taken (the
+// conversion functions raise TypeError with the argument's name for a wrong one). A binding
+// file declares an argument type of its own the same way.
+namespace nanobind::detail {
+
+#define PLUMB_ANY_OBJECT_CASTER(Type, annotation)                              \
+  template <>                                                                  \
+  struct type_caster<Type> {                                                   \
+    NB_TYPE_CASTER(Type, const_name(annotation))                               \
+    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {            \
+      value.object = src;                                                      \
+      return true;                                                             \
+    }                                                                          \
+    static handle from_cpp(const Type& v, rv_policy, cleanup_list*) noexcept { \
+      return v.object.inc_ref();                                               \
+    }                                                                          \
+  };
+
+PLUMB_ANY_OBJECT_CASTER(plumb::python::ModelArg, "Model | mujoco.MjModel | str | os.PathLike")
+PLUMB_ANY_OBJECT_CASTER(plumb::python::SetArg,
+                        "collections.abc.Mapping[str, float | str | collections.abc.Sequence["
+                        "float]] | collections.abc.Sequence[str] | str")
+PLUMB_ANY_OBJECT_CASTER(plumb::python::StringsArg, "str | collections.abc.Sequence[str]")
+PLUMB_ANY_OBJECT_CASTER(plumb::python::FileArg, "str | os.PathLike")
+
+}  // namespace nanobind::detail
 
 #endif  // PLUMB_PYTHON_SRC_COMMON_H_
