@@ -205,3 +205,43 @@ def test_type_stubs_describe_the_api():
     assert ast.unparse(verify.returns) == "VerifyResult"
     classes = {node.name for node in tree.body if isinstance(node, ast.ClassDef)}
     assert {"Model", "CheckRow", "VerifyResult", "AuditResult", "Error"} <= classes | {"Error"}
+
+
+PID_MODEL = """<mujoco>
+  <extension><plugin plugin="mujoco.pid">
+    <instance name="pid1"><config key="kp" value="40"/><config key="kd" value="4"/></instance>
+  </plugin></extension>
+  <worldbody><body><joint name="j" type="slide" axis="1 0 0"/><geom size="0.1" mass="1"/>
+  </body></worldbody>
+  <actuator><plugin name="servo" joint="j" plugin="mujoco.pid" instance="pid1"/></actuator>
+</mujoco>"""
+
+
+def test_plugins_are_mujocos_loaded_once(tmp_path):
+    # a model with a first-party plugin (mujoco.pid) compiles in plumb through the plugins the
+    # mujoco package registered. plumb maps no plugin library of its own, even where the plumb
+    # command would load one (PLUMB_MUJOCO_PLUGIN_PATH: here the cache's copies, the same files
+    # as the package's)
+    path = tmp_path / "pid.xml"
+    path.write_text(PID_MODEL)
+    other = os.path.realpath(os.path.join(os.path.dirname(plumb.mujoco_library()), "..", "bin",
+                                          "mujoco_plugin"))
+    cache = os.path.expanduser("~/.cache/plumb/mujoco/4.0.1/bin/mujoco_plugin")
+    folder = cache if os.path.isdir(cache) else other
+    script = textwrap.dedent(f"""
+        import os, mujoco, plumb
+        result = plumb.verify({str(path)!r}, set={{"ctrl[servo]": 0.5}})
+        assert next(r for r in result.rows if r.id == "load").status == "PASS"
+        maps = {{os.path.realpath(line.split()[-1]) for line in open("/proc/self/maps")
+                if "plugin" in line and line.rstrip().endswith(".so")}}
+        print("\\n".join(sorted(maps)))
+    """)
+    env = dict(os.environ, PYTHONPATH=_package_folder(), PLUMB_MUJOCO_PLUGIN_PATH=folder)
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    plugins = done.stdout.split()
+    assert plugins, "the mujoco package loaded no plugin library"
+    package = os.path.realpath(os.path.dirname(mujoco.__file__))
+    assert all(p.startswith(package) for p in plugins), plugins
+    names = [os.path.basename(p) for p in plugins]
+    assert len(names) == len(set(names))
