@@ -65,13 +65,14 @@ thread_local int t_call_depth = 0;
 #if PLUMB_MUJOCO_HAS_LOG_HANDLER
 std::mutex g_scope_mutex;
 int g_scopes_alive = 0;  // guarded by g_scope_mutex
-mjfLogHandler g_previous_log_handler = nullptr;  // guarded by g_scope_mutex while installed
+// the handler plumb's replaced: written under g_scope_mutex, read by any thread's message
+std::atomic<mjfLogHandler> g_previous_log_handler{nullptr};
 
 void OnMujocoLog(const mjLogMessage* message) {
   bool ours = t_call_depth > 0 &&
               (message->level == mjLOG_ERROR || message->level == mjLOG_WARNING);
   if (!ours) {
-    g_previous_log_handler(message);
+    g_previous_log_handler.load()(message);
     return;
   }
   std::string text = message->subject;
@@ -248,7 +249,7 @@ MujocoCallScope::~MujocoCallScope() {
   if (--t_call_depth > 0 || g_mode != MujocoHandlerMode::kAroundCalls) return;
 #if PLUMB_MUJOCO_HAS_LOG_HANDLER
   std::lock_guard<std::mutex> lock(g_scope_mutex);
-  if (--g_scopes_alive == 0) mju_setLogHandler(g_previous_log_handler);
+  if (--g_scopes_alive == 0) mju_setLogHandler(g_previous_log_handler.load());
 #endif
 }
 
