@@ -283,24 +283,6 @@ std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<s
   return out;
 }
 
-std::vector<std::string> SplitPathList(const std::string& text) {
-  std::vector<std::string> parts;
-  std::string current;
-  int depth = 0;
-  for (char c : text) {
-    if (c == '[') ++depth;
-    if (c == ']') --depth;
-    if (c == ',' && depth == 0) {
-      parts.push_back(current);
-      current.clear();
-    } else {
-      current += c;
-    }
-  }
-  parts.push_back(current);
-  return parts;
-}
-
 namespace {
 // Options by their names as typed ("--until", "-o"), positionals left out.
 std::vector<std::string> OptionNames(const CLI::App& cmd) {

@@ -121,9 +121,6 @@ Model LoadModel(const std::string& path);
 // Parses every --set assignment against the model.
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets);
 
-// Splits a comma-separated list of paths, keeping commas inside [...] together.
-std::vector<std::string> SplitPathList(const std::string& text);
-
 // A progress bar with rate and ETA on stderr, drawn only when stderr is a terminal.
 // Update may be called from any thread; redraws are limited to ten per second.
 class ProgressBar {

@@ -155,9 +155,9 @@ struct IdentifyResult {
   // only its own window) and one at the point; the rest are the solver's trial points. A run
   // already made at the same point is not made again.
   long jacobians = 0;
-  long jacobian_runs = 0;        // of `runs`, made for the Jacobians
-  long runs_per_jacobian = 0;    // parameters + start_groups + 1
-  long start_unknowns = 0;       // start-state offsets fitted (0: the logged starts are used)
+  long jacobian_runs = 0;      // of `runs`, made for the Jacobians
+  long runs_per_jacobian = 0;  // parameters + start_groups + 1
+  long start_unknowns = 0;     // start-state offsets fitted (0: the logged starts are used)
   long start_groups = 0;
   // Bates and Watts's relative offset where the fit ended: the Gauss–Newton step still left,
   // over sqrt(unknowns) standard errors. About 0 at a best fit; the solve stops below 0.01, and
@@ -178,6 +178,16 @@ struct IdentifyResult {
   std::vector<ReplayResult> before, after;            // per log: nominal and fitted model
 };
 
+// The delay to estimate, as `plumb identify --delay` names it: "" none, "ctrl" the inputs',
+// "sensor" the measurements'. @throws ArgumentError (argument "delay") otherwise.
+DelayKind ParseDelayKind(const std::string& text);
+
+// Checks options a caller passes (not the paths: ResolveFitParameters does): @throws
+// ArgumentError (argument "window", "max_delay", "threads" or "max_iterations") for a window that
+// is negative or not finite, a longest delay not above 0, a negative thread count or fewer than
+// one iteration.
+void CheckIdentifyOptions(const IdentifyOptions& options);
+
 // Resolves and checks the parameters to fit. @throws PathError for an unknown path;
 // ValueError for a path that is not a model parameter, an integer field, bounds that are not
 // LO:HI with LO < HI around the nominal, or a parameter named twice.
@@ -194,6 +204,29 @@ IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
 // Writes the estimates into `model` (mj_setConst when an array changed).
 // @throws PathError / ValueError as WriteValues does (a result of another model); MujocoError.
 void ApplyEstimates(Model& model, const IdentifyResult& result);
+
+// The classical covariance of the estimates, [i][j] = correlation[i][j] x the classical standard
+// errors of i and j (Estimate::classical_std_error); NaN where those are.
+std::vector<std::vector<double>> ClassicalCovariance(const IdentifyResult& result);
+
+// A copy of `model` with the estimates written in (ApplyEstimates). @throws as it does.
+Model FittedModel(const Model& model, const IdentifyResult& result);
+
+// A log held out of the fit, replayed on the nominal and the fitted model.
+struct HeldOutLog {
+  const RobotLog* log = nullptr;
+  ReplayResult nominal, fitted;
+};
+
+// Replays `log` (not fitted) on `model` and on `fitted` (FittedModel), the fitted one with the
+// estimated delay when one was estimated. @throws as Replay does.
+HeldOutLog ReplayHeldOut(const Model& model, const Model& fitted, const RobotLog& log,
+                         const IdentifyOptions& options, const IdentifyResult& result);
+
+// Writes the MJCF `source_xml` with the fitted values of `fitted` (FittedModel) to `out`
+// (SaveXmlWithParameters: whole or not at all). @throws as SaveXmlWithParameters does.
+void SaveFittedXml(const std::string& source_xml, const Model& fitted, const IdentifyResult& result,
+                   const std::string& out);
 
 // What the solves did, in a sentence: iterations and cost of each, whether the problem was
 // solved again with the residuals' noise, how it ended and how many runs of the logs it took.

@@ -24,12 +24,16 @@
 #ifndef PLUMB_INCLUDE_PLUMB_RENDER_H_
 #define PLUMB_INCLUDE_PLUMB_RENDER_H_
 
+#include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plumb/image.h"
 #include "plumb/model.h"
+#include "plumb/run.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 
@@ -62,7 +66,7 @@ class Renderer {
   // @throws UnavailableError when this build has no renderer or no GL context can be made;
   //         ValueError for a size below 1 or above 8192 pixels, an unknown camera or
   //         highlight name (the message lists the valid ones), or an unknown backend;
-//         MujocoError when MuJoCo cannot set up its render context on the GL context.
+  //         MujocoError when MuJoCo cannot set up its render context on the GL context.
   Renderer(const Model& model, RenderOptions options);
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -74,7 +78,7 @@ class Renderer {
 
   // Draws the state `data` holds (its positions must be current: after mj_forward or
   // mj_step) into `image`, reusing its buffer. Rows come out top-down.
-// @throws UnavailableError when the GL context cannot be made current again; MujocoError.
+  // @throws UnavailableError when the GL context cannot be made current again; MujocoError.
   void Render(Data& data, Image* image);
   Image Render(Data& data);
 
@@ -93,6 +97,38 @@ class Renderer {
 // True when this build has the renderer (PLUMB_WITH_RENDER); a GL context may still be
 // impossible to make on the machine (then Renderer throws UnavailableError).
 bool RendererBuilt();
+
+// "WIDTHxHEIGHT" in pixels ("640x480"), each 1 to 8192.
+// @throws ArgumentError (argument "size") otherwise.
+std::pair<int, int> ParseImageSize(const std::string& text);
+
+// Steps `data` from its state to `at` s (rounded to whole timesteps) with the model's
+// timestep and draws the state it reaches into `image`. When the run diverges nothing is drawn
+// (the result says so). @throws ArgumentError (argument "at") for a time that is not a finite
+// number >= 0; Interrupted when `stop` asks; as Run and Renderer::Render do.
+RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at, StopToken stop,
+                   Image* image);
+
+// The frames of a video of a run to `until` s at about `fps` frames per second: frames a whole
+// number of steps apart (so the video plays in real time at that spacing), the first at the
+// start.
+struct FilmPlan {
+  long steps = 0;   // of the run
+  long stride = 1;  // steps between frames
+  double fps = 0;   // the frame rate that spacing gives, 1 / (stride x timestep)
+  long frames = 0;  // when the run does not diverge: the start, then every stride-th step
+};
+
+// @throws ArgumentError (argument "until") for a time that is not a finite number >= 0, and
+// (argument "fps") for a rate not above 0 or above 1000.
+FilmPlan PlanFilm(double timestep, double until, double fps);
+
+// Runs `data` from its state on `plan`'s schedule, drawing a frame at the start and every
+// stride-th step and giving each to `add` (the image is reused: copy what you keep). A
+// diverged run ends the film at its last good state (the result says so).
+// @throws Interrupted when `stop` asks; as Run and Renderer::Render do; what `add` throws.
+RunResult RenderFilm(const Model& model, Data& data, Renderer& renderer, const FilmPlan& plan,
+                     StopToken stop, const std::function<void(const Image&)>& add);
 
 }  // namespace plumb
 

@@ -107,6 +107,10 @@ Simulated Simulate(const Model& model, Data& data, const RobotLog& log,
 // for a state or input path.
 void ApplyParameterAssignments(Model& model, const std::vector<std::string>& sets);
 
+// Checks options a caller passes: @throws ArgumentError (argument "window", "input_delay" or
+// "sensor_delay") for a window that is negative or not finite, or a delay that is not finite.
+void CheckReplayOptions(const ReplayOptions& options);
+
 // Simulates and compares. @throws as Simulate does.
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options);
 

@@ -29,12 +29,14 @@
 #include "plumb/audit.h"
 #include "plumb/converge.h"
 #include "plumb/crosscheck.h"
+#include "plumb/describe.h"
 #include "plumb/identify.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/regression.h"
 #include "plumb/replay.h"
 #include "plumb/robot_log.h"
+#include "plumb/run.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -144,12 +146,6 @@ constexpr double kFitNoiseMargin = 1.5;
 constexpr double kFitFailPercent = 80;
 CheckStatus FitStatus(const SignalFit& fit);
 
-// A log held out of the fit, replayed on the nominal and the fitted model.
-struct HeldOutLog {
-  const RobotLog* log = nullptr;
-  ReplayResult nominal, fitted;
-};
-
 // plumb crosscheck --report: the engine and how the model was sent, the rows of the five
 // checks, and when each signal parted in the engine against the chaos baseline. `until` is the
 // runs' length, s. @throws as WriteVerifyReport does.
@@ -163,6 +159,27 @@ void WriteCrosscheckReport(const std::string& path, const Model& model,
 void WriteIdentifyReport(const std::string& path, const Model& model,
                          const std::vector<RobotLog>& logs, const IdentifyResult& result,
                          const ReportInfo& info, const HeldOutLog* validation = nullptr);
+
+// The pages of results the command-line tool prints as text only (plumb inspect, run and
+// render), for a library user's notebook. They draw no pictures of their own (`info.pictures`
+// is not read). @throws IoError as WriteVerifyReport does.
+
+// A model's description (plumb/describe.h): sizes and options, bodies, joints, actuators,
+// sensors and delays as tables, each quantity with its unit.
+void WriteInspectReport(const std::string& path, const Model& model,
+                        const ModelDescription& description, const ReportInfo& info);
+
+// A run's samples: `values` holds `rows` rows of `columns.size()` numbers (row major), as a
+// TrajectorySink keeps them. A chart of each column over the `time` column (over the sample
+// number when there is none), the first 24 columns; the run's warnings and divergence.
+void WriteRunReport(const std::string& path, const Model& model,
+                    const std::vector<std::string>& columns, const double* values, long rows,
+                    const RunResult& result, const ReportInfo& info);
+
+// Frames drawn by a Renderer: `frames` pictures of width x height RGB bytes one after the other
+// (rows top-down, as plumb::Image), shown as an animation at `fps` (a still for one frame).
+void WriteRenderReport(const std::string& path, const Model& model, const std::uint8_t* rgb,
+                       long frames, int width, int height, double fps, const ReportInfo& info);
 
 }  // namespace plumb
 

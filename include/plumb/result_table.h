@@ -1,4 +1,4 @@
-// The tables a person reads of converge, diff, replay and identify: what the CLI prints
+// The tables a person reads of inspect, converge, diff, replay and identify: what the CLI prints
 // without --format json (verify's and audit's are in check_table.h).
 //
 // Example:
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "plumb/converge.h"
+#include "plumb/describe.h"
 #include "plumb/identify.h"
 #include "plumb/regression.h"
 #include "plumb/replay.h"
@@ -20,6 +21,10 @@
 #include "plumb/robot_log.h"
 
 namespace plumb {
+
+// plumb inspect's table: the model (`mujoco` is the MuJoCo version to name), its sizes and
+// options, bodies, joints, actuators, sensors, delays, what is what, with units.
+std::string DescriptionTable(const ModelDescription& description, const std::string& mujoco);
 
 // The levels (dt, value, difference, order, estimated error), then the verdict: the observed
 // order, the value, the recommended timestep and the contact caveat.

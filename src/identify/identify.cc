@@ -19,6 +19,7 @@
 #include "identify/identifiability.h"
 #include "identify/identify_residuals.h"
 #include "plumb/error.h"
+#include "plumb/model_edit.h"
 #include "plumb/run.h"
 
 namespace plumb {
@@ -468,6 +469,63 @@ void ApplyEstimates(Model& model, const IdentifyResult& result) {
   }
   Data scratch(model);
   if (WriteParameters(model, scratch, edits)) mj_setConst(model.get_mutable(), scratch.get());
+}
+
+DelayKind ParseDelayKind(const std::string& text) {
+  if (text.empty()) return DelayKind::kNone;
+  if (text == "ctrl") return DelayKind::kInput;
+  if (text == "sensor") return DelayKind::kSensor;
+  throw ArgumentError("delay", Quoted(text),
+                      "give ctrl (a delay on the inputs) or sensor (on the measurements)");
+}
+
+void CheckIdentifyOptions(const IdentifyOptions& o) {
+  CheckReplayOptions(o.replay);
+  if (!(o.max_delay > 0 && std::isfinite(o.max_delay))) {
+    throw ArgumentError("max_delay", fmt::format("{:g}", o.max_delay),
+                        "give a positive number of seconds");
+  }
+  if (o.threads < 0) {
+    throw ArgumentError("threads", std::to_string(o.threads), "give 0 (every core) or more");
+  }
+  if (o.max_iterations < 1) {
+    throw ArgumentError("max_iterations", std::to_string(o.max_iterations), "give 1 or more");
+  }
+}
+
+std::vector<std::vector<double>> ClassicalCovariance(const IdentifyResult& r) {
+  std::vector<std::vector<double>> out = r.correlation;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    for (std::size_t j = 0; j < out[i].size(); ++j) {
+      out[i][j] *= r.estimates[i].classical_std_error * r.estimates[j].classical_std_error;
+    }
+  }
+  return out;
+}
+
+Model FittedModel(const Model& model, const IdentifyResult& result) {
+  Model fitted = model.Clone();
+  ApplyEstimates(fitted, result);
+  return fitted;
+}
+
+HeldOutLog ReplayHeldOut(const Model& model, const Model& fitted, const RobotLog& log,
+                         const IdentifyOptions& options, const IdentifyResult& result) {
+  HeldOutLog out;
+  out.log = &log;
+  ReplayOptions replay = options.replay;
+  if (options.delay == DelayKind::kInput) replay.input_delay = result.delay;
+  if (options.delay == DelayKind::kSensor) replay.sensor_delay = result.delay;
+  out.nominal = Replay(model, log, options.replay);
+  out.fitted = Replay(fitted, log, replay);
+  return out;
+}
+
+void SaveFittedXml(const std::string& source_xml, const Model& fitted, const IdentifyResult& result,
+                   const std::string& out) {
+  std::vector<Path> paths;
+  for (const Estimate& e : result.estimates) paths.push_back(ResolvePath(fitted, e.path));
+  SaveXmlWithParameters(source_xml, fitted, paths, out);
 }
 
 std::string DescribeRuns(const IdentifyResult& r) {

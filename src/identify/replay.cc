@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/fields.h"
 #include "plumb/error.h"
@@ -358,6 +359,21 @@ ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions
         m->nu));
   }
   return r;
+}
+
+void CheckReplayOptions(const ReplayOptions& options) {
+  if (!(options.window >= 0 && std::isfinite(options.window))) {
+    throw ArgumentError("window", fmt::format("{:g}", options.window),
+                        "give a positive number of seconds (or leave it out for one run from "
+                        "the start)");
+  }
+  for (const auto& [name, delay] :
+       {std::pair<const char*, double>{"input_delay", options.input_delay},
+        {"sensor_delay", options.sensor_delay}}) {
+    if (!std::isfinite(delay)) {
+      throw ArgumentError(name, fmt::format("{:g}", delay), "give a finite number of seconds");
+    }
+  }
 }
 
 void ApplyParameterAssignments(Model& model, const std::vector<std::string>& sets) {

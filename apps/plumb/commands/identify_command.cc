@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <cstdio>
 
 #include "cli_common.h"
@@ -34,16 +33,8 @@ struct IdentifyCommandOptions {
 int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
-  if (o.delay == "ctrl") o.identify.delay = DelayKind::kInput;
-  if (o.delay == "sensor") o.identify.delay = DelayKind::kSensor;
-  if (!(o.identify.replay.window >= 0 && std::isfinite(o.identify.replay.window))) {
-    throw ValueError(
-        fmt::format("--window {:g}: give a positive number of seconds", o.identify.replay.window));
-  }
-  if (!(o.identify.max_delay > 0 && std::isfinite(o.identify.max_delay))) {
-    throw ValueError(
-        fmt::format("--max-delay {:g}: give a positive number of seconds", o.identify.max_delay));
-  }
+  o.identify.delay = ParseDelayKind(o.delay);
+  CheckIdentifyOptions(o.identify);
   if (!o.output.empty() && !CanSaveEditedXml()) {
     SaveXmlWithParameters(o.model, model, {}, o.output);  // says why, before the work
   }
@@ -56,21 +47,11 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   o.identify.stop = CommandStop().token();
   o.identify.replay.stop = o.identify.stop;
   IdentifyResult r = Identify(model, logs, o.identify);
-  Model fitted = model.Clone();
-  ApplyEstimates(fitted, r);
+  Model fitted = FittedModel(model, r);
   HeldOutLog v;
-  if (!validation.empty()) {
-    v.log = &validation.front();
-    ReplayOptions replay = o.identify.replay;
-    if (o.identify.delay == DelayKind::kInput) replay.input_delay = r.delay;
-    if (o.identify.delay == DelayKind::kSensor) replay.sensor_delay = r.delay;
-    v.nominal = Replay(model, validation.front(), o.identify.replay);
-    v.fitted = Replay(fitted, validation.front(), replay);
-  }
+  if (!validation.empty()) v = ReplayHeldOut(model, fitted, validation.front(), o.identify, r);
   if (!o.output.empty()) {
-    std::vector<Path> paths;
-    for (const Estimate& e : r.estimates) paths.push_back(ResolvePath(fitted, e.path));
-    SaveXmlWithParameters(o.model, fitted, paths, o.output);
+    SaveFittedXml(o.model, fitted, r, o.output);
     std::fprintf(stderr, "plumb: wrote the fitted model %s\n", o.output.c_str());
   }
   if (!o.report.empty()) {

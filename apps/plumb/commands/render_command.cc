@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <cstdio>
 #include <optional>
 
@@ -38,26 +37,6 @@ bool EndsWith(const std::string& text, const std::string& end) {
   return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
 }
 
-std::pair<int, int> ParseSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w < 1 || h < 1 || w > 8192 || h > 8192) {
-    throw ValueError("--size '" + text +
-                     "': give WIDTHxHEIGHT in pixels, each 1 to 8192, "
-                     "e.g. --size 640x480");
-  }
-  return {w, h};
-}
-
-long StepsTo(double t, double dt, const char* option) {
-  if (!(t >= 0) || !std::isfinite(t)) {
-    throw ValueError(
-        fmt::format("{} {:g}: the time must be a finite number of seconds >= 0", option, t));
-  }
-  return std::lround(t / dt);
-}
-
 void SayDiverged(const RunResult& result, double dt, const std::string& shown) {
   std::fprintf(stderr, "plumb: the run diverged at t = %.6g s: %s. %s\n", result.steps * dt,
                result.divergence ? result.divergence->reason.c_str() : "", shown.c_str());
@@ -74,7 +53,7 @@ int RunRender(const RenderCommandOptions& o) {
                              "for one picture");
   }
   if (video && o.at != 0) throw ValueError("--at is for pictures; a video starts at t = 0");
-  auto [width, height] = ParseSize(o.size);
+  auto [width, height] = ParseImageSize(o.size);
   Model model = LoadModel(o.model);
   Data data(model);
   ApplyAssignments(model, data, StartAssignments(model, o.keyframe, o.pose, o.sets));
@@ -89,16 +68,12 @@ int RunRender(const RenderCommandOptions& o) {
   options.backend = o.gl;
   Renderer renderer(model, options);
   double dt = model->opt.timestep;
-  NullSink sink;
-  RunSpec spec;
-  spec.every = dt;
-  spec.stop = CommandStop().token();
+  StopToken stop = CommandStop().token();
   std::string how = fmt::format("{}x{}, {}, camera {}{}", width, height, renderer.backend(),
                                 renderer.camera(), o.msaa ? ", MSAA" : "");
   if (!video) {
-    long steps = StepsTo(o.at, dt, "--at");
-    spec.until = steps * dt;
-    RunResult result = Run(model, data, spec, sink);
+    Image picture;
+    RunResult result = RenderAt(model, data, renderer, o.at, stop, &picture);
     TakeMujocoWarnings();
     if (result.diverged) {
       SayDiverged(result, dt,
@@ -106,33 +81,19 @@ int RunRender(const RenderCommandOptions& o) {
                   "before it.");
       return kExitDiverged;
     }
-    WritePng(renderer.Render(data), o.output);
+    WritePng(picture, o.output);
     std::printf("plumb: wrote %s: t = %.6g s, %s\n", o.output.c_str(), data->time, how.c_str());
     return kExitOk;
   }
-  if (!(o.fps > 0) || !std::isfinite(o.fps) || o.fps > 1000) {
-    throw ValueError(fmt::format("--fps {:g}: give a frame rate above 0, at most 1000", o.fps));
-  }
-  long steps = StepsTo(*o.until, dt, "--until");
-  // frames a whole number of steps apart; the video plays in real time at that spacing
-  long stride = std::max(1L, std::lround(1.0 / (o.fps * dt)));
-  double fps = 1.0 / (stride * dt);
-  VideoWriter writer(o.output, width, height, fps);
-  Image frame;
-  renderer.Render(data, &frame);
-  writer.Add(frame);
-  spec.until = steps * dt;
-  spec.after_step = [&](const mjData*, long step) {
-    if (step % stride == 0) {
-      renderer.Render(data, &frame);
-      writer.Add(frame);
-    }
-  };
-  RunResult result = Run(model, data, spec, sink);
+  FilmPlan plan = PlanFilm(dt, *o.until, o.fps);
+  VideoWriter writer(o.output, width, height, plan.fps);
+  RunResult result =
+      RenderFilm(model, data, renderer, plan, stop, [&](const Image& frame) { writer.Add(frame); });
   TakeMujocoWarnings();
   writer.Finish();
   std::printf("plumb: wrote %s: %d frames at %.4g fps (every %ld steps), t = 0 to %.6g s, %s\n",
-              o.output.c_str(), writer.frames(), fps, stride, result.steps * dt, how.c_str());
+              o.output.c_str(), writer.frames(), plan.fps, plan.stride, result.steps * dt,
+              how.c_str());
   if (result.diverged) {
     SayDiverged(result, dt, "The video shows the run up to the last good state.");
     return kExitDiverged;

@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <cstdio>
 
 #include "cli_common.h"
@@ -30,12 +29,7 @@ struct ReplayCommandOptions {
 int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
-  if (!(o.replay.window >= 0 && std::isfinite(o.replay.window))) {
-    throw ValueError(
-        fmt::format("--window {:g}: give a positive number of seconds (or leave it "
-                    "out for one run from the start)",
-                    o.replay.window));
-  }
+  CheckReplayOptions(o.replay);
   RobotLog log = std::move(LoadLogs(model, {o.log}, o.columns).front());
   ReplayOptions replay = o.replay;
   replay.stop = CommandStop().token();

@@ -18,6 +18,7 @@
 #include "plumb/run.h"
 #include "plumb/sample_writer.h"
 #include "plumb/timing.h"
+#include "plumb/trajectory.h"
 #include "sim/start_hints.h"
 
 namespace plumb::cli {
@@ -43,24 +44,16 @@ struct RunOptions {
 RunSpec MakeRunSpec(const RunOptions& o, const Model& model, double dt) {
   RunSpec spec;
   spec.until = o.until;
-  spec.every = o.every;
-  if (!o.every_given && !WholeSteps(o.every, dt)) {
-    spec.every = DefaultEvery(dt, o.every);
+  spec.every = RunEvery(o.every_given ? std::optional<double>(o.every) : std::nullopt, dt);
+  if (!o.every_given && spec.every != o.every) {
     std::fprintf(stderr, "plumb: sampling every %g s (%ld steps of %g s, the nearest to 0.1 s)\n",
                  spec.every, std::lround(spec.every / dt), dt);
   }
-  if (o.columns.empty()) {
-    spec.columns = DefaultColumns(model);
-    return spec;
-  }
-  for (const std::string& text : SplitPathList(o.columns)) {
-    try {
-      for (const Path& p : ExpandPath(model, text)) {
-        for (Path& one : ScalarPaths(p)) spec.columns.push_back(std::move(one));
-      }
-    } catch (const PathError& e) {
-      throw PathError(std::string("--columns: ") + e.what());
-    }
+  try {
+    spec.columns = RunColumns(model, o.columns.empty() ? std::vector<std::string>{}
+                                                       : std::vector<std::string>{o.columns});
+  } catch (const PathError& e) {
+    throw PathError(std::string("--columns: ") + e.what());
   }
   return spec;
 }

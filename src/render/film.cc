@@ -1,0 +1,82 @@
+// Pictures and videos of runs (include/plumb/render.h): what `plumb render` and the Python
+// module's plumb.render draw.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "plumb/error.h"
+#include "plumb/render.h"
+
+namespace plumb {
+namespace {
+
+long StepsTo(double t, double dt, const char* argument) {
+  if (!(t >= 0) || !std::isfinite(t)) {
+    throw ArgumentError(argument, fmt::format("{:g}", t),
+                        "the time must be a finite number of seconds >= 0");
+  }
+  return std::lround(t / dt);
+}
+
+}  // namespace
+
+std::pair<int, int> ParseImageSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w < 1 || h < 1 || w > 8192 || h > 8192) {
+    throw ArgumentError("size", Quoted(text),
+                        "give WIDTHxHEIGHT in pixels, each 1 to 8192, e.g. 640x480");
+  }
+  return {w, h};
+}
+
+RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at, StopToken stop,
+                   Image* image) {
+  double dt = model->opt.timestep;
+  RunSpec spec;
+  spec.every = dt;
+  spec.until = StepsTo(at, dt, "at") * dt;
+  spec.stop = stop;
+  NullSink sink;
+  RunResult result = Run(model, data, spec, sink);
+  if (!result.diverged) renderer.Render(data, image);
+  return result;
+}
+
+FilmPlan PlanFilm(double timestep, double until, double fps) {
+  if (!(fps > 0) || !std::isfinite(fps) || fps > 1000) {
+    throw ArgumentError("fps", fmt::format("{:g}", fps), "give a frame rate above 0, at most 1000");
+  }
+  FilmPlan plan;
+  plan.steps = StepsTo(until, timestep, "until");
+  plan.stride = std::max(1L, std::lround(1.0 / (fps * timestep)));
+  plan.fps = 1.0 / (plan.stride * timestep);
+  plan.frames = plan.steps / plan.stride + 1;
+  return plan;
+}
+
+RunResult RenderFilm(const Model& model, Data& data, Renderer& renderer, const FilmPlan& plan,
+                     StopToken stop, const std::function<void(const Image&)>& add) {
+  double dt = model->opt.timestep;
+  Image frame;
+  renderer.Render(data, &frame);
+  add(frame);
+  RunSpec spec;
+  spec.every = dt;
+  spec.until = plan.steps * dt;
+  spec.stop = stop;
+  spec.after_step = [&](const mjData*, long step) {
+    if (step % plan.stride == 0) {
+      renderer.Render(data, &frame);
+      add(frame);
+    }
+  };
+  NullSink sink;
+  return Run(model, data, spec, sink);
+}
+
+}  // namespace plumb
