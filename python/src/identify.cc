@@ -1,7 +1,337 @@
+// plumb.replay and plumb.identify: a log replayed on the model, and the model's parameters
+// fitted to logs, with the CLI's JSON, tables and reports.
+
+#include "plumb/identify.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
 #include "common.h"
+#include "plumb/error.h"
+#include "plumb/replay.h"
+#include "plumb/report.h"
+#include "plumb/result_json.h"
+#include "plumb/result_table.h"
+#include "plumb/robot_log.h"
 
 namespace plumb::python {
 
-void BindIdentify(nb::module_& m) { (void)m; }
+struct LogsArg {  // str | os.PathLike | [str | os.PathLike, ...]
+  nb::handle object;
+};
+
+}  // namespace plumb::python
+
+namespace nanobind::detail {
+PLUMB_ANY_OBJECT_CASTER(plumb::python::LogsArg,
+                        "str | os.PathLike | collections.abc.Sequence[str | os.PathLike]")
+}  // namespace nanobind::detail
+
+namespace plumb::python {
+namespace {
+
+ReportInfo PythonInfo(const char* call) {
+  return ReportInfo{{"python", fmt::format("plumb.{}(...)", call)}};
+}
+
+// The model a replay or a fit runs: the caller's start's parameters written into a copy (the
+// state and inputs come from the logs).
+std::shared_ptr<Model> ParameterModel(const PyModel& model, const std::vector<std::string>& sets) {
+  std::vector<std::string> texts = model.SetTexts(sets);
+  std::vector<Assignment> edits;
+  for (const std::string& text : texts) edits.push_back(ParseAssignment(model.model(), text));
+  std::shared_ptr<Model> out = model.EditableFor(edits);
+  if (!texts.empty()) ApplyParameterAssignments(*out, texts);
+  return out;
+}
+
+nb::object ColumnOf(const std::vector<SignalFit>& fits, double SignalFit::*field) {
+  std::vector<double> values;
+  for (const SignalFit& f : fits) values.push_back(f.*field);
+  return Array(values);
+}
+
+// plumb.ReplayResult
+struct PyReplay {
+  std::shared_ptr<PyModel> model;
+  std::shared_ptr<Model> ran;
+  RobotLog log;
+  ReplayOptions options;
+  ReplayResult result;
+  std::string html;
+  std::string Json() const { return ReplayToJson(model->name(), log, options, result); }
+  std::string Table() const { return ReplayTable(model->name(), log, options, result); }
+  void WriteReport(const std::string& path) const {
+    WriteReplayReport(path, *ran, log, result, options, PythonInfo("replay"));
+  }
+};
+
+void BindReplay(nb::module_& m) {
+  nb::class_<PyReplay> type(m, "ReplayResult",
+                            "plumb.replay's result: per measured signal its fit, rms and largest "
+                            "error as arrays, the simulated values, and the CLI's JSON, table and "
+                            "report.");
+  type.def_prop_ro(
+          "fit", [](const PyReplay& r) { return r.result.fit; },
+          "%: the mean of the signals' fits (100 is the log exactly)")
+      .def_prop_ro(
+          "columns",
+          [](const PyReplay& r) {
+            std::vector<std::string> out;
+            for (const SignalFit& f : r.result.signals) out.push_back(f.column);
+            return out;
+          },
+          "the measured signals, as the log names them")
+      .def_prop_ro(
+          "fits", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::fit); },
+          "% per signal")
+      .def_prop_ro(
+          "rms", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::rms); },
+          "rms of simulated - logged, per signal")
+      .def_prop_ro(
+          "max_abs",
+          [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::max_abs); })
+      .def_prop_ro(
+          "noise", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::noise); },
+          "each signal's noise as the log's differences show it")
+      .def_prop_ro(
+          "simulated",
+          [](const PyReplay& r) {
+            nb::list out;
+            for (const auto& values : r.result.simulated.values) out.append(Array(values));
+            return out;
+          },
+          "per signal, the simulation at the log's sample times (NaN after a divergence)")
+      .def_prop_ro("diverged", [](const PyReplay& r) { return r.result.simulated.diverged; })
+      .def_prop_ro("notes", [](const PyReplay& r) { return r.result.notes; })
+      .def(
+          "to_pandas",
+          [](const PyReplay& r) {
+            DataFrame(
+                std::vector<std::pair<std::string, nb::object>>{});  // ImportError without pandas
+            return nb::module_::import_("pandas").attr("DataFrame")(FromJson(r.Json())["signals"]);
+          },
+          "the signals' table as a pandas.DataFrame");
+  AddResultMethods(type, "replay");
+
+  m.def(
+      "replay",
+      [](ModelArg model, FileArg log, std::optional<FileArg> columns, double window,
+         double input_delay, double sensor_delay, SetArg set) {
+        auto r = std::make_shared<PyReplay>();
+        r->model = ToModel(model);
+        std::string file = PathArg(log);
+        std::string column_map = OptionalPathArg(columns);
+        std::vector<std::string> sets = SetTexts(set);
+        r->options.window = window;
+        r->options.input_delay = input_delay;
+        r->options.sensor_delay = sensor_delay;
+        CheckReplayOptions(r->options);
+        RunLong([&](StopToken stop) {
+          r->ran = ParameterModel(*r->model, sets);
+          r->log = std::move(LoadRobotLogs(*r->ran, {file}, column_map).front());
+          ReplayOptions options = r->options;
+          options.stop = stop;
+          r->result = Replay(*r->ran, r->log, options);
+          TakeMujocoWarnings();
+          return 0;
+        });
+        return r;
+      },
+      nb::arg("model"), nb::arg("log"), nb::arg("columns") = nb::none(), nb::arg("window") = 0.0,
+      nb::arg("input_delay") = 0.0, nb::arg("sensor_delay") = 0.0, nb::arg("set") = nb::none(),
+      "Drives the model with a log's inputs from its logged start state and compares what it "
+      "measured (plumb replay). `log`: a CSV of time and plumb paths; `columns`: a column map "
+      "(TOML); `window`: restart from the logged state every so many seconds; `set`: model "
+      "parameters only. Returns a ReplayResult.");
+}
+
+// plumb.IdentifyResult
+struct PyIdentify {
+  std::shared_ptr<PyModel> model;
+  std::shared_ptr<Model> ran;
+  std::vector<RobotLog> logs;
+  std::vector<RobotLog> validation;  // none or one
+  DelayKind delay = DelayKind::kNone;
+  IdentifyResult result;
+  std::shared_ptr<Model> fitted;
+  HeldOutLog held_out;
+  std::string html;
+
+  const HeldOutLog* HeldOut() const { return validation.empty() ? nullptr : &held_out; }
+  std::string Json() const { return IdentifyToJson(model->name(), result, logs, delay, HeldOut()); }
+  std::string Table() const { return IdentifyTable(model->name(), result, logs, delay, HeldOut()); }
+  void WriteReport(const std::string& path) const {
+    WriteIdentifyReport(path, *ran, logs, result, PythonInfo("identify"), HeldOut());
+  }
+};
+
+nb::object EstimateColumn(const IdentifyResult& r, double Estimate::*field) {
+  std::vector<double> values;
+  for (const Estimate& e : r.estimates) values.push_back(e.*field);
+  return Array(values);
+}
+
+nb::object SquareMatrix(const std::vector<std::vector<double>>& rows) {
+  std::vector<double> flat;
+  for (const auto& row : rows) flat.insert(flat.end(), row.begin(), row.end());
+  return Matrix(std::move(flat), rows.size(), rows.size());
+}
+
+void BindIdentifyCall(nb::module_& m) {
+  nb::class_<PyIdentify> type(
+      m, "IdentifyResult",
+      "plumb.identify's result: .paths and, as arrays in that order, .values, "
+      ".nominal, .std_errors, .lo, .hi, .correlation and .covariance; the "
+      "fitted model (.fitted, a plumb.Model), the warnings, and the CLI's "
+      "JSON, table and report.");
+  type.def_prop_ro("paths",
+                   [](const PyIdentify& r) {
+                     std::vector<std::string> out;
+                     for (const Estimate& e : r.result.estimates) out.push_back(e.path);
+                     return out;
+                   })
+      .def_prop_ro(
+          "values", [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::value); },
+          "the estimates, in the parameters' units")
+      .def_prop_ro("nominal",
+                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::nominal); })
+      .def_prop_ro(
+          "std_errors",
+          [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::std_error); },
+          "the standard errors given (std_error_kind says which; NaN when withheld)")
+      .def_prop_ro("lo",
+                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::lo); })
+      .def_prop_ro("hi",
+                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::hi); })
+      .def_prop_ro(
+          "std_error_kind",
+          [](const PyIdentify& r) {
+            return std::string(StdErrorKindName(r.result.std_errors.kind));
+          },
+          "'classical', 'newey-west' or 'withheld'")
+      .def_prop_ro(
+          "correlation", [](const PyIdentify& r) { return SquareMatrix(r.result.correlation); },
+          "of the classical covariance, parameters x parameters")
+      .def_prop_ro(
+          "covariance",
+          [](const PyIdentify& r) { return SquareMatrix(ClassicalCovariance(r.result)); },
+          "the classical covariance of the estimates (ClassicalCovariance)")
+      .def_prop_ro("singular_values",
+                   [](const PyIdentify& r) { return Array(r.result.singular_values); })
+      .def_prop_ro("warnings", [](const PyIdentify& r) { return r.result.warnings; })
+      .def_prop_ro("converged", [](const PyIdentify& r) { return r.result.converged; })
+      .def_prop_ro("iterations", [](const PyIdentify& r) { return r.result.iterations; })
+      .def_prop_ro("residual_variance",
+                   [](const PyIdentify& r) { return r.result.residual_variance; })
+      .def_prop_ro(
+          "delay", [](const PyIdentify& r) { return r.result.delay; }, "s")
+      .def_prop_ro(
+          "fits_before",
+          [](const PyIdentify& r) {
+            std::vector<double> out;
+            for (const ReplayResult& b : r.result.before) out.push_back(b.fit);
+            return Array(out);
+          },
+          "% per log, the nominal model")
+      .def_prop_ro(
+          "fits_after",
+          [](const PyIdentify& r) {
+            std::vector<double> out;
+            for (const ReplayResult& a : r.result.after) out.push_back(a.fit);
+            return Array(out);
+          },
+          "% per log, the fitted model")
+      .def_prop_ro(
+          "fitted",
+          [](const PyIdentify& r) {
+            return std::make_shared<PyModel>(r.fitted, nb::none(), "", std::vector<std::string>{});
+          },
+          "the model with the fitted values, a plumb.Model (a copy of its own)")
+      .def(
+          "save_model",
+          [](const PyIdentify& r, FileArg path) {
+            std::string file = PathArg(path);
+            RunLong([&](StopToken) {
+              SaveFittedXml(r.model->name(), *r.fitted, r.result, file);
+              return 0;
+            });
+          },
+          nb::arg("path"), "writes the MJCF with the fitted values (as -o FITTED.xml)")
+      .def(
+          "to_pandas",
+          [](const PyIdentify& r) {
+            DataFrame(
+                std::vector<std::pair<std::string, nb::object>>{});  // ImportError without pandas
+            return nb::module_::import_("pandas").attr("DataFrame")(
+                FromJson(r.Json())["estimates"]);
+          },
+          "the estimates as a pandas.DataFrame");
+  AddResultMethods(type, "identify");
+
+  m.def(
+      "identify",
+      [](ModelArg model, LogsArg logs, StringsArg fit, StringsArg bounds,
+         std::optional<FileArg> columns, double window, std::optional<std::string> delay,
+         double max_delay, std::optional<FileArg> validate, int threads, int max_iterations,
+         SetArg set) {
+        auto r = std::make_shared<PyIdentify>();
+        r->model = ToModel(model);
+        std::string column_map = OptionalPathArg(columns);
+        std::string held_out = OptionalPathArg(validate);
+        std::vector<std::string> files;
+        nb::handle log = logs.object;
+        if (nb::isinstance<nb::str>(log) || nb::hasattr(log, "__fspath__")) {
+          files.push_back(PathArg(log));
+        } else {
+          for (nb::handle one : log) files.push_back(PathArg(one));
+        }
+        if (files.empty()) throw ArgumentError("log", "[]", "give at least one log");
+        std::vector<std::string> sets = SetTexts(set);
+        IdentifyOptions o;
+        o.fit = StringList(fit, "fit");
+        if (o.fit.empty()) throw ArgumentError("fit", "[]", "give a parameter to fit");
+        o.bounds = StringList(bounds, "bounds");
+        o.replay.window = window;
+        o.delay = ParseDelayKind(delay.value_or(""));
+        o.max_delay = max_delay;
+        o.threads = threads;
+        o.max_iterations = max_iterations;
+        CheckIdentifyOptions(o);
+        r->delay = o.delay;
+        RunLong([&](StopToken stop) {
+          r->ran = ParameterModel(*r->model, sets);
+          ResolveFitParameters(*r->ran, o.fit, o.bounds);  // before the logs are read
+          r->logs = LoadRobotLogs(*r->ran, files, column_map);
+          if (!held_out.empty()) r->validation = LoadRobotLogs(*r->ran, {held_out}, column_map);
+          o.stop = stop;
+          o.replay.stop = stop;
+          r->result = Identify(*r->ran, r->logs, o);
+          r->fitted = std::make_shared<Model>(FittedModel(*r->ran, r->result));
+          if (!r->validation.empty()) {
+            r->held_out = ReplayHeldOut(*r->ran, *r->fitted, r->validation.front(), o, r->result);
+          }
+          TakeMujocoWarnings();
+          return 0;
+        });
+        return r;
+      },
+      nb::arg("model"), nb::arg("log"), nb::arg("fit"), nb::arg("bounds") = nb::none(),
+      nb::arg("columns") = nb::none(), nb::arg("window") = 0.0, nb::arg("delay") = nb::none(),
+      nb::arg("max_delay") = 0.1, nb::arg("validate") = nb::none(), nb::arg("threads") = 0,
+      nb::arg("max_iterations") = 100, nb::arg("set") = nb::none(),
+      "Fits model parameters to logs (plumb identify): `log` one CSV or a list (each an "
+      "experiment), `fit` paths ('dof_damping[hinge]', '*' rows), `bounds` 'PATH=LO:HI', "
+      "`delay` 'ctrl' or 'sensor' to estimate a pure delay, `validate` a held-out log. The "
+      "result is the same for any `threads`. Returns an IdentifyResult.");
+}
+
+}  // namespace
+
+void BindIdentify(nb::module_& m) {
+  BindReplay(m);
+  BindIdentifyCall(m);
+}
 
 }  // namespace plumb::python

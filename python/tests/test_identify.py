@@ -1,0 +1,108 @@
+"""plumb.replay and plumb.identify on a log of the pendulum made with a known damping."""
+
+import mujoco
+import numpy as np
+import pytest
+
+import plumb
+
+TRUE_DAMPING = 0.2
+
+
+@pytest.fixture
+def log(pendulum, tmp_path):
+    """3 s of the pendulum let go at 0.7 rad with damping 0.2, with 1 mrad(/s) of noise."""
+    t = plumb.run(pendulum, until=3, every=0.01,
+                  set={"qpos[hinge]": 0.7, "dof_damping[hinge]": TRUE_DAMPING})
+    samples = t.array.copy()
+    samples[:, 1:] += np.random.default_rng(7).normal(0, 1e-3, samples[:, 1:].shape)
+    path = tmp_path / "decay.csv"
+    np.savetxt(path, samples, delimiter=",", header=",".join(t.columns), comments="",
+               fmt="%.17g")
+    return path
+
+
+def test_replay_equals_the_cli_json(pendulum, log, cli_json):
+    r = plumb.replay(pendulum, log)
+    ours, theirs = r.to_dict(), cli_json("replay", "models/pendulum.xml", "--log", str(log))
+    ours.pop("model"), theirs.pop("model")
+    assert ours == theirs
+    assert r.columns == ["qpos[hinge]", "qvel[hinge]"]
+    # the nominal damping (0.05) is not the log's: a poor fit
+    assert r.fit < 90 and r.fits.shape == (2,)
+    # with the true damping, the replay fits to the noise
+    right = plumb.replay(pendulum, log, set={"dof_damping[hinge]": TRUE_DAMPING})
+    assert right.fit > 99
+    assert right.rms.max() < 3e-3
+    assert len(right.simulated) == 2 and right.simulated[0].shape == (301,)
+
+
+def test_replay_table_pandas_and_report(root, log, monkeypatch):
+    from conftest import run_cli
+
+    monkeypatch.chdir(root)  # the table names the model as given: the same relative path
+    r = plumb.replay("models/pendulum.xml", log, window=0.5)
+    table = run_cli("replay", "models/pendulum.xml", "--log", str(log), "--window", "0.5").stdout
+    assert repr(r) == table
+    assert list(r.to_pandas()["column"]) == r.columns
+    html = r._repr_html_()
+    assert html.lstrip().lower().startswith("<!doctype html>") and "</html>" in html
+
+
+def test_replay_errors_name_the_keyword(pendulum, log):
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.replay(pendulum, log, window=-1)
+    assert caught.value.argument == "window"
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.replay(pendulum, log, set={"qpos[hinge]": 0.1})
+    assert caught.value.argument == "set"
+
+
+def test_identify_finds_the_damping_and_equals_the_cli(pendulum, log, cli_json):
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    before = model.dof_damping.copy()
+    r = plumb.identify(model, log, fit="dof_damping[hinge]", threads=1)
+    np.testing.assert_array_equal(model.dof_damping, before)  # the caller's model unchanged
+    assert r.paths == ["dof_damping[hinge]"]
+    assert abs(r.values[0] - TRUE_DAMPING) < 3 * r.std_errors[0]
+    assert r.covariance.shape == (1, 1)
+    assert r.covariance[0, 0] == pytest.approx(r.std_errors[0] ** 2)
+    assert r.fits_after[0] > 99 > r.fits_before[0]
+    assert isinstance(r.fitted, plumb.Model)
+    fitted = plumb.replay(r.fitted, log)
+    assert fitted.fit > 99
+    ours = plumb.identify(pendulum, log, fit="dof_damping[hinge]", threads=1).to_dict()
+    theirs = cli_json("identify", "models/pendulum.xml", "--log", str(log), "--fit",
+                      "dof_damping[hinge]", "--threads", "1")
+    ours.pop("model"), theirs.pop("model")
+    assert ours == theirs
+
+
+def test_identify_is_the_same_for_any_thread_count(pendulum, log):
+    fit = ["dof_damping[hinge]", "body_mass[link]"]
+    one = plumb.identify(pendulum, [log], fit=fit, threads=1)
+    two = plumb.identify(pendulum, [log], fit=fit, threads=2)
+    assert one.to_json() == two.to_json()
+    np.testing.assert_array_equal(one.correlation, two.correlation)
+    assert one.correlation.shape == (2, 2)
+
+
+def test_identify_outputs_and_errors(pendulum, root, log, monkeypatch):
+    from conftest import run_cli
+
+    monkeypatch.chdir(root)  # the table names the model as given: the same relative path
+    r = plumb.identify("models/pendulum.xml", log, fit="dof_damping[hinge]", validate=str(log))
+    table = run_cli("identify", "models/pendulum.xml", "--log", str(log), "--fit",
+                    "dof_damping[hinge]", "--validate", str(log)).stdout
+    assert repr(r) == table
+    assert list(r.to_pandas()["path"]) == ["dof_damping[hinge]"]
+    html = r._repr_html_()
+    assert html.lstrip().lower().startswith("<!doctype html>") and "</html>" in html
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.identify(pendulum, log, fit="dof_damping[hinge]", delay="ctl")
+    assert caught.value.argument == "delay"
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.identify(pendulum, log, fit="dof_damping[hinge]", max_delay=0)
+    assert caught.value.argument == "max_delay"
+    with pytest.raises(plumb.PathError, match="hinj"):
+        plumb.identify(pendulum, log, fit="dof_damping[hinj]")
