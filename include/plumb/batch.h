@@ -25,6 +25,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_BATCH_H_
 #define PLUMB_INCLUDE_PLUMB_BATCH_H_
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -112,6 +113,32 @@ class SweepJson {
   std::string model_file_;
   std::vector<std::string> axes_, metrics_;
   long rows_ = 0;
+};
+
+// Watches whether each axis of a sweep changes anything: the cases where every other axis takes
+// its first value are a line along that axis (fewer than the sum of the axes' sizes, so memory
+// stays small however many cases run). An axis along which every metric is bit-identical gets
+// a note with the likely reason, instead of a table that silently shows no effect. `spec` must
+// outlive the watch.
+class SweepEffects {
+ public:
+  explicit SweepEffects(const SweepSpec& spec);
+
+  // Axes with more values than this are not watched: their line would cost memory that grows
+  // with the sweep (a range of a million values is not a question of "no effect").
+  static constexpr std::size_t kMostWatched = 4096;
+
+  // One case as a store row (SweepCaseResult: its index and metrics), in any order.
+  void See(const RolloutResult& row);
+
+  // One note per axis whose line was seen whole and holds values that changed nothing
+  // (bit-identical metrics for different values), naming the axis as "vary 'TEXT'" and what
+  // may be the reason.
+  std::vector<std::string> Notes() const;
+
+ private:
+  const SweepSpec& spec_;
+  std::vector<std::map<std::size_t, std::vector<double>>> lines_;
 };
 
 // The summary of a batch: how many rows were run now and how many were stored before a resume,

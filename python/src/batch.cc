@@ -40,8 +40,9 @@ struct Batch {
   std::string db;
   std::vector<BatchRow> rows;
   BatchSummary summary{0};
-  double seconds = 0;  // the cases run now took
-  std::string html;    // the report, made on first _repr_html_
+  double seconds = 0;              // the cases run now took
+  std::vector<std::string> notes;  // a sweep's axes that changed nothing (SweepEffects)
+  std::string html;                // the report, made on first _repr_html_
 
   // The document `plumb rollout|sweep --format json` prints.
   std::string Json() const {
@@ -63,6 +64,7 @@ struct Batch {
   // The summary plumb rollout prints after its rows.
   std::string Table() const {
     std::string text = summary.Text(metrics, kind == "rollout" ? "rollouts" : "cases", seconds);
+    for (const std::string& note : notes) text += "note: " + note + "\n";
     return text.substr(text.find_first_not_of('\n'));
   }
 
@@ -414,6 +416,9 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
               },
               stop);
         });
+    SweepEffects effects(spec);
+    for (const BatchRow& row : batch->rows) effects.See(row.result);
+    batch->notes = effects.Notes();
     return 0;
   });
   return batch;
@@ -461,6 +466,9 @@ void BindBatchType(nb::module_& m) {
             throw ArgumentError("name", Quoted(name), "not a column of this batch (see .columns)");
           },
           nb::arg("name"), "one column of the table by its name (see .columns)")
+      .def_ro("notes", &Batch::notes,
+              "a sweep's notes: each axis along which every metric came out bit-identical, "
+              "with the likely reason (the CLI prints them on stderr)")
       .def_prop_ro("summary", &SummaryDict,
                    "count, diverged, resumed (stored before), run_now, seconds, and per metric "
                    "n, missing, mean, std, min, q05, median, q95, max")

@@ -336,3 +336,16 @@ def test_ctrl_c_keeps_the_finished_rollouts_and_resume_completes_them(pendulum, 
     assert resumed.summary["run_now"] == 8000 - len(indices)
     assert resumed.to_json() == plumb.rollout(pendulum, 8000, **options).to_json()
     assert len(_stored(db)) == 8000
+
+
+def test_a_sweep_over_a_parameter_with_no_effect_says_so(pendulum):
+    humanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml"
+    if not os.path.exists(humanoid):
+        pytest.skip(f"{humanoid} is not installed")
+    # MuJoCo takes the larger friction of two geoms: the floor's, lowered, changes nothing
+    batch = plumb.sweep(humanoid, "geom_friction[floor][0]=0.1,0.5", "xpos[torso][2]@0.5")
+    assert len(batch.notes) == 1
+    assert batch.notes[0].startswith("vary 'geom_friction[floor][0]=0.1,0.5' changed no metric")
+    assert "larger friction of its two geoms" in batch.notes[0]
+    assert "note: vary 'geom_friction" in repr(batch)
+    assert plumb.sweep(pendulum, VARY, METRICS, set=START).notes == []

@@ -3,8 +3,11 @@
 #include "plumb/batch.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
@@ -30,6 +33,21 @@ std::vector<std::string> MetricTexts(const std::vector<Metric>& metrics) {
   return out;
 }
 
+// What may keep an element of `field` from changing anything.
+std::string WhyNoEffect(const std::string& field) {
+  if (field == "geom_friction") {
+    return "A geom's friction acts only in its contacts, and MuJoCo gives a contact the "
+           "larger friction of its two geoms (unless geom priority says otherwise), so "
+           "lowering one geom's friction below its partner's changes nothing; vary the other "
+           "geom's friction too, or use geom priority.";
+  }
+  if (field == "geom_solref" || field == "geom_solimp" || field == "geom_solmix") {
+    return "A contact mixes both geoms' solref/solimp by their solmix weights; a geom whose "
+           "weight is 0, or that touches nothing in this run, has no say.";
+  }
+  return "The element may take no part in this run (a geom that touches nothing, a joint "
+         "that does not move, a disabled actuator), or the metrics do not depend on it.";
+}
 }  // namespace
 
 std::string StartConfig(const Model& model, const std::string& keyframe, const std::string& pose,
@@ -166,7 +184,52 @@ std::string SweepJson::Row(long index, const std::vector<double>& values,
 
 std::string SweepJson::End() const { return std::string(rows_ ? "\n  " : "") + "]\n}\n"; }
 
-void BatchSummary::Add(const RolloutResult& r) {
+SweepEffects::SweepEffects(const SweepSpec& spec) : spec_(spec), lines_(spec.axes.size()) {}
+
+void SweepEffects::See(const RolloutResult& row) {
+  std::vector<std::size_t> choice = CaseChoice(spec_.axes, row.index);
+  for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+    if (spec_.axes[a].size() > kMostWatched) continue;
+    bool on_line = true;
+    for (std::size_t b = 0; b < choice.size(); ++b) on_line = on_line && (b == a || choice[b] == 0);
+    if (on_line) lines_[a][choice[a]] = row.metrics;
+  }
+}
+
+std::vector<std::string> SweepEffects::Notes() const {
+  std::vector<std::string> notes;
+  for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
+    const SweepAxis& axis = spec_.axes[a];
+    if (axis.size() < 2 || lines_[a].size() != axis.size()) continue;
+    // values grouped by their results (NaN, not measured, is no evidence either way)
+    std::map<std::string, std::vector<std::size_t>> groups;
+    for (const auto& [choice, values] : lines_[a]) {
+      bool measured =
+          std::none_of(values.begin(), values.end(), [](double v) { return std::isnan(v); });
+      if (!measured) continue;
+      std::string key(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
+      groups[key].push_back(choice);
+    }
+    std::vector<std::string> same;
+    for (const auto& [key, choices] : groups) {
+      if (choices.size() < 2) continue;
+      std::vector<std::string> labels;
+      for (std::size_t c : choices) labels.push_back(axis.Label(c));
+      same.push_back(fmt::format("{}", fmt::join(labels, ", ")));
+    }
+    if (same.empty()) continue;
+    std::string what =
+        groups.size() == 1 && same.size() == 1 && lines_[a].size() == groups.begin()->second.size()
+            ? "changed no metric: every value gave bit-identical results"
+            : "values that gave bit-identical results: " + fmt::format("{}", fmt::join(same, "; "));
+    notes.push_back("vary '" + axis.text + "' " + what +
+                    " (the other axes at their first value). " + WhyNoEffect(axis.path.field));
+  }
+  return notes;
+}
+void BatchSummary::Add(
+
+    const RolloutResult& r) {
   diverged += r.diverged;
   for (std::size_t k = 0; k < r.metrics.size() && k < metrics.size(); ++k) {
     metrics[k].Add(r.metrics[k]);

@@ -149,87 +149,6 @@ class SweepWriter {
   std::vector<int> widths_;
 };
 
-// Watches whether each axis changes anything: the cases where every other axis takes its
-// first value are a line along that axis (fewer than the sum of the axes' sizes, so memory
-// stays small however many cases run). An axis along which every metric is bit-identical
-// gets a note with the likely reason, instead of a table that silently shows no effect.
-class EffectWatch {
- public:
-  explicit EffectWatch(const SweepSpec& spec) : spec_(spec), lines_(spec.axes.size()) {}
-
-  // Axes with more values than this are not watched: their line would cost memory that grows
-  // with the sweep (a range of a million values is not a question of "no effect").
-  static constexpr std::size_t kMostWatched = 4096;
-
-  void See(const SweepCase& c) {
-    for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
-      if (spec_.axes[a].size() > kMostWatched) continue;
-      bool on_line = true;
-      for (std::size_t b = 0; b < c.choice.size(); ++b)
-        on_line = on_line && (b == a || c.choice[b] == 0);
-      if (!on_line) continue;
-      std::vector<double> values;
-      for (const Measurement& m : c.metrics) values.push_back(m.ok ? m.value : NAN);
-      lines_[a][c.choice[a]] = values;
-    }
-  }
-
-  // One note per axis whose line was seen whole and holds values that changed nothing:
-  // bit-identical metrics for different values.
-  std::vector<std::string> Notes() const {
-    std::vector<std::string> notes;
-    for (std::size_t a = 0; a < spec_.axes.size(); ++a) {
-      const SweepAxis& axis = spec_.axes[a];
-      if (axis.size() < 2 || lines_[a].size() != axis.size()) continue;
-      // values grouped by their results (NaN, not measured, is no evidence either way)
-      std::map<std::string, std::vector<std::size_t>> groups;
-      for (const auto& [choice, values] : lines_[a]) {
-        bool measured =
-            std::none_of(values.begin(), values.end(), [](double v) { return std::isnan(v); });
-        if (!measured) continue;
-        std::string key(reinterpret_cast<const char*>(values.data()),
-                        values.size() * sizeof(double));
-        groups[key].push_back(choice);
-      }
-      std::vector<std::string> same;
-      for (const auto& [key, choices] : groups) {
-        if (choices.size() < 2) continue;
-        std::vector<std::string> labels;
-        for (std::size_t c : choices) labels.push_back(axis.Label(c));
-        same.push_back(fmt::format("{}", fmt::join(labels, ", ")));
-      }
-      if (same.empty()) continue;
-      std::string what = groups.size() == 1 && same.size() == 1 &&
-                                 lines_[a].size() == groups.begin()->second.size()
-                             ? "changed no metric: every value gave bit-identical results"
-                             : "values that gave bit-identical results: " +
-                                   fmt::format("{}", fmt::join(same, "; "));
-      notes.push_back("--vary '" + axis.text + "' " + what +
-                      " (the other axes at their first value). " + WhyNoEffect(axis.path.field));
-    }
-    return notes;
-  }
-
- private:
-  static std::string WhyNoEffect(const std::string& field) {
-    if (field == "geom_friction") {
-      return "A geom's friction acts only in its contacts, and MuJoCo gives a contact the "
-             "larger friction of its two geoms (unless geom priority says otherwise), so "
-             "lowering one geom's friction below its partner's changes nothing; vary the other "
-             "geom's friction too, or use geom priority.";
-    }
-    if (field == "geom_solref" || field == "geom_solimp" || field == "geom_solmix") {
-      return "A contact mixes both geoms' solref/solimp by their solmix weights; a geom whose "
-             "weight is 0, or that touches nothing in this run, has no say.";
-    }
-    return "The element may take no part in this run (a geom that touches nothing, a joint "
-           "that does not move, a disabled actuator), or the metrics do not depend on it.";
-  }
-
-  const SweepSpec& spec_;
-  std::vector<std::map<std::size_t, std::vector<double>>> lines_;
-};
-
 SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
   SweepSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
@@ -321,7 +240,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     WriteStdout(text);
   };
   flush();
-  EffectWatch effect(spec);
+  SweepEffects effect(spec);
   SweepProblems problems(o.metrics, progress);
   std::optional<BatchCollector> batch;
   ReportInfo info{ctx.argv};
@@ -334,8 +253,8 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   long emitted = 0;
   auto emit = [&](const SweepCase& c) {
     ++emitted;
-    effect.See(c);
     RolloutResult row = SweepCaseResult(spec, c);
+    effect.See(row);
     if (stored.store) stored.store->Add(stored.id, row);
     out += writer.Row(c);
     problems.See(c);
@@ -354,7 +273,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   flush();
   CompleteStoredRun(stored, total);
   for (const std::string& note : effect.Notes()) {
-    std::fprintf(stderr, "plumb: note: %s\n", note.c_str());
+    std::fprintf(stderr, "plumb: note: --%s\n", note.c_str());
   }
   problems.Report(emitted * static_cast<long>(spec.metrics.size()));
   if (batch) {
