@@ -32,6 +32,7 @@
 
 #include "plumb/image.h"
 #include "plumb/model.h"
+#include "plumb/path.h"
 #include "plumb/run.h"
 #include "plumb/stop.h"
 
@@ -103,9 +104,10 @@ bool RendererBuilt();
 std::pair<int, int> ParseImageSize(const std::string& text);
 
 // Steps `data` from its state to `at` s (rounded to whole timesteps) with the model's
-// timestep and draws the state it reaches into `image`. When the run diverges nothing is drawn
-// (the result says so). @throws ArgumentError (argument "at") for a time that is not a finite
-// number >= 0; Interrupted when `stop` asks; as Run and Renderer::Render do.
+// timestep and draws the state it reaches (positions recomputed after the last step) into `image`.
+// When the run diverges nothing is drawn (the result says so). @throws ArgumentError (argument
+// "at") for a time that is not a finite number >= 0; Interrupted when `stop` asks; as Run and
+// Renderer::Render do.
 RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at, StopToken stop,
                    Image* image);
 
@@ -124,11 +126,22 @@ struct FilmPlan {
 FilmPlan PlanFilm(double timestep, double until, double fps);
 
 // Runs `data` from its state on `plan`'s schedule, drawing a frame at the start and every
-// stride-th step and giving each to `add` (the image is reused: copy what you keep). A
+// stride-th step and giving each to `add` (the image is reused: copy what you keep). Each
+// frame shows the state at its time (positions recomputed after the step, DerivedRefresher). A
 // diverged run ends the film at its last good state (the result says so).
 // @throws Interrupted when `stop` asks; as Run and Renderer::Render do; what `add` throws.
 RunResult RenderFilm(const Model& model, Data& data, Renderer& renderer, const FilmPlan& plan,
                      StopToken stop, const std::function<void(const Image&)>& add);
+
+// Draws each row of a run's samples (as a TrajectorySink keeps them: `rows` rows of
+// columns.size() values, row major): the row's state and input columns (time, qpos, qvel, act,
+// ctrl, ...) are written into `data`, mj_forward computes the rest, and the frame goes to `add`
+// (the image is reused). `model` is written only through `data`'s state.
+// @throws ValueError when the columns lack some of qpos (the picture would not show the row);
+// Interrupted when `stop` asks; as Renderer::Render does; what `add` throws.
+void RenderSamples(Model& model, Data& data, Renderer& renderer, const std::vector<Path>& columns,
+                   const double* values, long rows, StopToken stop,
+                   const std::function<void(const Image&)>& add);
 
 }  // namespace plumb
 

@@ -620,28 +620,14 @@ void BindRender(nb::module_& m) {
             ++f->frames;
           };
           if (samples) {
-            // each sample's state, drawn: the trajectory must hold the whole qpos
-            long nq = 0;
-            for (const Path& p : samples->columns) nq += p.field == "qpos" ? 1 : 0;
-            if (nq < (*f->model)->nq) {
-              throw ArgumentError("state", "Trajectory",
-                                  "it must sample every qpos element to be drawn (the default "
-                                  "columns do)");
-            }
             pixels.reserve(size * samples->rows);
-            Image frame;
-            std::size_t width = samples->columns.size();
-            for (long r = 0; r < samples->rows; ++r) {
-              if (stop.stop_requested()) throw Interrupted("interrupted while drawing the frames");
-              for (std::size_t c = 0; c < width; ++c) {
-                const Path& p = samples->columns[c];
-                if (p.writable && (p.role == Role::kState || p.role == Role::kInput)) {
-                  WriteValues(*f->model, data, p, {samples->values[r * width + c]});
-                }
-              }
-              data.Forward();
-              renderer.Render(data, &frame);
-              add(frame);
+            try {
+              RenderSamples(*f->model, data, renderer, samples->columns, samples->values,
+                            samples->rows, stop, add);
+            } catch (const ArgumentError&) {
+              throw;
+            } catch (const ValueError& e) {
+              throw ArgumentError("state", "Trajectory", e.what());
             }
             f->fps = 1.0 / samples->every;
           } else if (until) {

@@ -103,3 +103,15 @@ def test_frames_keep_a_wrapped_mjmodel_alive(pendulum):
     del model
     gc.collect()
     assert "flipbook" in frames._repr_html_()
+
+
+def test_every_way_of_drawing_a_time_shows_the_state_at_that_time(pendulum):
+    # a run's samples drawn again, the picture at `at` and the video's frame at that time are
+    # one picture: each shows the state reached, not the step before it
+    t = plumb.run(pendulum, until=0.3, every=0.1, set={"qpos[hinge]": 0.7})
+    from_samples = draw(pendulum, state=t, **SMALL)
+    at = draw(pendulum, set={"qpos[hinge]": 0.7}, at=0.3, **SMALL)
+    film = draw(pendulum, set={"qpos[hinge]": 0.7}, until=0.3, fps=10, **SMALL)
+    np.testing.assert_array_equal(from_samples[-1], at)
+    np.testing.assert_array_equal(film[-1], at)
+    np.testing.assert_array_equal(film.array, from_samples.array)

@@ -43,7 +43,10 @@ RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at
   spec.stop = stop;
   NullSink sink;
   RunResult result = Run(model, data, spec, sink);
-  if (!result.diverged) renderer.Render(data, image);
+  if (result.diverged) return result;
+  // after mj_step the positions still describe the state before it: draw the one reached
+  if (result.steps > 0) RefreshDerived(model, data);
+  renderer.Render(data, image);
   return result;
 }
 
@@ -69,14 +72,46 @@ RunResult RenderFilm(const Model& model, Data& data, Renderer& renderer, const F
   spec.every = dt;
   spec.until = plan.steps * dt;
   spec.stop = stop;
+  DerivedRefresher refresh(model);
   spec.after_step = [&](const mjData*, long step) {
     if (step % plan.stride == 0) {
+      // after mj_step the positions still describe the state before it: the frame shows this one
+      refresh(data);
       renderer.Render(data, &frame);
       add(frame);
     }
   };
   NullSink sink;
   return Run(model, data, spec, sink);
+}
+
+void RenderSamples(Model& model, Data& data, Renderer& renderer, const std::vector<Path>& columns,
+                   const double* values, long rows, StopToken stop,
+                   const std::function<void(const Image&)>& add) {
+  long qpos = 0;
+  for (const Path& p : columns) qpos += p.field == "qpos" ? p.count : 0;
+  if (qpos < model->nq) {
+    throw ValueError(
+        fmt::format("the samples hold {} of the {} qpos elements; to draw them, "
+                    "sample every one (the default columns do)",
+                    qpos, model->nq));
+  }
+  std::size_t width = columns.size();
+  Image frame;
+  for (long r = 0; r < rows; ++r) {
+    if (stop.stop_requested()) {
+      throw Interrupted(fmt::format("interrupted drawing sample {} of {}", r, rows));
+    }
+    for (std::size_t c = 0; c < width; ++c) {
+      const Path& p = columns[c];
+      if (p.writable && (p.role == Role::kState || p.role == Role::kInput)) {
+        WriteValues(model, data, p, {values[r * width + c]});
+      }
+    }
+    data.Forward();
+    renderer.Render(data, &frame);
+    add(frame);
+  }
 }
 
 }  // namespace plumb

@@ -65,9 +65,11 @@ TEST_F(FilmTest, RendersTheFramesThePlanSays) {
   }
   FilmPlan plan = PlanFilm(model->opt.timestep, 0.2, 10);
   std::vector<double> times;
+  std::vector<std::uint8_t> last;
   RunResult result = RenderFilm(model, data, *renderer, plan, StopToken{}, [&](const Image& f) {
     EXPECT_EQ(f.width, 32);
     times.push_back(data->time);
+    last = f.rgb;
   });
   EXPECT_FALSE(result.diverged);
   ASSERT_EQ(static_cast<long>(times.size()), plan.frames);
@@ -77,8 +79,43 @@ TEST_F(FilmTest, RendersTheFramesThePlanSays) {
   ApplyAssignments(model, again, {ParseAssignment(model, "qpos[hinge]=0.7")});
   result = RenderAt(model, again, *renderer, 0.2, StopToken{}, &picture);
   EXPECT_EQ(result.steps, 100);
-  EXPECT_EQ(picture.rgb.size(), 32u * 24 * 3);
+  // the state at 0.2 s, as the film's last frame shows it (not the step before)
+  EXPECT_EQ(picture.rgb, last);
   EXPECT_THROW(RenderAt(model, again, *renderer, -1, StopToken{}, &picture), ArgumentError);
+}
+
+// A run's samples drawn again give the pictures of the run itself.
+TEST_F(FilmTest, SamplesDrawAsTheRunDid) {
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
+  RenderOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.shadow_size = 256;
+  std::optional<Renderer> renderer;
+  try {
+    renderer.emplace(model, options);
+  } catch (const UnavailableError& e) {
+    GTEST_SKIP() << "no renderer here: " << e.what();
+  }
+  std::vector<std::vector<std::uint8_t>> filmed, drawn;
+  std::vector<double> samples;  // time, qpos, qvel of each frame
+  FilmPlan plan = PlanFilm(model->opt.timestep, 0.2, 10);
+  RenderFilm(model, data, *renderer, plan, StopToken{}, [&](const Image& f) {
+    filmed.push_back(f.rgb);
+    samples.insert(samples.end(), {data->time, data->qpos[0], data->qvel[0]});
+  });
+  std::vector<Path> columns = DefaultColumns(model);
+  ASSERT_EQ(columns.size(), 3u);
+  Data again(model);
+  RenderSamples(model, again, *renderer, columns, samples.data(), static_cast<long>(filmed.size()),
+                StopToken{}, [&](const Image& f) { drawn.push_back(f.rgb); });
+  EXPECT_EQ(drawn, filmed);
+  std::vector<Path> time_only = {ResolvePath(model, "time")};
+  EXPECT_THROW(RenderSamples(model, again, *renderer, time_only, samples.data(), 1, StopToken{},
+                             [](const Image&) {}),
+               ValueError);
 }
 
 }  // namespace
