@@ -16,6 +16,20 @@ namespace {
 
 using FilmTest = testing::MujocoTest;
 
+// A 32x24 renderer of `model` in `renderer`, or why there is none.
+std::string Small(const Model& model, std::optional<Renderer>* renderer) {
+  RenderOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.shadow_size = 256;
+  try {
+    renderer->emplace(model, options);
+  } catch (const UnavailableError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST_F(FilmTest, SizeTextNamesItsArgument) {
   EXPECT_EQ(ParseImageSize("640x480"), std::make_pair(640, 480));
   EXPECT_EQ(ParseImageSize("16X9"), std::make_pair(16, 9));
@@ -53,16 +67,9 @@ TEST_F(FilmTest, RendersTheFramesThePlanSays) {
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
   ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
-  RenderOptions options;
-  options.width = 32;
-  options.height = 24;
-  options.shadow_size = 256;
   std::optional<Renderer> renderer;
-  try {
-    renderer.emplace(model, options);
-  } catch (const UnavailableError& e) {
-    GTEST_SKIP() << "no renderer here: " << e.what();
-  }
+  std::string why = Small(model, &renderer);
+  if (!why.empty()) GTEST_SKIP() << "no renderer here: " << why;
   FilmPlan plan = PlanFilm(model->opt.timestep, 0.2, 10);
   std::vector<double> times;
   std::vector<std::uint8_t> last;
@@ -89,16 +96,9 @@ TEST_F(FilmTest, SamplesDrawAsTheRunDid) {
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
   ApplyAssignments(model, data, {ParseAssignment(model, "qpos[hinge]=0.7")});
-  RenderOptions options;
-  options.width = 32;
-  options.height = 24;
-  options.shadow_size = 256;
   std::optional<Renderer> renderer;
-  try {
-    renderer.emplace(model, options);
-  } catch (const UnavailableError& e) {
-    GTEST_SKIP() << "no renderer here: " << e.what();
-  }
+  std::string why = Small(model, &renderer);
+  if (!why.empty()) GTEST_SKIP() << "no renderer here: " << why;
   std::vector<std::vector<std::uint8_t>> filmed, drawn;
   std::vector<double> samples;  // time, qpos, qvel of each frame
   FilmPlan plan = PlanFilm(model->opt.timestep, 0.2, 10);
