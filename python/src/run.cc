@@ -364,6 +364,7 @@ void BindInspect(nb::module_& m) {
           "_repr_html_",
           [](Description& d) {
             if (d.html.empty()) {
+              MujocoCallScope scope;
               d.html = ReportHtml([&](const std::string& path) {
                 WriteInspectReport(path, *d.model, d.description, PythonInfo("inspect"));
               });
@@ -585,9 +586,11 @@ void BindRender(nb::module_& m) {
         if (!state.is_none() && !trajectory && !mjdata) {
           throw nb::type_error("state: expected None, a mujoco.MjData or a plumb.Trajectory");
         }
-        if ((mjdata || trajectory) && (until || at != 0)) {
-          throw ArgumentError(until ? "until" : "at", "",
-                              "a given state is drawn as it is: leave until and at out");
+        if ((mjdata || trajectory) && (until || at != 0 || !sets.empty() || keyframe)) {
+          const char* given = until ? "until" : at != 0 ? "at" : keyframe ? "keyframe" : "set";
+          throw ArgumentError(given, "",
+                              "a given state is drawn as it is: leave until, at, set and "
+                              "keyframe out (or draw from the start without state)");
         }
         if (until && at != 0)
           throw ArgumentError("at", "", "at is for pictures; a video starts at t = 0");

@@ -93,6 +93,13 @@ def test_errors_name_the_keyword(pendulum, tmp_path):
     with pytest.raises(plumb.ArgumentError) as caught:
         draw(pendulum, until=0.2, output=str(tmp_path / "x.gif"), **SMALL)
     assert caught.value.argument == "path"
+    t = plumb.run(pendulum, until=0.2)
+    with pytest.raises(plumb.ArgumentError) as caught:
+        draw(pendulum, state=t, set={"qpos[hinge]": 1}, **SMALL)
+    assert caught.value.argument == "set"
+    with pytest.raises(plumb.ArgumentError) as caught:
+        draw(pendulum, state=t, until=1, **SMALL)
+    assert caught.value.argument == "until"
 
 
 def test_frames_keep_a_wrapped_mjmodel_alive(pendulum):

@@ -81,6 +81,12 @@ def test_to_pandas_repr_and_html(pendulum):
     html = t._repr_html_()
     assert html.lstrip().lower().startswith("<!doctype html>") and html.rstrip().endswith("</html>")
     assert "qvel[hinge]" in html
+    # a long run's table shows its head and tail, and says how many rows there are
+    long = repr(plumb.run(pendulum, until=100, set={"qpos[hinge]": 0.7}))
+    lines = long.splitlines()
+    assert len(lines) == 1 + 20 + 1 + 5
+    assert "1001 rows in all" in lines[21]
+    assert lines[-1].split()[0] == "100.00000"
 
 
 def test_inspect_equals_the_cli_json(pendulum, cli_json):
