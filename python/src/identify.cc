@@ -103,6 +103,22 @@ void BindReplay(nb::module_& m) {
             return out;
           },
           "per signal, the simulation at the log's sample times (NaN after a divergence)")
+      .def_prop_ro(
+          "times",
+          [](const PyReplay& r) {
+            nb::list out;
+            for (const LogSignal& s : r.log.measured) out.append(Array(s.time));
+            return out;
+          },
+          "per signal, the log's sample times (s)")
+      .def_prop_ro(
+          "logged",
+          [](const PyReplay& r) {
+            nb::list out;
+            for (const LogSignal& s : r.log.measured) out.append(Array(s.value));
+            return out;
+          },
+          "per signal, the logged values")
       .def_prop_ro("diverged", [](const PyReplay& r) { return r.result.simulated.diverged; })
       .def_prop_ro("notes", [](const PyReplay& r) { return r.result.notes; })
       .def(

@@ -35,6 +35,10 @@ def test_replay_equals_the_cli_json(pendulum, log, cli_json):
     assert right.fit > 99
     assert right.rms.max() < 3e-3
     assert len(right.simulated) == 2 and right.simulated[0].shape == (301,)
+    np.testing.assert_allclose(right.times[0], np.arange(301) * 0.01, atol=1e-12)
+    # the simulated and logged values differ by the noise alone (1e-3)
+    error = right.simulated[0] - right.logged[0]
+    assert 5e-4 < error.std() < 2e-3
 
 
 def test_replay_table_pandas_and_report(root, log, monkeypatch):
