@@ -8,7 +8,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <thread>
 
 #include "common.h"
@@ -61,7 +65,8 @@ struct Batch {
     return text + json.End();
   }
 
-  // The summary plumb rollout prints after its rows.
+  // The summary plumb rollout prints after its rows (a sweep's: the same of its cases, and
+  // the notes plumb sweep prints).
   std::string Table() const {
     std::string text = summary.Text(metrics, kind == "rollout" ? "rollouts" : "cases", seconds);
     for (const std::string& note : notes) text += "note: " + note + "\n";

@@ -270,6 +270,23 @@ def test_a_python_store_is_the_clis(pendulum, tmp_path, cli_json):
     assert len(_stored(db2)) == 12
 
 
+def test_shards_stored_from_python_merge_into_the_whole_batch(pendulum, tmp_path, cli_json):
+    shards = [str(tmp_path / f"shard{i}.sqlite") for i in range(2)]
+    for i, db in enumerate(shards):
+        assert len(_rollout(pendulum, shard=f"{i}/2", db=db)) == 6
+    merged = str(tmp_path / "all.sqlite")
+    run_cli("merge", *shards, "-o", merged, check_codes=(0,))
+    runs = cli_json("results", merged)
+    assert len(runs) == 1 and runs[0]["finished"]
+    whole = _rollout(pendulum).to_dict()
+    assert [(r["rollout"], r["params"], r["metrics"]) for r in runs[0]["rollouts"]] == [
+        (r["rollout"], r["params"], r["metrics"]) for r in whole]
+    # and resuming the merged store finds the batch complete
+    again = _rollout(pendulum, db=merged, resume=True)
+    assert again.summary["resumed"] == 12 and again.summary["run_now"] == 0
+    assert again.to_json() == _rollout(pendulum).to_json()
+
+
 def test_a_stored_sweep_resumes_from_the_cli(pendulum, tmp_path, cli_json):
     db = str(tmp_path / "s.sqlite")
     cli_args = ["sweep", "models/pendulum.xml", "--vary", VARY[0], "--vary", VARY[1],
