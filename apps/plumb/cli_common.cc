@@ -121,28 +121,25 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return StartAssignments(model, keyframe, StartPose{}, sets);
 }
 
+namespace {
+// An assignment's warnings, naming the flag it came from (the library's argument: "set").
+void WarnAboutStart(const char* argument, const Assignment& a) {
+  WarnAboutAssignment(("--" + std::string(argument)).c_str(), a.text, a.warnings);
+}
+}  // namespace
+
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
                                          const StartPose& pose,
                                          const std::vector<std::string>& sets) {
-  std::vector<Assignment> out = KeyframeAssignments(model, keyframe);
-  for (Assignment& a : PoseAssignments(model, pose)) out.push_back(std::move(a));
-  for (Assignment& a : ParseAssignments(model, sets)) out.push_back(std::move(a));
-  return out;
+  return plumb::StartAssignments(model, {keyframe, pose.file, pose.qpos, sets}, WarnAboutStart);
 }
 
 std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose, bool warn) {
-  std::vector<Assignment> out;
-  if (!pose.file.empty()) {
-    for (Assignment& a : PoseFileAssignments(model, pose.file)) {
-      if (warn) WarnAboutAssignment("--pose", a.text, a.warnings);
-      out.push_back(std::move(a));
-    }
-  }
-  if (!pose.qpos.empty()) {
-    out.push_back(QposAssignment(model, pose.qpos));
-    if (warn) WarnAboutAssignment("--qpos", out.back().text, out.back().warnings);
-  }
-  return out;
+  StartSpec start;
+  start.pose = pose.file;
+  start.qpos = pose.qpos;
+  return warn ? plumb::StartAssignments(model, start, WarnAboutStart)
+              : plumb::StartAssignments(model, start);
 }
 
 std::string PoseConfig(const Model& model, const StartPose& pose) {

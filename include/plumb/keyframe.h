@@ -14,6 +14,7 @@
 #ifndef PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
 #define PLUMB_INCLUDE_PLUMB_KEYFRAME_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,24 @@ Assignment QposAssignment(const Model& model, const std::string& values);
 // ArgumentError (argument "pose", value the file and line) for a line that is not a valid
 // assignment, or a vector whose length is not nq.
 std::vector<Assignment> PoseFileAssignments(const Model& model, const std::string& path);
+
+// What a run starts from, as every front end takes it (the CLI's --keyframe, --pose, --qpos
+// and --set; the Python keywords keyframe, pose, qpos and set): each part empty when not given.
+struct StartSpec {
+  std::string keyframe;           // a keyframe's name ("#0" by id)
+  std::string pose;               // a pose file (PoseFileAssignments)
+  std::string qpos;               // a whole qpos vector's text (QposAssignment)
+  std::vector<std::string> sets;  // PATH=VALUE texts
+};
+
+// The start's assignments in the order a run applies them, each later one winning: the
+// keyframe, the pose file, the qpos vector, then every set. `warn`, when given, is called with
+// each assignment that has warnings (Assignment::warnings) and the argument it came from
+// ("pose", "qpos", "set"), for the caller to show. @throws as KeyframeAssignments,
+// PoseFileAssignments, QposAssignment and ParseAssignment do.
+std::vector<Assignment> StartAssignments(
+    const Model& model, const StartSpec& start,
+    const std::function<void(const char* argument, const Assignment& a)>& warn = nullptr);
 
 // The pose a check judges a model in when no run is asked for (audit's layers, snapshot's
 // reference state): the keyframe the user named, else the model's keyframe "home", else

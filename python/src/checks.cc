@@ -39,10 +39,6 @@ PLUMB_ANY_OBJECT_CASTER(plumb::python::SnapshotArg, "Snapshot | str | os.PathLik
 namespace plumb::python {
 namespace {
 
-ReportInfo PythonReportInfo(const char* call) {
-  return ReportInfo{{"python", fmt::format("plumb.{}(...)", call)}};
-}
-
 // How many of `rows` have `status` ('PASS', 'WARN', 'FAIL', 'SKIP'), accepted ones included.
 int CountRows(const std::vector<CheckRow>& rows, const std::string& status) {
   for (CheckStatus s :

@@ -80,10 +80,7 @@ PyModel::PyModel(std::shared_ptr<Model> model, nb::object mjmodel, std::string k
       sets_(std::move(sets)) {}
 
 std::vector<Assignment> PyModel::Start(const std::vector<std::string>& more) const {
-  std::vector<Assignment> out = KeyframeAssignments(*model_, keyframe_);
-  for (const std::string& text : sets_) out.push_back(ParseAssignment(*model_, text));
-  for (const std::string& text : more) out.push_back(ParseAssignment(*model_, text));
-  return out;
+  return StartAssignments(*model_, {keyframe_, "", "", SetTexts(more)});
 }
 
 std::vector<std::string> PyModel::SetTexts(const std::vector<std::string>& more) const {
@@ -165,6 +162,12 @@ std::string PathArg(FileArg path) { return PathArg(path.object); }
 
 std::string OptionalPathArg(std::optional<FileArg> path) {
   return path && !path->object.is_none() ? PathArg(path->object) : std::string();
+}
+
+ReportInfo PythonReportInfo(const char* call, bool pictures) {
+  ReportInfo info{{"python", fmt::format("plumb.{}(...)", call)}};
+  info.pictures = pictures;
+  return info;
 }
 
 nb::object FromJson(const std::string& json) {

@@ -30,6 +30,7 @@
 #include "plumb/check.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
+#include "plumb/report.h"
 #include "plumb/stop.h"
 
 namespace plumb::python {
@@ -101,6 +102,10 @@ std::vector<std::string> StringList(nb::handle value, const char* argument);
 inline std::vector<std::string> StringList(StringsArg value, const char* argument) {
   return StringList(value.object, argument);
 }
+
+// What a report from Python shows as its command line: "python plumb.CALL(...)". Pages that
+// draw no model pictures of their own (run, inspect, render) pass `pictures` false.
+ReportInfo PythonReportInfo(const char* call, bool pictures = true);
 
 // The JSON text as Python objects (json.loads).
 nb::object FromJson(const std::string& json);

@@ -31,10 +31,6 @@ PLUMB_ANY_OBJECT_CASTER(plumb::python::LogsArg,
 namespace plumb::python {
 namespace {
 
-ReportInfo PythonInfo(const char* call) {
-  return ReportInfo{{"python", fmt::format("plumb.{}(...)", call)}};
-}
-
 // The model a replay or a fit runs: the caller's start's parameters written into a copy (the
 // state and inputs come from the logs).
 std::shared_ptr<Model> ParameterModel(const PyModel& model, const std::vector<std::string>& sets) {
@@ -63,7 +59,7 @@ struct PyReplay {
   std::string Json() const { return ReplayToJson(model->name(), log, options, result); }
   std::string Table() const { return ReplayTable(model->name(), log, options, result); }
   void WriteReport(const std::string& path) const {
-    WriteReplayReport(path, *ran, log, result, options, PythonInfo("replay"));
+    WriteReplayReport(path, *ran, log, result, options, PythonReportInfo("replay"));
   }
 };
 
@@ -179,7 +175,7 @@ struct PyIdentify {
   std::string Json() const { return IdentifyToJson(model->name(), result, logs, delay, HeldOut()); }
   std::string Table() const { return IdentifyTable(model->name(), result, logs, delay, HeldOut()); }
   void WriteReport(const std::string& path) const {
-    WriteIdentifyReport(path, *ran, logs, result, PythonInfo("identify"), HeldOut());
+    WriteIdentifyReport(path, *ran, logs, result, PythonReportInfo("identify"), HeldOut());
   }
 };
 

@@ -43,35 +43,22 @@ PLUMB_ANY_OBJECT_CASTER(plumb::python::StateArg, "mujoco.MjData | Trajectory")
 namespace plumb::python {
 namespace {
 
-ReportInfo PythonInfo(const char* call) {
-  ReportInfo info{{"python", fmt::format("plumb.{}(...)", call)}};
-  info.pictures = false;
-  return info;
-}
-
 // The start a call runs from: the model's start (plumb.load), then, as the CLI orders them,
 // the call's keyframe, pose file and whole qpos, then its `set`.
 std::vector<Assignment> CallStart(const PyModel& model, const std::optional<std::string>& keyframe,
                                   const std::string& pose, nb::handle qpos,
                                   const std::vector<std::string>& sets) {
   if (!keyframe && pose.empty() && qpos.is_none()) return model.Start(sets);
-  std::vector<Assignment> out = model.Start();
-  const Model& m = model.model();
-  if (keyframe) {
-    for (Assignment& a : KeyframeAssignments(m, *keyframe)) out.push_back(std::move(a));
-  }
-  if (!pose.empty()) {
-    for (Assignment& a : PoseFileAssignments(m, pose)) out.push_back(std::move(a));
-  }
+  StartSpec start{keyframe.value_or(""), pose, "", sets};
   if (!qpos.is_none()) {
-    std::string text = nb::isinstance<nb::str>(qpos) ? nb::cast<std::string>(qpos) : "";
-    if (text.empty()) {
+    start.qpos = nb::isinstance<nb::str>(qpos) ? nb::cast<std::string>(qpos) : "";
+    if (start.qpos.empty()) {
       for (nb::handle v : qpos)
-        text += (text.empty() ? "" : ",") + fmt::format("{:.17g}", nb::cast<double>(v));
+        start.qpos += (start.qpos.empty() ? "" : ",") + fmt::format("{:.17g}", nb::cast<double>(v));
     }
-    out.push_back(QposAssignment(m, text));
   }
-  for (const std::string& text : sets) out.push_back(ParseAssignment(m, text));
+  std::vector<Assignment> out = model.Start();
+  for (Assignment& a : StartAssignments(model.model(), start)) out.push_back(std::move(a));
   return out;
 }
 
@@ -229,7 +216,7 @@ void BindTrajectory(nb::module_& m) {
               t.html = RunLong([&](StopToken) {
                 return ReportHtml([&](const std::string& path) {
                   WriteRunReport(path, *t.ran, t.Names(), t.values, t.rows, t.result,
-                                 PythonInfo("run"));
+                                 PythonReportInfo("run", false));
                 });
               });
             }
@@ -366,7 +353,8 @@ void BindInspect(nb::module_& m) {
             if (d.html.empty()) {
               MujocoCallScope scope;
               d.html = ReportHtml([&](const std::string& path) {
-                WriteInspectReport(path, *d.model, d.description, PythonInfo("inspect"));
+                WriteInspectReport(path, *d.model, d.description,
+                                   PythonReportInfo("inspect", false));
               });
             }
             return d.html;
@@ -544,7 +532,7 @@ void BindRender(nb::module_& m) {
               f.html = RunLong([&](StopToken) {
                 return ReportHtml([&](const std::string& path) {
                   WriteRenderReport(path, *f.model, f.rgb, f.frames, f.width, f.height, f.fps,
-                                    PythonInfo("render"));
+                                    PythonReportInfo("render", false));
                 });
               });
             }

@@ -176,4 +176,20 @@ std::vector<Assignment> PoseFileAssignments(const Model& model, const std::strin
   return out;
 }
 
+std::vector<Assignment> StartAssignments(
+    const Model& model, const StartSpec& start,
+    const std::function<void(const char* argument, const Assignment& a)>& warn) {
+  std::vector<Assignment> out = KeyframeAssignments(model, start.keyframe);
+  auto add = [&](const char* argument, Assignment a) {
+    if (warn && !a.warnings.empty()) warn(argument, a);
+    out.push_back(std::move(a));
+  };
+  if (!start.pose.empty()) {
+    for (Assignment& a : PoseFileAssignments(model, start.pose)) add("pose", std::move(a));
+  }
+  if (!start.qpos.empty()) add("qpos", QposAssignment(model, start.qpos));
+  for (const std::string& text : start.sets) add("set", ParseAssignment(model, text));
+  return out;
+}
+
 }  // namespace plumb
