@@ -266,7 +266,7 @@ def test_a_python_store_is_the_clis(pendulum, tmp_path, cli_json):
     resumed = _rollout(pendulum, db=db2, resume=True)
     assert resumed.to_json() == whole.to_json()
     assert resumed.summary["resumed"] == 6 and resumed.summary["run_now"] == 6
-    assert "(6 stored before this --resume, 6 run now)" in repr(resumed)
+    assert "(6 stored before it resumed, 6 run now)" in repr(resumed)
     assert len(_stored(db2)) == 12
 
 

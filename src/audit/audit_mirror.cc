@@ -100,7 +100,7 @@ void Mismatch(const Model& model, const char* layer, const char* check, int obj,
            fmt::format("{} differ by {:.3g}%: {}", what, 100 * difference, values),
            fmt::format("<= {:g}% apart", 100 * kMirrorTolerance), CheckStatus::kWarn,
            fmt::format("a mirror pair should agree in {}: one side was edited without the other "
-                       "(or the pair is not a mirror: --accept it)",
+                       "(or the pair is not a mirror: accept it in an accept list)",
                        what)),
       {difference, ""}, {kMirrorTolerance, ""});
   row.element = ElementOf(model, obj, a, noun);

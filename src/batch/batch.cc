@@ -241,7 +241,7 @@ std::string BatchSummary::Text(const std::vector<std::string>& names, const std:
   long all = run_now + resumed;
   std::string summary = fmt::format(
       "\n{} {}{}, {} diverged ({:.1f}%), {:.1f} {}/s\n", all, unit,
-      resumed ? fmt::format(" ({} stored before this --resume, {} run now)", resumed, run_now) : "",
+      resumed ? fmt::format(" ({} stored before it resumed, {} run now)", resumed, run_now) : "",
       diverged, all ? 100.0 * diverged / all : 0.0, seconds > 0 ? run_now / seconds : 0.0, unit);
   for (std::size_t k = 0; k < metrics.size(); ++k) {
     const SummaryStatistics& s = metrics[k];

@@ -166,14 +166,14 @@ CheckRow ThroughputCheck(const Model& model, const Model& loaded, const Data& st
         "the GPU engine is {:.2g}x plumb's CPU rollout at {} worlds: "
         "it does not pay for this model at this size",
         ratio, o.worlds);
-    row.fix = "raise --worlds: GPU engines need thousands of worlds to fill the device";
+    row.fix = "raise the number of worlds: GPU engines need thousands of them to fill the device";
   } else {
     row.status = CheckStatus::kPass;
     row.explanation =
         o.device == "cpu"
             ? fmt::format(
                   "ratio {:.2g}; CPU figures: the engine runs on the CPU here, which is "
-                  "for development; GPU figures need --device cuda",
+                  "for development; GPU figures need the cuda device",
                   ratio)
             : fmt::format("the GPU engine is {:.2g}x plumb's CPU rollout", ratio);
   }

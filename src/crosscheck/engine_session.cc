@@ -152,14 +152,15 @@ EngineSession::EngineSession(const EngineSetup& setup, const std::string& engine
   for (const std::string& file : {setup.python, setup.adapter}) {
     if (file.empty() || access(file.c_str(), R_OK) != 0) {
       throw UnavailableError(fmt::format(
-          "the {} engine's {} is missing ({}): run `plumb crosscheck --setup --engine {}` to "
-          "make its virtual environment (it downloads from PyPI)",
+          "the {} engine's {} is missing ({}): run `{}` to make its virtual environment (it "
+          "downloads from PyPI)",
           engine, file == setup.python ? "Python" : "adapter", file.empty() ? "not found" : file,
-          engine));
+          EngineSetupCommand(engine)));
     }
   }
   process_ = std::make_unique<EngineProcess>(
-      std::vector<std::string>{setup.python, setup.adapter, "--engine", engine, "--device", device},
+      std::vector<std::string>{setup.python, setup.adapter, "--engine", engine,  // argv
+                               "--device", device},                              // argv
       setup.env);
   EngineReply hello = Ask({{"op", "hello"}, {"protocol", kProtocol}}, {});
   const nlohmann::json& h = hello.header;

@@ -15,6 +15,10 @@
 
 namespace plumb {
 
+// The command that makes `engine`'s environment ahead of a run ("plumb crosscheck --setup
+// --engine warp"), which the messages about a missing environment tell the user to run.
+std::string EngineSetupCommand(const std::string& engine);
+
 // One contact as both sides report it.
 struct StageContact {
   int world = 0;

@@ -106,9 +106,8 @@ void MakeEngineEnvironment(const std::string& engine, const EngineSetup& setup) 
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     throw UnavailableError(fmt::format(
         "plumb crosscheck: could not make the {} engine's environment in {} ({} said why, above); "
-        "it needs python3-venv and PyPI: run `plumb crosscheck --setup --engine {}` where the "
-        "network is reachable",
-        engine, venv, script, engine));
+        "it needs python3-venv and PyPI: run `{}` where the network is reachable",
+        engine, venv, script, EngineSetupCommand(engine)));
   }
 }
 
@@ -116,6 +115,10 @@ EngineSetup ReadyEngineSetup(const std::string& engine) {
   EngineSetup setup = FindEngineSetup(engine);
   if (!EngineEnvironmentReady(setup)) MakeEngineEnvironment(engine, setup);
   return setup;
+}
+
+std::string EngineSetupCommand(const std::string& engine) {
+  return "plumb crosscheck --setup --engine " + engine;  // command
 }
 
 }  // namespace plumb

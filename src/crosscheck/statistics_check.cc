@@ -147,7 +147,7 @@ CheckRow MetricRow(const Metric& metric, const std::vector<double>& cpu,
     row.explanation =
         "undecided: the interval straddles the margin; equivalence is not shown "
         "(not the same as a difference)";
-    row.fix = "raise --worlds to narrow the interval";
+    row.fix = "raise the number of worlds to narrow the interval";
   }
   return row;
 }

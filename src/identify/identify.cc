@@ -319,9 +319,9 @@ void WarnAboutFit(const Residuals& f, const IdentifyOptions& options, IdentifyRe
         "in the unknowns, and the estimates may sit on a plateau, not at the best fit. {}",
         result->relative_offset, kFarFromLinear,
         options.replay.window > 0
-            ? "Shorter windows (--window) keep each simulation closer to the log."
+            ? "Shorter replay windows keep each simulation closer to the log."
             : "A simulation of the whole log is too sensitive to its start (contacts, a fall, "
-              "chaos): fit in windows that restart from the logged state (--window 0.25, "
+              "chaos): fit in windows that restart from the logged state (a window of 0.25 s, "
               "multiple shooting)."));
   }
   if (!f.fit_starts()) {

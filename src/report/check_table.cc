@@ -184,7 +184,7 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
   const VerifyHorizon& h = report.horizon;
   if (!h.shortened()) return table;
   return table + Wrap(fmt::format("Judged on {:g} s of simulated time ({} steps), not {:g} s: {}. "
-                                  "--until {:g} judges {:g} s.",
+                                  "An until of {:g} s, given, judges {:g} s.",
                                   h.until, h.steps, h.requested, h.why, h.requested, h.requested),
                       kWidth, "");
 }

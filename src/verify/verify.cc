@@ -96,7 +96,8 @@ VerifyHorizon NominalLength(const VerifyOptions& options, const mjModel* m, doub
 void SayShortHorizon(const VerifyHorizon& h, CheckRow& row) {
   if (!h.shortened() || row.status == CheckStatus::kSkip) return;
   row.explanation += fmt::format(
-      " Judged on {:g} s simulated ({} steps), not {:g} s: {}; --until {:g} judges longer.",
+      " Judged on {:g} s simulated ({} steps), not {:g} s: {}; an until of {:g} s, given, judges "
+      "longer.",
       h.until, h.steps, h.requested, h.why, h.requested);
 }
 

@@ -183,7 +183,7 @@ TEST(CliSignalsTest, ASummaryAfterResumeCoversEveryRow) {
   CommandResult resumed = RunPlumb(base + " --resume --threads 2", dir.path());
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.err.find("20000 rollouts (" + std::to_string(stored) +
-                             " stored before this --resume"),
+                             " stored before it resumed"),
             std::string::npos)
       << resumed.err;
   EXPECT_NE(resumed.err.find("qpos[hinge]@0.1: n 20000 "), std::string::npos) << resumed.err;

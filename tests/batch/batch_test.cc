@@ -142,7 +142,7 @@ TEST(BatchTest, TheSummaryCountsResumedRowsAndEachMetric) {
   summary.resumed = 1;
   summary.run_now = 3;
   std::string text = summary.Text({"x", "y"}, "rollouts", 0);
-  EXPECT_NE(text.find("4 rollouts (1 stored before this --resume, 3 run now), 1 diverged (25.0%)"),
+  EXPECT_NE(text.find("4 rollouts (1 stored before it resumed, 3 run now), 1 diverged (25.0%)"),
             std::string::npos)
       << text;
   EXPECT_NE(text.find("x: n 4 mean 1.5 "), std::string::npos) << text;
