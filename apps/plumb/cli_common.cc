@@ -142,17 +142,6 @@ std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pos
               : plumb::StartAssignments(model, start);
 }
 
-std::string PoseConfig(const Model& model, const StartPose& pose) {
-  std::string config;
-  for (const Assignment& a : PoseAssignments(model, pose, false)) {
-    config += " pose=" + a.path.text + "=";
-    for (std::size_t i = 0; i < a.values.size(); ++i) {
-      config += fmt::format("{}{:.17g}", i ? "," : "", a.values[i]);
-    }
-  }
-  return config;
-}
-
 void AddStartPoseOptions(CLI::App* cmd, StartPose* pose) {
   cmd->add_option("--pose", pose->file,
                   "start from the pose in FILE: one PATH=VALUE a line as --set takes them, or a "

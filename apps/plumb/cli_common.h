@@ -84,9 +84,6 @@ void AddStartPoseOptions(CLI::App* cmd, StartPose* pose);
 // warnings are printed when `warn`. @throws as StartAssignments.
 std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose,
                                         bool warn = true);
-// What a batch's config line (--resume, merge) records of the pose: " pose=TEXT" per
-// assignment, the values as resolved, so an edited pose file is another config.
-std::string PoseConfig(const Model& model, const StartPose& pose);
 
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";

@@ -6,7 +6,7 @@
 // Example:
 //   plumb::RolloutSpec spec = ...;
 //   plumb::BatchOrigin origin{"arm.xml", {"plumb", "rollout", "arm.xml"},
-//                             plumb::StartConfig(model, "", "", {})};
+//                             plumb::StartConfig(model, plumb::StartSpec{})};
 //   plumb::StoredRun run = plumb::OpenStoredRun(db, resume, plumb::RolloutRunInfo(model, spec,
 //                                                                               origin, db));
 //   plumb::RolloutJson json(plumb::ParameterNames(spec), {"energy_drift"});
@@ -30,6 +30,7 @@
 #include <string_view>
 #include <vector>
 
+#include "plumb/keyframe.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/rollout.h"
@@ -40,11 +41,11 @@
 namespace plumb {
 
 // The part of a batch's config line that says where its runs start: the start state the model
-// restores (StartStateConfig), " keyframe=NAME", `pose` (the command line's --pose and --qpos as
-// resolved, " pose=PATH=V,..." each; empty for none) and " set=TEXT" per set assignment as
-// typed, in that order.
-std::string StartConfig(const Model& model, const std::string& keyframe, const std::string& pose,
-                        const std::vector<std::string>& sets);
+// restores (StartStateConfig), " keyframe=NAME", " pose=PATH=V,..." for each assignment of the
+// pose file and the whole qpos as resolved (an edited pose file is another config), and
+// " set=TEXT" per set assignment as typed, in that order. @throws as StartAssignments does for
+// the pose file and the qpos.
+std::string StartConfig(const Model& model, const StartSpec& start);
 
 // Who asked for a batch and where its runs start: what a results store records beside its rows.
 struct BatchOrigin {

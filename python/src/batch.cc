@@ -273,7 +273,7 @@ BatchOrigin Origin(const BatchArgs& a) {
   const Model& model = a.model->model();
   return {a.model->name(),
           {a.call},
-          StartConfig(model, a.model->keyframe(), "", a.model->SetTexts(a.sets))};
+          StartConfig(model, {a.model->keyframe(), "", "", a.model->SetTexts(a.sets)})};
 }
 
 // Runs a batch into `batch` with its store (`info` in a.db): first the rows the store holds

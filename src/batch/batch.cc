@@ -50,12 +50,21 @@ std::string WhyNoEffect(const std::string& field) {
 }
 }  // namespace
 
-std::string StartConfig(const Model& model, const std::string& keyframe, const std::string& pose,
-                        const std::vector<std::string>& sets) {
+std::string StartConfig(const Model& model, const StartSpec& start) {
   std::string config = StartStateConfig(model);
-  if (!keyframe.empty()) config += " keyframe=" + keyframe;
-  config += pose;
-  for (const std::string& s : sets) config += " set=" + s;
+  if (!start.keyframe.empty()) config += " keyframe=" + start.keyframe;
+  if (!start.pose.empty() || !start.qpos.empty()) {
+    StartSpec pose;
+    pose.pose = start.pose;
+    pose.qpos = start.qpos;
+    for (const Assignment& a : StartAssignments(model, pose)) {
+      config += " pose=" + a.path.text + "=";
+      for (std::size_t i = 0; i < a.values.size(); ++i) {
+        config += fmt::format("{}{:.17g}", i ? "," : "", a.values[i]);
+      }
+    }
+  }
+  for (const std::string& s : start.sets) config += " set=" + s;
   return config;
 }
 

@@ -25,8 +25,11 @@ RolloutSpec Spec(const Model& model, std::uint64_t seed) {
 
 TEST(BatchTest, TheConfigLineNamesEverythingThatDecidesTheRowsAndNothingElse) {
   Model model = Model::Load(testing::kPendulum);
-  std::string start = StartConfig(model, "", "", {"qpos[hinge]=0.7"});
+  std::string start = StartConfig(model, {"", "", "", {"qpos[hinge]=0.7"}});
   EXPECT_EQ(start, " set=qpos[hinge]=0.7");
+  // a whole qpos enters as its values: the same numbers written two ways are one config
+  EXPECT_EQ(StartConfig(model, {"", "", "0.5", {}}), StartConfig(model, {"", "", "5e-1", {}}));
+  EXPECT_EQ(StartConfig(model, {"", "", "0.5", {}}), " pose=qpos=0.5");
   RolloutSpec spec = Spec(model, 1);
   std::string config = RolloutConfig(spec, "abc", start);
   EXPECT_EQ(config.rfind("rollout model=abc count=4 until=2 seed=1 ctrl_noise=0 plumb=", 0), 0u)

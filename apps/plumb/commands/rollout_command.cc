@@ -101,7 +101,7 @@ StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Mo
   StoredRun stored;
   try {
     BatchOrigin origin{o.model, ctx.argv,
-                       StartConfig(model, o.keyframe, PoseConfig(model, o.pose), o.sets)};
+                       StartConfig(model, {o.keyframe, o.pose.file, o.pose.qpos, o.sets})};
     stored = OpenBatchStore(o.db, o.resume, RolloutRunInfo(model, spec, origin, o.db));
   } catch (...) {
     MpiGo(false);

@@ -169,7 +169,7 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
 StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
                          const SweepSpec& spec) {
   BatchOrigin origin{o.model, ctx.argv,
-                     StartConfig(model, o.keyframe, PoseConfig(model, o.pose), o.sets)};
+                     StartConfig(model, {o.keyframe, o.pose.file, o.pose.qpos, o.sets})};
   return OpenBatchStore(o.db, o.resume, SweepRunInfo(model, spec, origin, o.db));
 }
 
