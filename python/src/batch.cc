@@ -79,7 +79,7 @@ struct Batch {
     for (const BatchRow& row : rows) {
       collector.Add(row.result.params, row.result.metrics, row.result.diverged);
     }
-    ReportInfo info{{"python", fmt::format("plumb.{}(...)", kind)}};
+    ReportInfo info = PythonReportInfo(kind.c_str());
     info.nominal_until = until > 0 ? until : 2.0;
     WriteBatchReport(path, kind, model->model(), sets, collector, info);
   }
@@ -233,8 +233,8 @@ struct BatchArgs {
   std::string call;  // the call as the store records its command
 };
 
-BatchArgs ReadArgs(nb::handle model, nb::handle set, std::optional<std::string> keyframe,
-                   nb::handle metrics, int threads, nb::handle db, bool resume) {
+BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyframe,
+                   StringsArg metrics, int threads, std::optional<FileArg> db, bool resume) {
   BatchArgs a;
   std::shared_ptr<PyModel> base = ToModel(model);
   a.model =
@@ -247,9 +247,7 @@ BatchArgs ReadArgs(nb::handle model, nb::handle set, std::optional<std::string> 
   }
   a.threads =
       threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (!db.is_none()) {
-    a.db = PathArg(db);
-  }
+  a.db = OptionalPathArg(db);
   a.resume = resume;
   return a;
 }
@@ -490,10 +488,10 @@ void BindBatch(nb::module_& m) {
 
   m.def(
       "rollout",
-      [](nb::handle model, long count, nb::handle randomize, std::optional<double> ctrl_noise,
-         nb::handle metrics, nb::handle set, std::optional<std::string> keyframe, double until,
-         int threads, std::uint64_t seed, std::optional<std::string> shard, nb::handle db,
-         bool resume) {
+      [](ModelArg model, long count, StringsArg randomize, std::optional<double> ctrl_noise,
+         StringsArg metrics, SetArg set, std::optional<std::string> keyframe, double until,
+         int threads, std::uint64_t seed, std::optional<std::string> shard,
+         std::optional<FileArg> db, bool resume) {
         BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
         a.until = until;
         a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
@@ -518,9 +516,9 @@ void BindBatch(nb::module_& m) {
 
   m.def(
       "sweep",
-      [](nb::handle model, nb::handle vary, nb::handle metrics, nb::handle set,
+      [](ModelArg model, StringsArg vary, StringsArg metrics, SetArg set,
          std::optional<std::string> keyframe, std::optional<double> until, int threads,
-         nb::handle db, bool resume) {
+         std::optional<FileArg> db, bool resume) {
         BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
         a.until = until.value_or(0);
         a.call = fmt::format("plumb.sweep({})", a.model->name());
