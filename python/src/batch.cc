@@ -12,8 +12,10 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "common.h"
 #include "plumb/error.h"
@@ -26,11 +28,100 @@
 namespace plumb::python {
 namespace {
 
-// One case of a batch: its store row, and for a sweep each metric's measurement (the JSON says
-// why each unmeasured one is missing).
-struct BatchRow {
-  RolloutResult result;
-  std::vector<Measurement> measurements;
+// A case's metrics that could not be measured, each with why: (metric, reason).
+using Unmeasured = std::vector<std::pair<std::size_t, std::string>>;
+// What a batch calls with each case as it finishes.
+using Keep = std::function<void(const RolloutResult&, const Unmeasured&)>;
+
+// The cases of a batch, column by column: a few numbers a case (a million rollouts hold tens of
+// megabytes, not the hundreds their result structs would), and the rare texts by case index.
+class BatchTable {
+ public:
+  void Resize(std::size_t parameters, std::size_t metrics) {
+    nparams_ = parameters;
+    nmetrics_ = metrics;
+  }
+
+  // Case `r`; for a sweep, `unmeasured` gives each metric that could not be measured its
+  // reason (the JSON says it per metric).
+  void Add(const RolloutResult& r, const Unmeasured& unmeasured) {
+    index_.push_back(r.index);
+    params_.insert(params_.end(), r.params.begin(), r.params.end());
+    metrics_.insert(metrics_.end(), r.metrics.begin(), r.metrics.end());
+    diverged_.push_back(r.diverged ? 1 : 0);
+    diverged_time_.push_back(r.diverged ? r.diverged_time : NAN);
+    if (!r.problem.empty()) problems_[r.index] = r.problem;
+    for (const auto& [m, why] : unmeasured) unmeasured_[{r.index, m}] = why;
+  }
+
+  // Puts the cases in index order (a resume adds those run now after those stored).
+  void SortByIndex() {
+    std::vector<std::size_t> order(index_.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t x, std::size_t y) { return index_[x] < index_[y]; });
+    Permute(order, 1, &index_);
+    Permute(order, nparams_, &params_);
+    Permute(order, nmetrics_, &metrics_);
+    Permute(order, 1, &diverged_);
+    Permute(order, 1, &diverged_time_);
+  }
+
+  std::size_t size() const { return index_.size(); }
+  const std::vector<std::int64_t>& index() const { return index_; }
+  const std::vector<double>& params() const { return params_; }
+  const std::vector<double>& metrics() const { return metrics_; }
+  const std::vector<std::uint8_t>& diverged() const { return diverged_; }
+  const std::vector<double>& diverged_time() const { return diverged_time_; }
+  const std::string& Problem(std::size_t k) const {
+    static const std::string kNone;
+    auto it = problems_.find(index_[k]);
+    return it == problems_.end() ? kNone : it->second;
+  }
+
+  // Case `k` as the library's result row.
+  RolloutResult Result(std::size_t k) const {
+    RolloutResult r;
+    r.index = index_[k];
+    r.params.assign(params_.begin() + k * nparams_, params_.begin() + (k + 1) * nparams_);
+    r.metrics.assign(metrics_.begin() + k * nmetrics_, metrics_.begin() + (k + 1) * nmetrics_);
+    r.diverged = diverged_[k] != 0;
+    r.diverged_time = r.diverged ? diverged_time_[k] : 0;
+    r.problem = Problem(k);
+    return r;
+  }
+
+  // Case `k`'s metrics as a sweep measured them: a value, or not measured and why.
+  std::vector<Measurement> Measurements(std::size_t k) const {
+    std::vector<Measurement> out(nmetrics_);
+    for (std::size_t m = 0; m < nmetrics_; ++m) {
+      out[m].value = metrics_[k * nmetrics_ + m];
+      auto it = unmeasured_.find({index_[k], m});
+      out[m].ok = it == unmeasured_.end();
+      if (!out[m].ok) out[m].problem = it->second;
+    }
+    return out;
+  }
+
+ private:
+  template <typename T>
+  static void Permute(const std::vector<std::size_t>& order, std::size_t width,
+                      std::vector<T>* column) {
+    std::vector<T> sorted;
+    sorted.reserve(column->size());
+    for (std::size_t k : order) {
+      sorted.insert(sorted.end(), column->begin() + k * width, column->begin() + (k + 1) * width);
+    }
+    column->swap(sorted);
+  }
+
+  std::size_t nparams_ = 0, nmetrics_ = 0;
+  std::vector<std::int64_t> index_;
+  std::vector<double> params_, metrics_;  // row major
+  std::vector<std::uint8_t> diverged_;
+  std::vector<double> diverged_time_;  // NaN for a case that did not diverge
+  std::map<long, std::string> problems_;
+  std::map<std::pair<long, std::size_t>, std::string> unmeasured_;  // (case, metric): why
 };
 
 // plumb.Batch: every case of a sweep or a rollout batch in index order (those a resume found
@@ -42,7 +133,7 @@ struct Batch {
   std::vector<std::string> parameters, metrics;
   double until = 0;  // s; a sweep's 0: each metric's default
   std::string db;
-  std::vector<BatchRow> rows;
+  BatchTable rows;
   BatchSummary summary{0};
   double seconds = 0;              // the cases run now took
   std::vector<std::string> notes;  // a sweep's axes that changed nothing (SweepEffects)
@@ -54,13 +145,14 @@ struct Batch {
     if (kind == "rollout") {
       RolloutJson json(parameters, metrics);
       text = json.Begin();
-      for (const BatchRow& row : rows) text += json.Row(row.result);
+      for (std::size_t k = 0; k < rows.size(); ++k) text += json.Row(rows.Result(k));
       return text + json.End();
     }
     SweepJson json(model->name(), parameters, metrics);
     text = json.Begin();
-    for (const BatchRow& row : rows) {
-      text += json.Row(row.result.index, row.result.params, row.measurements);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      RolloutResult r = rows.Result(k);
+      text += json.Row(r.index, r.params, rows.Measurements(k));
     }
     return text + json.End();
   }
@@ -76,8 +168,9 @@ struct Batch {
   // The --report page of the command.
   void WriteReport(const std::string& path) const {
     BatchCollector collector(parameters, metrics);
-    for (const BatchRow& row : rows) {
-      collector.Add(row.result.params, row.result.metrics, row.result.diverged);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      RolloutResult r = rows.Result(k);
+      collector.Add(r.params, r.metrics, r.diverged);
     }
     ReportInfo info = PythonReportInfo(kind.c_str());
     info.nominal_until = until > 0 ? until : 2.0;
@@ -102,42 +195,27 @@ nb::object OwnedArray(std::vector<T>&& values) {
   return nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(owned->data(), {owned->size()}, owner));
 }
 
-// The rows x columns matrix of the case's parameters (`metrics` false) or metrics.
+// The len x columns matrix of the cases' parameters (`metrics` false) or metrics.
 nb::object RowMatrix(const Batch& b, bool metrics) {
-  std::size_t cols = metrics ? b.metrics.size() : b.parameters.size();
-  std::vector<double> values;
-  values.reserve(b.rows.size() * cols);
-  for (const BatchRow& row : b.rows) {
-    const std::vector<double>& v = metrics ? row.result.metrics : row.result.params;
-    values.insert(values.end(), v.begin(), v.end());
-  }
-  return Matrix(std::move(values), b.rows.size(), cols);
+  std::vector<double> values = metrics ? b.rows.metrics() : b.rows.params();
+  return Matrix(std::move(values), b.rows.size(), metrics ? b.metrics.size() : b.parameters.size());
 }
 
 nb::object IndexArray(const Batch& b) {
-  std::vector<std::int64_t> index;
-  for (const BatchRow& row : b.rows) index.push_back(row.result.index);
-  return OwnedArray(std::move(index));
+  return OwnedArray(std::vector<std::int64_t>(b.rows.index()));
 }
 
 nb::object DivergedArray(const Batch& b) {
-  std::vector<bool> flags;
-  for (const BatchRow& row : b.rows) flags.push_back(row.result.diverged);
-  // std::vector<bool> packs bits: numpy needs one byte each
-  std::vector<std::uint8_t> bytes(flags.begin(), flags.end());
-  return OwnedArray(std::move(bytes)).attr("astype")("bool");
+  return OwnedArray(std::vector<std::uint8_t>(b.rows.diverged())).attr("astype")("bool");
 }
 
 nb::object DivergedTimes(const Batch& b) {
-  std::vector<double> times;
-  for (const BatchRow& row : b.rows)
-    times.push_back(row.result.diverged ? row.result.diverged_time : NAN);
-  return OwnedArray(std::move(times));
+  return OwnedArray(std::vector<double>(b.rows.diverged_time()));
 }
 
 nb::list Problems(const Batch& b) {
   nb::list out;
-  for (const BatchRow& row : b.rows) out.append(nb::str(row.result.problem.c_str()));
+  for (std::size_t k = 0; k < b.rows.size(); ++k) out.append(nb::str(b.rows.Problem(k).c_str()));
   return out;
 }
 
@@ -274,43 +352,42 @@ BatchOrigin Origin(const BatchArgs& a) {
           StartConfig(model, {a.model->keyframe(), "", "", a.model->SetTexts(a.sets)})};
 }
 
-// Runs a batch into `batch` with its store (`info` in a.db): first the rows the store holds
-// (`stored` makes each one's BatchRow, or nothing for a row not of this batch), then `run(keep)`
-// runs the rest, calling keep with each case as it finishes, which stores it. On a stop (Ctrl-C:
-// the caller raises KeyboardInterrupt) what finished is committed to the store; at the end the
-// run is marked complete when it holds all `total` cases.
+// Runs a batch into `batch` with its store (`info` in a.db): first the cases the store holds
+// (`stored` gives each one's unmeasured metrics, or nothing for a case not of this batch), then
+// `run(done, keep)` runs the rest, calling keep with each case as it finishes, which stores it.
+// On a stop (Ctrl-C: the caller raises KeyboardInterrupt) what finished is committed to the
+// store; at the end the run is marked complete when it holds all `total` cases.
 template <typename FromStore, typename Run>
-void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total,
-              FromStore&& stored_row, Run&& run) {
+void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total, FromStore&& stored,
+              Run&& run) {
   batch.summary = BatchSummary(batch.metrics.size());
-  StoredRun stored = OpenStore(a, info);
-  if (stored.store && !stored.done.empty()) {
-    stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
-      std::optional<BatchRow> row = stored_row(r);
-      if (!row) return;
+  batch.rows.Resize(batch.parameters.size(), batch.metrics.size());
+  StoredRun store = OpenStore(a, info);
+  if (store.store && !store.done.empty()) {
+    store.store->ForEachResult(store.id, [&](const RolloutResult& r) {
+      std::optional<Unmeasured> unmeasured = stored(r);
+      if (!unmeasured) return;
       ++batch.summary.resumed;
-      batch.summary.Add(row->result);
-      batch.rows.push_back(std::move(*row));
+      batch.summary.Add(r);
+      batch.rows.Add(r, *unmeasured);
     });
   }
   auto start = std::chrono::steady_clock::now();
   try {
-    run(stored.done, [&](BatchRow&& row) {
-      ++batch.summary.run_now;
-      batch.summary.Add(row.result);
-      if (stored.store) stored.store->Add(stored.id, row.result);
-      batch.rows.push_back(std::move(row));
-    });
+    run(store.done, Keep([&](const RolloutResult& r, const Unmeasured& unmeasured) {
+          ++batch.summary.run_now;
+          batch.summary.Add(r);
+          if (store.store) store.store->Add(store.id, r);
+          batch.rows.Add(r, unmeasured);
+        }));
   } catch (const Interrupted&) {
-    if (stored.store) stored.store->Commit();
+    if (store.store) store.store->Commit();
     throw;
   }
   batch.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  CompleteStoredRun(stored, total);
-  // the rows a resume found stored come first: index order
-  std::stable_sort(batch.rows.begin(), batch.rows.end(), [](const BatchRow& x, const BatchRow& y) {
-    return x.result.index < y.result.index;
-  });
+  CompleteStoredRun(store, total);
+  // the cases a resume found stored come first: index order
+  if (batch.summary.resumed > 0) batch.rows.SortByIndex();
 }
 
 // An empty batch of `kind` for the call `a`.
@@ -359,18 +436,14 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
     batch->parameters = ParameterNames(spec);
     RunBatch(
         *batch, a, RolloutRunInfo(model, spec, Origin(a), a.db), spec.count,
-        [&](const RolloutResult& r) -> std::optional<BatchRow> {
+        [&](const RolloutResult& r) -> std::optional<Unmeasured> {
           if (r.index % spec.shard_count != spec.shard_index) return std::nullopt;
-          return BatchRow{r, {}};
+          return Unmeasured{};
         },
-        [&](const std::vector<long>& done, const std::function<void(BatchRow &&)>& keep) {
+        [&](const std::vector<long>& done, const Keep& keep) {
           spec.skip = done;
           Rollout(
-              model, spec,
-              [&](const RolloutResult& r) {
-                keep({r, {}});
-              },
-              stop);
+              model, spec, [&](const RolloutResult& r) { keep(r, {}); }, stop);
         });
     return 0;
   });
@@ -396,31 +469,28 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
     batch->parameters = AxisNames(spec);
     RunBatch(
         *batch, a, SweepRunInfo(model, spec, Origin(a), a.db), CaseCount(spec.axes),
-        [&](const RolloutResult& r) -> std::optional<BatchRow> {
+        [&](const RolloutResult& r) -> std::optional<Unmeasured> {
           // a stored case keeps its metrics and its reasons joined (the store's one problem)
-          std::vector<Measurement> measured(r.metrics.size());
+          Unmeasured unmeasured;
           for (std::size_t m = 0; m < r.metrics.size(); ++m) {
-            measured[m].value = r.metrics[m];
-            measured[m].ok = !std::isnan(r.metrics[m]);
-            if (!measured[m].ok) {
-              measured[m].diverged = r.diverged;
-              measured[m].problem = r.problem;
-            }
+            if (std::isnan(r.metrics[m])) unmeasured.emplace_back(m, r.problem);
           }
-          return BatchRow{r, std::move(measured)};
+          return unmeasured;
         },
-        [&](const std::vector<long>& done, const std::function<void(BatchRow &&)>& keep) {
+        [&](const std::vector<long>& done, const Keep& keep) {
           Sweep(
               model, spec, done,
               [&](const SweepCase& c) {
-                std::vector<Measurement> measured = c.metrics;
-                for (Measurement& m : measured) m.state.clear();  // the JSON needs no state
-                keep({SweepCaseResult(spec, c), std::move(measured)});
+                Unmeasured unmeasured;
+                for (std::size_t m = 0; m < c.metrics.size(); ++m) {
+                  if (!c.metrics[m].ok) unmeasured.emplace_back(m, c.metrics[m].problem);
+                }
+                keep(SweepCaseResult(spec, c), unmeasured);
               },
               stop);
         });
     SweepEffects effects(spec);
-    for (const BatchRow& row : batch->rows) effects.See(row.result);
+    for (std::size_t k = 0; k < batch->rows.size(); ++k) effects.See(batch->rows.Result(k));
     batch->notes = effects.Notes();
     return 0;
   });

@@ -366,3 +366,18 @@ def test_a_sweep_over_a_parameter_with_no_effect_says_so(pendulum):
     assert "larger friction of its two geoms" in batch.notes[0]
     assert "note: vary 'geom_friction" in repr(batch)
     assert plumb.sweep(pendulum, VARY, METRICS, set=START).notes == []
+
+
+def test_diverged_rollouts_are_rows_with_their_time_and_reason(pendulum, cli_json):
+    # negative damping pumps energy in until MuJoCo's state check fires
+    options = ["--count", "6", "--randomize", "dof_damping[hinge]=U(-20,-10)",
+               "--metric", "qpos[hinge]@1", "--set", START[0], "--until", "1"]
+    batch = plumb.rollout(pendulum, 6, randomize="dof_damping[hinge]=U(-20,-10)",
+                          metrics="qpos[hinge]@1", set=START, until=1)
+    assert batch.to_dict() == cli_json("rollout", "models/pendulum.xml", *options)
+    assert batch.diverged.all()
+    assert ((batch.diverged_at > 0) & (batch.diverged_at < 1)).all()
+    assert all("diverged" in problem for problem in batch.problems)
+    assert np.isnan(batch.metrics).all()
+    assert batch.summary["diverged"] == 6
+    assert repr(batch).startswith("6 rollouts, 6 diverged (100.0%)")
