@@ -14,10 +14,10 @@
 #include <functional>
 #include <map>
 #include <optional>
-#include <thread>
 #include <utility>
 
 #include "common.h"
+#include "core/worker_pool.h"
 #include "plumb/error.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
@@ -323,8 +323,7 @@ BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyfra
   if (threads < 0) {
     throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
   }
-  a.threads =
-      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  a.threads = ThreadsOrAllCores(threads);
   a.db = OptionalPathArg(db);
   a.resume = resume;
   return a;
