@@ -19,11 +19,27 @@
 #include "common.h"
 #include "core/worker_pool.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 #include "plumb/report.h"
 #include "plumb/rollout.h"
 #include "plumb/rollout_csv.h"
 #include "plumb/stored_run.h"
 #include "plumb/sweep.h"
+
+namespace plumb::python {
+namespace {
+
+// A `qpos` argument: nq numbers as text ("0.1 0.2") or as a sequence, or None.
+struct QposArg {
+  nb::handle object;
+};
+
+}  // namespace
+}  // namespace plumb::python
+
+namespace nanobind::detail {
+PLUMB_ANY_OBJECT_CASTER(plumb::python::QposArg, "str | collections.abc.Sequence[float]")
+}  // namespace nanobind::detail
 
 namespace plumb::python {
 namespace {
@@ -301,8 +317,10 @@ void WithKeywords(Parse&& parse) {
 
 // What a batch call was given, in the CLI's vocabulary.
 struct BatchArgs {
-  std::shared_ptr<PyModel> model;  // with the call's keyframe
-  std::vector<std::string> sets;   // the call's own `set`
+  std::shared_ptr<PyModel> model;
+  // where every case starts, in the CLI's order: the keyframe (the call's, else the model's),
+  // the pose file, the whole qpos, then the model's and the call's `set`
+  StartSpec start;
   std::vector<std::string> metrics;
   double until = 0;
   int threads = 0;
@@ -311,14 +329,25 @@ struct BatchArgs {
   std::string call;  // the call as the store records its command
 };
 
+// A whole qpos as QposAssignment reads it: the text as given, or the numbers with 17 digits.
+std::string QposText(nb::handle qpos) {
+  if (qpos.is_none()) return "";
+  if (nb::isinstance<nb::str>(qpos)) return nb::cast<std::string>(qpos);
+  std::string text;
+  for (nb::handle v : qpos)
+    text += (text.empty() ? "" : ",") + fmt::format("{:.17g}", nb::cast<double>(v));
+  return text;
+}
+
 BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyframe,
-                   StringsArg metrics, int threads, std::optional<FileArg> db, bool resume) {
+                   std::optional<FileArg> pose, nb::handle qpos, StringsArg metrics, int threads,
+                   std::optional<FileArg> db, bool resume) {
   BatchArgs a;
-  std::shared_ptr<PyModel> base = ToModel(model);
-  a.model =
-      keyframe ? std::make_shared<PyModel>(base->shared(), base->mjmodel(), *keyframe, base->sets())
-               : base;
-  a.sets = SetTexts(set);
+  a.model = ToModel(model);
+  a.start.keyframe = keyframe.value_or(a.model->keyframe());
+  a.start.pose = OptionalPathArg(pose);
+  a.start.qpos = QposText(qpos);
+  a.start.sets = a.model->SetTexts(SetTexts(set));
   a.metrics = StringList(metrics, "metrics");
   if (threads < 0) {
     throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
@@ -346,9 +375,7 @@ StoredRun OpenStore(const BatchArgs& a, const RunInfo& info) {
 
 BatchOrigin Origin(const BatchArgs& a) {
   const Model& model = a.model->model();
-  return {a.model->name(),
-          {a.call},
-          StartConfig(model, {a.model->keyframe(), "", "", a.model->SetTexts(a.sets)})};
+  return {a.model->name(), {a.call}, StartConfig(model, a.start)};
 }
 
 // Runs a batch into `batch` with its store (`info` in a.db): first the cases the store holds
@@ -417,7 +444,7 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
     const Model& model = a.model->model();
     RolloutSpec spec;
     WithKeywords([&] {
-      spec.sets = a.model->Start(a.sets);
+      spec.sets = StartAssignments(model, a.start);
       for (const std::string& r : randomize) {
         spec.randomize.push_back(
             Keyword("randomize", r, [&] { return ParseRandomization(model, r); }));
@@ -455,7 +482,7 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
     const Model& model = a.model->model();
     SweepSpec spec;
     WithKeywords([&] {
-      spec.sets = a.model->Start(a.sets);
+      spec.sets = StartAssignments(model, a.start);
       for (const std::string& v : vary) {
         spec.axes.push_back(Keyword("vary", v, [&] { return ParseSweepAxis(model, v); }));
       }
@@ -558,10 +585,11 @@ void BindBatch(nb::module_& m) {
   m.def(
       "rollout",
       [](ModelArg model, long count, StringsArg randomize, std::optional<double> ctrl_noise,
-         StringsArg metrics, SetArg set, std::optional<std::string> keyframe, double until,
-         int threads, std::uint64_t seed, std::optional<std::string> shard,
-         std::optional<FileArg> db, bool resume) {
-        BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
+         StringsArg metrics, SetArg set, std::optional<std::string> keyframe,
+         std::optional<FileArg> pose, QposArg qpos, double until, int threads, std::uint64_t seed,
+         std::optional<std::string> shard, std::optional<FileArg> db, bool resume) {
+        BatchArgs a =
+            ReadArgs(model, set, keyframe, pose, qpos.object, metrics, threads, db, resume);
         a.until = until;
         a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
                              count, until, seed);
@@ -570,11 +598,13 @@ void BindBatch(nb::module_& m) {
       },
       nb::arg("model"), nb::arg("count"), nb::arg("randomize") = nb::none(),
       nb::arg("ctrl_noise") = nb::none(), nb::arg("metrics") = nb::none(), nb::kw_only(),
-      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("until") = 2.0,
-      nb::arg("threads") = 0, nb::arg("seed") = 0, nb::arg("shard") = nb::none(),
-      nb::arg("db") = nb::none(), nb::arg("resume") = false,
-      "Runs `count` rollouts of the model (plumb rollout), each `until` s from the start (set, "
-      "keyframe) with parameters drawn by `randomize` ('body_mass[*]=*U(0.9,1.1)'; U, N, LogU; "
+      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("pose") = nb::none(),
+      nb::arg("qpos") = nb::none(), nb::arg("until") = 2.0, nb::arg("threads") = 0,
+      nb::arg("seed") = 0, nb::arg("shard") = nb::none(), nb::arg("db") = nb::none(),
+      nb::arg("resume") = false,
+      "Runs `count` rollouts of the model (plumb rollout), each `until` s from the start (as the "
+      "CLI orders them: keyframe, pose file, whole qpos, set) with parameters drawn by `randomize` "
+      "('body_mass[*]=*U(0.9,1.1)'; U, N, LogU; "
       "*DIST scales, +DIST offsets the nominal value) and control noise `ctrl_noise` (a "
       "fraction of each ctrlrange), measuring `metrics` ('xpos[torso][2]@1', energy_drift, "
       "...). threads=0 uses every core; results are identical for any thread count. shard='I/N' "
@@ -586,19 +616,22 @@ void BindBatch(nb::module_& m) {
   m.def(
       "sweep",
       [](ModelArg model, StringsArg vary, StringsArg metrics, SetArg set,
-         std::optional<std::string> keyframe, std::optional<double> until, int threads,
-         std::optional<FileArg> db, bool resume) {
-        BatchArgs a = ReadArgs(model, set, keyframe, metrics, threads, db, resume);
+         std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos,
+         std::optional<double> until, int threads, std::optional<FileArg> db, bool resume) {
+        BatchArgs a =
+            ReadArgs(model, set, keyframe, pose, qpos.object, metrics, threads, db, resume);
         a.until = until.value_or(0);
         a.call = fmt::format("plumb.sweep({})", a.model->name());
         return RunSweep(a, StringList(vary, "vary"));
       },
       nb::arg("model"), nb::arg("vary"), nb::arg("metrics"), nb::kw_only(),
-      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("until") = nb::none(),
-      nb::arg("threads") = 0, nb::arg("db") = nb::none(), nb::arg("resume") = false,
+      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("pose") = nb::none(),
+      nb::arg("qpos") = nb::none(), nb::arg("until") = nb::none(), nb::arg("threads") = 0,
+      nb::arg("db") = nb::none(), nb::arg("resume") = false,
       "Measures `metrics` over the Cartesian product of the `vary` axes (plumb sweep): "
       "'PATH=V1,V2,...' or 'PATH=START:STOP:COUNT', the first axis slowest, each case from the "
-      "start (set, keyframe). until: the run length (s) of period/maxabs/energy_drift metrics "
+      "start (keyframe, pose file, whole qpos, set). until: the run length (s) of "
+      "period/maxabs/energy_drift metrics "
       "(None: 20 s for period, else 2 s). threads=0 uses every core; results are identical for "
       "any thread count. db= and resume=True as in plumb.rollout. Returns a plumb.Batch; raises "
       "plumb.ArgumentError naming the keyword for a bad argument, KeyboardInterrupt on Ctrl-C.");

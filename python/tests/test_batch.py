@@ -381,3 +381,32 @@ def test_diverged_rollouts_are_rows_with_their_time_and_reason(pendulum, cli_jso
     assert np.isnan(batch.metrics).all()
     assert batch.summary["diverged"] == 6
     assert repr(batch).startswith("6 rollouts, 6 diverged (100.0%)")
+
+
+def test_pose_and_qpos_start_the_cases_as_the_cli_does(arm, tmp_path, cli_json):
+    pose = tmp_path / "pose.txt"
+    pose.write_text("qpos[hinge]=1.2\n")
+    common = ["--count", "4", "--randomize", "dof_damping[hinge]=*U(0.5,1.5)",
+              "--metric", "qpos[hinge]@0.5", "--until", "0.5"]
+    options = dict(randomize="dof_damping[hinge]=*U(0.5,1.5)", metrics="qpos[hinge]@0.5",
+                   until=0.5)
+    from_file = plumb.rollout(arm, 4, pose=pose, **options)
+    assert from_file.to_dict() == cli_json("rollout", arm, *common, "--pose", str(pose))
+    from_qpos = plumb.rollout(arm, 4, qpos=[1.2], **options)
+    assert from_qpos.to_dict() == cli_json("rollout", arm, *common, "--qpos", "1.2")
+    assert from_qpos.to_json() == from_file.to_json() == plumb.rollout(
+        arm, 4, keyframe="up", **options).to_json()
+    sweep = plumb.sweep(arm, "dof_damping[hinge]=0,1", "qpos[hinge]@0.5", qpos="1.2")
+    theirs = cli_json("sweep", arm, "--vary", "dof_damping[hinge]=0,1",
+                      "--metric", "qpos[hinge]@0.5", "--qpos", "1.2")
+    ours = sweep.to_dict()
+    ours.pop("model"), theirs.pop("model")
+    assert ours == theirs
+    # the config line holds the qpos as its value: the CLI's --resume continues a Python batch
+    db = str(tmp_path / "q.sqlite")
+    plumb.rollout(arm, 4, qpos=[1.2], shard="0/2", db=db, **options)
+    rest = cli_json("rollout", arm, *common, "--qpos", "1.2", "--db", db, "--resume")
+    assert [row["rollout"] for row in rest] == [1, 3]
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.rollout(arm, 2, qpos=[1.0, 2.0])
+    assert caught.value.argument == "qpos"
