@@ -29,21 +29,6 @@
 namespace plumb::python {
 namespace {
 
-// A `qpos` argument: nq numbers as text ("0.1 0.2") or as a sequence, or None.
-struct QposArg {
-  nb::handle object;
-};
-
-}  // namespace
-}  // namespace plumb::python
-
-namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::QposArg, "str | collections.abc.Sequence[float]")
-}  // namespace nanobind::detail
-
-namespace plumb::python {
-namespace {
-
 // A case's metrics that could not be measured, each with why: (metric, reason).
 using Unmeasured = std::vector<std::pair<std::size_t, std::string>>;
 // What a batch calls with each case as it finishes.
@@ -329,25 +314,12 @@ struct BatchArgs {
   std::string call;  // the call as the store records its command
 };
 
-// A whole qpos as QposAssignment reads it: the text as given, or the numbers with 17 digits.
-std::string QposText(nb::handle qpos) {
-  if (qpos.is_none()) return "";
-  if (nb::isinstance<nb::str>(qpos)) return nb::cast<std::string>(qpos);
-  std::string text;
-  for (nb::handle v : qpos)
-    text += (text.empty() ? "" : ",") + fmt::format("{:.17g}", nb::cast<double>(v));
-  return text;
-}
-
 BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyframe,
-                   std::optional<FileArg> pose, nb::handle qpos, StringsArg metrics, int threads,
+                   std::optional<FileArg> pose, QposArg qpos, StringsArg metrics, int threads,
                    std::optional<FileArg> db, bool resume) {
   BatchArgs a;
   a.model = ToModel(model);
-  a.start.keyframe = keyframe.value_or(a.model->keyframe());
-  a.start.pose = OptionalPathArg(pose);
-  a.start.qpos = QposText(qpos);
-  a.start.sets = a.model->SetTexts(SetTexts(set));
+  a.start = a.model->Spec(keyframe, OptionalPathArg(pose), QposText(qpos), SetTexts(set));
   a.metrics = StringList(metrics, "metrics");
   if (threads < 0) {
     throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
@@ -588,8 +560,7 @@ void BindBatch(nb::module_& m) {
          StringsArg metrics, SetArg set, std::optional<std::string> keyframe,
          std::optional<FileArg> pose, QposArg qpos, double until, int threads, std::uint64_t seed,
          std::optional<std::string> shard, std::optional<FileArg> db, bool resume) {
-        BatchArgs a =
-            ReadArgs(model, set, keyframe, pose, qpos.object, metrics, threads, db, resume);
+        BatchArgs a = ReadArgs(model, set, keyframe, pose, qpos, metrics, threads, db, resume);
         a.until = until;
         a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
                              count, until, seed);
@@ -618,8 +589,7 @@ void BindBatch(nb::module_& m) {
       [](ModelArg model, StringsArg vary, StringsArg metrics, SetArg set,
          std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos,
          std::optional<double> until, int threads, std::optional<FileArg> db, bool resume) {
-        BatchArgs a =
-            ReadArgs(model, set, keyframe, pose, qpos.object, metrics, threads, db, resume);
+        BatchArgs a = ReadArgs(model, set, keyframe, pose, qpos, metrics, threads, db, resume);
         a.until = until.value_or(0);
         a.call = fmt::format("plumb.sweep({})", a.model->name());
         return RunSweep(a, StringList(vary, "vary"));

@@ -51,18 +51,23 @@ PyObject* NewError(nb::module_& m, const char* name, nb::handle bases, const cha
 }
 
 std::string ValueText(nb::handle value) {
-  if (nb::isinstance<nb::bool_>(value)) return nb::cast<bool>(value) ? "1" : "0";
-  if (nb::isinstance<nb::int_>(value)) return nb::str(value).c_str();
-  if (nb::isinstance<nb::float_>(value)) return fmt::format("{:.17g}", nb::cast<double>(value));
   if (nb::isinstance<nb::str>(value)) return nb::cast<std::string>(value);
-  // a sequence of numbers (opt.gravity, a free joint's qpos): comma separated
-  if (nb::hasattr(value, "__iter__")) {
+  if (nb::isinstance<nb::bool_>(value)) return nb::cast<bool>(value) ? "1" : "0";
+  // a sequence of numbers (opt.gravity, a free joint's qpos, a numpy array): comma separated
+  if (nb::hasattr(value, "__iter__") &&
+      !(nb::hasattr(value, "ndim") && value.attr("ndim").equal(nb::int_(0)))) {
     std::string out;
     for (nb::handle item : value) {
       if (!out.empty()) out += ",";
       out += ValueText(item);
     }
     return out;
+  }
+  if (PyIndex_Check(value.ptr())) return nb::str(nb::int_(value)).c_str();  // int, numpy ints
+  if (PyNumber_Check(value.ptr()) && nb::hasattr(value, "__float__")) {
+    // the shortest text that reads back as the same double (Python's repr): 0.7 is "0.7", as
+    // the command line's --set takes it, so both name the same stored batch
+    return nb::cast<std::string>(nb::repr(nb::float_(value)));
   }
   throw nb::type_error(fmt::format("set: a value must be a number, a string or a sequence of "
                                    "numbers, not {}",
@@ -79,8 +84,9 @@ PyModel::PyModel(std::shared_ptr<Model> model, nb::object mjmodel, std::string k
       keyframe_(std::move(keyframe)),
       sets_(std::move(sets)) {}
 
-std::vector<Assignment> PyModel::Start(const std::vector<std::string>& more) const {
-  return StartAssignments(*model_, {keyframe_, "", "", SetTexts(more)});
+StartSpec PyModel::Spec(const std::optional<std::string>& keyframe, const std::string& pose,
+                        const std::string& qpos, const std::vector<std::string>& more) const {
+  return {keyframe.value_or(keyframe_), pose, qpos, SetTexts(more)};
 }
 
 std::vector<std::string> PyModel::SetTexts(const std::vector<std::string>& more) const {
@@ -139,6 +145,14 @@ std::vector<std::string> SetTexts(nb::handle set) {
   }
   for (nb::handle item : set) out.push_back(nb::cast<std::string>(item));
   return out;
+}
+
+std::string QposText(QposArg qpos) {
+  if (qpos.object.is_none()) return "";
+  if (nb::isinstance<nb::str>(qpos.object)) return nb::cast<std::string>(qpos.object);
+  std::string text;
+  for (nb::handle v : qpos.object) text += (text.empty() ? "" : ",") + ValueText(v);
+  return text;
 }
 
 std::vector<std::string> StringList(nb::handle value, const char* argument) {

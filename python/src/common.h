@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "plumb/check.h"
+#include "plumb/keyframe.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/report.h"
@@ -51,6 +52,9 @@ struct StringsArg {  // "text" | ["text", ...] | None
 struct FileArg {  // str | os.PathLike
   nb::handle object;
 };
+struct QposArg {  // nq numbers: "0.1 0.2" | [0.1, 0.2] (or None)
+  nb::handle object;
+};
 
 // plumb.Model: a compiled model and the start it was loaded with (a keyframe, then `set`
 // assignments). Made from a path (plumb owns the model) or from a mujoco.MjModel, which it
@@ -69,9 +73,16 @@ class PyModel {
   // The file it came from, or "<MjModel 'NAME'>" for a wrapped MjModel.
   const std::string& name() const { return model_->file(); }
 
-  // The assignments a call starts from: the keyframe, the load's `set`, then `more` (the
-  // call's own `set`, CLI syntax "PATH=VALUE"). @throws PathError / ArgumentError.
-  std::vector<Assignment> Start(const std::vector<std::string>& more = {}) const;
+  // What a call starts from, in the CLI's words: the call's keyframe (else the load's), its
+  // pose file and whole qpos, then the load's `set` and the call's (`more`, "PATH=VALUE").
+  StartSpec Spec(const std::optional<std::string>& keyframe = std::nullopt,
+                 const std::string& pose = "", const std::string& qpos = "",
+                 const std::vector<std::string>& more = {}) const;
+  // Its assignments, in the order a run applies them (StartAssignments).
+  // @throws PathError / ArgumentError / ValueError for what the model refuses.
+  std::vector<Assignment> Start(const std::vector<std::string>& more = {}) const {
+    return StartAssignments(*model_, Spec(std::nullopt, "", "", more));
+  }
   // The keyframe and every `set` text, in order (the CLI's --keyframe and --set words).
   std::vector<std::string> SetTexts(const std::vector<std::string>& more = {}) const;
 
@@ -96,6 +107,9 @@ inline std::shared_ptr<PyModel> ToModel(ModelArg model) { return ToModel(model.o
 // [0, 0, -1.62], "opt.integrator": "RK4"}, or a list of "PATH=VALUE" strings. Values are
 // written with 17 significant digits, so a float goes over exactly.
 std::vector<std::string> SetTexts(nb::handle set);
+// A `qpos` argument as QposAssignment reads it: the text as given, or the numbers joined by
+// commas (each in its shortest exact form); "" for None.
+std::string QposText(QposArg qpos);
 inline std::vector<std::string> SetTexts(SetArg set) { return SetTexts(set.object); }
 // A list argument that also takes one string (randomize="body_mass[*]=*U(0.9,1.1)").
 std::vector<std::string> StringList(nb::handle value, const char* argument);
@@ -259,6 +273,7 @@ PLUMB_ANY_OBJECT_CASTER(plumb::python::SetArg,
                         "float]] | collections.abc.Sequence[str] | str")
 PLUMB_ANY_OBJECT_CASTER(plumb::python::StringsArg, "str | collections.abc.Sequence[str]")
 PLUMB_ANY_OBJECT_CASTER(plumb::python::FileArg, "str | os.PathLike")
+PLUMB_ANY_OBJECT_CASTER(plumb::python::QposArg, "str | collections.abc.Sequence[float]")
 
 }  // namespace nanobind::detail
 

@@ -26,9 +26,6 @@
 namespace plumb::python {
 
 // Arguments of run and render that take several Python types.
-struct QposArg {  // "0.1 0.2" | [0.1, 0.2] (or None)
-  nb::handle object;
-};
 struct StateArg {  // mujoco.MjData | plumb.Trajectory (or None)
   nb::handle object;
 };
@@ -36,30 +33,18 @@ struct StateArg {  // mujoco.MjData | plumb.Trajectory (or None)
 }  // namespace plumb::python
 
 namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::QposArg, "str | collections.abc.Sequence[float]")
 PLUMB_ANY_OBJECT_CASTER(plumb::python::StateArg, "mujoco.MjData | Trajectory")
 }  // namespace nanobind::detail
 
 namespace plumb::python {
 namespace {
 
-// The start a call runs from: the model's start (plumb.load), then, as the CLI orders them,
-// the call's keyframe, pose file and whole qpos, then its `set`.
+// The start a call runs from (PyModel::Spec): the call's keyframe, pose file and whole qpos,
+// then the load's and the call's `set`.
 std::vector<Assignment> CallStart(const PyModel& model, const std::optional<std::string>& keyframe,
-                                  const std::string& pose, nb::handle qpos,
+                                  const std::string& pose, QposArg qpos,
                                   const std::vector<std::string>& sets) {
-  if (!keyframe && pose.empty() && qpos.is_none()) return model.Start(sets);
-  StartSpec start{keyframe.value_or(""), pose, "", sets};
-  if (!qpos.is_none()) {
-    start.qpos = nb::isinstance<nb::str>(qpos) ? nb::cast<std::string>(qpos) : "";
-    if (start.qpos.empty()) {
-      for (nb::handle v : qpos)
-        start.qpos += (start.qpos.empty() ? "" : ",") + fmt::format("{:.17g}", nb::cast<double>(v));
-    }
-  }
-  std::vector<Assignment> out = model.Start();
-  for (Assignment& a : StartAssignments(model.model(), start)) out.push_back(std::move(a));
-  return out;
+  return StartAssignments(model.model(), model.Spec(keyframe, pose, QposText(qpos), sets));
 }
 
 // The text a sample writer of `format` writes for `rows` (row indices) of the samples.
@@ -239,8 +224,7 @@ void BindRunCall(nb::module_& m) {
         std::vector<double> samples;
         {
           MujocoCallScope scope;
-          std::vector<Assignment> start =
-              CallStart(*t->model, keyframe, pose_file, qpos.object, sets);
+          std::vector<Assignment> start = CallStart(*t->model, keyframe, pose_file, qpos, sets);
           t->ran = t->model->EditableFor(start);
           double dt = RunTimestep(*t->ran, start);
           try {
@@ -592,7 +576,7 @@ void BindRender(nb::module_& m) {
         std::unique_ptr<Data> owned;
         {
           MujocoCallScope scope;
-          start = CallStart(*pm, keyframe, "", nb::none(), sets);
+          start = CallStart(*pm, keyframe, "", QposArg{nb::none()}, sets);
           f->owner = samples ? samples->model : pm;
           f->model = samples ? samples->ran : pm->EditableFor(start);
           owned = std::make_unique<Data>(*f->model);
