@@ -234,14 +234,7 @@ nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& colu
 }
 
 nb::object Array(const std::vector<double>& values) {
-  std::vector<double> copy = values;
-  return Matrix(std::move(copy), values.size(), 1).attr("reshape")(values.size());
-}
-
-nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols) {
-  auto* owned = new std::vector<double>(std::move(values));
-  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
-  return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<2>>(owned->data(), {rows, cols}, owner));
+  return OwnedArray(std::vector<double>(values), {values.size()});
 }
 
 void BindErrors(nb::module_& m) {

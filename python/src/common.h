@@ -138,8 +138,17 @@ nb::object Pandas();
 nb::object DataFrame(const std::vector<std::pair<std::string, nb::object>>& columns);
 // A 1-D float64 numpy array holding a copy of `values`.
 nb::object Array(const std::vector<double>& values);
+// A numpy array of `shape` (C order) that takes over `values` without copying.
+template <typename T>
+nb::object OwnedArray(std::vector<T>&& values, const std::vector<std::size_t>& shape) {
+  auto* owned = new std::vector<T>(std::move(values));
+  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+  return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), shape.size(), shape.data(), owner));
+}
 // A rows x cols float64 numpy array that takes over `values` (row major) without copying.
-nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols);
+inline nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols) {
+  return OwnedArray(std::move(values), {rows, cols});
+}
 
 // Runs `body(token)` on a thread of its own while the calling thread waits without the GIL,
 // so other Python threads run. Every 20 ms the caller checks for signals (PyErr_CheckSignals:
@@ -240,8 +249,10 @@ void BindErrors(nb::module_& m);
 void BindCore(nb::module_& m);
 // verify, audit, converge, snapshot, diff (checks.cc).
 void BindChecks(nb::module_& m);
-// run, inspect, render (run.cc).
+// run, inspect (run.cc).
 void BindRun(nb::module_& m);
+// render (render.cc).
+void BindRender(nb::module_& m);
 // sweep, rollout (batch.cc).
 void BindBatch(nb::module_& m);
 // replay, identify (identify.cc).

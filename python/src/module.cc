@@ -15,6 +15,7 @@ NB_MODULE(_plumb, m) {
   BindCore(m);
   BindChecks(m);
   BindRun(m);
+  BindRender(m);
   BindBatch(m);
   BindIdentify(m);
 }

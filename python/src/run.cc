@@ -1,5 +1,4 @@
-// plumb.run, plumb.inspect and plumb.render: a run's samples as one numpy array, a model's
-// description, and pictures or videos of the model.
+// plumb.run and plumb.inspect: a run's samples as one numpy array, and a model's description.
 
 #include "plumb/run.h"
 
@@ -22,19 +21,7 @@
 #include "plumb/timing.h"
 #include "plumb/trajectory.h"
 #include "plumb/video.h"
-
-namespace plumb::python {
-
-// Arguments of run and render that take several Python types.
-struct StateArg {  // mujoco.MjData | plumb.Trajectory (or None)
-  nb::handle object;
-};
-
-}  // namespace plumb::python
-
-namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::StateArg, "mujoco.MjData | Trajectory")
-}  // namespace nanobind::detail
+#include "trajectory.h"
 
 namespace plumb::python {
 namespace {
@@ -73,60 +60,6 @@ std::string SampleText(SampleFormat format, const std::vector<Path>& columns, co
   text.assign(buffer, size);
   std::free(buffer);
   return text;
-}
-
-// plumb.Trajectory: what plumb.run sampled, in one rows x columns float64 array.
-struct Trajectory {
-  std::shared_ptr<PyModel> model;
-  std::shared_ptr<Model> ran;  // the model the run used (a copy when `set` edited it)
-  std::vector<Path> columns;
-  nb::object array;  // owns the samples
-  const double* values = nullptr;
-  long rows = 0;
-  double every = 0;
-  RunResult result;
-  std::string html;
-
-  std::vector<std::string> Names() const {
-    std::vector<std::string> out;
-    for (const Path& p : columns) out.push_back(p.text);
-    return out;
-  }
-  std::size_t Column(const std::string& name) const {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (columns[c].text == name) return c;
-    }
-    std::string names;
-    for (const Path& p : columns) names += (names.empty() ? "" : ", ") + p.text;
-    throw nb::key_error(fmt::format("no column '{}'; the columns: {}", name, names).c_str());
-  }
-  std::string Jsonl() const {
-    std::vector<long> all(static_cast<std::size_t>(rows));
-    for (long r = 0; r < rows; ++r) all[r] = r;
-    return SampleText(SampleFormat::kJsonl, columns, values, all);
-  }
-  // The CLI's table, the first and last rows of a long run only.
-  std::string Table() const {
-    constexpr long kHead = 20, kTail = 5;
-    std::vector<long> shown;
-    for (long r = 0; r < rows; ++r) {
-      if (rows <= kHead + kTail || r < kHead || r >= rows - kTail) shown.push_back(r);
-    }
-    std::string text = SampleText(SampleFormat::kTable, columns, values, shown);
-    if (rows > kHead + kTail) {
-      // the elision goes after the header and the first kHead rows
-      std::size_t at = 0;
-      for (long line = 0; line < kHead + 1; ++line) at = text.find('\n', at) + 1;
-      text.insert(at, fmt::format("  ... {} rows in all ...\n", rows));
-    }
-    if (result.diverged && result.divergence)
-      text += "diverged: " + result.divergence->reason + "\n";
-    return text;
-  }
-};
-
-nb::object ColumnView(const Trajectory& t, std::size_t c) {
-  return t.array[nb::make_tuple(nb::slice(nb::none(), nb::none(), nb::none()), c)];
 }
 
 nb::object WarningList(const RunResult& result) {
@@ -372,304 +305,54 @@ void BindInspect(nb::module_& m) {
       "first. Returns a Description.");
 }
 
-// plumb.Frames: the pictures of a run, in one frames x height x width x 3 uint8 array.
-struct Frames {
-  std::shared_ptr<PyModel> owner;  // keeps a wrapped MjModel alive as long as `model`
-  std::shared_ptr<Model> model;
-  nb::object array;
-  const std::uint8_t* rgb = nullptr;
-  long frames = 0;
-  int width = 0, height = 0;
-  double fps = 0;
-  std::vector<double> times;
-  std::string how;  // renderer and camera
-  RunResult result;
-  std::string html;
-
-  Image Frame(long k) const {
-    if (k < 0) k += frames;
-    if (k < 0 || k >= frames) {
-      throw ArgumentError("frame", std::to_string(k), fmt::format("there are {} frames", frames));
-    }
-    Image image;
-    image.width = width;
-    image.height = height;
-    std::size_t size = static_cast<std::size_t>(width) * height * 3;
-    image.rgb.assign(rgb + k * size, rgb + (k + 1) * size);
-    return image;
-  }
-};
-
-// What a Frames drew (the CLI's render prints no JSON, only this in its closing line).
-nb::dict FramesDict(const Frames& f) {
-  nb::dict d;
-  d["frames"] = f.frames;
-  d["width"] = f.width;
-  d["height"] = f.height;
-  d["fps"] = f.fps;
-  d["times"] = nb::cast(f.times);
-  d["renderer"] = f.how;
-  d["diverged"] = f.result.diverged;
-  return d;
-}
-
-bool EndsWith(const std::string& text, const std::string& end) {
-  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
-}
-
-// Writes frames to `path`: a .mp4 of every frame, or a .png of frame `frame`.
-void SaveFrames(const Frames& f, const std::string& path, long frame) {
-  if (EndsWith(path, ".png")) {
-    WritePng(f.Frame(frame), path);
-    return;
-  }
-  if (!EndsWith(path, ".mp4")) {
-    throw ArgumentError("path", Quoted(path), "write a picture (.png) or a video (.mp4)");
-  }
-  VideoWriter writer(path, f.width, f.height, f.fps);
-  for (long k = 0; k < f.frames; ++k) writer.Add(f.Frame(k));
-  writer.Finish();
-}
-
-// A uint8 numpy array of `shape` that takes over `pixels` without copying.
-nb::object Pixels(std::vector<std::uint8_t>&& pixels, std::vector<std::size_t> shape) {
-  auto* owned = new std::vector<std::uint8_t>(std::move(pixels));
-  nb::capsule owner(owned,
-                    [](void* p) noexcept { delete static_cast<std::vector<std::uint8_t>*>(p); });
-  return nb::cast(
-      nb::ndarray<nb::numpy, std::uint8_t>(owned->data(), shape.size(), shape.data(), owner));
-}
-
-// Copies the state of a mujoco.MjData of the same model into `data` (reads it only).
-void CopyMjData(const Model& model, nb::handle state, Data& data) {
-  if (nb::hasattr(state, "model")) {
-    nb::object m = state.attr("model");
-    for (const char* size : {"nq", "nv", "na", "nu", "nbody", "nmocap"}) {
-      long theirs = nb::cast<long>(m.attr(size));
-      long ours = size == std::string("nq")      ? model->nq
-                  : size == std::string("nv")    ? model->nv
-                  : size == std::string("na")    ? model->na
-                  : size == std::string("nu")    ? model->nu
-                  : size == std::string("nbody") ? model->nbody
-                                                 : model->nmocap;
-      if (theirs != ours) {
-        throw ArgumentError(
-            "state", "MjData",
-            fmt::format("it belongs to another model ({} {}, the model's {})", size, theirs, ours));
-      }
-    }
-  }
-  auto* source = reinterpret_cast<const mjData*>(nb::cast<std::uintptr_t>(state.attr("_address")));
-  std::vector<mjtNum> buffer(
-      static_cast<std::size_t>(mj_stateSize(model.get(), mjSTATE_INTEGRATION)));
-  mj_getState(model.get(), source, buffer.data(), mjSTATE_INTEGRATION);
-  mj_setState(model.get(), data.get(), buffer.data(), mjSTATE_INTEGRATION);
-  data.Forward();
-}
-
-bool IsMjData(nb::handle value) {
-  std::string name = nb::type_name(value.type()).c_str();
-  return name == "mujoco._structs.MjData" || name == "MjData";
-}
-
-void BindRender(nb::module_& m) {
-  nb::class_<Frames>(m, "Frames",
-                     "plumb.render's pictures of a run: .array, frames x height x width x 3 "
-                     "uint8; .times (s), .fps; save('run.mp4') writes the video, "
-                     "save('last.png', frame=-1) one frame.")
-      .def_prop_ro("array", [](const Frames& f) { return f.array; })
-      .def_prop_ro(
-          "times", [](const Frames& f) { return Array(f.times); }, "the time of each frame, s")
-      .def_prop_ro("fps", [](const Frames& f) { return f.fps; })
-      .def_prop_ro("diverged", [](const Frames& f) { return f.result.diverged; })
-      .def("__len__", [](const Frames& f) { return f.frames; })
-      .def(
-          "__getitem__",
-          [](const Frames& f, long k) { return f.array[nb::int_(k < 0 ? k + f.frames : k)]; },
-          nb::arg("frame"))
-      .def(
-          "save",
-          [](const Frames& f, FileArg path, long frame) {
-            std::string file = PathArg(path);
-            RunLong([&](StopToken) {
-              SaveFrames(f, file, frame);
-              return 0;
-            });
-          },
-          nb::arg("path"), nb::arg("frame") = -1,
-          "writes an MP4 video of every frame (H.264 by ffmpeg, at .fps), or a PNG of one "
-          "frame (the last by default), whole or not at all")
-      .def("to_dict", &FramesDict,
-           "what was drawn (the CLI's render prints no JSON): frames, width, height, fps, "
-           "times, renderer, diverged")
-      .def(
-          "to_json",
-          [](const Frames& f) {
-            return nb::cast<std::string>(
-                nb::module_::import_("json").attr("dumps")(FramesDict(f), nb::arg("indent") = 2));
-          },
-          "to_dict() as JSON text")
-      .def(
-          "_repr_html_",
-          [](Frames& f) {
-            if (f.html.empty()) {
-              f.html = RunLong([&](StopToken) {
-                return ReportHtml([&](const std::string& path) {
-                  WriteRenderReport(path, *f.model, f.rgb, f.frames, f.width, f.height, f.fps,
-                                    PythonReportInfo("render", false));
-                });
-              });
-            }
-            return f.html;
-          },
-          "an HTML page playing the frames")
-      .def("__repr__", [](const Frames& f) {
-        return fmt::format(
-            "<plumb.Frames {} frames of {}x{} at {:.4g} fps, t = {:g} to {:g} s, {}{}>", f.frames,
-            f.width, f.height, f.fps, f.times.empty() ? 0 : f.times.front(),
-            f.times.empty() ? 0 : f.times.back(), f.how, f.result.diverged ? ", diverged" : "");
-      });
-
-  m.def(
-      "render",
-      [](ModelArg model, StateArg state_arg, std::string camera, int width, int height, SetArg set,
-         std::optional<std::string> keyframe, double at, std::optional<double> until, double fps,
-         StringsArg highlight, bool msaa, int shadow_size, std::string gl,
-         std::optional<FileArg> output) -> nb::object {
-        nb::handle state = state_arg.object;
-        std::shared_ptr<PyModel> pm = ToModel(model);
-        std::vector<std::string> sets = SetTexts(set);
-        RenderOptions options;
-        try {
-          std::tie(options.width, options.height) =
-              ParseImageSize(fmt::format("{}x{}", width, height));
-        } catch (const ArgumentError& e) {
-          bool bad_width = width < 1 || width > 8192;
-          throw ArgumentError(bad_width ? "width" : "height",
-                              std::to_string(bad_width ? width : height), "give 1 to 8192 pixels");
-        }
-        options.camera = camera;
-        options.highlight = StringList(highlight, "highlight");
-        options.msaa = msaa;
-        options.shadow_size = shadow_size;
-        options.backend = gl;
-        bool trajectory = nb::isinstance<Trajectory>(state);
-        bool mjdata = IsMjData(state);
-        if (!state.is_none() && !trajectory && !mjdata) {
-          throw nb::type_error("state: expected None, a mujoco.MjData or a plumb.Trajectory");
-        }
-        if ((mjdata || trajectory) && (until || at != 0 || !sets.empty() || keyframe)) {
-          const char* given = until ? "until" : at != 0 ? "at" : keyframe ? "keyframe" : "set";
-          throw ArgumentError(given, "",
-                              "a given state is drawn as it is: leave until, at, set and "
-                              "keyframe out (or draw from the start without state)");
-        }
-        if (until && at != 0)
-          throw ArgumentError("at", "", "at is for pictures; a video starts at t = 0");
-        std::string out = OptionalPathArg(output);
-        const Trajectory* samples = trajectory ? nb::inst_ptr<Trajectory>(state) : nullptr;
-        auto f = std::make_shared<Frames>();
-        f->width = options.width;
-        f->height = options.height;
-        std::vector<std::uint8_t> pixels;
-        std::vector<Assignment> start;
-        std::unique_ptr<Data> owned;
-        {
-          MujocoCallScope scope;
-          start = CallStart(*pm, keyframe, "", QposArg{nb::none()}, sets);
-          f->owner = samples ? samples->model : pm;
-          f->model = samples ? samples->ran : pm->EditableFor(start);
-          owned = std::make_unique<Data>(*f->model);
-          if (mjdata) CopyMjData(*f->model, state, *owned);
-        }
-        Data& data = *owned;
-        std::size_t size = static_cast<std::size_t>(f->width) * f->height * 3;
-        RunLong([&](StopToken stop) {
-          if (!mjdata && !samples) ApplyAssignments(*f->model, data, start);
-          Renderer renderer(*f->model, options);
-          f->how = fmt::format("{}, camera {}", renderer.backend(), renderer.camera());
-          double dt = (*f->model)->opt.timestep;
-          auto add = [&](const Image& frame) {
-            pixels.insert(pixels.end(), frame.rgb.begin(), frame.rgb.end());
-            f->times.push_back(data->time);
-            ++f->frames;
-          };
-          if (samples) {
-            pixels.reserve(size * samples->rows);
-            try {
-              RenderSamples(*f->model, data, renderer, samples->columns, samples->values,
-                            samples->rows, stop, add);
-            } catch (const ArgumentError&) {
-              throw;
-            } catch (const ValueError& e) {
-              throw ArgumentError("state", "Trajectory", e.what());
-            }
-            f->fps = 1.0 / samples->every;
-          } else if (until) {
-            FilmPlan plan = PlanFilm(dt, *until, fps);
-            pixels.reserve(size * plan.frames);
-            f->fps = plan.fps;
-            f->result = RenderFilm(*f->model, data, renderer, plan, stop, add);
-          } else {
-            Image picture;
-            f->result = RenderAt(*f->model, data, renderer, at, stop, &picture);
-            if (f->result.diverged) {
-              throw ValueError(fmt::format(
-                  "the run diverged at t = {:.6g} s: {}. Render an earlier "
-                  "`at` to see the state before it.",
-                  f->result.steps * dt, f->result.divergence ? f->result.divergence->reason : ""));
-            }
-            add(picture);
-          }
-          TakeMujocoWarnings();
-          return 0;
-        });
-        bool sequence = samples != nullptr || until.has_value();
-        f->rgb = pixels.data();
-        if (!sequence) {
-          nb::object image = Pixels(std::move(pixels), {static_cast<std::size_t>(f->height),
-                                                        static_cast<std::size_t>(f->width), 3});
-          if (!out.empty()) {
-            f->array = image;
-            RunLong([&](StopToken) {
-              SaveFrames(*f, out, 0);
-              return 0;
-            });
-          }
-          return image;
-        }
-        f->array = Pixels(std::move(pixels),
-                          {static_cast<std::size_t>(f->frames), static_cast<std::size_t>(f->height),
-                           static_cast<std::size_t>(f->width), 3});
-        if (!out.empty()) {
-          RunLong([&](StopToken) {
-            SaveFrames(*f, out, -1);
-            return 0;
-          });
-        }
-        return nb::cast(f);
-      },
-      nb::arg("model"), nb::arg("state") = nb::none(), nb::arg("camera") = "auto",
-      nb::arg("width") = 640, nb::arg("height") = 480, nb::arg("set") = nb::none(),
-      nb::arg("keyframe") = nb::none(), nb::arg("at") = 0.0, nb::arg("until") = nb::none(),
-      nb::arg("fps") = 30.0, nb::arg("highlight") = nb::none(), nb::arg("msaa") = false,
-      nb::arg("shadow_size") = 0, nb::arg("gl") = "auto", nb::arg("output") = nb::none(),
-      "Draws the model without a window (plumb render). A picture, as a height x width x 3 "
-      "uint8 numpy array: of the start (`set`, `keyframe`), of the state a run reaches at `at` "
-      "s, or of `state`, a mujoco.MjData of this model (read, not changed). A sequence, as "
-      "plumb.Frames: the run to `until` s at about `fps` frames per second, or each sample of "
-      "a plumb.Trajectory (`state`). `output` also writes the PNG or MP4. camera: auto, track, "
-      "fixed or a camera's name; highlight: bodies, geoms or joints to colour. Raises "
-      "plumb.UnavailableError when this machine cannot render.");
-}
-
 }  // namespace
+
+std::vector<std::string> Trajectory::Names() const {
+  std::vector<std::string> out;
+  for (const Path& p : columns) out.push_back(p.text);
+  return out;
+}
+
+std::size_t Trajectory::Column(const std::string& name) const {
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c].text == name) return c;
+  }
+  std::string names;
+  for (const Path& p : columns) names += (names.empty() ? "" : ", ") + p.text;
+  throw nb::key_error(fmt::format("no column '{}'; the columns: {}", name, names).c_str());
+}
+
+std::string Trajectory::Jsonl() const {
+  std::vector<long> all(static_cast<std::size_t>(rows));
+  for (long r = 0; r < rows; ++r) all[r] = r;
+  return SampleText(SampleFormat::kJsonl, columns, values, all);
+}
+
+std::string Trajectory::Table() const {
+  constexpr long kHead = 20, kTail = 5;
+  std::vector<long> shown;
+  for (long r = 0; r < rows; ++r) {
+    if (rows <= kHead + kTail || r < kHead || r >= rows - kTail) shown.push_back(r);
+  }
+  std::string text = SampleText(SampleFormat::kTable, columns, values, shown);
+  if (rows > kHead + kTail) {
+    // the elision goes after the header and the first kHead rows
+    std::size_t at = 0;
+    for (long line = 0; line < kHead + 1; ++line) at = text.find('\n', at) + 1;
+    text.insert(at, fmt::format("  ... {} rows in all ...\n", rows));
+  }
+  if (result.diverged && result.divergence) text += "diverged: " + result.divergence->reason + "\n";
+  return text;
+}
+
+nb::object ColumnView(const Trajectory& t, std::size_t c) {
+  return t.array[nb::make_tuple(nb::slice(nb::none(), nb::none(), nb::none()), c)];
+}
 
 void BindRun(nb::module_& m) {
   BindTrajectory(m);
   BindRunCall(m);
   BindInspect(m);
-  BindRender(m);
 }
 
 }  // namespace plumb::python
