@@ -24,17 +24,7 @@
 #include "plumb/verify.h"
 #include "report/html.h"
 
-namespace plumb::python {
-
-struct SnapshotArg {  // Snapshot | str | os.PathLike
-  nb::handle object;
-};
-
-}  // namespace plumb::python
-
-namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::SnapshotArg, "Snapshot | str | os.PathLike")
-}  // namespace nanobind::detail
+PLUMB_PYTHON_ARG(SnapshotArg, "Snapshot | str | os.PathLike")
 
 namespace plumb::python {
 namespace {

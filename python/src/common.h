@@ -34,27 +34,42 @@
 #include "plumb/report.h"
 #include "plumb/stop.h"
 
+// An argument that takes several Python types: `Name` holds the object as given, and the
+// function that converts it (ToModel, SetTexts, ...) raises TypeError naming the argument for a
+// wrong one. `annotation` is what the stubs (_plumb.pyi) show for it. Use at global scope.
+#define PLUMB_PYTHON_ARG(Name, annotation)                                                    \
+  namespace plumb::python {                                                                   \
+  struct Name {                                                                               \
+    nanobind::handle object;                                                                  \
+  };                                                                                          \
+  }                                                                                           \
+  namespace nanobind::detail {                                                                \
+  template <>                                                                                 \
+  struct type_caster<plumb::python::Name> {                                                   \
+    NB_TYPE_CASTER(plumb::python::Name, const_name(annotation))                               \
+    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {                           \
+      value.object = src;                                                                     \
+      return true;                                                                            \
+    }                                                                                         \
+    static handle from_cpp(const plumb::python::Name& v, rv_policy, cleanup_list*) noexcept { \
+      return v.object.inc_ref();                                                              \
+    }                                                                                         \
+  };                                                                                          \
+  }
+
+PLUMB_PYTHON_ARG(ModelArg, "Model | mujoco.MjModel | str | os.PathLike")
+// {"PATH": value} | ["PATH=VALUE", ...] | "PATH=VALUE" (or None)
+PLUMB_PYTHON_ARG(SetArg,
+                 "collections.abc.Mapping[str, float | str | collections.abc.Sequence["
+                 "float]] | collections.abc.Sequence[str] | str")
+PLUMB_PYTHON_ARG(StringsArg, "str | collections.abc.Sequence[str]")  // "text" | ["text", ...]
+PLUMB_PYTHON_ARG(FileArg, "str | os.PathLike")
+PLUMB_PYTHON_ARG(QposArg,
+                 "str | collections.abc.Sequence[float]")  // nq numbers: "0.1 0.2" | [0.1, 0.2]
+
 namespace plumb::python {
 
 namespace nb = nanobind;
-
-// Arguments that take several Python types, each converted by the functions below; their
-// casters (at the end of this file) give the stubs (_plumb.pyi) their annotations.
-struct ModelArg {  // plumb.Model | mujoco.MjModel | str | os.PathLike
-  nb::handle object;
-};
-struct SetArg {  // {"PATH": value} | ["PATH=VALUE", ...] | "PATH=VALUE" (or None)
-  nb::handle object;
-};
-struct StringsArg {  // "text" | ["text", ...] | None
-  nb::handle object;
-};
-struct FileArg {  // str | os.PathLike
-  nb::handle object;
-};
-struct QposArg {  // nq numbers: "0.1 0.2" | [0.1, 0.2] (or None)
-  nb::handle object;
-};
 
 // plumb.Model: a compiled model and the start it was loaded with (a keyframe, then `set`
 // assignments). Made from a path (plumb owns the model) or from a mujoco.MjModel, which it
@@ -259,33 +274,5 @@ void BindBatch(nb::module_& m);
 void BindIdentify(nb::module_& m);
 
 }  // namespace plumb::python
-
-// The annotations the stubs show for the argument types above: any object is taken (the
-// conversion functions raise TypeError with the argument's name for a wrong one). A binding
-// file declares an argument type of its own the same way.
-namespace nanobind::detail {
-
-#define PLUMB_ANY_OBJECT_CASTER(Type, annotation)                              \
-  template <>                                                                  \
-  struct type_caster<Type> {                                                   \
-    NB_TYPE_CASTER(Type, const_name(annotation))                               \
-    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {            \
-      value.object = src;                                                      \
-      return true;                                                             \
-    }                                                                          \
-    static handle from_cpp(const Type& v, rv_policy, cleanup_list*) noexcept { \
-      return v.object.inc_ref();                                               \
-    }                                                                          \
-  };
-
-PLUMB_ANY_OBJECT_CASTER(plumb::python::ModelArg, "Model | mujoco.MjModel | str | os.PathLike")
-PLUMB_ANY_OBJECT_CASTER(plumb::python::SetArg,
-                        "collections.abc.Mapping[str, float | str | collections.abc.Sequence["
-                        "float]] | collections.abc.Sequence[str] | str")
-PLUMB_ANY_OBJECT_CASTER(plumb::python::StringsArg, "str | collections.abc.Sequence[str]")
-PLUMB_ANY_OBJECT_CASTER(plumb::python::FileArg, "str | os.PathLike")
-PLUMB_ANY_OBJECT_CASTER(plumb::python::QposArg, "str | collections.abc.Sequence[float]")
-
-}  // namespace nanobind::detail
 
 #endif  // PLUMB_PYTHON_SRC_COMMON_H_

@@ -15,18 +15,7 @@
 #include "plumb/result_table.h"
 #include "plumb/robot_log.h"
 
-namespace plumb::python {
-
-struct LogsArg {  // str | os.PathLike | [str | os.PathLike, ...]
-  nb::handle object;
-};
-
-}  // namespace plumb::python
-
-namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::LogsArg,
-                        "str | os.PathLike | collections.abc.Sequence[str | os.PathLike]")
-}  // namespace nanobind::detail
+PLUMB_PYTHON_ARG(LogsArg, "str | os.PathLike | collections.abc.Sequence[str | os.PathLike]")
 
 namespace plumb::python {
 namespace {

@@ -19,17 +19,7 @@
 #include "plumb/video.h"
 #include "trajectory.h"
 
-namespace plumb::python {
-
-struct StateArg {  // mujoco.MjData | plumb.Trajectory (or None)
-  nb::handle object;
-};
-
-}  // namespace plumb::python
-
-namespace nanobind::detail {
-PLUMB_ANY_OBJECT_CASTER(plumb::python::StateArg, "mujoco.MjData | Trajectory")
-}  // namespace nanobind::detail
+PLUMB_PYTHON_ARG(StateArg, "mujoco.MjData | Trajectory")
 
 namespace plumb::python {
 namespace {
