@@ -188,14 +188,6 @@ struct Batch {
   }
 };
 
-// A 1-D numpy array that takes over `values` without copying.
-template <typename T>
-nb::object OwnedArray(std::vector<T>&& values) {
-  auto* owned = new std::vector<T>(std::move(values));
-  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-  return nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(owned->data(), {owned->size()}, owner));
-}
-
 // The len x columns matrix of the cases' parameters (`metrics` false) or metrics.
 nb::object RowMatrix(const Batch& b, bool metrics) {
   std::vector<double> values = metrics ? b.rows.metrics() : b.rows.params();
@@ -203,16 +195,15 @@ nb::object RowMatrix(const Batch& b, bool metrics) {
 }
 
 nb::object IndexArray(const Batch& b) {
-  return OwnedArray(std::vector<std::int64_t>(b.rows.index()));
+  return OwnedArray(std::vector<std::int64_t>(b.rows.index()), {b.rows.index().size()});
 }
 
 nb::object DivergedArray(const Batch& b) {
-  return OwnedArray(std::vector<std::uint8_t>(b.rows.diverged())).attr("astype")("bool");
+  return OwnedArray(std::vector<std::uint8_t>(b.rows.diverged()), {b.rows.diverged().size()})
+      .attr("astype")("bool");
 }
 
-nb::object DivergedTimes(const Batch& b) {
-  return OwnedArray(std::vector<double>(b.rows.diverged_time()));
-}
+nb::object DivergedTimes(const Batch& b) { return Array(b.rows.diverged_time()); }
 
 nb::list Problems(const Batch& b) {
   nb::list out;
