@@ -27,6 +27,7 @@
 #include "plumb/random.h"
 #include "plumb/run.h"
 #include "plumb/timing.h"
+#include "plumb/trajectory.h"
 
 // files and formats
 #include "plumb/image.h"
