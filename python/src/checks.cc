@@ -227,12 +227,6 @@ struct ConvergeResult {
   ConvergenceResult result;
   std::string html;
 
-  // One number of every level, coarsest first, as a numpy array.
-  nb::object Levels(double ConvergenceLevel::*field) const {
-    std::vector<double> out;
-    for (const ConvergenceLevel& level : result.levels) out.push_back(level.*field);
-    return Array(out);
-  }
   std::string Json() const { return ConvergeToJson(result); }
   std::string Table() const { return ConvergeTable(result); }
   void WriteReport(const std::string& path) const {
@@ -254,13 +248,22 @@ void BindConverge(nb::module_& m) {
       .def_prop_ro("problem", [](const ConvergeResult& r) { return r.result.problem; })
       .def_prop_ro("metric", [](const ConvergeResult& r) { return r.result.metric; })
       .def_prop_ro(
-          "dt", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::dt); },
+          "dt",
+          [](const ConvergeResult& r) {
+            return FieldArray(r.result.levels, &ConvergenceLevel::dt);
+          },
           "each level's timestep (s), coarsest first")
       .def_prop_ro(
-          "values", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::value); },
+          "values",
+          [](const ConvergeResult& r) {
+            return FieldArray(r.result.levels, &ConvergenceLevel::value);
+          },
           "the metric at each level")
       .def_prop_ro(
-          "errors", [](const ConvergeResult& r) { return r.Levels(&ConvergenceLevel::error); },
+          "errors",
+          [](const ConvergeResult& r) {
+            return FieldArray(r.result.levels, &ConvergenceLevel::error);
+          },
           "each level's estimated error (nan where none)")
       .def_prop_ro("observed_order",
                    [](const ConvergeResult& r) { return r.result.estimate.order; })

@@ -160,6 +160,15 @@ nb::object OwnedArray(std::vector<T>&& values, const std::vector<std::size_t>& s
   nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
   return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), shape.size(), shape.data(), owner));
 }
+// One number of every item (a field of each level, fit or estimate), in order, as a 1-D float64
+// numpy array.
+template <typename Item>
+nb::object FieldArray(const std::vector<Item>& items, double Item::*field) {
+  std::vector<double> values;
+  values.reserve(items.size());
+  for (const Item& item : items) values.push_back(item.*field);
+  return OwnedArray(std::move(values), {items.size()});
+}
 // A rows x cols float64 numpy array that takes over `values` (row major) without copying.
 inline nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::size_t cols) {
   return OwnedArray(std::move(values), {rows, cols});

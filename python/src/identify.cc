@@ -31,12 +31,6 @@ std::shared_ptr<Model> ParameterModel(const PyModel& model, const std::vector<st
   return out;
 }
 
-nb::object ColumnOf(const std::vector<SignalFit>& fits, double SignalFit::*field) {
-  std::vector<double> values;
-  for (const SignalFit& f : fits) values.push_back(f.*field);
-  return Array(values);
-}
-
 // plumb.ReplayResult
 struct PyReplay {
   std::shared_ptr<PyModel> model;
@@ -69,16 +63,17 @@ void BindReplay(nb::module_& m) {
           },
           "the measured signals, as the log names them")
       .def_prop_ro(
-          "fits", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::fit); },
+          "fits", [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::fit); },
           "% per signal")
       .def_prop_ro(
-          "rms", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::rms); },
+          "rms", [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::rms); },
           "rms of simulated - logged, per signal")
       .def_prop_ro(
           "max_abs",
-          [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::max_abs); })
+          [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::max_abs); })
       .def_prop_ro(
-          "noise", [](const PyReplay& r) { return ColumnOf(r.result.signals, &SignalFit::noise); },
+          "noise",
+          [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::noise); },
           "each signal's noise as the log's differences show it")
       .def_prop_ro(
           "simulated",
@@ -168,12 +163,6 @@ struct PyIdentify {
   }
 };
 
-nb::object EstimateColumn(const IdentifyResult& r, double Estimate::*field) {
-  std::vector<double> values;
-  for (const Estimate& e : r.estimates) values.push_back(e.*field);
-  return Array(values);
-}
-
 nb::object SquareMatrix(const std::vector<std::vector<double>>& rows) {
   std::vector<double> flat;
   for (const auto& row : rows) flat.insert(flat.end(), row.begin(), row.end());
@@ -194,18 +183,20 @@ void BindIdentifyCall(nb::module_& m) {
                      return out;
                    })
       .def_prop_ro(
-          "values", [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::value); },
+          "values",
+          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::value); },
           "the estimates, in the parameters' units")
-      .def_prop_ro("nominal",
-                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::nominal); })
+      .def_prop_ro(
+          "nominal",
+          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::nominal); })
       .def_prop_ro(
           "std_errors",
-          [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::std_error); },
+          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::std_error); },
           "the standard errors given (std_error_kind says which; NaN when withheld)")
-      .def_prop_ro("lo",
-                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::lo); })
-      .def_prop_ro("hi",
-                   [](const PyIdentify& r) { return EstimateColumn(r.result, &Estimate::hi); })
+      .def_prop_ro(
+          "lo", [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::lo); })
+      .def_prop_ro(
+          "hi", [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::hi); })
       .def_prop_ro(
           "std_error_kind",
           [](const PyIdentify& r) {
