@@ -73,6 +73,11 @@ struct AuditReport {
   bool Failed(bool strict) const;
 };
 
+// The pose Audit judges `model` in, as assignments (what a report's pictures start from): the
+// reference pose's keyframe (FindReferencePose with options.keyframe; none for qpos0), then
+// options.sets. @throws ValueError for an unknown keyframe.
+std::vector<Assignment> AuditStart(const Model& model, const AuditOptions& options);
+
 // Audits `model` (not modified). @throws only for bad options (ValueError for an unknown
 // keyframe, ValueError / PathError for a --set the model refuses), Interrupted when options.stop
 // asks, MujocoError from MuJoCo and what keep_diverged throws; what the model does is reported

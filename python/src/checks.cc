@@ -14,7 +14,6 @@
 #include "plumb/check_table.h"
 #include "plumb/converge.h"
 #include "plumb/error.h"
-#include "plumb/keyframe.h"
 #include "plumb/regression.h"
 #include "plumb/report.h"
 #include "plumb/repro.h"
@@ -195,14 +194,7 @@ void BindAudit(nb::module_& m) {
             };
           }
           options.stop = stop;
-          // the pictures show the pose the audit judged the model in
-          ReferencePose pose = FindReferencePose(work, key);
-          if (pose.keyframe >= 0) {
-            std::string name = work.Name(mjOBJ_KEY, pose.keyframe);
-            result->start = KeyframeAssignments(
-                work, name.empty() ? "#" + std::to_string(pose.keyframe) : name);
-          }
-          result->start.insert(result->start.end(), options.sets.begin(), options.sets.end());
+          result->start = AuditStart(work, options);  // the pose the report's pictures show
           AuditReport report = Audit(work, options);
           ApplyAcceptList(accepted, &report.findings);
           return report;

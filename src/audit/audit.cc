@@ -10,6 +10,7 @@
 
 #include "audit/audit_layers.h"
 #include "core/strings.h"
+#include "plumb/keyframe.h"
 #include "plumb/sleep.h"
 #include "plumb/timing.h"
 
@@ -44,6 +45,17 @@ bool AuditReport::Failed(bool strict) const {
   // accepted findings fail nothing; a stale accept entry is a WARN of its own
   return CountUnaccepted(findings, CheckStatus::kFail) > 0 ||
          (strict && CountUnaccepted(findings, CheckStatus::kWarn) > 0);
+}
+
+std::vector<Assignment> AuditStart(const Model& model, const AuditOptions& options) {
+  std::vector<Assignment> start;
+  ReferencePose pose = FindReferencePose(model, options.keyframe);
+  if (pose.keyframe >= 0) {
+    std::string key = model.Name(mjOBJ_KEY, pose.keyframe);
+    start = KeyframeAssignments(model, key.empty() ? "#" + std::to_string(pose.keyframe) : key);
+  }
+  start.insert(start.end(), options.sets.begin(), options.sets.end());
+  return start;
 }
 
 AuditReport Audit(const Model& loaded, const AuditOptions& options) {

@@ -9,7 +9,6 @@
 #include "plumb/accept.h"
 #include "plumb/audit.h"
 #include "plumb/check_table.h"
-#include "plumb/keyframe.h"
 #include "plumb/report.h"
 #include "plumb/repro.h"
 #include "plumb/result_json.h"
@@ -50,12 +49,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
   ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
     // the pictures show the pose the audit judged the model in, drawn while the audit runs
-    ReferencePose pose = FindReferencePose(model, o.keyframe);
-    if (pose.keyframe >= 0) {
-      std::string key = model.Name(mjOBJ_KEY, pose.keyframe);
-      start = KeyframeAssignments(model, key.empty() ? "#" + std::to_string(pose.keyframe) : key);
-    }
-    start.insert(start.end(), options.sets.begin(), options.sets.end());
+    start = AuditStart(model, options);
     info.ahead = StartPictures(model, start, info);
   }
   AuditReport report = Audit(model, options);
