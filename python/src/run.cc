@@ -166,7 +166,8 @@ void BindRunCall(nb::module_& m) {
             throw PathError(std::string("columns: ") + e.what());
           }
           t->every = RunEvery(every, dt);
-          MakeSchedule(dt, until, t->every);  // refuses a bad until or every before the run
+          // refuses a bad until or every before the run, and sizes the samples' buffer
+          const long rows = SampleCount(MakeSchedule(dt, until, t->every));
           t->result = RunLong([&](StopToken stop) {
             Data data(*t->ran);
             ApplyAssignments(*t->ran, data, start);
@@ -176,7 +177,7 @@ void BindRunCall(nb::module_& m) {
             spec.columns = t->columns;
             spec.stop = stop;
             // one buffer, sized from the schedule, that the numpy array takes over
-            TrajectorySink sink(SampleCount(MakeSchedule(dt, until, t->every)));
+            TrajectorySink sink(rows);
             RunResult result = Run(*t->ran, data, spec, sink);
             t->rows = sink.rows();
             samples = sink.Take();
