@@ -191,8 +191,9 @@ std::string MujocoLibraryPath();
 
 // The folder plumb loads MuJoCo's plugin libraries from: $PLUMB_MUJOCO_PLUGIN_PATH, else
 // bin/mujoco_plugin of the release folder the loaded library sits in (lib/../bin/
-// mujoco_plugin), else lib/mujoco_plugin beside it (an installed plumb); "" when none
-// exists (and always on MuJoCo 2.x, which has no plugins).
+// mujoco_plugin), else lib/mujoco_plugin beside it (an installed plumb), else plugin/ beside
+// it (the mujoco-core wheel's layout, which plumb's wheel uses); "" when none exists (and
+// always on MuJoCo 2.x, which has no plugins).
 std::string MujocoPluginPath();
 
 }  // namespace plumb

@@ -269,7 +269,10 @@ std::string MujocoPluginPath() {
   std::string library = MujocoLibraryPath();
   if (library.empty()) return "";
   fs::path dir = fs::path(library).parent_path();
-  for (const fs::path& candidate : {dir / ".." / "bin" / "mujoco_plugin", dir / "mujoco_plugin"}) {
+  // a release folder's layout, a folder of its own beside the library, and the mujoco-core
+  // wheel's (site-packages/mujoco/plugin, which plumb's wheel runs with)
+  for (const fs::path& candidate :
+       {dir / ".." / "bin" / "mujoco_plugin", dir / "mujoco_plugin", dir / "plugin"}) {
     std::error_code ec;
     if (fs::is_directory(candidate, ec)) return fs::canonical(candidate, ec).string();
   }
