@@ -28,7 +28,7 @@ PLUMB      := $(BUILD)/plumb
 ASAN_FLAGS := -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DCMAKE_C_FLAGS_DEBUG=-g1
 TSAN_FLAGS := "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
 
-.PHONY: all deps configure corpus build demo test test-release test-asan test-tsan test-norender test-fuzz test-matrix bench install format clean
+.PHONY: all deps configure corpus build demo test test-release test-asan test-tsan test-norender test-fuzz test-matrix test-wheel wheel bench install format clean
 
 all: build
 
@@ -139,6 +139,16 @@ test-matrix:
 	  echo "== MUJOCO=$$v: $$(( $$(date +%s) - start )) s"; \
 	done
 
+# the pip wheel (plumb-mujoco): built by pip and scikit-build-core in build-wheel/ (kept: a
+# second build compiles only what changed), repaired by auditwheel, written to build-wheel/dist
+wheel: deps
+	@scripts/build-wheel.sh
+
+# the wheel's leg: the wheel installed into a fresh venv that holds only mujoco-core (with numpy)
+# and pytest, and tested there (tests/wheel: the API, plumb on PATH, the pytest plugin)
+test-wheel: deps
+	@scripts/test-wheel.sh
+
 bench: build
 	@$(BUILD)/bench/run_overhead_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 	@$(BUILD)/bench/sweep_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
@@ -151,4 +161,4 @@ format:
 	@clang-format -i $$(git ls-files '*.h' '*.cc')
 
 clean:
-	@rm -rf build build-asan build-tsan build-norender build-fuzz build-mujoco-* build-asan-mujoco-* build-tsan-mujoco-*
+	@rm -rf build build-asan build-tsan build-norender build-fuzz build-mujoco-* build-asan-mujoco-* build-tsan-mujoco-* build-wheel
