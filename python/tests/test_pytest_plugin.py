@@ -166,3 +166,13 @@ def test_plain():
     done = pytest_in(tmp_path)
     assert done.returncode == 0, done.stdout
     assert "--plumb-update" in pytest_in(tmp_path, "--help").stdout
+
+
+def test_the_docs_example_guards_the_model_ci_example(project, root):
+    # docs/python.md's example test, as a user copies it beside examples/model_ci's files
+    page = (root / "docs" / "python.md").read_text()
+    example = page.split("```python\n# test_arm.py")[1].split("```")[0]
+    (project / "test_arm.py").write_text("# test_arm.py" + example)
+    done = pytest_in(project)
+    assert done.returncode == 0, done.stdout
+    assert "PASSED test_arm.py::test_arm" in done.stdout
