@@ -86,6 +86,19 @@ def test_the_program_links_no_mpi_and_no_gl_and_renders_with_the_systems(tmp_pat
     assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_the_bridge_runs_over_the_bundled_cyclonedds(tmp_path):
+    (tmp_path / "bridge.toml").write_text('motors = ["hinge"]\n')
+    domain = str(100 + os.getpid() % 100)  # a DDS domain of its own
+    done = run("plumb", "bridge", PENDULUM, "--config", "bridge.toml", "--mode", "realtime",
+               "--until", "0.05", "--qpos", "0.7", "--log", "log.csv", "--domain", domain,
+               cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert "realtime factor" in done.stdout
+    header, first = (tmp_path / "log.csv").read_text().splitlines()[:2]
+    assert "qpos[hinge]" in header.split(",")
+    assert float(first.split(",")[header.split(",").index("qpos[hinge]")]) == 0.7
+
+
 def test_the_crosscheck_adapter_is_found_inside_the_package(tmp_path):
     # no engine environment and no package index: plumb must find its adapter in the wheel
     # (plumb/share/plumb/engines) and then say that it cannot make the engine's environment
