@@ -5,8 +5,10 @@
 #include <fmt/format.h>
 #include <stdio.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <iterator>
 
 #include "common.h"
 #include "plumb/describe.h"
@@ -210,11 +212,22 @@ struct Description {
   std::string Json() const { return DescriptionToJson(description, MujocoVersion()); }
 };
 
+// inspect's JSON lists: each a property (a list of dicts) and a to_pandas() table
+constexpr const char* kDescriptionTables[] = {"bodies",  "joints", "actuators",
+                                              "sensors", "delays", "roles"};
+
 void BindInspect(nb::module_& m) {
-  nb::class_<Description>(m, "Description",
-                          "plumb.inspect's result: the model's sizes, options, bodies, joints, "
-                          "actuators, sensors and delays with their units, as `plumb inspect "
-                          "--format json` gives them (each list a list of dicts).")
+  nb::class_<Description> type(
+      m, "Description",
+      "plumb.inspect's result: the model's sizes, options, bodies, joints, "
+      "actuators, sensors and delays with their units, as `plumb inspect "
+      "--format json` gives them (each list a list of dicts).");
+  for (const char* key : kDescriptionTables) {
+    type.def_prop_ro(key,
+                     [key](const Description& d) { return nb::object(FromJson(d.Json())[key]); });
+  }
+  type.def_prop_ro("units",
+                   [](const Description& d) { return nb::object(FromJson(d.Json())["units"]); })
       .def_prop_ro("sizes",
                    [](const Description& d) {
                      nb::dict out;
@@ -233,20 +246,6 @@ void BindInspect(nb::module_& m) {
           "m/s^2")
       .def_prop_ro(
           "total_mass", [](const Description& d) { return d.description.total_mass; }, "kg")
-      .def_prop_ro("bodies",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["bodies"]); })
-      .def_prop_ro("joints",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["joints"]); })
-      .def_prop_ro("actuators",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["actuators"]); })
-      .def_prop_ro("sensors",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["sensors"]); })
-      .def_prop_ro("delays",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["delays"]); })
-      .def_prop_ro("roles",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["roles"]); })
-      .def_prop_ro("units",
-                   [](const Description& d) { return nb::object(FromJson(d.Json())["units"]); })
       .def("to_json", &Description::Json, "the JSON `plumb inspect --format json` prints")
       .def(
           "to_dict", [](const Description& d) { return FromJson(d.Json()); },
@@ -254,12 +253,12 @@ void BindInspect(nb::module_& m) {
       .def(
           "to_pandas",
           [](const Description& d, const std::string& table) {
-            nb::object rows = FromJson(d.Json());
-            if (table != "bodies" && table != "joints" && table != "actuators" &&
-                table != "sensors" && table != "delays" && table != "roles") {
+            if (std::none_of(std::begin(kDescriptionTables), std::end(kDescriptionTables),
+                             [&](const char* key) { return table == key; })) {
               throw ArgumentError("table", Quoted(table),
                                   "give bodies, joints, actuators, sensors, delays or roles");
             }
+            nb::object rows = FromJson(d.Json());
             DataFrame(
                 std::vector<std::pair<std::string, nb::object>>{});  // ImportError without pandas
             return nb::module_::import_("pandas").attr("DataFrame")(rows[table.c_str()]);
