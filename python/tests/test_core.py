@@ -211,23 +211,12 @@ def test_type_stubs_describe_the_api():
     assert {"Model", "CheckRow", "VerifyResult", "AuditResult", "Error"} <= classes | {"Error"}
 
 
-PID_MODEL = """<mujoco>
-  <extension><plugin plugin="mujoco.pid">
-    <instance name="pid1"><config key="kp" value="40"/><config key="kd" value="4"/></instance>
-  </plugin></extension>
-  <worldbody><body><joint name="j" type="slide" axis="1 0 0"/><geom size="0.1" mass="1"/>
-  </body></worldbody>
-  <actuator><plugin name="servo" joint="j" plugin="mujoco.pid" instance="pid1"/></actuator>
-</mujoco>"""
-
-
-def test_plugins_are_mujocos_loaded_once(tmp_path):
+def test_plugins_are_mujocos_loaded_once(root):
     # a model with a first-party plugin (mujoco.pid) compiles in plumb through the plugins the
     # mujoco package registered. plumb maps no plugin library of its own, even where the plumb
     # command would load one (PLUMB_MUJOCO_PLUGIN_PATH: here the cache's copies, the same files
     # as the package's)
-    path = tmp_path / "pid.xml"
-    path.write_text(PID_MODEL)
+    path = root / "tests" / "models" / "pid_servo.xml"
     other = os.path.realpath(os.path.join(os.path.dirname(plumb.mujoco_library()), "..", "bin",
                                           "mujoco_plugin"))
     cache = os.path.expanduser("~/.cache/plumb/mujoco/4.0.1/bin/mujoco_plugin")

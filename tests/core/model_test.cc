@@ -175,14 +175,7 @@ TEST(ModelWarningTest, WarningsAreCollectedNotPrinted) {
 TEST_F(ModelTest, FirstPartyPluginsLoad) {
   if (mjVERSION_HEADER < 300) GTEST_SKIP() << "MuJoCo 2.x has no plugins";
   ASSERT_FALSE(MujocoPluginPath().empty()) << "no plugin folder beside " << MujocoLibraryPath();
-  Model model = Model::FromXmlString(R"(<mujoco>
-      <extension><plugin plugin="mujoco.pid">
-        <instance name="pid1"><config key="kp" value="40"/><config key="kd" value="4"/></instance>
-      </plugin></extension>
-      <worldbody><body><joint name="j" type="slide" axis="1 0 0"/><geom size="0.1" mass="1"/>
-      </body></worldbody>
-      <actuator><plugin name="servo" joint="j" plugin="mujoco.pid" instance="pid1"/></actuator>
-    </mujoco>)");
+  Model model = Model::Load(testing::kSourceDir + "/tests/models/pid_servo.xml");
   Data data(model);
   data->ctrl[0] = 0.5;
   for (int i = 0; i < 1000; ++i) mj_step(model.get(), data.get());

@@ -73,6 +73,11 @@ def test_the_command_is_on_path_and_runs_the_bundled_program(tmp_path):
     assert "14 passed, 0 warned, 0 failed" in verify.stdout
     assert (tmp_path / "report.html").stat().st_size > 100_000  # Chart.js inlined
     assert run("plumb", "verify", str(tmp_path / "missing.xml")).returncode == 2
+    # a model with MuJoCo's PID actuator plugin compiles: the plugins of mujoco/plugin load
+    servo = run("plumb", "run", str(SOURCE / "tests" / "models" / "pid_servo.xml"), "--set",
+                "ctrl[servo]=0.5", "--until", "2", "--every", "2", "--columns", "qpos[j]")
+    assert servo.returncode == 0, servo.stderr
+    assert abs(float(servo.stdout.split()[-1]) - 0.5) < 0.1
 
 
 def test_the_program_links_no_mpi_and_no_gl_and_renders_with_the_systems(tmp_path):
