@@ -17,6 +17,7 @@ A bundled library whose source package the table does not list stops the build (
 naming it: a new dependency's licence is reviewed before a wheel carries it.
 """
 
+import functools
 import pathlib
 import re
 import subprocess
@@ -29,14 +30,22 @@ def run(*args: str) -> str:
     return subprocess.run(args, check=True, capture_output=True, text=True).stdout
 
 
-def system_library(name: str) -> pathlib.Path:
-    """The system library auditwheel copied: it keeps the file's name, with a hash added."""
+@functools.cache
+def system_libraries() -> list[pathlib.Path]:
+    """The x86-64 libraries ldconfig knows, read once."""
+    paths = []
     for line in run("ldconfig", "-p").splitlines():
         fields = line.strip().split(" => ")
         if len(fields) == 2 and "x86-64" in fields[0]:
-            path = pathlib.Path(fields[1])
-            if path.resolve().name == name or path.name == name:
-                return path
+            paths.append(pathlib.Path(fields[1]))
+    return paths
+
+
+def system_library(name: str) -> pathlib.Path:
+    """The system library auditwheel copied: it keeps the file's name, with a hash added."""
+    for path in system_libraries():
+        if path.resolve().name == name or path.name == name:
+            return path
     sys.exit(f"wheel-licenses.py: {name} (bundled by auditwheel) is not a system library "
              "ldconfig knows: cannot tell its package")
 
