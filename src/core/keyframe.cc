@@ -4,6 +4,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/error.h"
@@ -190,6 +196,106 @@ std::vector<Assignment> StartAssignments(
   if (!start.qpos.empty()) add("qpos", QposAssignment(model, start.qpos));
   for (const std::string& text : start.sets) add("set", ParseAssignment(model, text));
   return out;
+}
+
+namespace {
+std::string Named(const Model& model, int obj, int id, const char* noun) {
+  std::string name = model.Name(obj, id);
+  return name.empty() ? fmt::format("{} #{}", noun, id)
+                      : fmt::format("{} '{}' (id {})", noun, name, id);
+}
+
+std::string GeomNamed(const Model& model, int g) {
+  std::string name = model.Name(mjOBJ_GEOM, g);
+  if (!name.empty()) return fmt::format("'{}' (id {})", name, g);
+  std::string body = model.Name(mjOBJ_BODY, model->geom_bodyid[g]);
+  return body.empty() ? fmt::format("#{}", g) : fmt::format("#{} of body '{}'", g, body);
+}
+}  // namespace
+
+std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
+  const mjModel* m = model.get();
+  const mjData* d = data.get();
+  std::vector<StartIssue> out;
+  for (int j = 0; j < m->njnt; ++j) {
+    int type = m->jnt_type[j];
+    if (!m->jnt_limited[j] || type == mjJNT_FREE) continue;
+    double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
+    if (!(hi > lo)) continue;  // an empty range is structure.joint_range's finding
+    const mjtNum* q = d->qpos + m->jnt_qposadr[j];
+    double value = q[0];
+    if (type == mjJNT_BALL) {
+      // a ball joint's range bounds its rotation angle: [0, hi]
+      double w = std::min(1.0, std::fabs(q[0]));
+      value = 2 * std::acos(w);
+      lo = 0;
+    }
+    double slack = 1e-6 * (hi - lo);
+    if (value >= lo - slack && value <= hi + slack) continue;
+    StartIssue issue;
+    issue.kind = StartIssue::Kind::kJointOutsideRange;
+    issue.id = j;
+    issue.element = Named(model, mjOBJ_JOINT, j, "joint");
+    issue.unit = type == mjJNT_SLIDE ? "m" : "rad";
+    issue.value = value;
+    issue.lo = lo;
+    issue.hi = hi;
+    bool below = value < lo;
+    issue.text = fmt::format("{} starts at {:.4g} {}, outside its range [{:.4g}, {:.4g}] ({:.3g} {} {} it)",
+                             issue.element, value, issue.unit, lo, hi,
+                             below ? lo - value : value - hi, issue.unit,
+                             below ? "below" : "above");
+    out.push_back(std::move(issue));
+  }
+  std::vector<StartIssue> contacts;
+  for (int c = 0; c < d->ncon; ++c) {
+    const mjContact& con = d->contact[c];
+    double depth = -con.dist;
+    double width = con.solimp[2];
+    if (con.exclude != 0 || !(depth > width)) continue;
+    // one issue per geom pair: its deepest contact
+    auto same = std::find_if(contacts.begin(), contacts.end(), [&](const StartIssue& other) {
+      return other.id == con.geom[0] && other.id2 == con.geom[1];
+    });
+    if (same != contacts.end()) {
+      if (depth > same->value) contacts.erase(same);
+      else continue;
+    }
+    StartIssue issue;
+    issue.kind = StartIssue::Kind::kDeepContact;
+    issue.id = con.geom[0];
+    issue.id2 = con.geom[1];
+    issue.element = "geoms " + GeomNamed(model, issue.id) + " and " + GeomNamed(model, issue.id2);
+    issue.unit = "m";
+    issue.value = depth;
+    issue.hi = width;
+    issue.text = fmt::format("{} start {:.3g} mm into each other, deeper than the pair's solimp "
+                             "width {:.3g} mm",
+                             issue.element, 1e3 * depth, 1e3 * width);
+    contacts.push_back(std::move(issue));
+  }
+  std::sort(contacts.begin(), contacts.end(),
+            [](const StartIssue& a, const StartIssue& b) { return a.value > b.value; });
+  out.insert(out.end(), contacts.begin(), contacts.end());
+  return out;
+}
+
+std::string DescribeStartIssues(const std::vector<StartIssue>& issues, int listed) {
+  std::vector<std::string> parts;
+  for (const StartIssue& issue : issues) {
+    if (static_cast<int>(parts.size()) == listed) break;
+    if (issue.kind == StartIssue::Kind::kJointOutsideRange) {
+      parts.push_back(fmt::format("{} at {:.4g} {} outside [{:.4g}, {:.4g}]", issue.element,
+                                  issue.value, issue.unit, issue.lo, issue.hi));
+    } else {
+      parts.push_back(fmt::format("{} {:.3g} mm deep (solimp width {:.3g} mm)", issue.element,
+                                  1e3 * issue.value, 1e3 * issue.hi));
+    }
+  }
+  std::string text = Join(parts, "; ");
+  int more = static_cast<int>(issues.size()) - static_cast<int>(parts.size());
+  if (more > 0) text += fmt::format("; {} more", more);
+  return text;
 }
 
 }  // namespace plumb
