@@ -60,6 +60,9 @@ struct AuditCurve {
 
 struct AuditReport {
   std::string model;
+  // The start every check is judged from: the reference pose's description ("keyframe 'home'",
+  // "qpos0"), with "and --set" when assignments were applied on top.
+  std::string start;
   // One row per finding, in layer order; each row's section is its layer: structure, inertia,
   // actuator, contact, behaviour, warnings.
   std::vector<CheckRow> findings;

@@ -63,6 +63,7 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   report.model = loaded.file();
   // the reference pose (plumb/keyframe.h), then the user's --set, state assignments included
   ReferencePose ref = FindReferencePose(loaded, options.keyframe);
+  report.start = ref.description + (options.sets.empty() ? "" : " and the assignments on top");
   SleepingStart asleep;
   {
     Model probe = loaded.Clone();
@@ -80,6 +81,7 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
 
   std::vector<audit::Observed> runs;
   audit::StructureLayer(nominal, &report.findings);
+  audit::StartRows(nominal, data, report.start, &report.findings);
   if (!asleep.empty()) {
     report.findings.push_back(audit::Make(
         "structure", "structure.sleep", Join(asleep.bodies, ", "),

@@ -8,6 +8,7 @@
 
 #include "audit/audit_layers.h"
 #include "core/mujoco_compat.h"
+#include "plumb/keyframe.h"
 #include "plumb/path.h"
 
 namespace plumb::audit {
@@ -193,6 +194,55 @@ void FiniteParameters(const Model& model, std::vector<CheckRow>* out) {
 }
 
 }  // namespace
+
+void StartRows(const Model& model, const Data& data, const std::string& start,
+               std::vector<CheckRow>* out) {
+  std::vector<StartIssue> issues = StartIssues(model, data);
+  bool qpos0 = start.rfind("qpos0", 0) == 0;
+  std::string where = qpos0 ? "add a keyframe 'home' inside the ranges (MJCF <keyframe><key "
+                              "name=\"home\" qpos=\"...\"/>), which plumb starts from, or move "
+                              "qpos0 with the joint's ref"
+                            : "correct the start (" + start + ") so that it lies inside the ranges";
+  int joints = 0, contacts = 0;
+  for (const StartIssue& issue : issues) {
+    if (issue.kind != StartIssue::Kind::kJointOutsideRange) continue;
+    if (joints++ >= kMaxListed) continue;
+    double bound = issue.value < issue.lo ? issue.lo : issue.hi;
+    out->push_back(WithNumbers(
+        Make(L, "structure.start", ElementOf(model, mjOBJ_JOINT, issue.id, "joint"),
+             fmt::format("starts at {:.4g} {} ({}), outside its range", issue.value, issue.unit,
+                         start),
+             fmt::format("within [{:.4g}, {:.4g}] {}", issue.lo, issue.hi, issue.unit),
+             CheckStatus::kFail,
+             "the joint limit throws it back in the first steps, and every run from this start "
+             "measures that instead of the robot: " + where),
+        {issue.value, issue.unit}, {bound, issue.unit}));
+  }
+  ListedNote(L, "structure.start", "joints outside their range", joints, out);
+  std::vector<StartIssue> deep;
+  for (const StartIssue& issue : issues) {
+    if (issue.kind == StartIssue::Kind::kDeepContact) deep.push_back(issue);
+  }
+  if (!deep.empty()) {
+    contacts = static_cast<int>(deep.size());
+    const StartIssue& deepest = deep.front();
+    out->push_back(WithNumbers(
+        Make(L, "structure.start_contact", DescribeStartIssues(deep, 4),
+             fmt::format("{} contact{} deeper than the pair's solimp width at the start ({}); "
+                         "deepest {:.3g} mm",
+                         contacts, contacts == 1 ? "" : "s", start, 1e3 * deepest.value),
+             fmt::format("<= solimp width ({:.3g} mm)", 1e3 * deepest.hi), CheckStatus::kFail,
+             "MuJoCo pushes interpenetrating geoms apart at full stiffness in the first steps, "
+             "and every run from this start measures that: " + where +
+                 " (fingers closed on each other, feet below the floor)"),
+        {deepest.value, "m"}, {deepest.hi, "m"}));
+  }
+  if (issues.empty()) {
+    out->push_back(Make(L, "structure.start", "", start, "", CheckStatus::kPass,
+                        "the start every check is judged from: every limited joint within its "
+                        "range, no contact deeper than its solimp width"));
+  }
+}
 
 void StructureLayer(const Model& model, std::vector<CheckRow>* out) {
   Counts(model.get(), out);

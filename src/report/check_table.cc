@@ -220,7 +220,8 @@ std::string AuditTable(const AuditReport& report, TableDetail detail,
     }
     texts.push_back(text);
   }
-  return CheckTable(fmt::format("plumb audit {} (MuJoCo {})", report.model, MujocoVersion()),
+  std::string from = report.start.empty() ? "" : ", from " + report.start;
+  return CheckTable(fmt::format("plumb audit {} (MuJoCo {}{})", report.model, MujocoVersion(), from),
                     report.findings, texts, detail, how_to_see_all);
 }
 

@@ -93,6 +93,7 @@ std::string AuditToJson(const AuditReport& report) {
   Json j;
   j["model"] = report.model;
   j["mujoco_version"] = MujocoVersion();
+  j["start"] = report.start;
   Json layers = Json::object();
   for (const CheckRow& row : report.findings) layers[row.section].push_back(RowJson(row));
   j["layers"] = layers;
