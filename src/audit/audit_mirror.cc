@@ -2,8 +2,9 @@
 // pairs named alike ("left_knee_link" / "right_knee_link", "FL_thigh" / "FR_thigh",
 // "hl_hip" / "hr_hip"); a mirror keeps masses, principal moments, range widths, gains and gear
 // magnitudes, so a pair that differs beyond kMirrorTolerance was edited on one side only.
-// Signs are not compared: whether a mirrored joint's range or gear flips sign depends on how
-// its axis was mirrored.
+// Signs are compared only where a mirror keeps them: joint actuators on axle-like hinges (see
+// SignsDisagree), and there a pair whose axes point opposite ways with mirrored ranges ([lo, hi]
+// against [-hi, -lo]) follows a deliberate convention and is no finding.
 
 #include <fmt/format.h>
 
@@ -208,6 +209,50 @@ bool SignsDisagree(const mjModel* m, const mjData* d, int a, int b, int ja, int 
   return axles && mju_dot3(va, vb) < -0.9;
 }
 
+namespace {
+
+// Whether joints ja and jb have mirrored ranges, [lo, hi] against [-hi, -lo] (within
+// kMirrorTolerance of the width): the convention of a pair whose axes were written to point
+// opposite ways on purpose, each range following its axis (Booster T1's elbows).
+bool MirroredRanges(const mjModel* m, int ja, int jb) {
+  if (!m->jnt_limited[ja] || !m->jnt_limited[jb]) return false;
+  const mjtNum* ra = m->jnt_range + 2 * ja;
+  const mjtNum* rb = m->jnt_range + 2 * jb;
+  double width = std::max(ra[1] - ra[0], rb[1] - rb[0]);
+  if (!(width > 0)) return false;
+  bool same = std::fabs(ra[0] - rb[0]) + std::fabs(ra[1] - rb[1]) <= kMirrorTolerance * width;
+  bool mirrored =
+      std::fabs(ra[0] + rb[1]) + std::fabs(ra[1] + rb[0]) <= kMirrorTolerance * width;
+  return mirrored && !same;
+}
+
+// The row of a pair of joint actuators whose senses disagree (SignsDisagree): what differs is
+// the gears' signs when they differ, else the joints' axes.
+void SenseMismatch(const Model& model, const Data& data, int a, int b, int ja, int jb,
+                   std::vector<CheckRow>* out) {
+  const mjModel* m = model.get();
+  double ga = m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first];
+  double gb = m->actuator_gear[6 * compat::ActuatorOutputs(m, b).first];
+  const mjtNum* xa = data->xaxis + 3 * ja;
+  const mjtNum* xb = data->xaxis + 3 * jb;
+  auto range = [&](int j) {
+    return m->jnt_limited[j] ? fmt::format("range [{:.4g}, {:.4g}]", m->jnt_range[2 * j],
+                                           m->jnt_range[2 * j + 1])
+                             : std::string("unlimited");
+  };
+  bool gears = (ga > 0) != (gb > 0);
+  Mismatch(model, "actuator", "actuator.mirror", mjOBJ_ACTUATOR, "actuator", a, b,
+           gears ? "gear signs" : "axis senses", 1,
+           fmt::format("gear {:g} on {} (world axis {:.2f} {:.2f} {:.2f}, {}) / gear {:g} on {} "
+                       "(world axis {:.2f} {:.2f} {:.2f}, {}): their axes lie along the line "
+                       "between them, and the same ctrl turns them opposite ways",
+                       ga, Elem(model, mjOBJ_JOINT, ja, "joint"), xa[0], xa[1], xa[2], range(ja),
+                       gb, Elem(model, mjOBJ_JOINT, jb, "joint"), xb[0], xb[1], xb[2], range(jb)),
+           out);
+}
+
+}  // namespace
+
 void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   auto pairs = Pairs(model, mjOBJ_ACTUATOR, compat::ActuatorCount(m));
@@ -215,15 +260,8 @@ void MirrorActuators(const Model& model, const Data& data, std::vector<CheckRow>
   for (auto [a, b] : pairs) {
     int ja = DrivenJoint(m, a), jb = DrivenJoint(m, b);
     if (ja >= 0 && jb >= 0 && SignsDisagree(m, data.get(), a, b, ja, jb)) {
-      Mismatch(model, "actuator", "actuator.mirror", mjOBJ_ACTUATOR, "actuator", a, b, "gear signs",
-               1,
-               fmt::format("gear {:g} on {} / gear {:g} on {}: their axes lie along the line "
-                           "between them, and the same ctrl turns them opposite ways",
-                           m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first],
-                           Elem(model, mjOBJ_JOINT, ja, "joint"),
-                           m->actuator_gear[6 * compat::ActuatorOutputs(m, b).first],
-                           Elem(model, mjOBJ_JOINT, jb, "joint")),
-               out);
+      // opposite senses with mirrored ranges are a convention, not an edit on one side
+      if (!MirroredRanges(m, ja, jb)) SenseMismatch(model, data, a, b, ja, jb, out);
       continue;
     }
     double ga = m->actuator_gear[6 * compat::ActuatorOutputs(m, a).first];
