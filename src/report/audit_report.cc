@@ -87,6 +87,7 @@ void WriteAuditReport(const std::string& path, const Model& model,
                       const std::vector<Assignment>& sets, const AuditReport& result,
                       const ReportInfo& info) {
   report::Page page = report::StartPage("audit", model, info);
+  page.Meta("start", result.start);
   // the thumbnails come from the pictures' renderer: a second one cost a Go2 another 0.9 s
   ReportInfo with = info;
   if (with.pictures && !with.ahead) with.ahead = StartPictures(model, sets, info);

@@ -116,6 +116,8 @@ TEST(ReportTest, AuditReportHasStepResponsesSettleAndThumbnails) {
   ExpectSelfContained(html);
   EXPECT_EQ(Count(html, "class=\"plumb-chart\""), 3);  // step responses, energy, speed
   EXPECT_NE(html.find("Layer: inertia"), std::string::npos);
+  EXPECT_EQ(result.start, "qpos0");  // the start the audit judged from, in the header
+  EXPECT_NE(html.find("<dt>start</dt><dd>qpos0</dd>"), std::string::npos);
   if (RendererBuilt() && html.find("No thumbnails") == std::string::npos) {
     EXPECT_NE(html.find("alt=\"body &#39;hand&#39;"), std::string::npos);
   }
