@@ -60,8 +60,8 @@ struct AuditCurve {
 
 struct AuditReport {
   std::string model;
-  // The start every check is judged from: the reference pose's description ("keyframe 'home'",
-  // "qpos0"), with "and --set" when assignments were applied on top.
+  // The start every check is judged from (DescribeStart): "keyframe 'home'", "qpos0",
+  // "qpos0 with qpos[thj0]=0.5".
   std::string start;
   // One row per finding, in layer order; each row's section is its layer: structure, inertia,
   // actuator, contact, behaviour, warnings.

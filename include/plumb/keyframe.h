@@ -81,6 +81,16 @@ struct ReferencePose {
 // @throws ValueError as FindKeyframe does, for an unknown `named`.
 ReferencePose FindReferencePose(const Model& model, const std::string& named = "");
 
+// The assignments that start a run at `pose` with `sets` on top (what a report's pictures start
+// from): the pose's keyframe (none for qpos0), then `sets`.
+std::vector<Assignment> ReferenceStart(const Model& model, const ReferencePose& pose,
+                                       const std::vector<Assignment>& sets);
+
+// What a run from `pose` with `sets` on top starts from, in words, for a report's header:
+// "keyframe 'home'", "qpos0 with qpos[hinge]=0.7", "keyframe 'home' with 5 assignments" (the
+// assignments by their text when they are few and short, else by their number).
+std::string DescribeStart(const ReferencePose& pose, const std::vector<Assignment>& sets);
+
 // Puts `data` at `pose` with `sets` applied: the assignments (parameters and state) in order,
 // then the keyframe's state, then the state assignments again, so that the user's --set wins
 // over the keyframe. @throws ValueError / PathError as ApplyAssignments does; MujocoError.

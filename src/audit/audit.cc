@@ -48,14 +48,7 @@ bool AuditReport::Failed(bool strict) const {
 }
 
 std::vector<Assignment> AuditStart(const Model& model, const AuditOptions& options) {
-  std::vector<Assignment> start;
-  ReferencePose pose = FindReferencePose(model, options.keyframe);
-  if (pose.keyframe >= 0) {
-    std::string key = model.Name(mjOBJ_KEY, pose.keyframe);
-    start = KeyframeAssignments(model, key.empty() ? "#" + std::to_string(pose.keyframe) : key);
-  }
-  start.insert(start.end(), options.sets.begin(), options.sets.end());
-  return start;
+  return ReferenceStart(model, FindReferencePose(model, options.keyframe), options.sets);
 }
 
 AuditReport Audit(const Model& loaded, const AuditOptions& options) {
@@ -63,7 +56,7 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   report.model = loaded.file();
   // the reference pose (plumb/keyframe.h), then the user's --set, state assignments included
   ReferencePose ref = FindReferencePose(loaded, options.keyframe);
-  report.start = ref.description + (options.sets.empty() ? "" : " and the assignments on top");
+  report.start = DescribeStart(ref, options.sets);
   SleepingStart asleep;
   {
     Model probe = loaded.Clone();

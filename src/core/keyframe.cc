@@ -119,6 +119,27 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named) {
   return pose;
 }
 
+std::vector<Assignment> ReferenceStart(const Model& model, const ReferencePose& pose,
+                                       const std::vector<Assignment>& sets) {
+  std::vector<Assignment> start;
+  if (pose.keyframe >= 0) start = KeyframeAssignments(model, KeyLabel(model, pose.keyframe));
+  start.insert(start.end(), sets.begin(), sets.end());
+  return start;
+}
+
+std::string DescribeStart(const ReferencePose& pose, const std::vector<Assignment>& sets) {
+  if (sets.empty()) return pose.description;
+  std::vector<std::string> texts;
+  std::size_t length = 0;
+  for (const Assignment& a : sets) {
+    texts.push_back(a.text);
+    length += a.text.size();
+  }
+  if (texts.size() <= 3 && length <= 60) return pose.description + " with " + Join(texts, ", ");
+  return fmt::format("{} with {} assignment{}", pose.description, texts.size(),
+                     texts.size() == 1 ? "" : "s");
+}
+
 void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
                  const std::vector<Assignment>& sets) {
   ApplyAssignments(model, data, sets);

@@ -67,7 +67,7 @@ TEST(AuditStartTest, AllegroFromAStartInsideItsRangesHasNoStartFinding) {
   AuditReport r = Audit(model, options);
   EXPECT_TRUE(Findings(r, "structure.start").empty());
   EXPECT_EQ(Rows(r, "structure.start", CheckStatus::kPass).size(), 1u);
-  EXPECT_EQ(r.start, "qpos0 and the assignments on top");
+  EXPECT_EQ(r.start, "qpos0 with qpos[thj0]=0.5");
 }
 
 TEST(AuditStartTest, PandaIsJudgedFromHomeAndItsQpos0IsNamed) {

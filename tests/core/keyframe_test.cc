@@ -171,5 +171,71 @@ TEST_F(KeyframeTest, UnknownNameListsTheKeyframes) {
   EXPECT_THROW(KeyframeAssignments(Model::Load(testing::kPendulum), "home"), ValueError);
 }
 
+TEST_F(KeyframeTest, ReferenceStartIsTheKeyframeThenTheSets) {
+  Model model = Model::FromXmlString(testing::kKeyed, "keyed.xml");
+  ReferencePose home = FindReferencePose(model);
+  std::vector<Assignment> sets = {ParseAssignment(model, "qvel[slider]=1")};
+  std::vector<Assignment> start = ReferenceStart(model, home, sets);
+  ASSERT_GE(start.size(), 2u);
+  EXPECT_EQ(start.front().text, "keyframe 'home': time");
+  EXPECT_EQ(start.back().text, "qvel[slider]=1");
+  EXPECT_EQ(DescribeStart(home, {}), "keyframe 'home'");
+  EXPECT_EQ(DescribeStart(home, sets), "keyframe 'home' with qvel[slider]=1");
+  std::vector<Assignment> many(4, sets[0]);
+  EXPECT_EQ(DescribeStart(home, many), "keyframe 'home' with 4 assignments");
+  EXPECT_EQ(ReferenceStart(model, ReferencePose{}, {}).size(), 0u);  // qpos0: nothing to apply
+}
+
+// A slide and a ball joint, limited; a box resting on the floor.
+constexpr char kLimited[] = R"(
+<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 1 0.1"/>
+    <body name="cart" pos="0 0 1">
+      <joint name="slider" type="slide" axis="1 0 0" range="0.1 0.5"/>
+      <geom type="sphere" size="0.05" mass="1" contype="0" conaffinity="0"/>
+      <body name="bob" pos="0 0 -0.3">
+        <joint name="socket" type="ball" range="0 30"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02" mass="0.5"
+              contype="0" conaffinity="0"/>
+      </body>
+    </body>
+    <body name="box" pos="0 0 0.09"><freejoint/>
+      <geom name="box" type="box" size="0.1 0.1 0.1" mass="1"/></body>
+  </worldbody>
+</mujoco>)";
+
+TEST_F(KeyframeTest, StartIssuesNamesJointsOutsideTheirRangesAndDeepContacts) {
+  Model model = Model::FromXmlString(kLimited, "limited.xml");
+  Data data(model);
+  data.Forward();  // qpos0: the slider at 0 < 0.1; the box 10 mm into the floor
+  std::vector<StartIssue> issues = StartIssues(model, data);
+  ASSERT_EQ(issues.size(), 2u) << DescribeStartIssues(issues, 9);
+  EXPECT_EQ(issues[0].kind, StartIssue::Kind::kJointOutsideRange);
+  EXPECT_EQ(issues[0].element, "joint 'slider' (id 0)");
+  EXPECT_EQ(issues[0].unit, "m");
+  EXPECT_NEAR(issues[0].lo, 0.1, 1e-12);
+  EXPECT_NE(issues[0].text.find("0.1 m below it"), std::string::npos) << issues[0].text;
+  EXPECT_EQ(issues[1].kind, StartIssue::Kind::kDeepContact);
+  EXPECT_NEAR(issues[1].value, 0.01, 1e-9);  // one issue for the pair (four corners touch)
+  EXPECT_NEAR(issues[1].hi, 0.001, 1e-12);   // MuJoCo's default solimp width
+  EXPECT_NE(issues[1].element.find("'floor' (id 0) and 'box'"), std::string::npos);
+  // inside its range, the ball joint turned 40 degrees (past its 30), the box on the floor
+  data->qpos[0] = 0.2;
+  data->qpos[1] = std::cos(M_PI / 9);  // quaternion of 40 degrees about x
+  data->qpos[2] = std::sin(M_PI / 9);
+  data->qpos[7] = 0.1;
+  data.Forward();
+  issues = StartIssues(model, data);
+  ASSERT_EQ(issues.size(), 1u) << DescribeStartIssues(issues, 9);
+  EXPECT_EQ(issues[0].element, "joint 'socket' (id 1)");
+  EXPECT_NEAR(issues[0].value, 40 * M_PI / 180, 1e-9);
+  EXPECT_NEAR(issues[0].hi, 30 * M_PI / 180, 1e-9);
+  data->qpos[1] = 1;
+  data->qpos[2] = 0;
+  data.Forward();
+  EXPECT_TRUE(StartIssues(model, data).empty());
+}
+
 }  // namespace
 }  // namespace plumb
