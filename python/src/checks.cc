@@ -147,6 +147,9 @@ void BindAudit(nb::module_& m) {
           "no unaccepted FAIL (and with strict=True no unaccepted WARN)")
       .def_prop_ro("model", [](const AuditResult& r) { return r.report.model; })
       .def_prop_ro(
+          "start", [](const AuditResult& r) { return r.report.start; },
+          "what the audit judged from: \"keyframe 'home'\", \"qpos0 with qpos[thj0]=0.5\"")
+      .def_prop_ro(
           "repro_folders", [](const AuditResult& r) { return r.report.repro_folders; },
           "the repro folders written for runs that diverged (with repro=)")
       .def(

@@ -25,6 +25,23 @@ def test_audit_rows_and_verdict(pendulum):
     assert sections <= {"structure", "inertia", "actuator", "contact", "behaviour", "warnings"}
     assert result.count("FAIL") == 0
     assert len(result.to_pandas()) == len(result.rows)
+    assert result.start == "qpos0"
+
+
+def test_audit_names_a_start_outside_a_joint_range(tmp_path):
+    # the same row the CLI prints: a start its authors would not have meant
+    xml = tmp_path / "arm.xml"
+    xml.write_text("""<mujoco><compiler angle="radian"/><worldbody><body>
+      <joint name="elbow" range="0.3 1.2"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/></body></worldbody></mujoco>""")
+    result = plumb.audit(str(xml))
+    assert result.start == "qpos0"
+    [row] = [r for r in result.rows if r.id == "structure.start"]
+    assert row.status == "FAIL"
+    assert "elbow" in row.element
+    inside = plumb.audit(str(xml), set=["qpos[elbow]=0.5"])
+    assert inside.start == "qpos0 with qpos[elbow]=0.5"
+    assert [r.status for r in inside.rows if r.id == "structure.start"] == ["PASS"]
 
 
 def test_audit_finds_the_defects_and_an_accept_list_clears_them(tmp_path, root):
