@@ -70,12 +70,41 @@ std::vector<Assignment> StartAssignments(
     const Model& model, const StartSpec& start,
     const std::function<void(const char* argument, const Assignment& a)>& warn = nullptr);
 
+// Something about a start its authors would not have meant: a limited joint outside its range
+// (the limit throws it back in the first steps, and every check after measures that), or a
+// contact deeper than its pair's solimp width (MuJoCo pushes the geoms apart at full
+// impedance). One definition for audit, verify and the front ends.
+struct StartIssue {
+  enum class Kind { kJointOutsideRange, kDeepContact };
+  Kind kind = Kind::kJointOutsideRange;
+  int id = -1;          // the joint; for a contact its first geom
+  int id2 = -1;         // a contact's second geom; -1 for a joint
+  std::string element;  // "joint 'thj0' (id 12)", "geoms 'left_pad' (id 3) and 'right_pad' (id 4)"
+  std::string unit;     // "rad" or "m"
+  double value = 0;     // the joint's position (a ball joint's angle), or the penetration (> 0)
+  double lo = 0, hi = 0;  // the joint's range; for a contact 0 and the pair's solimp width
+  // One sentence: "joint 'thj0' (id 12) starts at 0 rad, outside its range [0.263, 1.396]
+  // (0.263 rad below it)".
+  std::string text;
+};
+
 // The pose a check judges a model in when no run is asked for (audit's layers, snapshot's
 // reference state): the keyframe the user named, else the model's keyframe "home", else
 // its keyframe "test", else qpos0. One definition for every command.
+//
+// A model without either keyframe is run as its authors run it, within its joint ranges: where
+// qpos0 puts a limited hinge or slide outside its range (Menagerie's Allegro hand: thj0 at 0,
+// range [0.263, 1.396]), the reference pose moves it 1% of the range's width inside its nearest
+// bound (`into_range`), so no run starts with a limit throwing the joint back. audit's
+// structure.start still FAILs naming qpos0's value (the model has no valid start of its own).
 struct ReferencePose {
   int keyframe = -1;        // -1: qpos0
   std::string description;  // "keyframe 'stand' (--keyframe)", "keyframe 'home'", "qpos0"
+  // For qpos0 only: one assignment per joint qpos0 puts outside its range, bringing it inside
+  // ("qpos[thj0]=0.27433"); StartAtPose and ReferenceStart apply them before the caller's.
+  std::vector<Assignment> into_range;
+  // The same joints as StartIssues names them at qpos0 (value: qpos0's), in the same order.
+  std::vector<StartIssue> outside;
 };
 
 // @throws ValueError as FindKeyframe does, for an unknown `named`.
@@ -96,24 +125,6 @@ std::string DescribeStart(const ReferencePose& pose, const std::vector<Assignmen
 // over the keyframe. @throws ValueError / PathError as ApplyAssignments does; MujocoError.
 void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
                  const std::vector<Assignment>& sets);
-
-// Something about a start its authors would not have meant: a limited joint outside its range
-// (the limit throws it back in the first steps, and every check after measures that), or a
-// contact deeper than its pair's solimp width (MuJoCo pushes the geoms apart at full
-// impedance). One definition for audit, verify and the front ends.
-struct StartIssue {
-  enum class Kind { kJointOutsideRange, kDeepContact };
-  Kind kind = Kind::kJointOutsideRange;
-  int id = -1;          // the joint; for a contact its first geom
-  int id2 = -1;         // a contact's second geom; -1 for a joint
-  std::string element;  // "joint 'thj0' (id 12)", "geoms 'left_pad' (id 3) and 'right_pad' (id 4)"
-  std::string unit;     // "rad" or "m"
-  double value = 0;     // the joint's position (a ball joint's angle), or the penetration (> 0)
-  double lo = 0, hi = 0;  // the joint's range; for a contact 0 and the pair's solimp width
-  // One sentence: "joint 'thj0' (id 12) starts at 0 rad, outside its range [0.263, 1.396]
-  // (0.263 rad below it)".
-  std::string text;
-};
 
 // The start issues of `data` (after mj_forward at the start): every limited hinge, slide or
 // ball joint whose position lies outside its range by more than 1e-6 of the range's width,

@@ -35,12 +35,12 @@ def test_audit_names_a_start_outside_a_joint_range(tmp_path):
       <joint name="elbow" range="0.3 1.2"/>
       <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/></body></worldbody></mujoco>""")
     result = plumb.audit(str(xml))
-    assert result.start == "qpos0"
+    assert result.start == "qpos0 (1 joint brought into its range)"
     [row] = [r for r in result.rows if r.id == "structure.start"]
     assert row.status == "FAIL"
     assert "elbow" in row.element
     inside = plumb.audit(str(xml), set=["qpos[elbow]=0.5"])
-    assert inside.start == "qpos0 with qpos[elbow]=0.5"
+    assert inside.start == "qpos0 (1 joint brought into its range) with qpos[elbow]=0.5"
     assert [r.status for r in inside.rows if r.id == "structure.start"] == ["PASS"]
 
 

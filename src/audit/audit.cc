@@ -74,7 +74,7 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
 
   std::vector<audit::Observed> runs;
   audit::StructureLayer(nominal, &report.findings);
-  audit::StartRows(nominal, data, report.start, &report.findings);
+  audit::StartRows(nominal, data, ref, report.start, &report.findings);
   if (!asleep.empty()) {
     report.findings.push_back(audit::Make(
         "structure", "structure.sleep", Join(asleep.bodies, ", "),

@@ -114,11 +114,12 @@ void DelayRows(const Model& model, const std::string& kind, const char* layer, c
 // The layers, in the order the audit runs them; each appends its findings to `out` and
 // the runs it made to `runs`.
 void StructureLayer(const Model& model, std::vector<CheckRow>* out);
-// The start the audit judges from (`data` after mj_forward there, `start` its description):
-// a FAIL row per joint outside its range and one for contacts deeper than their solimp width
+// The start the audit judges from (`data` after mj_forward there, `ref` its reference pose and
+// `start` its description): a FAIL row per joint outside its range (there, or at qpos0 when
+// `ref` moved it inside) and one for contacts deeper than their solimp width
 // (plumb::StartIssues), else one PASS row naming the start (audit_structure.cc).
-void StartRows(const Model& model, const Data& data, const std::string& start,
-               std::vector<CheckRow>* out);
+void StartRows(const Model& model, const Data& data, const ReferencePose& ref,
+               const std::string& start, std::vector<CheckRow>* out);
 // `original` is the model as loaded, `model` after --set.
 void InertiaLayer(const Model& original, const Model& model, Data& data,
                   std::vector<CheckRow>* out);

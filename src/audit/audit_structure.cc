@@ -193,30 +193,57 @@ void FiniteParameters(const Model& model, std::vector<CheckRow>* out) {
       {static_cast<double>(bad.total), ""}));
 }
 
+// What to do about a start its authors would not have meant (`start`: DescribeStart's words).
+std::string FixTheStart(const std::string& start) {
+  if (start.rfind("qpos0", 0) == 0) {
+    return "add a keyframe 'home' inside the ranges (MJCF <keyframe><key name=\"home\" "
+           "qpos=\"...\"/>), which plumb starts from, or move qpos0 with the joint's ref";
+  }
+  return "correct the start (" + start + ") so that it lies inside the ranges";
+}
+
+// The FAIL row of joint `issue` outside its range at the start; `moved_to` is where the
+// reference pose brought it instead (NaN: nowhere, the run starts there).
+CheckRow OutsideRow(const Model& model, const StartIssue& issue, const std::string& start,
+                    double moved_to) {
+  std::string where = FixTheStart(start);
+  std::string fix =
+      std::isnan(moved_to)
+          ? "the joint limit throws it back in the first steps, and every run from this start "
+            "measures that instead of the robot: " + where
+          : fmt::format("the model has no keyframe, and from qpos0 its limit would throw the "
+                        "joint back in the first steps: the audit's runs start it at {:.4g} {}, "
+                        "1% inside its range: {}",
+                        moved_to, issue.unit, where);
+  double bound = issue.value < issue.lo ? issue.lo : issue.hi;
+  return WithNumbers(
+      Make(L, "structure.start", ElementOf(model, mjOBJ_JOINT, issue.id, "joint"),
+           fmt::format("{} puts it at {:.4g} {}, outside its range",
+                       std::isnan(moved_to) ? "the start (" + start + ")" : std::string("qpos0"),
+                       issue.value, issue.unit),
+           fmt::format("within [{:.4g}, {:.4g}] {}", issue.lo, issue.hi, issue.unit),
+           CheckStatus::kFail, fix),
+      {issue.value, issue.unit}, {bound, issue.unit});
+}
+
 }  // namespace
 
-void StartRows(const Model& model, const Data& data, const std::string& start,
-               std::vector<CheckRow>* out) {
+void StartRows(const Model& model, const Data& data, const ReferencePose& ref,
+               const std::string& start, std::vector<CheckRow>* out) {
+  const mjModel* m = model.get();
   std::vector<StartIssue> issues = StartIssues(model, data);
-  bool qpos0 = start.rfind("qpos0", 0) == 0;
-  std::string where = qpos0 ? "add a keyframe 'home' inside the ranges (MJCF <keyframe><key "
-                              "name=\"home\" qpos=\"...\"/>), which plumb starts from, or move "
-                              "qpos0 with the joint's ref"
-                            : "correct the start (" + start + ") so that it lies inside the ranges";
-  int joints = 0, contacts = 0;
+  int joints = 0;
+  // the joints qpos0 puts outside their ranges, which the reference pose moved inside (unless
+  // the caller's own assignments moved them elsewhere)
+  for (std::size_t i = 0; i < ref.outside.size(); ++i) {
+    const StartIssue& issue = ref.outside[i];
+    double moved_to = ref.into_range[i].values[0];
+    if (data->qpos[m->jnt_qposadr[issue.id]] != moved_to) continue;
+    if (joints++ < kMaxListed) out->push_back(OutsideRow(model, issue, start, moved_to));
+  }
   for (const StartIssue& issue : issues) {
     if (issue.kind != StartIssue::Kind::kJointOutsideRange) continue;
-    if (joints++ >= kMaxListed) continue;
-    double bound = issue.value < issue.lo ? issue.lo : issue.hi;
-    out->push_back(WithNumbers(
-        Make(L, "structure.start", ElementOf(model, mjOBJ_JOINT, issue.id, "joint"),
-             fmt::format("starts at {:.4g} {} ({}), outside its range", issue.value, issue.unit,
-                         start),
-             fmt::format("within [{:.4g}, {:.4g}] {}", issue.lo, issue.hi, issue.unit),
-             CheckStatus::kFail,
-             "the joint limit throws it back in the first steps, and every run from this start "
-             "measures that instead of the robot: " + where),
-        {issue.value, issue.unit}, {bound, issue.unit}));
+    if (joints++ < kMaxListed) out->push_back(OutsideRow(model, issue, start, NAN));
   }
   ListedNote(L, "structure.start", "joints outside their range", joints, out);
   std::vector<StartIssue> deep;
@@ -224,7 +251,7 @@ void StartRows(const Model& model, const Data& data, const std::string& start,
     if (issue.kind == StartIssue::Kind::kDeepContact) deep.push_back(issue);
   }
   if (!deep.empty()) {
-    contacts = static_cast<int>(deep.size());
+    int contacts = static_cast<int>(deep.size());
     const StartIssue& deepest = deep.front();
     out->push_back(WithNumbers(
         Make(L, "structure.start_contact", DescribeStartIssues(deep, 4),
@@ -233,11 +260,11 @@ void StartRows(const Model& model, const Data& data, const std::string& start,
                          contacts, contacts == 1 ? "" : "s", start, 1e3 * deepest.value),
              fmt::format("<= solimp width ({:.3g} mm)", 1e3 * deepest.hi), CheckStatus::kFail,
              "MuJoCo pushes interpenetrating geoms apart at full stiffness in the first steps, "
-             "and every run from this start measures that: " + where +
+             "and every run from this start measures that: " + FixTheStart(start) +
                  " (fingers closed on each other, feet below the floor)"),
         {deepest.value, "m"}, {deepest.hi, "m"}));
   }
-  if (issues.empty()) {
+  if (issues.empty() && joints == 0) {
     out->push_back(Make(L, "structure.start", "", start, "", CheckStatus::kPass,
                         "the start every check is judged from: every limited joint within its "
                         "range, no contact deeper than its solimp width"));

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/joint_size.h"
 #include "core/mujoco_compat.h"
@@ -52,6 +53,59 @@ std::vector<std::string> Numbers(const std::string& text) {
   if (out.back().empty()) out.pop_back();
   return out;
 }
+// Joint j at position `q` (qpos of its qposadr) when that lies outside its range by more than
+// 1e-6 of the range's width: hinges, slides and ball joints (by their rotation angle).
+std::optional<StartIssue> JointOutside(const Model& model, int j, const mjtNum* q) {
+  const mjModel* m = model.get();
+  int type = m->jnt_type[j];
+  if (!m->jnt_limited[j] || type == mjJNT_FREE) return std::nullopt;
+  double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
+  if (!(hi > lo)) return std::nullopt;  // an empty range is structure.joint_range's finding
+  double value = q[0];
+  if (type == mjJNT_BALL) {
+    // a ball joint's range bounds its rotation angle: [0, hi]
+    value = 2 * std::acos(std::min(1.0, std::fabs(q[0])));
+    lo = 0;
+  }
+  double slack = 1e-6 * (hi - lo);
+  if (value >= lo - slack && value <= hi + slack) return std::nullopt;
+  StartIssue issue;
+  issue.kind = StartIssue::Kind::kJointOutsideRange;
+  issue.id = j;
+  std::string name = model.Name(mjOBJ_JOINT, j);
+  issue.element = name.empty() ? fmt::format("joint #{}", j)
+                               : fmt::format("joint '{}' (id {})", name, j);
+  issue.unit = type == mjJNT_SLIDE ? "m" : "rad";
+  issue.value = value;
+  issue.lo = lo;
+  issue.hi = hi;
+  bool below = value < lo;
+  issue.text = fmt::format("{} starts at {:.4g} {}, outside its range [{:.4g}, {:.4g}] ({:.3g} {} {} it)",
+                           issue.element, value, issue.unit, lo, hi, below ? lo - value : value - hi,
+                           issue.unit, below ? "below" : "above");
+  return issue;
+}
+
+// For each hinge or slide that qpos0 puts outside its range: the issue, and the assignment that
+// moves it 1% of the range's width inside its nearest bound.
+void IntoRange(const Model& model, ReferencePose* pose) {
+  const mjModel* m = model.get();
+  for (int j = 0; j < m->njnt; ++j) {
+    int type = m->jnt_type[j];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+    int adr = m->jnt_qposadr[j];
+    std::optional<StartIssue> issue = JointOutside(model, j, m->qpos0 + adr);
+    if (!issue) continue;
+    double width = issue->hi - issue->lo;
+    double inside = issue->value < issue->lo ? issue->lo + 0.01 * width : issue->hi - 0.01 * width;
+    std::string name = model.Name(mjOBJ_JOINT, j);
+    std::string path = name.empty() ? fmt::format("qpos[{}]", adr) : "qpos[" + name + "]";
+    pose->into_range.push_back(ParseAssignment(model, fmt::format("{}={:.17g}", path, inside)));
+    pose->into_range.back().text = fmt::format("{}={:.5g}", path, inside);
+    pose->outside.push_back(std::move(*issue));
+  }
+}
+
 }  // namespace
 
 int FindKeyframe(const Model& model, const std::string& name) {
@@ -116,12 +170,20 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named) {
     }
   }
   pose.description = "qpos0";
+  IntoRange(model, &pose);
+  if (!pose.into_range.empty()) {
+    pose.description += fmt::format(" ({} joint{} brought into {} range{})",
+                                    pose.into_range.size(),
+                                    pose.into_range.size() == 1 ? "" : "s",
+                                    pose.into_range.size() == 1 ? "its" : "their",
+                                    pose.into_range.size() == 1 ? "" : "s");
+  }
   return pose;
 }
 
 std::vector<Assignment> ReferenceStart(const Model& model, const ReferencePose& pose,
                                        const std::vector<Assignment>& sets) {
-  std::vector<Assignment> start;
+  std::vector<Assignment> start = pose.into_range;
   if (pose.keyframe >= 0) start = KeyframeAssignments(model, KeyLabel(model, pose.keyframe));
   start.insert(start.end(), sets.begin(), sets.end());
   return start;
@@ -142,8 +204,11 @@ std::string DescribeStart(const ReferencePose& pose, const std::vector<Assignmen
 
 void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
                  const std::vector<Assignment>& sets) {
+  if (pose.keyframe < 0) {
+    ApplyAssignments(model, data, ReferenceStart(model, pose, sets));
+    return;
+  }
   ApplyAssignments(model, data, sets);
-  if (pose.keyframe < 0) return;
   mj_resetDataKeyframe(model.get(), data.get(), pose.keyframe);
   WriteState(model, data, sets);
   data.Forward();
@@ -220,12 +285,6 @@ std::vector<Assignment> StartAssignments(
 }
 
 namespace {
-std::string Named(const Model& model, int obj, int id, const char* noun) {
-  std::string name = model.Name(obj, id);
-  return name.empty() ? fmt::format("{} #{}", noun, id)
-                      : fmt::format("{} '{}' (id {})", noun, name, id);
-}
-
 std::string GeomNamed(const Model& model, int g) {
   std::string name = model.Name(mjOBJ_GEOM, g);
   if (!name.empty()) return fmt::format("'{}' (id {})", name, g);
@@ -239,34 +298,8 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
   const mjData* d = data.get();
   std::vector<StartIssue> out;
   for (int j = 0; j < m->njnt; ++j) {
-    int type = m->jnt_type[j];
-    if (!m->jnt_limited[j] || type == mjJNT_FREE) continue;
-    double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
-    if (!(hi > lo)) continue;  // an empty range is structure.joint_range's finding
-    const mjtNum* q = d->qpos + m->jnt_qposadr[j];
-    double value = q[0];
-    if (type == mjJNT_BALL) {
-      // a ball joint's range bounds its rotation angle: [0, hi]
-      double w = std::min(1.0, std::fabs(q[0]));
-      value = 2 * std::acos(w);
-      lo = 0;
-    }
-    double slack = 1e-6 * (hi - lo);
-    if (value >= lo - slack && value <= hi + slack) continue;
-    StartIssue issue;
-    issue.kind = StartIssue::Kind::kJointOutsideRange;
-    issue.id = j;
-    issue.element = Named(model, mjOBJ_JOINT, j, "joint");
-    issue.unit = type == mjJNT_SLIDE ? "m" : "rad";
-    issue.value = value;
-    issue.lo = lo;
-    issue.hi = hi;
-    bool below = value < lo;
-    issue.text = fmt::format("{} starts at {:.4g} {}, outside its range [{:.4g}, {:.4g}] ({:.3g} {} {} it)",
-                             issue.element, value, issue.unit, lo, hi,
-                             below ? lo - value : value - hi, issue.unit,
-                             below ? "below" : "above");
-    out.push_back(std::move(issue));
+    std::optional<StartIssue> issue = JointOutside(model, j, d->qpos + m->jnt_qposadr[j]);
+    if (issue) out.push_back(std::move(*issue));
   }
   std::vector<StartIssue> contacts;
   for (int c = 0; c < d->ncon; ++c) {
