@@ -237,5 +237,26 @@ TEST_F(KeyframeTest, StartIssuesNamesJointsOutsideTheirRangesAndDeepContacts) {
   EXPECT_TRUE(StartIssues(model, data).empty());
 }
 
+TEST_F(KeyframeTest, WithoutAKeyframeTheReferencePoseIsWithinTheJointRanges) {
+  Model model = Model::FromXmlString(kLimited, "limited.xml");
+  ReferencePose pose = FindReferencePose(model);
+  EXPECT_EQ(pose.keyframe, -1);
+  EXPECT_EQ(pose.description, "qpos0 (1 joint brought into its range)");
+  ASSERT_EQ(pose.into_range.size(), 1u);
+  ASSERT_EQ(pose.outside.size(), 1u);
+  EXPECT_EQ(pose.into_range[0].text, "qpos[slider]=0.104");  // 1% of [0.1, 0.5] inside
+  EXPECT_EQ(pose.outside[0].element, "joint 'slider' (id 0)");
+  EXPECT_EQ(pose.outside[0].value, 0);
+  Data data(model);
+  StartAtPose(model, data, pose, {});
+  EXPECT_NEAR(data->qpos[0], 0.104, 1e-15);
+  // the caller's assignments win
+  StartAtPose(model, data, pose, {ParseAssignment(model, "qpos[slider]=0.3")});
+  EXPECT_EQ(data->qpos[0], 0.3);
+  EXPECT_EQ(ReferenceStart(model, pose, {}).size(), 1u);
+  // a keyframe the caller names is taken as it is
+  EXPECT_TRUE(FindReferencePose(Model::FromXmlString(testing::kKeyed, "k.xml")).into_range.empty());
+}
+
 }  // namespace
 }  // namespace plumb
