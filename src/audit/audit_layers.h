@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plumb/audit.h"
@@ -127,6 +128,32 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const std::vector<Assignment>& sets, const ReferencePose& ref,
                    const AuditOptions& options, std::vector<Observed>* runs,
                    std::vector<CheckRow>* out);
+// Actuators as the actuator layer reads them (audit_actuator.cc). ActuatorCtrl is where
+// actuator u's first control sits in ctrl and the nu-row arrays (ctrlrange), ActuatorOutput its
+// first force output in the nout-row arrays (gear, length, force): MuJoCo 3.12+ actuators may
+// take several controls (a pid takes two), so these are not u.
+int ActuatorCtrl(const mjModel* m, int u);
+int ActuatorOutput(const mjModel* m, int u);
+bool ActuatorCtrlLimited(const mjModel* m, int u);
+const mjtNum* ActuatorCtrlRange(const mjModel* m, int u);  // lo, hi
+double ActuatorGear(const mjModel* m, int u);              // gear[0] of its first output
+// The gear as a row prints it: one number for a joint or tendon, the wrench for a site.
+std::string ActuatorGearText(const mjModel* m, int u);
+// The force interval [lo, hi] actuator u can produce; infinite where nothing bounds it.
+std::pair<double, double> ActuatorForceInterval(const mjModel* m, int u);
+
+// What kind of response a ctrl step gives.
+enum class ActuatorKind { kPositionServo, kVelocityServo, kMotor, kOther };
+ActuatorKind ActuatorKindOf(const mjModel* m, int u);
+
+// Step responses of up to 12 actuators (audit_step.cc), within one dof-step budget for all,
+// from `ref` after `sets`, gravity and contacts off: a position servo's step stays within its
+// joint's (tendon's) range, the joints an equality or tendon ties to its joint move with it,
+// and a response a limit, an equality, a load or a saturated force decided says so.
+void StepResponses(const Model& original, const Model& model, const std::vector<Assignment>& sets,
+                   const ReferencePose& ref, const AuditOptions& options,
+                   std::vector<Observed>* runs, std::vector<CheckRow>* out);
+
 // The stability margin of every servo (audit_servo.cc); `data` after mj_forward at the
 // reference pose.
 void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>* out);
