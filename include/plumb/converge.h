@@ -4,7 +4,14 @@
 // Example:
 //   plumb::ConvergenceResult r = plumb::Converge(model, sets, metric, 0.002, 4, 1e-3);
 //   r.observed_order   // ~1 for Euler, ~4 for RK4 on the chapter's pendulum
-//   r.recommended_dt   // the largest tested dt/2^k whose estimated error is below tol * scale
+//   r.recommended_dt   // the largest tested dt/2^k that, with every finer level, meets
+//                      // tol * scale (RecommendedLevel)
+//
+// The levels run one model: MuJoCo raises every standard solref time constant to 2 * timestep
+// (refsafe), so a ladder that only halved dt would clamp contacts, limits and equalities whose
+// time constant is below 2 * dt0 less at each level, a model change it would read as error.
+// Converge raises each such time constant to 2 * dt0 at every level, what the model runs with
+// at dt0 (HoldSolref).
 //
 // Thread-safety: Converge only reads `model` (each level runs on a copy of its own) and starts no
 // threads, so calls may run at once from several threads, also on one Model; it takes (and
@@ -52,7 +59,33 @@ struct ConvergenceLevel {
   bool error_is_richardson = false;
   bool roundoff = false;  // diff is below the round-off level: it and the orders from it
                           // are noise (order is then NaN)
+  // The largest difference between this level's value and a finer level's (norms for
+  // state@T); for the finest level its difference to the next coarser one. NaN when a level
+  // failed.
+  double spread = 0;
 };
+
+// Whether `level` meets the tolerance `target` (tol * scale, the metric's units): its estimated
+// error, where there is one, is within it, and its spread too (the finest level, which has
+// nothing finer, is judged by its Richardson estimate alone when it has one; a level whose
+// difference to the next is round-off meets any tolerance on that count).
+bool LevelMeetsTolerance(const ConvergenceLevel& level, bool finest, double target);
+
+// The recommendation rule that plumb converge and plumb verify share: the index of the
+// coarsest level that, with every finer level, meets `target` (LevelMeetsTolerance), or -1.
+// A level is never recommended above one that fails, however small its own estimate: the
+// estimates of a rough sequence need not fall as dt shrinks. `levels` is coarsest first.
+int RecommendedLevel(const std::vector<ConvergenceLevel>& levels, double target);
+
+// The standard solref time constants (solref[0] > 0) of `model` below `floor` s, raised to it,
+// as assignments to append to a run's own (their texts name the arrays): at every level of a
+// ladder whose coarsest step is floor / 2 this holds the model MuJoCo runs at that step. A
+// geom's is raised only when one of its contacts mixes (solmix, priority) below the floor; a
+// contact between a raised geom and one above the floor then mixes a little softer than MuJoCo's
+// clamp of the unraised mix would (the levels still run one model). Empty when none is below, or
+// when refsafe is off (MuJoCo then clamps nothing). `held` (optional) gets how many rows each
+// array had raised, e.g. "geom_solref (3), eq_solref (1)".
+std::vector<Assignment> HoldSolref(const Model& model, double floor, std::string* held = nullptr);
 
 struct ConvergenceResult {
   std::string model;  // the model's file
@@ -64,10 +97,13 @@ struct ConvergenceResult {
   OrderEstimate estimate;
   double scale = 1;   // the metric's magnitude, errors are compared with tol * scale
   double tol = 1e-3;  // relative tolerance
-  // The largest tested level (one of levels[].dt, never an extrapolated step) whose
-  // estimated error meets tol * scale, or whose difference to every finer level is
-  // round-off or within the tolerance; 0 if none.
+  // The largest tested level (one of levels[].dt, never an extrapolated step) that, with
+  // every finer level, meets tol * scale (RecommendedLevel); 0 if none.
   double recommended_dt = 0;
+  // s: every standard solref time constant below it was raised to it at every level (MuJoCo's
+  // 2 * dt floor at the coarsest level, HoldSolref); 0 when none was below, or refsafe is off.
+  double solref_floor = 0;
+  std::string solref_held;  // the arrays and rows raised, e.g. "geom_solref (3)"; or empty
   int max_contacts = 0;   // most contacts at once in the run at dt0
   std::string caveat;     // ContactCaveat(max_contacts): empty without contacts
   bool ok = true;         // false when a level diverged or could not be measured
@@ -102,6 +138,11 @@ struct ConvergeOptions {
 // (ok false, diverged true).
 ConvergenceResult Converge(const Model& model, const Metric& metric,
                            const ConvergeOptions& options);
+
+// What every convergence report says about the solref time constants: "solref time constants
+// below 0.004 s held at 0.004 s across levels (MuJoCo's 2*dt floor at the coarsest level):
+// geom_solref (3)"; empty when none was held.
+std::string SolrefNote(const ConvergenceResult& result);
 
 // The caveat every convergence report (converge's table and JSON, verify's convergence
 // check) gives when contacts occur: contacts make trajectories non-smooth in time, so

@@ -266,7 +266,15 @@ void BindConverge(nb::module_& m) {
                    [](const ConvergeResult& r) { return r.result.expected_order; })
       .def_prop_ro(
           "recommended_dt", [](const ConvergeResult& r) { return r.result.recommended_dt; },
-          "the coarsest tested timestep within the tolerance (0: none)")
+          "the coarsest tested timestep that, with every finer level, meets the tolerance "
+          "(0: none)")
+      .def_prop_ro(
+          "solref_floor", [](const ConvergeResult& r) { return r.result.solref_floor; },
+          "s: solref time constants below it were held at it across levels (MuJoCo's 2*dt "
+          "floor at the coarsest level); 0 when none was")
+      .def_prop_ro(
+          "solref_held", [](const ConvergeResult& r) { return r.result.solref_held; },
+          "the solref arrays held and their rows, e.g. 'geom_solref (2)'; empty when none")
       .def(
           "to_pandas",
           [](const ConvergeResult& r) { return RowsFrame(FromJson(r.Json())["levels"]); },

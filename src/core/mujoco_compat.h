@@ -194,14 +194,41 @@ inline int ControlActuator(const mjModel* m, long row) {
   return -1;
 }
 
-// Whether MuJoCo raises a solref time constant to two timesteps: the refsafe flag of 2.x
-// (on unless disabled); 3.x removed the flag and always does.
+// Whether MuJoCo raises a standard solref time constant (solref[0] > 0) to two timesteps:
+// unless the refsafe flag is disabled (mjDSBL_REFSAFE: bit 11 on 2.x, bit 12 from 3.x, where
+// mjDSBL_ACTUATION took bit 11; the enumerator names it on every version).
 inline bool ReferenceTimeconstClamped(const mjModel* m) {
-  if constexpr (kMujoco3) {
-    return true;
-  } else {
-    return !(m->opt.disableflags & (1 << 11));  // mjDSBL_REFSAFE, gone from 3.x headers
-  }
+  return !(m->opt.disableflags & mjDSBL_REFSAFE);
+}
+
+// One solref array of mjModel, by its field name: `rows` rows of mjNREF numbers.
+struct SolrefArray {
+  const char* name;
+  const mjtNum* data;
+  long rows;  // mjtSize on 4.x, int before
+};
+
+// Every solref array whose standard time constant MuJoCo raises to two timesteps (see
+// ReferenceTimeconstClamped): contacts (geom_solref, pair_solref; pair_solreffriction and
+// flex_solref from 3.x, which 2.x lacks), joint limits (jnt_solref), dof friction loss
+// (dof_solref), equalities (eq_solref), tendon limits and friction (tendon_solref_lim,
+// tendon_solref_fri), and opt.o_solref, which replaces the contacts' under the override flag.
+inline std::vector<SolrefArray> ClampedSolrefArrays(const mjModel* m) {
+  std::vector<SolrefArray> arrays = {
+      {"geom_solref", m->geom_solref, m->ngeom},
+      {"pair_solref", m->pair_solref, m->npair},
+      {"jnt_solref", m->jnt_solref, m->njnt},
+      {"dof_solref", m->dof_solref, m->nv},
+      {"eq_solref", m->eq_solref, m->neq},
+      {"tendon_solref_lim", m->tendon_solref_lim, m->ntendon},
+      {"tendon_solref_fri", m->tendon_solref_fri, m->ntendon},
+      {"opt.o_solref", m->opt.o_solref, 1},
+  };
+#if mjVERSION_HEADER >= 300
+  arrays.push_back({"pair_solreffriction", m->pair_solreffriction, m->npair});
+  arrays.push_back({"flex_solref", m->flex_solref, m->nflex});
+#endif
+  return arrays;
 }
 
 // Solver iterations used by the last step (summed over islands on 3.x).

@@ -148,6 +148,7 @@ std::string ConvergeToJson(const ConvergenceResult& r) {
     levels.push_back({{"dt", l.dt},
                       {"value", Number(l.value)},
                       {"diff", Number(l.diff)},
+                      {"spread", Number(l.spread)},
                       {"order", Number(l.order)},
                       {"error", Number(l.error)},
                       {"error_is_richardson", l.error_is_richardson},
@@ -162,6 +163,8 @@ std::string ConvergeToJson(const ConvergenceResult& r) {
   j["recommended_dt"] = r.recommended_dt > 0 ? Number(r.recommended_dt) : nullptr;
   j["contacts"] = r.max_contacts;
   j["caveat"] = r.caveat.empty() ? Json(nullptr) : Json(r.caveat);
+  j["solref_floor"] = r.solref_floor > 0 ? Json(r.solref_floor) : Json(nullptr);
+  j["solref_held"] = r.solref_held.empty() ? Json(nullptr) : Json(r.solref_held);
   j["note"] = r.ok ? r.estimate.note : r.problem;
   return j.dump(2) + "\n";
 }

@@ -31,13 +31,14 @@ std::string ConvergeVerdict(const ConvergenceResult& r) {
                      measured ? "measured at the finest level" : "an estimate", r.estimate.note);
   out += r.recommended_dt > 0
              ? fmt::format(
-                   "recommended dt  {:g} s: the largest tested level with estimated error "
-                   "below tol {:g} x scale {:.3g}\n",
+                   "recommended dt  {:g} s: the largest tested level that, with every finer "
+                   "level, meets tol {:g} x scale {:.3g}\n",
                    r.recommended_dt, r.tol, r.scale)
              : std::string(
                    "recommended dt  none (no tested level is shown to meet the tolerance; "
                    "start from a smaller timestep or halve it more times)\n");
   if (!r.caveat.empty()) out += "caveat          " + r.caveat + "\n";
+  if (!SolrefNote(r).empty()) out += "solref          " + SolrefNote(r) + "\n";
   return out;
 }
 

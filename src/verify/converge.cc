@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
 #include "plumb/timing.h"
@@ -101,23 +103,38 @@ double ExpectedOrder(int integrator) { return integrator == mjINT_RK4 ? 4.0 : 1.
 
 namespace {
 
+// The difference between two levels' measurements (a norm for state vectors).
+double Distance(const Metric& metric, const Measurement& a, const Measurement& b) {
+  if (metric.kind != MetricKind::kStateAt) return std::fabs(a.value - b.value);
+  double sum = 0;
+  for (std::size_t j = 0; j < a.state.size(); ++j) {
+    double e = a.state[j] - b.state[j];
+    sum += e * e;
+  }
+  return std::sqrt(sum);
+}
+
 // Successive differences of the levels' values (norms for state vectors).
 std::vector<double> Differences(const Metric& metric, const std::vector<Measurement>& measured) {
   std::vector<double> diffs;
   for (std::size_t i = 0; i + 1 < measured.size(); ++i) {
-    double diff = 0;
-    if (metric.kind == MetricKind::kStateAt) {
-      for (std::size_t j = 0; j < measured[i].state.size(); ++j) {
-        double e = measured[i].state[j] - measured[i + 1].state[j];
-        diff += e * e;
-      }
-      diff = std::sqrt(diff);
-    } else {
-      diff = std::fabs(measured[i].value - measured[i + 1].value);
-    }
-    diffs.push_back(diff);
+    diffs.push_back(Distance(metric, measured[i], measured[i + 1]));
   }
   return diffs;
+}
+
+// Each level's spread: its largest difference to a finer level; the finest level's, its
+// difference to the next coarser one.
+void Spreads(const Metric& metric, const std::vector<Measurement>& measured,
+             std::vector<ConvergenceLevel>* levels) {
+  std::size_t n = measured.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    double spread = i + 1 == n ? Distance(metric, measured[i - 1], measured[i]) : 0;
+    for (std::size_t j = i + 1; j < n; ++j) {
+      spread = std::max(spread, Distance(metric, measured[i], measured[j]));
+    }
+    (*levels)[i].spread = spread;
+  }
 }
 
 // Estimated errors: against the extrapolated value, for state vectors the tail of the
@@ -149,24 +166,10 @@ void LevelErrors(const Metric& metric, const std::vector<double>& diffs, Converg
   }
 }
 
-// Recommends only a tested level: the coarsest whose error meets the tolerance, or whose
-// differences to every finer level are round-off or within the tolerance.
-void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* out) {
-  std::size_t last = out->levels.size() - 1;
-  double target = tol * out->scale;
-  std::vector<char> settled(out->levels.size(), 0);
-  settled[last] = out->levels[last - 1].roundoff;  // the finest pair agrees to round-off
-  for (std::size_t i = diffs.size(); i-- > 0;) {
-    settled[i] = (diffs[i] <= target || out->levels[i].roundoff) &&
-                 (i + 1 >= diffs.size() || settled[i + 1]);
-  }
-  for (std::size_t i = 0; i < out->levels.size(); ++i) {
-    const ConvergenceLevel& level = out->levels[i];
-    if (std::isfinite(level.error) ? level.error <= target : settled[i] != 0) {
-      out->recommended_dt = level.dt;
-      break;
-    }
-  }
+// Recommends only a tested level, by the rule verify shares (RecommendedLevel).
+void Recommend(double tol, ConvergenceResult* out) {
+  int level = RecommendedLevel(out->levels, tol * out->scale);
+  out->recommended_dt = level >= 0 ? out->levels[level].dt : 0;
   if (!out->estimate.resolved && out->recommended_dt > 0) {
     out->estimate.note +=
         "; the recommended dt is the coarsest level whose differences to all finer levels "
@@ -174,7 +177,109 @@ void Recommend(const std::vector<double>& diffs, double tol, ConvergenceResult* 
   }
 }
 
+// The time constant a contact between geoms g and h starts from, before MuJoCo's clamp, as
+// mj_contactParam chooses it: the higher priority geom's own, else the two mixed by their
+// solmix weights (standard format), or the smaller (direct format, not clamped).
+double ContactTimeconst(const mjModel* m, int g, int h) {
+  const mjtNum* a = m->geom_solref + mjNREF * g;
+  const mjtNum* b = m->geom_solref + mjNREF * h;
+  if (m->geom_priority[g] != m->geom_priority[h]) {
+    return m->geom_priority[g] > m->geom_priority[h] ? a[0] : b[0];
+  }
+  if (a[0] <= 0 || b[0] <= 0) return std::min(a[0], b[0]);
+  double wa = m->geom_solmix[g], wb = m->geom_solmix[h];
+  double mix = 0.5;
+  if (wa >= mjMINVAL && wb >= mjMINVAL) {
+    mix = wa / (wa + wb);
+  } else if (wa >= mjMINVAL || wb >= mjMINVAL) {
+    mix = wa >= mjMINVAL ? 1.0 : 0.0;
+  }
+  return mix * a[0] + (1 - mix) * b[0];
+}
+
+// Whether a contact of geom g can start from a time constant below `floor`: with some geom of
+// another body its contype/conaffinity let it touch. A geom whose every contact mixes to the
+// floor or above is left as it is (MuJoCo clamps none of them at any level).
+bool GeomContactBelow(const mjModel* m, int g, double floor) {
+  for (int h = 0; h < m->ngeom; ++h) {
+    if (m->geom_bodyid[h] == m->geom_bodyid[g]) continue;
+    if (!(m->geom_contype[g] & m->geom_conaffinity[h]) &&
+        !(m->geom_contype[h] & m->geom_conaffinity[g])) {
+      continue;
+    }
+    double timeconst = ContactTimeconst(m, g, h);
+    if (timeconst > 0 && timeconst < floor) return true;
+  }
+  return false;
+}
+
+// Whether row `i` of the solref array `name` can make a constraint MuJoCo clamps below `floor`:
+// a limited joint or tendon, a dof or tendon with friction loss, a geom with a contact below
+// the floor; every equality, pair, flex and the override's.
+bool RowActs(const mjModel* m, const std::string& name, long i, double floor) {
+  if (name == "geom_solref") return GeomContactBelow(m, static_cast<int>(i), floor);
+  if (name == "jnt_solref") return m->jnt_limited[i] != 0;
+  if (name == "dof_solref") return m->dof_frictionloss[i] > 0;
+  if (name == "tendon_solref_lim") return m->tendon_limited[i] != 0;
+  if (name == "tendon_solref_fri") return m->tendon_frictionloss[i] > 0;
+  if (name == "opt.o_solref") return (m->opt.enableflags & mjENBL_OVERRIDE) != 0;
+  return true;
+}
+
 }  // namespace
+
+bool LevelMeetsTolerance(const ConvergenceLevel& level, bool finest, double target) {
+  bool estimated = std::isfinite(level.error);
+  if (estimated && level.error > target) return false;
+  if (finest && estimated) return true;  // nothing finer: Richardson's estimate is all there is
+  return level.spread <= target || level.roundoff;
+}
+
+int RecommendedLevel(const std::vector<ConvergenceLevel>& levels, double target) {
+  // walk up from the finest level while every level so far meets the tolerance
+  int recommended = -1;
+  for (int i = static_cast<int>(levels.size()) - 1; i >= 0; --i) {
+    bool finest = i + 1 == static_cast<int>(levels.size());
+    if (!LevelMeetsTolerance(levels[i], finest, target)) break;
+    recommended = i;
+  }
+  return recommended;
+}
+
+std::vector<Assignment> HoldSolref(const Model& model, double floor, std::string* held) {
+  std::vector<Assignment> out;
+  std::vector<std::string> counts;
+  const mjModel* m = model.get();
+  for (const compat::SolrefArray& a : compat::ClampedSolrefArrays(m)) {
+    if (!compat::ReferenceTimeconstClamped(m)) break;  // refsafe off: MuJoCo clamps nothing
+    std::vector<double> values(a.data, a.data + a.rows * mjNREF);
+    int raised = 0;
+    for (long i = 0; i < a.rows; ++i) {
+      double& timeconst = values[static_cast<std::size_t>(i) * mjNREF];
+      if (timeconst > 0 && timeconst < floor && RowActs(m, a.name, i, floor)) {
+        timeconst = floor;
+        ++raised;
+      }
+    }
+    if (raised == 0) continue;
+    Assignment set;
+    set.text = fmt::format("{} (time constants below {:g} s raised to it)", a.name, floor);
+    set.path = ResolvePath(model, a.name);
+    set.values = std::move(values);
+    out.push_back(std::move(set));
+    counts.push_back(fmt::format("{} ({})", a.name, raised));
+  }
+  if (held != nullptr) *held = Join(counts, ", ");
+  return out;
+}
+
+std::string SolrefNote(const ConvergenceResult& result) {
+  if (result.solref_floor <= 0) return "";
+  return fmt::format(
+      "solref time constants below {0:g} s held at {0:g} s across levels (MuJoCo's 2*dt floor "
+      "at the coarsest level), so every level runs the model the coarsest runs: {1}",
+      result.solref_floor, result.solref_held);
+}
 
 ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& sets,
                            const Metric& metric, double dt0, int halvings, double tol, double until,
@@ -191,19 +296,24 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
   out.metric = metric.text;
   out.until = until;
   out.tol = tol;
+  std::vector<Assignment> level_sets = sets;
   {
-    Model nominal = model.Clone();  // `sets` may choose the integrator
+    Model nominal = model.Clone();  // `sets` may choose the integrator and the solrefs
     Data data(nominal);
     ApplyAssignments(nominal, data, sets);
     out.integrator = nominal->opt.integrator;
     out.expected_order = ExpectedOrder(nominal->opt.integrator);
+    // one model at every level: the solrefs MuJoCo runs at dt0, held as dt shrinks
+    std::vector<Assignment> held = HoldSolref(nominal, 2 * dt0, &out.solref_held);
+    if (!held.empty()) out.solref_floor = 2 * dt0;
+    level_sets.insert(level_sets.end(), held.begin(), held.end());
   }
   std::vector<Measurement> measured;
   for (int k = 0; k <= halvings; ++k) {
     double dt = dt0 / std::pow(2.0, k);
     Measurement m;
     try {
-      m = Measure(model, sets, metric, dt, until, stop);
+      m = Measure(model, level_sets, metric, dt, until, stop);
     } catch (const MujocoError& e) {
       // one level's fatal error (an arena too small at this step size) is this level's
       // result, and the others still run
@@ -219,13 +329,13 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     ConvergenceLevel level;
     level.dt = dt;
     level.value = m.ok ? m.value : kNaN;
-    level.diff = level.order = level.error = kNaN;
+    level.diff = level.order = level.error = level.spread = kNaN;
     out.levels.push_back(level);
   }
   out.scale = measured.back().scale;
   if (!out.ok) return out;
   bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
-  out.max_contacts = MaxContacts(model, sets, dt0, at_time ? metric.time : until, stop);
+  out.max_contacts = MaxContacts(model, level_sets, dt0, at_time ? metric.time : until, stop);
   out.caveat = ContactCaveat(out.max_contacts);
 
   std::vector<double> values;
@@ -241,19 +351,20 @@ ConvergenceResult Converge(const Model& model, const std::vector<Assignment>& se
     bool clean = i + 1 < diffs.size() && diffs[i] > noise && diffs[i + 1] > noise;
     out.levels[i].order = clean ? std::log2(diffs[i] / diffs[i + 1]) : kNaN;
   }
+  Spreads(metric, measured, &out.levels);
   out.estimate = EstimateOrder(values, diffs, noise);
   if (!diffs.empty() && out.estimate.noise_from == 0) {
     // even the coarsest pair agrees to round-off: dt0 is as good as any smaller step
-    out.recommended_dt = dt0;
     out.estimate.note =
         "every level agrees with the next to round-off (differences below " + Str(noise) +
         "): the result does not depend on the timestep at this precision, so dt0 is enough; "
         "the finest value is reported and no order can be measured";
     for (ConvergenceLevel& level : out.levels) level.error = kNaN;
+    out.recommended_dt = dt0;  // every level meets any tolerance above round-off
     return out;
   }
   LevelErrors(metric, diffs, &out);
-  Recommend(diffs, tol, &out);
+  Recommend(tol, &out);
   return out;
 }
 
