@@ -274,33 +274,61 @@ std::string ConvergenceMetric(const VerifyContext& ctx) {
                   : fmt::format("state@{:g}", ctx.until);
 }
 
-// Row `r` when a level diverged: a warning when only the coarsest (2 dt) did, else a failure.
-CheckRow Diverged(CheckRow r, const ConvergenceResult& c, double dt) {
-  bool only_coarsest = c.problem.rfind(fmt::format("at dt = {:.3g} s", 2 * dt), 0) == 0 &&
-                       std::isfinite(c.levels[1].value);
-  r.status = CheckStatus::kWarn;
+// Row `r` when a level diverged: the ladder starts at the model's own timestep, so any
+// diverged level is a failure.
+CheckRow Diverged(CheckRow r, const ConvergenceResult& c) {
+  r.status = CheckStatus::kFail;
   r.measured_text = "a level diverged";
   r.explanation = c.problem;
-  if (!only_coarsest) r.status = CheckStatus::kFail;
   return r;
 }
 
-// Row `r` when the levels show no order: converged to round-off, or a warning.
-CheckRow Unresolved(CheckRow r, const ConvergenceResult& c, const std::string& metric_text,
-                    const std::string& levels, const std::string& caveat) {
-  if (c.estimate.noise_from >= 0 && c.estimate.noise_from <= 1) {
-    r.status = CheckStatus::kPass;
-    r.measured_text = "round-off";
-    r.explanation =
-        fmt::format("{} at dt and dt/2 already agree to round-off ({}): converged. {}.{}",
-                    metric_text, levels, c.estimate.note, caveat);
-  } else {
-    r.status = CheckStatus::kWarn;
-    r.measured_text = "no order visible";
-    r.explanation =
-        fmt::format("{}: {}. Levels {}.{}", metric_text, c.estimate.note, levels, caveat);
+// Why the model's own timestep (level 0) is not the recommended one: its own error or
+// spread, or else the first finer level that misses the tolerance.
+std::string WhyNotConverged(const ConvergenceResult& c, const std::string& metric_text) {
+  double target = c.tol * c.scale;
+  const ConvergenceLevel& own = c.levels[0];
+  auto share = [&](double v) { return fmt::format("{:.3g} ({:.2g}% of its scale {:.3g})", v,
+                                                  100 * v / c.scale, c.scale); };
+  if (std::isfinite(own.error) && own.error > target) {
+    return fmt::format("{} at dt = {:g} s is off by {}, more than tol {:g}", metric_text, own.dt,
+                       share(own.error), c.tol);
   }
-  return r;
+  if (!LevelMeetsTolerance(own, false, target)) {
+    return fmt::format("{} at dt = {:g} s differs from a finer level by {}, more than tol {:g}",
+                       metric_text, own.dt, share(own.spread), c.tol);
+  }
+  std::size_t i = 1;
+  while (i + 1 < c.levels.size() && LevelMeetsTolerance(c.levels[i], false, target)) ++i;
+  const ConvergenceLevel& finer = c.levels[i];
+  double miss = std::isfinite(finer.error) && finer.error > target ? finer.error : finer.spread;
+  return fmt::format(
+      "{} at dt = {:g} s meets tol {:g}, but the finer dt = {:g} s does not (off by {}): the "
+      "estimates do not settle as dt shrinks, so no level above it is recommended",
+      metric_text, own.dt, c.tol, finer.dt, share(miss));
+}
+
+// The explanation of a passing row: the error against the extrapolation where an order shows,
+// else the levels' agreement.
+std::string Converged(const ConvergenceResult& c, const std::string& metric_text,
+                      const std::string& integrator, double expected) {
+  const ConvergenceLevel& own = c.levels[0];
+  if (c.estimate.resolved && std::isfinite(own.error)) {
+    std::string text = fmt::format(
+        "{} with {} at dt = {:g} s is within {:.2g}% of the extrapolated {:.10g}; observed "
+        "order {:.2f} (expected {:g} for {}).",
+        metric_text, integrator, own.dt, 100 * own.error / c.scale, c.estimate.extrapolated,
+        c.estimate.order, expected, integrator);
+    if (std::fabs(c.estimate.order - expected) > 0.5) {
+      text += " The order differs from the integrator's.";
+    }
+    return text;
+  }
+  return fmt::format(
+      "{} with {} at dt = {:g} s and every finer level agree within {:.3g} ({:.2g}% of its scale "
+      "{:.3g}), inside tol {:g}: converged. The order is information, not the verdict: {}.",
+      metric_text, integrator, own.dt, own.spread, 100 * own.spread / c.scale, c.scale, c.tol,
+      c.estimate.note);
 }
 
 }  // namespace
@@ -308,7 +336,6 @@ CheckRow Unresolved(CheckRow r, const ConvergenceResult& c, const std::string& m
 CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   const Trace& nominal = ctx.trace;
-  double until = ctx.until;
   double tol = ctx.tol;
   if (!nominal.kinetic.empty() &&
       *std::max_element(nominal.kinetic.begin(), nominal.kinetic.end()) == 0) {
@@ -318,55 +345,55 @@ CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r) {
   double dt = m->opt.timestep;
   std::string metric_text = ConvergenceMetric(ctx);
   Metric metric = ParseMetric(s.model(), metric_text);
-  ConvergenceResult c = Converge(s.model(), s.sets(), metric, 2 * dt, 4, tol, until, s.stop());
+  // plumb converge's ladder (dt to dt/16) and rule, so both recommend the same timestep
+  ConvergenceResult c = Converge(s.model(), s.sets(), metric, dt, 4, tol, ctx.until, s.stop());
   double expected = ExpectedOrder(m->opt.integrator);
   if (ctx.figures != nullptr) {
     ctx.figures->convergence_metric = metric_text;
     ctx.figures->convergence = c;
     ctx.figures->expected_order = expected;
   }
+  if (!c.ok) return Diverged(std::move(r), c);
   std::string integrator = compat::NameOf(compat::kIntegrators, m->opt.integrator);
   bool contacts = nominal.max_ncon > 0;
-  std::string caveat = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";
-  if (!c.ok) return Diverged(std::move(r), c, dt);
-  const ConvergenceLevel& own = c.levels[1];  // the model's own timestep
+  std::string notes = contacts ? " Caveat: " + ContactCaveat(nominal.max_ncon) + "." : "";
+  if (!SolrefNote(c).empty()) notes += " The " + SolrefNote(c) + ".";
+  const ConvergenceLevel& own = c.levels[0];  // the model's own timestep
   r.reference_text = fmt::format("tol {:g} x scale {:.3g}", tol, c.scale);
   r.reference.value = tol * c.scale;
   std::string levels;
   for (const ConvergenceLevel& l : c.levels) {
     levels += fmt::format("{}dt={:g}: {:.10g}", levels.empty() ? "" : ", ", l.dt, l.value);
   }
-  if (!c.estimate.resolved) {
-    return Unresolved(std::move(r), c, metric_text, levels, caveat);
-  }
+  bool estimated = c.estimate.resolved && std::isfinite(own.error);
+  r.measured.value = estimated ? own.error : own.spread;
+  r.rel_error = r.measured.value / c.scale;
   r.measured_text =
-      fmt::format("error {:.3g} at dt = {:g} s (order {:.2f})", own.error, dt, c.estimate.order);
-  r.measured.value = own.error;
-  r.rel_error = own.error / c.scale;
-  bool order_as_expected = std::fabs(c.estimate.order - expected) <= 0.5;
+      estimated ? fmt::format("error {:.3g} at dt = {:g} s (order {:.2f})", own.error, dt,
+                              c.estimate.order)
+                : fmt::format("levels within {:.3g} at dt = {:g} s (no order)", own.spread, dt);
+  if (c.recommended_dt == dt) {
+    r.status = CheckStatus::kPass;
+    r.explanation = Converged(c, metric_text, integrator, expected) + notes + " Levels " +
+                    levels + ".";
+    return r;
+  }
+  // a clean asymptotic sequence proves the error; contacts or an odd order only suggest it
+  bool proven = estimated && own.error > tol * c.scale && !contacts &&
+                std::fabs(c.estimate.order - expected) <= 0.5;
+  r.status = proven ? CheckStatus::kFail : CheckStatus::kWarn;
   std::string advice =
       c.recommended_dt > 0
-          ? fmt::format("the largest timestep that would pass is {:g} s (a tested level)",
-                        c.recommended_dt)
+          ? fmt::format("the largest timestep that would pass, with every finer level, is {:g} s "
+                        "(as plumb converge --metric '{}' --tol {:g} recommends from this start)",
+                        c.recommended_dt, metric_text, tol)
           : std::string("no tested timestep passes");
-  if (own.error <= tol * c.scale) {
-    r.status = CheckStatus::kPass;
-    r.explanation = fmt::format(
-        "{} with {} at dt = {:g} s is within {:.2g}% of the extrapolated {:.10g}; observed order "
-        "{:.2f} (expected {:g} for {}). Levels {}.",
-        metric_text, integrator, dt, 100 * own.error / c.scale, c.estimate.extrapolated,
-        c.estimate.order, expected, integrator, levels);
-    if (!order_as_expected) r.explanation += " The order differs from the integrator's.";
-    r.explanation += caveat;
-  } else {
-    // a clean asymptotic sequence proves the error; contacts or an odd order only suggest it
-    r.status = order_as_expected && !contacts ? CheckStatus::kFail : CheckStatus::kWarn;
-    r.explanation = fmt::format(
-        "not converged: {} at dt = {:g} s is off by {:.3g} ({:.2g}% of its scale {:.3g}), more "
-        "than tol {:g}; {}. Observed order {:.2f} (expected {:g} for {}).{} Levels {}.",
-        metric_text, dt, own.error, 100 * own.error / c.scale, c.scale, tol, advice,
-        c.estimate.order, expected, integrator, caveat, levels);
-  }
+  std::string order = c.estimate.resolved
+                          ? fmt::format("Observed order {:.2f} (expected {:g} for {}).",
+                                        c.estimate.order, expected, integrator)
+                          : "No order visible: " + c.estimate.note + ".";
+  r.explanation = fmt::format("not converged: {}; {}. {}{} Levels {}.",
+                              WhyNotConverged(c, metric_text), advice, order, notes, levels);
   return r;
 }
 
