@@ -210,7 +210,7 @@ double StepTarget(const mjModel* m, int u, const Reach& reach, double x0) {
   double lo = limited ? std::min(reach_of(c0), reach_of(c1)) : -INFINITY;
   double hi = limited ? std::max(reach_of(c0), reach_of(c1)) : INFINITY;
   double width = reach.hi - reach.lo;
-  if (std::isfinite(width)) {
+  if (std::isfinite(width) && width > 0) {  // a range of no width bounds nothing
     size = std::min(size, kRangeShare * width);
     double a = std::max(lo, reach.lo + kRangeMargin * width);
     double b = std::min(hi, reach.hi - kRangeMargin * width);
@@ -689,7 +689,8 @@ std::string StepAdvice(const StepResponse& r, CheckStatus status) {
            " from the reference pose, gravity and contacts off, the joints an equality or "
            "tendon ties to it moving with it, the other servos holding the pose and the other "
            "joints held there" +
-           (r.why_rang.empty() ? std::string() : "; " + r.why_rang);
+           (r.why_rang.empty() ? std::string() : "; " + r.why_rang) +
+           (r.why_stopped.empty() ? std::string() : "; at the end " + r.why_stopped);
   }
   if (rings && r.rang_by == Decider::kLimit) {
     return r.why_rang +
