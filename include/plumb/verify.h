@@ -6,6 +6,10 @@
 // a single hinge under gravity (recognised from the compiled model) also gets the
 // analytic references, the chapter's three experiments and its exercises.
 //
+// Every run starts from the model's reference pose (plumb/keyframe.h FindReferencePose: the
+// keyframe options.keyframe names, else keyframe "home", else "test", else qpos0) with
+// options.sets on top, as audit's runs do; the report says which (VerifyReport::start).
+//
 // Example:
 //   plumb::VerifyOptions options;
 //   options.sets = {plumb::ParseAssignment(model, "qpos[hinge]=0.7")};
@@ -33,7 +37,10 @@
 namespace plumb {
 
 struct VerifyOptions {
-  std::vector<Assignment> sets;  // the nominal scenario's --set assignments
+  // The keyframe every run starts from, by name ("#0" by id); empty: the reference pose
+  // (keyframe "home", else "test", else qpos0).
+  std::string keyframe;
+  std::vector<Assignment> sets;  // applied on top of the keyframe, in order
   double tol = 1e-2;  // relative tolerance for convergence and energy, of the metric's scale
   // Nominal run length, s: a positive whole number of twice the timestep (the
   // convergence ladder's coarsest level). Unset picks 2 s (the chapter's), and for models
@@ -87,6 +94,9 @@ struct VerifyHorizon {
 
 struct VerifyReport {
   std::string model;
+  // What every run started from: the reference pose's description and the assignments on
+  // top, e.g. "keyframe 'home'", "qpos0 with qpos[hinge]=0.7", "qpos0 with 3 assignments".
+  std::string start;
   double tol = 0;  // the tolerance the checks were judged with (VerifyOptions::tol)
   VerifyHorizon horizon;
   std::vector<CheckRow> checks;
@@ -97,9 +107,14 @@ struct VerifyReport {
 
 // Runs every check on `model` (not modified). Never throws for what a model does
 // (divergence, warnings, non-convergence are results); @throws ValueError for options
-// that make no sense (tol <= 0) and LoadError/MujocoError from MuJoCo itself; Interrupted when
-// options.stop asks.
+// that make no sense (tol <= 0, an unknown keyframe) and LoadError/MujocoError from MuJoCo
+// itself; Interrupted when options.stop asks.
 VerifyReport Verify(const Model& model, const VerifyOptions& options);
+
+// The assignments every run of Verify(model, options) starts from, in the order they apply: the
+// reference pose's keyframe (none for qpos0), then options.sets. A report's pictures start
+// there. @throws ValueError for an unknown options.keyframe.
+std::vector<Assignment> VerifyStart(const Model& model, const VerifyOptions& options);
 
 // The nominal run's horizon Verify(model, options) will judge on, known before it runs (a
 // report's pictures show that run while the check runs). @throws as Verify does for a bad

@@ -69,6 +69,9 @@ void BindVerify(nb::module_& m) {
       .def_prop_ro("model", [](const VerifyResult& r) { return r.report.model; })
       .def_prop_ro("tol", [](const VerifyResult& r) { return r.report.tol; })
       .def_prop_ro(
+          "start", [](const VerifyResult& r) { return r.report.start; },
+          "what every run started from: \"keyframe 'home'\", \"qpos0 with qpos[hinge]=0.7\"")
+      .def_prop_ro(
           "horizon",
           [](const VerifyResult& r) {
             nb::dict d;
@@ -93,29 +96,34 @@ void BindVerify(nb::module_& m) {
 
   m.def(
       "verify",
-      [](ModelArg model, SetArg set, double tol, std::optional<double> until) {
+      [](ModelArg model, SetArg set, double tol, std::optional<double> until,
+         std::optional<std::string> keyframe) {
         auto result = std::make_shared<VerifyResult>();
         result->model = ToModel(model);
         std::vector<std::string> sets = SetTexts(set);
         result->report = RunLong([&](StopToken stop) {
+          const Model& work = result->model->model();
           VerifyOptions options;
-          options.sets = result->model->Start(sets);
+          // the library starts at the reference pose; the load's and the call's sets on top
+          options.keyframe = keyframe.value_or(result->model->keyframe());
+          options.sets = StartAssignments(work, result->model->Spec("", "", "", sets));
           options.tol = tol;
           options.until = until;
           options.stop = stop;
-          result->sets = options.sets;
-          return Verify(result->model->model(), options);
+          result->sets = VerifyStart(work, options);  // the pose the report's pictures show
+          return Verify(work, options);
         });
         return result;
       },
       nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = 1e-2,
-      nb::arg("until") = nb::none(),
-      "Checks that a model's numbers are credible (plumb verify): determinism, warnings, "
-      "convergence as the timestep shrinks, energy, and for a single hinge pendulum the "
-      "analytic references and the chapter's experiments. `set` takes the CLI's --set "
-      "assignments ({'qpos[hinge]': 0.7}), `tol` the relative tolerance, `until` the nominal "
-      "run's length in s. Returns a VerifyResult; raises plumb.Error subclasses for bad input "
-      "and KeyboardInterrupt on Ctrl-C.");
+      nb::arg("until") = nb::none(), nb::arg("keyframe") = nb::none(),
+      "Checks that a model's numbers are credible (plumb verify): the start, determinism, "
+      "warnings, convergence as the timestep shrinks, energy, and for a single hinge pendulum "
+      "the analytic references and the chapter's experiments. Every run starts at `keyframe` "
+      "(else the model's, else keyframe 'home', else 'test', else qpos0; result.start says "
+      "which) with `set` on top, the CLI's --set assignments ({'qpos[hinge]': 0.7}); `tol` is "
+      "the relative tolerance, `until` the nominal run's length in s. Returns a VerifyResult; "
+      "raises plumb.Error subclasses for bad input and KeyboardInterrupt on Ctrl-C.");
 }
 
 // ---- audit -------------------------------------------------------------------------------

@@ -7,13 +7,13 @@ import pytest
 import plumb
 
 
-def test_pendulum_from_mjmodel_gives_fourteen_passing_rows(pendulum):
+def test_pendulum_from_mjmodel_gives_fifteen_passing_rows(pendulum):
     model = mujoco.MjModel.from_xml_path(pendulum)
     result = plumb.verify(model, set={"qpos[hinge]": 0.7})
     assert result.ok
-    assert len(result.rows) == 14
+    assert len(result.rows) == 15
     assert all(row.status == "PASS" for row in result.rows)
-    assert result.count("PASS") == 14
+    assert result.count("PASS") == 15
     ids = [row.id for row in result.rows]
     assert "convergence" in ids and "energy" in ids
 

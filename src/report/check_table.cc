@@ -178,9 +178,11 @@ std::string VerifyTable(const VerifyReport& report, TableDetail detail,
                         const std::string& how_to_see_all) {
   std::vector<std::string> texts;
   for (const CheckRow& c : report.checks) texts.push_back(MeasuredRowText(c, 24, false));
-  std::string table = CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g})", report.model,
-                                             MujocoVersion(), report.tol),
-                                 report.checks, texts, detail, how_to_see_all);
+  std::string from = report.start.empty() ? "" : ", from " + report.start;
+  std::string table =
+      CheckTable(fmt::format("plumb verify {} (MuJoCo {}, tol {:g}{})", report.model,
+                             MujocoVersion(), report.tol, from),
+                 report.checks, texts, detail, how_to_see_all);
   const VerifyHorizon& h = report.horizon;
   if (!h.shortened()) return table;
   return table + Wrap(fmt::format("Judged on {:g} s of simulated time ({} steps), not {:g} s: {}. "

@@ -76,6 +76,7 @@ std::string VerifyToJson(const VerifyReport& report) {
   j["model"] = report.model;
   j["mujoco_version"] = MujocoVersion();
   j["tol"] = report.tol;
+  j["start"] = report.start;
   const VerifyHorizon& h = report.horizon;
   j["horizon"] = {{"until", h.until},
                   {"requested", h.requested},

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 #include "plumb/timing.h"
 #include "verify/verify_protocol.h"
 
@@ -34,6 +35,8 @@ struct Check {
 // The protocol, in report order.
 constexpr Check kChecks[] = {
     {"load", "the model compiles without warnings", Needs::kModel, verify::CheckLoad},
+    {"start", "the start is within every joint range, no deep contact", Needs::kModel,
+     verify::CheckStart},
     {"determinism", "the same run twice is bit-identical", Needs::kModel, verify::CheckDeterminism,
      true},
     {"warnings", "no MuJoCo warning and no divergence in the nominal run", Needs::kModel,
@@ -105,11 +108,15 @@ void SayShortHorizon(const VerifyHorizon& h, CheckRow& row) {
 
 int VerifyReport::Count(CheckStatus status) const { return CountStatus(checks, status); }
 
+std::vector<Assignment> VerifyStart(const Model& model, const VerifyOptions& options) {
+  return ReferenceStart(model, FindReferencePose(model, options.keyframe), options.sets);
+}
+
 VerifyHorizon NominalHorizon(const Model& model, const VerifyOptions& options) {
   verify::VerifyScenario s(model, options);
   std::string why_not;
   bool pendulum = DetectPendulum(s.Nominal(), &why_not).has_value();
-  return NominalLength(options, s.Nominal().get(), RunTimestep(model, options.sets), pendulum);
+  return NominalLength(options, s.Nominal().get(), RunTimestep(model, s.sets()), pendulum);
 }
 
 VerifyReport Verify(const Model& model, const VerifyOptions& options) {
@@ -121,11 +128,12 @@ VerifyReport Verify(const Model& model, const VerifyOptions& options) {
   report.model = model.file();
   report.tol = options.tol;
   verify::VerifyScenario s(model, options);
+  report.start = s.start();
   const Model& nominal = s.Nominal();
   const mjModel* m = nominal.get();
   std::string why_not;
   std::optional<PendulumParams> pendulum = DetectPendulum(nominal, &why_not);
-  double dt = RunTimestep(model, options.sets);
+  double dt = RunTimestep(model, s.sets());
   report.horizon = NominalLength(options, m, dt, pendulum.has_value());
   double until = report.horizon.until;
   const verify::Trace& trace = s.Simulate({}, until, /*energy=*/true);

@@ -10,8 +10,10 @@
 #include <cstring>
 
 #include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/converge.h"
 #include "plumb/error.h"
+#include "plumb/keyframe.h"
 #include "plumb/metric.h"
 #include "plumb/path.h"
 #include "plumb/timing.h"
@@ -83,7 +85,13 @@ void SetNumbers(CheckRow* r, double measured, double reference, const char* unit
 std::string Seconds(double t) { return fmt::format("{:g} s", t); }
 
 VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
-    : model_(model.Clone()), sets_(options.sets), stop_(options.stop), nominal_(model.Clone()) {
+    : model_(model.Clone()),
+      pose_(FindReferencePose(model, options.keyframe)),
+      sets_(ReferenceStart(model, pose_, options.sets)),
+      user_sets_(options.sets),
+      start_(DescribeStart(pose_, options.sets)),
+      stop_(options.stop),
+      nominal_(model.Clone()) {
   Data data(nominal_);
   ApplyAssignments(nominal_, data, sets_);
   asleep_ = FindSleepingStart(nominal_, data);
@@ -197,6 +205,73 @@ CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r) {
     r.explanation += " " + ctx.s.asleep().Describe() +
                      ": every run here has sleep off, so the checks see their physics.";
   }
+  return r;
+}
+
+// ---- start ------------------------------------------------------------------------------
+
+namespace {
+
+// The first issues' sentences, "; "-joined, and how many more there are.
+std::string IssueTexts(const std::vector<StartIssue>& issues) {
+  std::vector<std::string> texts;
+  for (std::size_t i = 0; i < issues.size() && i < 5; ++i) texts.push_back(issues[i].text);
+  if (issues.size() > 5) texts.push_back(fmt::format("{} more", issues.size() - 5));
+  return Join(texts, "; ");
+}
+
+}  // namespace
+
+CheckRow CheckStart(const VerifyContext& ctx, CheckRow r) {
+  const VerifyScenario& s = ctx.s;
+  // the state every run starts from, as the runs put it there
+  Model work = s.model().Clone();
+  Data data(work);
+  ApplyAssignments(work, data, s.sets());
+  data.Forward();
+  std::vector<StartIssue> issues = StartIssues(work, data);
+  TakeMujocoWarnings();
+  // qpos0's joints outside their ranges, which the reference pose brought inside
+  const std::vector<StartIssue>& moved = s.pose().outside;
+  r.reference_text = "inside every range, no deep contact";
+  if (issues.empty() && moved.empty()) {
+    r.status = CheckStatus::kPass;
+    r.measured_text = "inside";
+    r.explanation = fmt::format(
+        "{}: every limited joint starts inside its range and no contact is deeper than its "
+        "solimp width",
+        s.start());
+    return r;
+  }
+  std::vector<StartIssue> all = moved;
+  all.insert(all.end(), issues.begin(), issues.end());
+  const StartIssue& first = all.front();
+  r.status = CheckStatus::kWarn;
+  r.measured_text = DescribeStartIssues(all, 1);
+  r.measured = {first.value, first.unit};
+  if (all.size() == 1 && first.kind == StartIssue::Kind::kJointOutsideRange) {
+    r.element = {"joint", work.Name(mjOBJ_JOINT, first.id), first.id};
+  }
+  std::vector<std::string> parts;
+  if (!moved.empty()) {
+    parts.push_back(fmt::format(
+        "the model has no keyframe 'home' or 'test', and its qpos0 is not a start its authors "
+        "would have meant: {}. The runs start with each such joint 1% of its range inside its "
+        "nearest bound, as audit's do",
+        IssueTexts(moved)));
+  }
+  if (!issues.empty()) {
+    parts.push_back(fmt::format(
+        "the start ({}) is not one the model's authors would have meant: {}. A limit throws its "
+        "joint back in the first steps, a deep contact pushes its geoms apart at full impedance, "
+        "and every check after measures that, not the model",
+        s.start(), IssueTexts(issues)));
+  }
+  r.explanation = Join(parts, ". ") + ".";
+  r.fix = moved.empty()
+              ? "start inside the ranges: a keyframe of the model, or a whole qpos or assignments "
+                "that put each joint named here inside its range"
+              : "give the model a keyframe 'home' its authors mean, inside every joint range";
   return r;
 }
 
@@ -525,7 +600,7 @@ CheckRow ExerciseRadians(const VerifyContext& ctx, CheckRow r) {
   const mjModel* m = s.model().get();
   std::vector<std::string> seen;
   bool suspicious = false;
-  for (const Assignment& a : s.sets()) {
+  for (const Assignment& a : s.user_sets()) {
     if (a.path.field != "qpos") continue;
     for (long k = 0; k < a.path.count; ++k) {
       long adr = a.path.first + k;

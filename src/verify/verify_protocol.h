@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "plumb/analytic.h"
+#include "plumb/keyframe.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/run.h"
@@ -52,13 +53,21 @@ struct Trace {
   RunResult result;
 };
 
-// The scenario under test: the nominal model with the user's assignments.
+// The scenario under test: the nominal model started at the reference pose, with the user's
+// assignments on top.
 class VerifyScenario {
  public:
   VerifyScenario(const Model& model, const VerifyOptions& options);
 
   const Model& model() const { return model_; }
+  // What every run applies: the reference pose's keyframe, then the user's assignments.
   const std::vector<Assignment>& sets() const { return sets_; }
+  // The user's assignments alone (VerifyOptions::sets).
+  const std::vector<Assignment>& user_sets() const { return user_sets_; }
+  // VerifyReport::start: "keyframe 'home'", "qpos0 with qpos[hinge]=0.7".
+  const std::string& start() const { return start_; }
+  // The reference pose the runs start from (plumb/keyframe.h).
+  const ReferencePose& pose() const { return pose_; }
   const StopToken& stop() const { return stop_; }
 
   Assignment Set(const std::string& text) const { return ParseAssignment(model_, text); }
@@ -82,7 +91,10 @@ class VerifyScenario {
 
  private:
   Model model_;  // as loaded, awake
+  ReferencePose pose_;
   std::vector<Assignment> sets_;
+  std::vector<Assignment> user_sets_;
+  std::string start_;
   StopToken stop_;
   Model nominal_;
   SleepingStart asleep_;
@@ -124,6 +136,7 @@ using CheckFunction = CheckRow (*)(const VerifyContext& ctx, CheckRow r);
 
 // Any model (verify_protocol.cc).
 CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckStart(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckDeterminism(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r);

@@ -7,18 +7,12 @@
 #include "fixture.h"
 #include "plumb/check_table.h"
 #include "plumb/error.h"
+#include "verify/verify_rows.h"
 
 namespace plumb {
 namespace {
 
-const CheckRow& Find(const VerifyReport& report, const std::string& id) {
-  for (const CheckRow& c : report.checks) {
-    if (c.id == id) return c;
-  }
-  static CheckRow missing;
-  ADD_FAILURE() << "no check " << id;
-  return missing;
-}
+using testing::Find;
 
 std::string Failures(const VerifyReport& report) {
   std::string out;
@@ -110,6 +104,7 @@ TEST_F(VerifyTest, AtRestPendulumSkipsWhatNeedsASwing) {
 // (whose pendulum rows are SKIPs that say why).
 TEST_F(VerifyTest, EveryCheckIsOneRowInProtocolOrder) {
   const std::vector<std::string> order = {"load",
+                                          "start",
                                           "determinism",
                                           "warnings",
                                           "convergence",
@@ -270,7 +265,7 @@ TEST_F(VerifyTest, AFatalErrorInARunIsARowNotTheEnd) {
       <body pos="-0.3 0 0.3"><freejoint/><geom type="box" size=".1 .1 .1" mass="1"/></body>
     </worldbody></mujoco>)");
   VerifyReport report = Verify(model, {});
-  EXPECT_EQ(report.checks.size(), 14u);
+  EXPECT_EQ(report.checks.size(), 15u);
   const CheckRow& warnings = Find(report, "warnings");
   EXPECT_EQ(warnings.status, CheckStatus::kFail);
   EXPECT_EQ(warnings.measured_text, "stopped by MuJoCo");

@@ -30,19 +30,23 @@ struct VerifyCommandOptions {
 int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   VerifyOptions options;
-  options.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
+  // the library starts at the reference pose (--keyframe names another), these on top
+  options.keyframe = o.keyframe;
+  options.sets = StartAssignments(model, "", o.pose, o.sets);
   options.tol = o.tol;
   options.until = o.until;
   options.stop = CommandStop().token();
   ReportInfo info{ctx.argv};
+  std::vector<Assignment> start;
   if (!o.report.empty()) {
-    // the pictures are drawn while the check runs
+    // the pictures are drawn while the check runs, from its start, over the run it judges
+    start = VerifyStart(model, options);
     info.nominal_until = NominalHorizon(model, options).until;
-    info.ahead = StartPictures(model, options.sets, info);
+    info.ahead = StartPictures(model, start, info);
   }
   VerifyReport report = Verify(model, options);
   if (!o.report.empty()) {
-    WriteVerifyReport(o.report, model, options.sets, report, info);
+    WriteVerifyReport(o.report, model, start, report, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string text =
