@@ -48,6 +48,8 @@ struct Trace {
   std::vector<std::string> coord_names;
   std::vector<double> final_state;  // qpos, qvel, act at the end
   bool fatal = false;  // MuJoCo stopped the run with a fatal error (result.divergence says)
+  std::vector<int> ncon;  // contacts at each sample (with energy)
+  std::vector<int> nefc;  // constraint rows at each sample (with energy)
   int max_ncon = 0;
   int max_nefc = 0;
   RunResult result;

