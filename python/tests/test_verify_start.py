@@ -50,3 +50,13 @@ def test_allegro_names_thj0_its_value_and_range():
     assert start.status == "WARN"
     assert "starts at 0 rad, outside its range [0.263, 1.396]" in start.explanation
 
+
+def test_the_report_shows_the_run_the_checks_judged():
+    if not os.path.exists(HUMANOID):
+        pytest.skip("no MuJoCo samples")
+    result = plumb.verify(HUMANOID)
+    assert result.horizon["until"] == 1.25
+    html = result._repr_html_()
+    assert "1.25 s simulated (250 steps), not 2 s" in html
+    assert "The nominal run, t = 0 to 1.25 s" in html
+    assert "t = 2 s, the end of the nominal run" not in html

@@ -139,7 +139,8 @@ void AddPhasePortraits(Page* page, const VerifyFigures& f, const RunNotes& notes
 void AddRunCharts(Page* page, const Model& model, const VerifyFigures& f) {
   if (f.t.size() < 2) return;
   RunNotes notes = NotesFor(KindOf(model, f));
-  page->Heading("The nominal run");
+  // the curves end where the run the checks judged ends: say where
+  page->Heading(fmt::format("The nominal run, t = 0 to {:g} s", f.t.back()));
   if (!f.q.empty()) {
     if (f.q.size() > kJointsPerChart) {
       page->Paragraph(fmt::format("All {} hinge and slide joints, {} to a chart; click a name "
