@@ -59,9 +59,13 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   report.start = DescribeStart(ref, options.sets);
   SleepingStart asleep;
   {
+    // asleep as a plain run from the model's own start would be: moving joints into their
+    // ranges (ReferencePose::into_range) writes their state, which wakes their trees
+    ReferencePose own = ref;
+    own.into_range.clear();
     Model probe = loaded.Clone();
     Data data(probe);
-    StartAtPose(probe, data, ref, options.sets);
+    StartAtPose(probe, data, own, options.sets);
     asleep = FindSleepingStart(probe, data);
   }
   // every run tests the physics with sleep off (plumb/sleep.h)
