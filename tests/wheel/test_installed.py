@@ -26,7 +26,7 @@ def test_the_api_verifies_the_pendulum_with_mujocos_model():
 
     result = plumb.verify(mujoco.MjModel.from_xml_path(PENDULUM), set={"qpos[hinge]": 0.7})
     assert result.ok
-    assert len(result.rows) == 14
+    assert len(result.rows) == 15
     assert {row.status for row in result.rows} == {"PASS"}
     assert "plumb verify" in repr(result)
     assert "<html" in result._repr_html_().lower()
@@ -70,7 +70,7 @@ def test_the_command_is_on_path_and_runs_the_bundled_program(tmp_path):
     verify = run("plumb", "verify", PENDULUM, "--set", "qpos[hinge]=0.7", "--report",
                  str(tmp_path / "report.html"))
     assert verify.returncode == 0, verify.stderr
-    assert "14 passed, 0 warned, 0 failed" in verify.stdout
+    assert "15 passed, 0 warned, 0 failed" in verify.stdout
     assert (tmp_path / "report.html").stat().st_size > 100_000  # Chart.js inlined
     assert run("plumb", "verify", str(tmp_path / "missing.xml")).returncode == 2
     # a model with MuJoCo's PID actuator plugin compiles: the plugins of mujoco/plugin load
