@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "plumb/keyframe.h"
 #include "plumb/model.h"
 
 namespace plumb {
@@ -32,6 +33,13 @@ struct SleepingStart {
 
 // The trees asleep in `data` (a state made from `model`, after mj_forward), by root body.
 SleepingStart FindSleepingStart(const Model& model, const Data& data);
+
+// The trees asleep where a plain run of `model` from `pose` with `sets` on top starts: the
+// model's own start, without the joints ReferencePose::into_range would move into their ranges
+// (writing a tree's state wakes it). Writes `sets`' parameters into `model`.
+// @throws as StartAtPose does.
+SleepingStart FindSleepingStart(Model& model, const ReferencePose& pose,
+                                const std::vector<Assignment>& sets);
 
 // Turns sleep off in `model`: Data made or reset from it afterwards has every tree awake.
 void WakeForTesting(Model& model);

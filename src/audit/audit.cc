@@ -57,17 +57,8 @@ AuditReport Audit(const Model& loaded, const AuditOptions& options) {
   // the reference pose (plumb/keyframe.h), then the user's --set, state assignments included
   ReferencePose ref = FindReferencePose(loaded, options.keyframe);
   report.start = DescribeStart(ref, options.sets);
-  SleepingStart asleep;
-  {
-    // asleep as a plain run from the model's own start would be: moving joints into their
-    // ranges (ReferencePose::into_range) writes their state, which wakes their trees
-    ReferencePose own = ref;
-    own.into_range.clear();
-    Model probe = loaded.Clone();
-    Data data(probe);
-    StartAtPose(probe, data, own, options.sets);
-    asleep = FindSleepingStart(probe, data);
-  }
+  Model probe = loaded.Clone();
+  SleepingStart asleep = FindSleepingStart(probe, ref, options.sets);
   // every run tests the physics with sleep off (plumb/sleep.h)
   Model model = loaded.Clone();
   WakeForTesting(model);

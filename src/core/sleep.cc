@@ -28,6 +28,16 @@ SleepingStart FindSleepingStart(const Model& model, const Data& data) {
   return start;
 }
 
+SleepingStart FindSleepingStart(Model& model, const ReferencePose& pose,
+                                const std::vector<Assignment>& sets) {
+  ReferencePose own = pose;
+  own.into_range.clear();
+  Data data(model);
+  StartAtPose(model, data, own, sets);
+  data.Forward();
+  return FindSleepingStart(model, data);
+}
+
 void WakeForTesting(Model& model) { compat::DisableSleep(model.get_mutable()); }
 
 }  // namespace plumb

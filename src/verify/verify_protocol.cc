@@ -95,13 +95,7 @@ VerifyScenario::VerifyScenario(const Model& model, const VerifyOptions& options)
       start_(DescribeStart(pose_, options.sets)),
       stop_(options.stop),
       nominal_(model.Clone()) {
-  // asleep as a plain run from the model's own start would be: moving joints into their
-  // ranges (ReferencePose::into_range) writes their state, which wakes their trees
-  ReferencePose own = pose_;
-  own.into_range.clear();
-  Data data(nominal_);
-  ApplyAssignments(nominal_, data, ReferenceStart(model, own, options.sets));
-  asleep_ = FindSleepingStart(nominal_, data);
+  asleep_ = FindSleepingStart(nominal_, pose_, options.sets);
   WakeForTesting(model_);
   WakeForTesting(nominal_);
 }
