@@ -1,6 +1,7 @@
 // plumb verify: the chapter's credibility protocol as a table of checks. Each check is
 // written once, as {id, title, what it needs, function}; the checks for any model are in
-// verify_protocol.cc, those for a single hinge pendulum in verify_pendulum.cc.
+// verify_protocol.cc (convergence in verify_convergence.cc, energy in verify_energy.cc),
+// those for a single hinge pendulum in verify_pendulum.cc.
 
 #include "plumb/verify.h"
 

@@ -136,13 +136,13 @@ inline PendulumCase Pendulum(const VerifyContext& ctx) {
 // Each check fills in `r` (its id and title already set, from the table in verify.cc).
 using CheckFunction = CheckRow (*)(const VerifyContext& ctx, CheckRow r);
 
-// Any model (verify_protocol.cc).
+// Any model (verify_protocol.cc, verify_convergence.cc, verify_energy.cc).
 CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckStart(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckDeterminism(const VerifyContext& ctx, CheckRow r);
 CheckRow CheckWarnings(const VerifyContext& ctx, CheckRow r);
-CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r);
-CheckRow CheckEnergy(const VerifyContext& ctx, CheckRow r);
+CheckRow CheckConvergence(const VerifyContext& ctx, CheckRow r);  // verify_convergence.cc
+CheckRow CheckEnergy(const VerifyContext& ctx, CheckRow r);       // verify_energy.cc
 CheckRow ExerciseRadians(const VerifyContext& ctx, CheckRow r);
 
 // A single hinge pendulum under gravity (verify_pendulum.cc).
