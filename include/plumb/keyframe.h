@@ -132,6 +132,12 @@ void StartAtPose(Model& model, Data& data, const ReferencePose& pose,
 // full impedance at). Joints in id order, contacts deepest first. Reads only; throws nothing.
 std::vector<StartIssue> StartIssues(const Model& model, const Data& data);
 
+// The joints qpos0 puts outside their ranges (pose.outside) that still sit where `pose` moved
+// them in `data` (a state started at `pose`): those the caller's assignments did not move
+// elsewhere. Empty for a keyframe. Reads only; throws nothing.
+std::vector<StartIssue> MovedIntoRange(const Model& model, const Data& data,
+                                       const ReferencePose& pose);
+
 // "joint 'thj0' (id 12) at 0 rad outside [0.263, 1.396]; 10 more" over at most `listed`
 // issues, for a one-line header or row; "" when there are none.
 std::string DescribeStartIssues(const std::vector<StartIssue>& issues, int listed = 3);

@@ -48,7 +48,7 @@ def test_allegro_names_thj0_its_value_and_range():
     assert result.start.startswith("qpos0")
     start = row(result, "start")
     assert start.status == "WARN"
-    assert "starts at 0 rad, outside its range [0.263, 1.396]" in start.explanation
+    assert "joint 'thj0' (id 13) at 0 rad outside [0.263, 1.396]" in start.explanation
 
 
 def test_the_report_shows_the_run_the_checks_judged():

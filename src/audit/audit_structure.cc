@@ -231,15 +231,11 @@ CheckRow OutsideRow(const Model& model, const StartIssue& issue, const std::stri
 
 void StartRows(const Model& model, const Data& data, const ReferencePose& ref,
                const std::string& start, std::vector<CheckRow>* out) {
-  const mjModel* m = model.get();
   std::vector<StartIssue> issues = StartIssues(model, data);
   int joints = 0;
-  // the joints qpos0 puts outside their ranges, which the reference pose moved inside (unless
-  // the caller's own assignments moved them elsewhere)
-  for (std::size_t i = 0; i < ref.outside.size(); ++i) {
-    const StartIssue& issue = ref.outside[i];
-    double moved_to = ref.into_range[i].values[0];
-    if (data->qpos[m->jnt_qposadr[issue.id]] != moved_to) continue;
+  // the joints qpos0 puts outside their ranges, which the reference pose moved inside
+  for (const StartIssue& issue : MovedIntoRange(model, data, ref)) {
+    double moved_to = data->qpos[model->jnt_qposadr[issue.id]];
     if (joints++ < kMaxListed) out->push_back(OutsideRow(model, issue, start, moved_to));
   }
   for (const StartIssue& issue : issues) {

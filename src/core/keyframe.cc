@@ -334,6 +334,18 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
   return out;
 }
 
+std::vector<StartIssue> MovedIntoRange(const Model& model, const Data& data,
+                                       const ReferencePose& pose) {
+  std::vector<StartIssue> out;
+  for (std::size_t i = 0; i < pose.outside.size() && i < pose.into_range.size(); ++i) {
+    const StartIssue& issue = pose.outside[i];
+    if (data->qpos[model->jnt_qposadr[issue.id]] == pose.into_range[i].values[0]) {
+      out.push_back(issue);
+    }
+  }
+  return out;
+}
+
 std::string DescribeStartIssues(const std::vector<StartIssue>& issues, int listed) {
   std::vector<std::string> parts;
   for (const StartIssue& issue : issues) {

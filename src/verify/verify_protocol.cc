@@ -210,18 +210,6 @@ CheckRow CheckLoad(const VerifyContext& ctx, CheckRow r) {
 
 // ---- start ------------------------------------------------------------------------------
 
-namespace {
-
-// The first issues' sentences, "; "-joined, and how many more there are.
-std::string IssueTexts(const std::vector<StartIssue>& issues) {
-  std::vector<std::string> texts;
-  for (std::size_t i = 0; i < issues.size() && i < 5; ++i) texts.push_back(issues[i].text);
-  if (issues.size() > 5) texts.push_back(fmt::format("{} more", issues.size() - 5));
-  return Join(texts, "; ");
-}
-
-}  // namespace
-
 CheckRow CheckStart(const VerifyContext& ctx, CheckRow r) {
   const VerifyScenario& s = ctx.s;
   // the state every run starts from, as the runs put it there
@@ -232,7 +220,7 @@ CheckRow CheckStart(const VerifyContext& ctx, CheckRow r) {
   std::vector<StartIssue> issues = StartIssues(work, data);
   TakeMujocoWarnings();
   // qpos0's joints outside their ranges, which the reference pose brought inside
-  const std::vector<StartIssue>& moved = s.pose().outside;
+  std::vector<StartIssue> moved = MovedIntoRange(work, data, s.pose());
   r.reference_text = "inside every range, no deep contact";
   if (issues.empty() && moved.empty()) {
     r.status = CheckStatus::kPass;
@@ -258,14 +246,14 @@ CheckRow CheckStart(const VerifyContext& ctx, CheckRow r) {
         "the model has no keyframe 'home' or 'test', and its qpos0 is not a start its authors "
         "would have meant: {}. The runs start with each such joint 1% of its range inside its "
         "nearest bound, as audit's do",
-        IssueTexts(moved)));
+        DescribeStartIssues(moved, 3)));
   }
   if (!issues.empty()) {
     parts.push_back(fmt::format(
         "the start ({}) is not one the model's authors would have meant: {}. A limit throws its "
         "joint back in the first steps, a deep contact pushes its geoms apart at full impedance, "
         "and every check after measures that, not the model",
-        s.start(), IssueTexts(issues)));
+        s.start(), DescribeStartIssues(issues, 3)));
   }
   r.explanation = Join(parts, ". ") + ".";
   r.fix = moved.empty()

@@ -281,7 +281,23 @@ TEST(CliRolloutTest, EveryCommandStartsFromAPoseFileOrAWholeQpos) {
             "--until 0.5"}) {
     SCOPED_TRACE(command);
     std::string by_set = out(command + set);
-    EXPECT_EQ(out(command + " --qpos 0.4"), by_set);
+    // audit's header names the start as it was given ("from qpos0 with qpos=0.4"); the rest of
+    // its page, and every row, is the same
+    std::string by_qpos = out(command + " --qpos 0.4");
+    if (command.rfind("audit", 0) == 0) {
+      EXPECT_NE(by_qpos.find("from qpos0 with qpos=0.4)"), std::string::npos) << by_qpos;
+      auto body = [](const std::string& page) { return page.substr(page.find('\n')); };
+      auto rows = [&](std::string page) {
+        std::string from = "qpos0 with qpos=0.4", to = "qpos0 with qpos[hinge]=0.4";
+        for (size_t at = page.find(from); at != std::string::npos; at = page.find(from, at)) {
+          page.replace(at, from.size(), to);
+        }
+        return body(page);
+      };
+      EXPECT_EQ(rows(by_qpos), body(by_set));
+    } else {
+      EXPECT_EQ(by_qpos, by_set);
+    }
     EXPECT_EQ(out(command + " --pose pose.txt"), by_set);
     EXPECT_NE(out(command), by_set);
   }

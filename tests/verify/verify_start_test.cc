@@ -81,7 +81,7 @@ TEST_F(VerifyStartTest, AllegroFromQpos0NamesThj0ItsValueAndRange) {
   const CheckRow& start = Find(report, "start");
   EXPECT_EQ(start.status, CheckStatus::kWarn);
   EXPECT_NE(start.measured_text.find("thj0"), std::string::npos) << start.measured_text;
-  EXPECT_NE(start.explanation.find("starts at 0 rad, outside its range [0.263, 1.396]"),
+  EXPECT_NE(start.explanation.find("joint 'thj0' (id 13) at 0 rad outside [0.263, 1.396]"),
             std::string::npos)
       << start.explanation;
   std::string table = VerifyTable(report, TableDetail::kFindings, "");
