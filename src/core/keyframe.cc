@@ -309,7 +309,7 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
     if (con.exclude != 0 || !(depth > width)) continue;
     // one issue per geom pair: its deepest contact
     auto same = std::find_if(contacts.begin(), contacts.end(), [&](const StartIssue& other) {
-      return other.id == con.geom[0] && other.id2 == con.geom[1];
+      return other.id == con.geom1 && other.id2 == con.geom2;
     });
     if (same != contacts.end()) {
       if (depth > same->value) contacts.erase(same);
@@ -317,8 +317,8 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
     }
     StartIssue issue;
     issue.kind = StartIssue::Kind::kDeepContact;
-    issue.id = con.geom[0];
-    issue.id2 = con.geom[1];
+    issue.id = con.geom1;
+    issue.id2 = con.geom2;
     issue.element = "geoms " + GeomNamed(model, issue.id) + " and " + GeomNamed(model, issue.id2);
     issue.unit = "m";
     issue.value = depth;
