@@ -117,7 +117,7 @@ std::string NotConvergedAdvice(const ConvergenceResult& c, const std::string& me
   return c.recommended_dt > 0
              ? fmt::format(
                    "the largest timestep that would pass, with every finer level, is "
-                   "{:g} s (as plumb converge --metric '{}' --tol {:g} recommends from "
+                   "{:g} s (as plumb converge --metric '{}' --tol {:g} recommends from "  // command
                    "this start)",
                    c.recommended_dt, metric_text, tol)
              : std::string("no tested timestep passes");
