@@ -42,8 +42,8 @@ struct VerifyOptions {
   std::string keyframe;
   std::vector<Assignment> sets;  // applied on top of the keyframe, in order
   double tol = 1e-2;  // relative tolerance for convergence and energy, of the metric's scale
-  // Nominal run length, s: a positive whole number of twice the timestep (the
-  // convergence ladder's coarsest level). Unset picks 2 s (the chapter's), and for models
+  // Nominal run length, s: a positive whole number of timesteps (the convergence ladder's
+  // coarsest level is the model's own timestep). Unset picks 2 s (the chapter's), and for models
   // that are not a single pendulum at most min(250, 1e5 / nv) steps.
   std::optional<double> until;
   StopToken stop;  // when it asks, Verify ends with Interrupted at its next step (default: never)

@@ -68,7 +68,8 @@ constexpr Check kChecks[] = {
 
 // The nominal run length: 2 s like the chapter; for other models at most 250 steps and at
 // most 1e5 / nv steps (the convergence ladder runs ~16 times as many), always a whole number
-// of 2*dt so the ladder lands on it exactly. @throws ValueError for a bad --until.
+// of steps, so every level of the ladder (dt to dt/16) lands on it exactly. @throws ValueError
+// for a bad --until.
 VerifyHorizon NominalLength(const VerifyOptions& options, const mjModel* m, double dt,
                             bool pendulum) {
   if (options.until && !(*options.until > 0 && std::isfinite(*options.until))) {
@@ -83,11 +84,11 @@ VerifyHorizon NominalLength(const VerifyOptions& options, const mjModel* m, doub
       std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
   double until = options.until || pendulum ? h.requested : std::min(2.0, max_steps * dt);
   if (options.until) {
-    // the convergence ladder runs at 2*dt too, so the run must end on a whole 2*dt
-    RequireWholeSteps(*options.until, 2 * dt, "until", fmt::format("{:g}", *options.until),
-                      "twice the timestep: the convergence ladder's coarsest level");
+    // the convergence ladder's coarsest level is the model's own timestep
+    RequireWholeSteps(*options.until, dt, "until", fmt::format("{:g}", *options.until),
+                      "the timestep: the convergence ladder's coarsest level");
   }
-  h.until = std::max(2 * dt, std::round(until / (2 * dt)) * 2 * dt);
+  h.until = std::max(dt, std::round(until / dt) * dt);
   h.steps = std::lround(h.until / dt);
   if (h.shortened()) {
     h.why = fmt::format("verify's step budget for a model with nv = {1} is {0:g} steps", max_steps,

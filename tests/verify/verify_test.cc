@@ -209,8 +209,11 @@ TEST_F(VerifyTest, ARunOfZeroStepsIsRefused) {
   VerifyOptions options;
   options.until = 0;
   EXPECT_THROW(Verify(pendulum_, options), ValueError);
-  options.until = 0.003;  // not a whole number of 2 * dt = 0.004 s
+  options.until = 0.003;  // not a whole number of dt = 0.002 s
   EXPECT_THROW(Verify(pendulum_, options), ValueError);
+  // an odd number of steps is a whole number of the ladder's coarsest level, the model's dt
+  options.until = 0.006;
+  EXPECT_EQ(Verify(pendulum_, options).horizon.steps, 3);
 }
 
 TEST_F(VerifyTest, AnEngagedLimitIsNotAConservativeSystem) {
