@@ -29,10 +29,11 @@ class AuditStepTest : public testing::MujocoTest {
 // is a quarter of the range width (0.25 rad), toward the side with room, and says so in joint
 // units.
 TEST_F(AuditStepTest, AStepWiderThanTheJointRangeIsClippedToIt) {
-  AuditReport r = AuditXml(R"(<mujoco><compiler angle="radian"/><option gravity="0 0 0"/>
+  AuditReport r = AuditXml(R"(<mujoco><compiler angle="radian" autolimits="true"/><option gravity="0 0 0"/>
     <worldbody><body><joint name="hip" axis="1 0 0" range="-0.5 0.5" damping="1"/>
       <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/></body></worldbody>
-    <actuator><position name="hip" joint="hip" kp="50" kv="2" ctrlrange="-6.28 6.28"/></actuator>
+    <actuator><general name="hip" joint="hip" gainprm="50" biastype="affine" biasprm="0 -50 -2"
+      ctrlrange="-6.28 6.28"/></actuator>
     <keyframe><key name="home" qpos="0.4"/></keyframe></mujoco>)");
   AuditCurve c = testing::StepCurve(r, "hip");
   EXPECT_DOUBLE_EQ(c.start, 0.4);
@@ -47,7 +48,7 @@ TEST_F(AuditStepTest, AStepWiderThanTheJointRangeIsClippedToIt) {
 // A four-bar linkage closed by a connect constraint: the crank's servo moves the coupler and
 // the rocker with it; the unrelated joint stays held.
 TEST_F(AuditStepTest, JointsALoopTiesToTheDrivenOneMoveWithIt) {
-  AuditReport r = AuditXml(R"(<mujoco><compiler angle="radian"/><option gravity="0 0 0"/>
+  AuditReport r = AuditXml(R"(<mujoco><compiler angle="radian" autolimits="true"/><option gravity="0 0 0"/>
     <worldbody>
       <body name="crank"><joint name="crank" axis="0 1 0" range="-1 1" damping="0.1"/>
         <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01" mass="0.1"/>
@@ -59,7 +60,8 @@ TEST_F(AuditStepTest, JointsALoopTiesToTheDrivenOneMoveWithIt) {
         <geom type="sphere" size="0.05" mass="0.1"/></body>
     </worldbody>
     <equality><connect body1="coupler" body2="rocker" anchor="0 0 0.3"/></equality>
-    <actuator><position name="crank" joint="crank" kp="5" kv="0.5" ctrlrange="-1 1"/></actuator>
+    <actuator><general name="crank" joint="crank" gainprm="5" biastype="affine" biasprm="0 -5 -0.5"
+      ctrlrange="-1 1"/></actuator>
     </mujoco>)");
   CheckRow row = testing::StepRow(r, "crank");
   EXPECT_NE(row.measured_text.find("moves crank, coupler, rocker; held: 1 other joint;"),
@@ -70,7 +72,7 @@ TEST_F(AuditStepTest, JointsALoopTiesToTheDrivenOneMoveWithIt) {
 // A joint that starts 0.5 m below its range: the limit throws it in, far past the soft
 // servo's target. That overshoot is the limit's: a WARN naming it, never a FAIL of the gains.
 TEST_F(AuditStepTest, AnOvershootALimitDecidedIsNotBlamedOnTheGains) {
-  AuditReport r = AuditXml(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+  AuditReport r = AuditXml(R"(<mujoco><compiler autolimits="true"/><option gravity="0 0 0"/><worldbody>
       <body><joint name="slide" type="slide" axis="1 0 0" range="0 1"/>
         <geom type="sphere" size="0.05" mass="1"/></body></worldbody>
     <actuator><position name="slide" joint="slide" kp="1" ctrlrange="0 1"/></actuator>
@@ -87,7 +89,7 @@ TEST_F(AuditStepTest, AnOvershootALimitDecidedIsNotBlamedOnTheGains) {
 // (kp 100 against stiffness 40 would stop at 71% of the step; 2 N of force stops it at 25%),
 // and one held back by a spring twice as stiff as kp: each says what held it.
 TEST_F(AuditStepTest, AnErrorSaysWhatHeldTheServoBack) {
-  AuditReport r = AuditXml(R"(<mujoco><option gravity="0 0 0"/><worldbody>
+  AuditReport r = AuditXml(R"(<mujoco><compiler autolimits="true"/><option gravity="0 0 0"/><worldbody>
       <body><joint name="a" type="slide" axis="1 0 0" range="-1 1" damping="5" stiffness="40"/>
         <geom type="sphere" size="0.05" mass="1"/></body>
       <body pos="0 1 0"><joint name="b" type="slide" axis="1 0 0" range="-1 1" damping="5"

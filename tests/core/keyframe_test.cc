@@ -189,6 +189,7 @@ TEST_F(KeyframeTest, ReferenceStartIsTheKeyframeThenTheSets) {
 // A slide and a ball joint, limited; a box resting on the floor.
 constexpr char kLimited[] = R"(
 <mujoco>
+  <compiler autolimits="true"/>
   <worldbody>
     <geom name="floor" type="plane" size="1 1 0.1"/>
     <body name="cart" pos="0 0 1">
