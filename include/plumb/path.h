@@ -73,6 +73,9 @@ Path ResolvePath(const Model& model, std::string_view text);
 
 // Splits a block into one path per element ("qpos[root]" -> "qpos[root][0]" ... [6]);
 // a single-element path is returned as it is.
+// @throws PathError for a block of more than kMostScalarPaths elements (a whole constraint
+//         array, sized by MuJoCo's arena, holds millions of rows), naming it.
+constexpr long kMostScalarPaths = 100000;
 std::vector<Path> ScalarPaths(const Path& path);
 
 // Resolves `text`, where the row index may be `*` (every object that has a row, named

@@ -44,6 +44,14 @@ void RequireCurrentRow(const FieldInfo& field, const mjModel* m, const mjData* d
 
 std::vector<Path> ScalarPaths(const Path& path) {
   if (path.count == 1) return {path};
+  if (path.count > kMostScalarPaths) {
+    // a constraint array sized by MuJoCo's arena holds millions of rows: as many paths would
+    // take gigabytes (found by the fuzzer: 'efc_AR_rownnz' on the humanoid)
+    throw PathError("'" + path.text + "' holds " + std::to_string(path.count) +
+                    " elements, too many to take one by one (at most " +
+                    std::to_string(kMostScalarPaths) + "): name the rows you want, e.g. '" +
+                    path.text + "[0]'.");
+  }
   std::vector<Path> out;
   for (long k = 0; k < path.count; ++k) {
     Path one = path;

@@ -506,5 +506,20 @@ TEST_F(PathTest, NonFiniteParametersAreNamedByPath) {
   EXPECT_EQ(NonFiniteParameters(Model::Load(testing::kPendulum)).total, 0);
 }
 
+// Regression (the fuzzer, fuzz_paths): a whole constraint array of the humanoid, sized by
+// MuJoCo's arena, split into one path per element took over 2 GB.
+TEST(ScalarPathsTest, AHugeBlockIsRefusedNamingIt) {
+  Model model = Model::Load(testing::kHumanoid);
+  Path block = ResolvePath(model, "efc_AR_rownnz");
+  if (block.count <= kMostScalarPaths) GTEST_SKIP() << "efc rows: " << block.count;
+  try {
+    ScalarPaths(block);
+    FAIL() << "no error";
+  } catch (const PathError& e) {
+    EXPECT_NE(std::string(e.what()).find("'efc_AR_rownnz' holds"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ScalarPaths(ResolvePath(model, "qpos")).size(), static_cast<size_t>(model->nq));
+}
+
 }  // namespace
 }  // namespace plumb
