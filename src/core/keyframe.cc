@@ -1,18 +1,17 @@
 #include "plumb/keyframe.h"
 
-#include <cctype>
-#include <fstream>
-#include <sstream>
-
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
 #include <optional>
+#include <sstream>
 
-#include "core/joint_size.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
+#include "plumb/check.h"
 #include "plumb/error.h"
 
 namespace plumb {
@@ -72,9 +71,7 @@ std::optional<StartIssue> JointOutside(const Model& model, int j, const mjtNum* 
   StartIssue issue;
   issue.kind = StartIssue::Kind::kJointOutsideRange;
   issue.id = j;
-  std::string name = model.Name(mjOBJ_JOINT, j);
-  issue.element = name.empty() ? fmt::format("joint #{}", j)
-                               : fmt::format("joint '{}' (id {})", name, j);
+  issue.element = ElementLabel({"joint", model.Name(mjOBJ_JOINT, j), j});
   issue.unit = type == mjJNT_SLIDE ? "m" : "rad";
   issue.value = value;
   issue.lo = lo;
