@@ -21,25 +21,6 @@ namespace {
 // so mirrored joints (mirrored ranges of one width) step by the same amount.
 constexpr double kStepShare = 0.1, kRangeShare = 0.25, kRangeMargin = 0.1;
 
-// MuJoCo 3.x: connect and weld constraints may name sites (eq_objtype), and whether an
-// equality is on lives in mjData; 2.x: bodies only, and the flag is the model's.
-template <class M>
-auto EqualityBody(const M* m, int e, int id, int) -> decltype(m->eq_objtype, int()) {
-  return m->eq_objtype[e] == mjOBJ_SITE ? m->site_bodyid[id] : id;
-}
-template <class M>
-int EqualityBody(const M*, int, int id, long) {
-  return id;
-}
-template <class D>
-auto EqualityActive(const mjModel*, const D* d, int e, int) -> decltype(d->eq_active, bool()) {
-  return d->eq_active[e];
-}
-template <class M, class D>
-bool EqualityActive(const M* m, const D*, int e, long) {
-  return m->eq_active[e];
-}
-
 // The joints of tendon t's path (a fixed tendon's; a spatial tendon has none).
 void TendonJoints(const mjModel* m, int t, std::vector<int>* joints) {
   for (int w = m->tendon_adr[t]; w < m->tendon_adr[t] + m->tendon_num[t]; ++w) {
@@ -78,7 +59,8 @@ std::vector<int> EqualityJoints(const mjModel* m, int e) {
       break;
     case mjEQ_CONNECT:
     case mjEQ_WELD:
-      LoopJoints(m, EqualityBody(m, e, a, 0), b >= 0 ? EqualityBody(m, e, b, 0) : 0, &out);
+      LoopJoints(m, compat::EqualityBody(m, e, a), b >= 0 ? compat::EqualityBody(m, e, b) : 0,
+                 &out);
       break;
     default:
       break;
@@ -97,7 +79,7 @@ Coupling MovingWith(const mjModel* m, const mjData* d, int u) {
   for (bool grew = true; grew;) {
     grew = false;
     for (int e = 0; e < m->neq; ++e) {
-      if (c.equalities[e] || !EqualityActive(m, d, e, 0)) continue;
+      if (c.equalities[e] || !compat::EqualityActive(m, d, e)) continue;
       std::vector<int> tied = EqualityJoints(m, e);
       if (std::none_of(tied.begin(), tied.end(), [&](int j) { return c.joints[j]; })) continue;
       c.equalities[e] = grew = true;

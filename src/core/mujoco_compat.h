@@ -612,6 +612,36 @@ long ArenaBytes(const M* m, long) {
 // contacts and constraints fill at each step.
 inline long ArenaBytes(const mjModel* m) { return detail::ArenaBytes(m, 0); }
 
+namespace detail {
+template <class M>
+auto EqualityBody(const M* m, int e, int id, int) -> decltype(m->eq_objtype, int()) {
+  return m->eq_objtype[e] == mjOBJ_SITE ? m->site_bodyid[id] : id;
+}
+template <class M>
+int EqualityBody(const M*, int, int id, long) {
+  return id;
+}
+template <class D>
+auto EqualityActive(const mjModel*, const D* d, int e, int) -> decltype(d->eq_active, bool()) {
+  return d->eq_active[e];
+}
+template <class M, class D>
+bool EqualityActive(const M* m, const D*, int e, long) {
+  return m->eq_active[e];
+}
+}  // namespace detail
+
+// The body that object `id` of connect or weld equality e names: 3.x may name sites
+// (eq_objtype), 2.x names bodies only.
+inline int EqualityBody(const mjModel* m, int e, int id) {
+  return detail::EqualityBody(m, e, id, 0);
+}
+
+// Whether equality e is on: 3.x keeps the flag in mjData (eq_active), 2.x in the model.
+inline bool EqualityActive(const mjModel* m, const mjData* d, int e) {
+  return detail::EqualityActive(m, d, e, 0);
+}
+
 // Whether the Euler integrator treats joint damping (dof_damping) implicitly, as (M + h D):
 // always on 2.x; on 3.x unless <flag eulerdamp="disable"/>.
 inline bool EulerDampsImplicitly(const mjModel* m) {
