@@ -77,9 +77,10 @@ std::optional<StartIssue> JointOutside(const Model& model, int j, const mjtNum* 
   issue.lo = lo;
   issue.hi = hi;
   bool below = value < lo;
-  issue.text = fmt::format("{} starts at {:.4g} {}, outside its range [{:.4g}, {:.4g}] ({:.3g} {} {} it)",
-                           issue.element, value, issue.unit, lo, hi, below ? lo - value : value - hi,
-                           issue.unit, below ? "below" : "above");
+  issue.text =
+      fmt::format("{} starts at {:.4g} {}, outside its range [{:.4g}, {:.4g}] ({:.3g} {} {} it)",
+                  issue.element, value, issue.unit, lo, hi, below ? lo - value : value - hi,
+                  issue.unit, below ? "below" : "above");
   return issue;
 }
 
@@ -169,8 +170,7 @@ ReferencePose FindReferencePose(const Model& model, const std::string& named) {
   pose.description = "qpos0";
   IntoRange(model, &pose);
   if (!pose.into_range.empty()) {
-    pose.description += fmt::format(" ({} joint{} brought into {} range{})",
-                                    pose.into_range.size(),
+    pose.description += fmt::format(" ({} joint{} brought into {} range{})", pose.into_range.size(),
                                     pose.into_range.size() == 1 ? "" : "s",
                                     pose.into_range.size() == 1 ? "its" : "their",
                                     pose.into_range.size() == 1 ? "" : "s");
@@ -309,8 +309,10 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
       return other.id == con.geom1 && other.id2 == con.geom2;
     });
     if (same != contacts.end()) {
-      if (depth > same->value) contacts.erase(same);
-      else continue;
+      if (depth > same->value)
+        contacts.erase(same);
+      else
+        continue;
     }
     StartIssue issue;
     issue.kind = StartIssue::Kind::kDeepContact;
@@ -320,9 +322,10 @@ std::vector<StartIssue> StartIssues(const Model& model, const Data& data) {
     issue.unit = "m";
     issue.value = depth;
     issue.hi = width;
-    issue.text = fmt::format("{} start {:.3g} mm into each other, deeper than the pair's solimp "
-                             "width {:.3g} mm",
-                             issue.element, 1e3 * depth, 1e3 * width);
+    issue.text = fmt::format(
+        "{} start {:.3g} mm into each other, deeper than the pair's solimp "
+        "width {:.3g} mm",
+        issue.element, 1e3 * depth, 1e3 * width);
     contacts.push_back(std::move(issue));
   }
   std::sort(contacts.begin(), contacts.end(),
