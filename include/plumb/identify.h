@@ -228,6 +228,14 @@ HeldOutLog ReplayHeldOut(const Model& model, const Model& fitted, const RobotLog
 void SaveFittedXml(const std::string& source_xml, const Model& fitted, const IdentifyResult& result,
                    const std::string& out);
 
+// Writes the MJCF of `nominal` with the fitted values of `fitted` to `out` (SaveFittedXml): the
+// MJCF is `source` when given, else the file `nominal` was loaded from, else (a model without
+// one: a mujoco.MjModel, Model::Borrow) the XML MuJoCo parsed last when that is `nominal`'s
+// (SourceMismatch: it compiles on its own to the same elements).
+// @throws ValueError when there is no such MJCF, saying what to give; as SaveFittedXml does.
+void SaveFittedModel(const Model& nominal, const Model& fitted, const IdentifyResult& result,
+                     const std::string& out, const std::string& source = "");
+
 // What the solves did, in a sentence: iterations and cost of each, whether the problem was
 // solved again with the residuals' noise, how it ended and how many runs of the logs it took.
 std::string DescribeSolves(const IdentifyResult& result);

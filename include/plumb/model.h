@@ -80,6 +80,16 @@ class Model {
   // model did not come from XML.
   void SaveXml(const std::string& path) const;
 
+  // Whether this model was compiled from an MJCF file by Load (file() is that file): false for
+  // a .mjb file, FromXmlString and Borrow.
+  bool from_xml_file() const { return xml_load_id_ != 0 && !xml_source_; }
+
+  // For a model without an MJCF file of its own (Borrow: the Python package's mujoco.MjModel):
+  // writes the XML MuJoCo parsed last, whoever parsed it, with this model's values
+  // (mj_saveLastXML) to `path`. False, with `reason` set, when MuJoCo has parsed no XML or the
+  // last one has other sizes; the caller checks that it names the same elements.
+  bool SaveLastXml(const std::string& path, std::string* reason) const;
+
   // Writes the exact compiled model, edits included, as a binary .mjb file.
   // @throws IoError when the file cannot be written.
   void SaveBinary(const std::string& path) const;

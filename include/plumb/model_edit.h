@@ -28,14 +28,19 @@ namespace plumb {
 // Whether this build can write edited models (MuJoCo 3.10 or later: mjSpec).
 bool CanSaveEditedXml();
 
+// Why the MJCF file `source` is not the MJCF of `model`: it does not parse or compile
+// (reading its files relative to its own folder), or it has other elements (sizes, names).
+// "" when it is. Before MuJoCo 3.10 (no mjSpec) always a reason.
+std::string SourceMismatch(const std::string& source, const Model& model);
+
 // Writes `source_xml` with the values `edited` holds at `paths` to `out` (whole or not at
-// all). Supported fields: dof_damping, dof_armature, dof_frictionloss, jnt_stiffness,
+// all). `source_xml` must compile to `edited`'s elements (SourceMismatch). Supported fields: dof_damping, dof_armature, dof_frictionloss, jnt_stiffness,
 // body_mass, body_ipos, body_inertia, geom_friction, actuator_gear, actuator_gainprm,
 // actuator_biasprm. Relative mesh and texture folders are made absolute when `out` lies in
 // another folder.
-// @throws UnavailableError before MuJoCo 3.10; ValueError for an unsupported field or an
-// element without a name; LoadError when the source does not parse or the edited model does
-// not compile; IoError when `out` cannot be written.
+// @throws UnavailableError before MuJoCo 3.10; ValueError for an unsupported field, an
+// element without a name or a source of other elements; LoadError when the source does not
+// parse or the edited model does not compile; IoError when `out` cannot be written.
 void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
                            const std::vector<Path>& paths, const std::string& out);
 

@@ -412,6 +412,19 @@ void Model::SaveXml(const std::string& path) const {
                                     : mj_loadXML(file_.c_str(), nullptr, error, sizeof(error));
     if (!reparsed) {
       throw IoError("cannot write '" + path + "': re-reading '" + file_ + "' failed: " + error);
+bool Model::SaveLastXml(const std::string& path, std::string* reason) const {
+  std::lock_guard<std::mutex> lock(LoaderMutex());
+  char error[1024] = {0};
+  try {
+    if (mj_saveLastXML(path.c_str(), m_.get(), error, sizeof(error))) return true;
+  } catch (const MujocoError& e) {  // MuJoCo 2.x: mju_error for a model of other sizes
+    *reason = e.what();
+    return false;
+  }
+  *reason = Trimmed(error);
+  return false;
+}
+
     }
     mj_deleteModel(reparsed);
     g_last_xml_load_id = xml_load_id_;

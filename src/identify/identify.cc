@@ -9,7 +9,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -526,6 +530,39 @@ void SaveFittedXml(const std::string& source_xml, const Model& fitted, const Ide
   std::vector<Path> paths;
   for (const Estimate& e : result.estimates) paths.push_back(ResolvePath(fitted, e.path));
   SaveXmlWithParameters(source_xml, fitted, paths, out);
+}
+
+void SaveFittedModel(const Model& nominal, const Model& fitted, const IdentifyResult& result,
+                     const std::string& out, const std::string& source) {
+  if (!source.empty()) return SaveFittedXml(source, fitted, result, out);
+  if (nominal.from_xml_file()) return SaveFittedXml(nominal.file(), fitted, result, out);
+  // no MJCF of its own (a mujoco.MjModel): the XML MuJoCo parsed last, when it is this model's
+  namespace fs = std::filesystem;
+  std::string dir = (fs::temp_directory_path() / "plumb-fitted-XXXXXX").string();
+  if (mkdtemp(dir.data()) == nullptr) {
+    throw IoError(fmt::format("cannot write the fitted model {}: cannot make a folder in {}: {}",
+                              out, fs::temp_directory_path().string(), std::strerror(errno)));
+  }
+  std::string last = (fs::path(dir) / "last.xml").string(), why;
+  bool saved = nominal.SaveLastXml(last, &why);
+  if (saved) why = SourceMismatch(last, nominal);
+  if (why.empty()) {
+    try {
+      SaveFittedXml(last, fitted, result, out);
+    } catch (...) {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+      throw;
+    }
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  if (why.empty()) return;
+  throw ValueError(fmt::format(
+      "cannot write the fitted model {}: {} has no MJCF file of its own, and the XML MuJoCo "
+      "parsed last is not its MJCF ({}). Give the MJCF file the model was compiled from as the "
+      "fitted model's source, or load the model from that file",
+      out, nominal.file(), saved ? why : "mj_saveLastXML: " + why));
 }
 
 std::string DescribeRuns(const IdentifyResult& r) {

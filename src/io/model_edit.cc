@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -90,9 +91,37 @@ void AbsoluteFolder(mjString* folder, const std::filesystem::path& base) {
   mjs_setString(folder, (base / now).lexically_normal().string().c_str());
 }
 
+// What differs between two compiled models' elements (sizes, then names), or "".
+std::string ElementDifference(const mjModel* a, const mjModel* b) {
+  const std::pair<const char*, int> sizes[] = {
+      {"nq", a->nq - b->nq},           {"nv", a->nv - b->nv},
+      {"nu", a->nu - b->nu},           {"nbody", a->nbody - b->nbody},
+      {"njnt", a->njnt - b->njnt},     {"ngeom", a->ngeom - b->ngeom},
+      {"nsite", a->nsite - b->nsite},  {"nsensor", a->nsensor - b->nsensor},
+      {"nnames", a->nnames - b->nnames}};
+  for (const auto& [name, difference] : sizes) {
+    if (difference != 0) return fmt::format("its {} differs by {}", name, difference);
+  }
+  if (a->nnames > 0 && std::memcmp(a->names, b->names, a->nnames) != 0) {
+    return "its elements have other names";
+  }
+  return "";
+}
+
 }  // namespace
 
 bool CanSaveEditedXml() { return true; }
+
+std::string SourceMismatch(const std::string& source, const Model& model) {
+  char error[1024] = "";
+  SpecPtr spec(mj_parseXML(source.c_str(), nullptr, error, sizeof error));
+  if (!spec) return fmt::format("it does not parse: {}", error);
+  mjModel* compiled = mj_compile(spec.get(), nullptr);
+  if (compiled == nullptr) return fmt::format("it does not compile: {}", mjs_getError(spec.get()));
+  std::string difference = ElementDifference(compiled, model.get());
+  mj_deleteModel(compiled);
+  return difference;
+}
 
 void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
                            const std::vector<Path>& paths, const std::string& out) {
@@ -112,7 +141,13 @@ void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
                                 mjs_getError(spec.get())),
                     "");
   }
+  std::string difference = ElementDifference(check, edited.get());
   mj_deleteModel(check);
+  if (!difference.empty()) {
+    throw ValueError(fmt::format("{} is not the MJCF of the fitted model {} ({}): give the file "
+                                 "that model was compiled from",
+                                 source_xml, edited.file(), difference));
+  }
   int size = mj_saveXMLString(spec.get(), nullptr, 0, error, sizeof error);
   std::string xml(size > 0 ? size + 1 : 0, '\0');
   if (size <= 0 || mj_saveXMLString(spec.get(), xml.data(), size + 1, error, sizeof error) != 0) {
@@ -127,6 +162,10 @@ void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
 #else  // no mjSpec
 
 bool CanSaveEditedXml() { return false; }
+
+std::string SourceMismatch(const std::string&, const Model&) {
+  return fmt::format("MuJoCo {} cannot parse MJCF apart from compiling it", mj_versionString());
+}
 
 void SaveXmlWithParameters(const std::string&, const Model&, const std::vector<Path>&,
                            const std::string& out) {
