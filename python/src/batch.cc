@@ -310,13 +310,13 @@ BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyfra
                    std::optional<FileArg> db, bool resume) {
   BatchArgs a;
   a.model = ToModel(model);
-  a.start = a.model->Spec(keyframe, OptionalPathArg(pose), QposText(qpos), SetTexts(set));
+  a.start = a.model->Spec(keyframe, OptionalPathArg(pose, "pose"), QposText(qpos), SetTexts(set));
   a.metrics = StringList(metrics, "metrics");
   if (threads < 0) {
     throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
   }
   a.threads = ThreadsOrAllCores(threads);
-  a.db = OptionalPathArg(db);
+  a.db = OptionalPathArg(db, "db");
   a.resume = resume;
   return a;
 }

@@ -187,9 +187,9 @@ void BindAudit(nb::module_& m) {
         result->model = ToModel(model);
         result->strict = strict;
         std::vector<std::string> sets = result->model->SetTexts(SetTexts(set));
-        std::string accept_file = OptionalPathArg(accept);
-        std::string scenario_file = OptionalPathArg(scenario);
-        std::string repro_dir = OptionalPathArg(repro);
+        std::string accept_file = OptionalPathArg(accept, "accept");
+        std::string scenario_file = OptionalPathArg(scenario, "scenario");
+        std::string repro_dir = OptionalPathArg(repro, "repro");
         std::string key = keyframe.value_or(result->model->keyframe());
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
@@ -378,14 +378,14 @@ void BindSnapshot(nb::module_& m) {
       .def(
           "save",
           [](const Snapshot& s, FileArg path) {
-            AtomicFile file(PathArg(path));
+            AtomicFile file(PathArg(path, "path"));
             std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
             file.Commit();
           },
           nb::arg("path"), "writes it (whole or not at all), for plumb diff or plumb.diff")
       .def_static(
-          "load", [](FileArg path) { return Snapshot::Load(PathArg(path)); }, nb::arg("path"),
-          "reads a snapshot file (plumb snapshot -o FILE)")
+          "load", [](FileArg path) { return Snapshot::Load(PathArg(path, "path")); },
+          nb::arg("path"), "reads a snapshot file (plumb snapshot -o FILE)")
       .def(
           "to_json", [](const Snapshot& s) { return s.text; }, "the JSON text")
       .def("to_dict", [](const Snapshot& s) { return FromJson(s.text); })
@@ -447,7 +447,7 @@ void BindSnapshot(nb::module_& m) {
       [](SnapshotArg snapshot, ModelArg model, SetArg set, double tol) {
         Snapshot s = nb::isinstance<Snapshot>(snapshot.object)
                          ? nb::cast<Snapshot>(snapshot.object)
-                         : Snapshot::Load(PathArg(snapshot.object));
+                         : Snapshot::Load(PathArg(snapshot.object, "snapshot"));
         auto result = std::make_shared<DiffResult>();
         result->snapshot = s.source;
         std::shared_ptr<PyModel> p = ToModel(model);

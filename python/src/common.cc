@@ -50,8 +50,24 @@ PyObject* NewError(nb::module_& m, const char* name, nb::handle bases, const cha
   return type;
 }
 
-std::string ValueText(nb::handle value) {
+// The Python type of `value`, for a TypeError: "bytes", "list", ...
+std::string TypeName(nb::handle value) { return nb::type_name(value.type()).c_str(); }
+
+// What a TypeError adds for bytes, which plumb never takes for text or paths.
+std::string BytesAdvice(nb::handle value) {
+  return PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr())
+             ? " (decode bytes first: os.fsdecode(value) for a path, value.decode() for text)"
+             : "";
+}
+
+std::string ValueText(nb::handle value, const char* argument) {
   if (nb::isinstance<nb::str>(value)) return nb::cast<std::string>(value);
+  if (PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr())) {
+    throw nb::type_error(fmt::format("{}: a value must be a number, a string or a sequence of "
+                                     "numbers, not {}{}",
+                                     argument, TypeName(value), BytesAdvice(value))
+                             .c_str());
+  }
   if (nb::isinstance<nb::bool_>(value)) return nb::cast<bool>(value) ? "1" : "0";
   // a sequence of numbers (opt.gravity, a free joint's qpos, a numpy array): comma separated
   if (nb::hasattr(value, "__iter__") &&
@@ -59,7 +75,7 @@ std::string ValueText(nb::handle value) {
     std::string out;
     for (nb::handle item : value) {
       if (!out.empty()) out += ",";
-      out += ValueText(item);
+      out += ValueText(item, argument);
     }
     return out;
   }
@@ -69,9 +85,9 @@ std::string ValueText(nb::handle value) {
     // the command line's --set takes it, so both name the same stored batch
     return nb::cast<std::string>(nb::repr(nb::float_(value)));
   }
-  throw nb::type_error(fmt::format("set: a value must be a number, a string or a sequence of "
+  throw nb::type_error(fmt::format("{}: a value must be a number, a string or a sequence of "
                                    "numbers, not {}",
-                                   nb::type_name(value.type()).c_str())
+                                   argument, TypeName(value))
                            .c_str());
 }
 
@@ -118,7 +134,7 @@ std::shared_ptr<PyModel> ToModel(nb::handle model) {
                                      std::vector<std::string>{});
   }
   if (nb::isinstance<nb::str>(model) || nb::hasattr(model, "__fspath__")) {
-    std::string path = PathArg(model);
+    std::string path = PathArg(model, "model");
     std::shared_ptr<Model> loaded;
     {
       nb::gil_scoped_release release;
@@ -139,19 +155,40 @@ std::vector<std::string> SetTexts(nb::handle set) {
   if (nb::isinstance<nb::str>(set)) return {nb::cast<std::string>(set)};
   if (nb::isinstance<nb::dict>(set)) {
     for (auto [key, value] : nb::borrow<nb::dict>(set)) {
-      out.push_back(nb::cast<std::string>(nb::str(key)) + "=" + ValueText(value));
+      out.push_back(nb::cast<std::string>(nb::str(key)) + "=" + ValueText(value, "set"));
     }
     return out;
   }
-  for (nb::handle item : set) out.push_back(nb::cast<std::string>(item));
-  return out;
+  if (!PyBytes_Check(set.ptr()) && !PyByteArray_Check(set.ptr()) && nb::hasattr(set, "__iter__")) {
+    for (nb::handle item : set) {
+      if (!nb::isinstance<nb::str>(item)) {
+        throw nb::type_error(fmt::format("set: each item of a list must be a 'PATH=VALUE' "
+                                         "string, not {}{}",
+                                         TypeName(item), BytesAdvice(item))
+                                 .c_str());
+      }
+      out.push_back(nb::cast<std::string>(item));
+    }
+    return out;
+  }
+  throw nb::type_error(fmt::format("set: expected a dict {{PATH: value}}, a list of "
+                                   "'PATH=VALUE' strings or one such string, not {}{}",
+                                   TypeName(set), BytesAdvice(set))
+                           .c_str());
 }
 
 std::string QposText(QposArg qpos) {
   if (qpos.object.is_none()) return "";
   if (nb::isinstance<nb::str>(qpos.object)) return nb::cast<std::string>(qpos.object);
+  if (PyBytes_Check(qpos.object.ptr()) || PyByteArray_Check(qpos.object.ptr()) ||
+      !nb::hasattr(qpos.object, "__iter__")) {
+    throw nb::type_error(fmt::format("qpos: expected a string of nq numbers or a sequence of "
+                                     "numbers, not {}{}",
+                                     TypeName(qpos.object), BytesAdvice(qpos.object))
+                             .c_str());
+  }
   std::string text;
-  for (nb::handle v : qpos.object) text += (text.empty() ? "" : ",") + ValueText(v);
+  for (nb::handle v : qpos.object) text += (text.empty() ? "" : ",") + ValueText(v, "qpos");
   return text;
 }
 
@@ -159,23 +196,46 @@ std::vector<std::string> StringList(nb::handle value, const char* argument) {
   std::vector<std::string> out;
   if (value.is_none()) return out;
   if (nb::isinstance<nb::str>(value)) return {nb::cast<std::string>(value)};
-  try {
-    for (nb::handle item : value) out.push_back(nb::cast<std::string>(item));
-  } catch (const nb::cast_error&) {
-    throw nb::type_error(
-        fmt::format("{}: expected a string or a list of strings", argument).c_str());
+  auto refuse = [&](nb::handle wrong, const char* what) {
+    return nb::type_error(fmt::format("{}: expected a string or a list of strings, {}{}{}",
+                                      argument, what, TypeName(wrong), BytesAdvice(wrong))
+                              .c_str());
+  };
+  if (PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr()) ||
+      !nb::hasattr(value, "__iter__")) {
+    throw refuse(value, "not ");
+  }
+  for (nb::handle item : value) {
+    if (!nb::isinstance<nb::str>(item)) throw refuse(item, "not a list holding ");
+    out.push_back(nb::cast<std::string>(item));
   }
   return out;
 }
 
-std::string PathArg(nb::handle path) {
-  return nb::cast<std::string>(nb::module_::import_("os").attr("fspath")(path));
+std::string PathArg(nb::handle path, const char* argument) {
+  nb::object text;
+  if (nb::isinstance<nb::str>(path)) {
+    text = nb::borrow(path);
+  } else if (!nb::isinstance<nb::type_object>(path) && nb::hasattr(path, "__fspath__")) {
+    text = path.attr("__fspath__")();  // what os.fspath calls: a str, or bytes
+  }
+  if (!text.is_valid() || !nb::isinstance<nb::str>(text)) {
+    nb::handle wrong = text.is_valid() ? nb::handle(text) : path;
+    throw nb::type_error(fmt::format("{}: expected a path, a str or an os.PathLike such as "
+                                     "pathlib.Path, not {}{}",
+                                     argument, TypeName(wrong), BytesAdvice(wrong))
+                             .c_str());
+  }
+  std::string out = nb::cast<std::string>(text);
+  if (out.find('\0') != std::string::npos) {
+    throw ArgumentError(argument, out.substr(0, out.find('\0')) + "\\0...",
+                        "a path cannot hold a NUL character: no file has one");
+  }
+  return out;
 }
 
-std::string PathArg(FileArg path) { return PathArg(path.object); }
-
-std::string OptionalPathArg(std::optional<FileArg> path) {
-  return path && !path->object.is_none() ? PathArg(path->object) : std::string();
+std::string OptionalPathArg(const std::optional<FileArg>& path, const char* argument) {
+  return path && !path->object.is_none() ? PathArg(path->object, argument) : std::string();
 }
 
 ReportInfo PythonReportInfo(const char* call, bool pictures) {

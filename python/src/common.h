@@ -120,13 +120,15 @@ inline std::shared_ptr<PyModel> ToModel(ModelArg model) { return ToModel(model.o
 
 // A `set` argument in the CLI's vocabulary: None, {"qpos[hinge]": 0.7, "opt.gravity":
 // [0, 0, -1.62], "opt.integrator": "RK4"}, or a list of "PATH=VALUE" strings. Values are
-// written with 17 significant digits, so a float goes over exactly.
+// written with 17 significant digits, so a float goes over exactly. TypeError naming `set`
+// for anything else (bytes, a list of non-strings).
 std::vector<std::string> SetTexts(nb::handle set);
 // A `qpos` argument as QposAssignment reads it: the text as given, or the numbers joined by
 // commas (each in its shortest exact form); "" for None.
 std::string QposText(QposArg qpos);
 inline std::vector<std::string> SetTexts(SetArg set) { return SetTexts(set.object); }
 // A list argument that also takes one string (randomize="body_mass[*]=*U(0.9,1.1)").
+// TypeError naming `argument` for anything else (bytes, a number, a list of non-strings).
 std::vector<std::string> StringList(nb::handle value, const char* argument);
 inline std::vector<std::string> StringList(StringsArg value, const char* argument) {
   return StringList(value.object, argument);
@@ -221,11 +223,15 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
   return std::move(*result);
 }
 
-// A file argument: str or os.PathLike (pathlib.Path), as os.fspath gives it.
-std::string PathArg(nb::handle path);
+// A file argument: str or os.PathLike (pathlib.Path) whose os.fspath is a str. TypeError
+// naming `argument` for anything else (bytes, a list, a number); plumb.ArgumentError for a
+// path with a NUL character, which no file has.
+std::string PathArg(nb::handle path, const char* argument);
+inline std::string PathArg(FileArg path, const char* argument) {
+  return PathArg(path.object, argument);
+}
 // A file argument that may be None: "" for None.
-std::string PathArg(FileArg path);
-std::string OptionalPathArg(std::optional<FileArg> path);
+std::string OptionalPathArg(const std::optional<FileArg>& path, const char* argument);
 
 // The methods every result type has, made from what its struct provides:
 //   std::string Json() const;                          the CLI's --format json document
@@ -243,7 +249,7 @@ void AddResultMethods(nb::class_<Result>& type, const char* command) {
       .def(
           "save_report",
           [](const Result& r, nb::handle path) {
-            std::string file = PathArg(path);
+            std::string file = PathArg(path, "path");
             RunLong([&](StopToken) {
               r.WriteReport(file);
               return 0;

@@ -117,8 +117,8 @@ void BindReplay(nb::module_& m) {
          double input_delay, double sensor_delay, SetArg set) {
         auto r = std::make_shared<PyReplay>();
         r->model = ToModel(model);
-        std::string file = PathArg(log);
-        std::string column_map = OptionalPathArg(columns);
+        std::string file = PathArg(log, "log");
+        std::string column_map = OptionalPathArg(columns, "columns");
         std::vector<std::string> sets = SetTexts(set);
         r->options.window = window;
         r->options.input_delay = input_delay;
@@ -243,14 +243,19 @@ void BindIdentifyCall(nb::module_& m) {
           "the model with the fitted values, a plumb.Model (a copy of its own)")
       .def(
           "save_model",
-          [](const PyIdentify& r, FileArg path) {
-            std::string file = PathArg(path);
+          [](const PyIdentify& r, FileArg path, std::optional<FileArg> source) {
+            std::string file = PathArg(path, "path");
+            std::string mjcf = OptionalPathArg(source, "source");
             RunLong([&](StopToken) {
-              SaveFittedXml(r.model->name(), *r.fitted, r.result, file);
+              SaveFittedModel(r.model->model(), *r.fitted, r.result, file, mjcf);
               return 0;
             });
           },
-          nb::arg("path"), "writes the MJCF with the fitted values (as -o FITTED.xml)")
+          nb::arg("path"), nb::arg("source") = nb::none(),
+          "writes the MJCF with the fitted values (as -o FITTED.xml): the model's MJCF file, or "
+          "for a mujoco.MjModel the XML MuJoCo parsed last when it is that model's; `source` "
+          "names the MJCF file to write them into instead (an MjModel read from a string, or "
+          "one whose meshes are files)")
       .def(
           "to_pandas",
           [](const PyIdentify& r) {
@@ -270,14 +275,15 @@ void BindIdentifyCall(nb::module_& m) {
          SetArg set) {
         auto r = std::make_shared<PyIdentify>();
         r->model = ToModel(model);
-        std::string column_map = OptionalPathArg(columns);
-        std::string held_out = OptionalPathArg(validate);
+        std::string column_map = OptionalPathArg(columns, "columns");
+        std::string held_out = OptionalPathArg(validate, "validate");
         std::vector<std::string> files;
         nb::handle log = logs.object;
-        if (nb::isinstance<nb::str>(log) || nb::hasattr(log, "__fspath__")) {
-          files.push_back(PathArg(log));
+        if (nb::isinstance<nb::str>(log) || nb::hasattr(log, "__fspath__") ||
+            PyBytes_Check(log.ptr()) || !nb::hasattr(log, "__iter__")) {  // TypeError if no path
+          files.push_back(PathArg(log, "log"));
         } else {
-          for (nb::handle one : log) files.push_back(PathArg(one));
+          for (nb::handle one : log) files.push_back(PathArg(one, "log"));
         }
         if (files.empty()) throw ArgumentError("log", "[]", "give at least one log");
         std::vector<std::string> sets = SetTexts(set);

@@ -133,7 +133,7 @@ void BindFrames(nb::module_& m) {
       .def(
           "save",
           [](const Frames& f, FileArg path, long frame) {
-            std::string file = PathArg(path);
+            std::string file = PathArg(path, "path");
             RunLong([&](StopToken) {
               SaveFrames(f, file, frame);
               return 0;
@@ -298,7 +298,7 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
     MujocoCallScope scope;
     r.start = StartAssignments(r.model->model(), r.model->Spec(keyframe, "", "", sets));
   }
-  std::string out = OptionalPathArg(output);
+  std::string out = OptionalPathArg(output, "output");
   auto f = std::make_shared<Frames>();
   f->width = r.options.width;
   f->height = r.options.height;

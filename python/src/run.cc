@@ -152,7 +152,7 @@ void BindRunCall(nb::module_& m) {
       [](ModelArg model, double until, std::optional<double> every, StringsArg columns, SetArg set,
          std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos) {
         auto t = std::make_shared<Trajectory>();
-        std::string pose_file = OptionalPathArg(pose);
+        std::string pose_file = OptionalPathArg(pose, "pose");
         t->model = ToModel(model);
         std::vector<std::string> sets = SetTexts(set);
         std::vector<std::string> column_texts = StringList(columns, "columns");

@@ -110,3 +110,37 @@ def test_identify_outputs_and_errors(pendulum, root, log, monkeypatch):
     assert caught.value.argument == "max_delay"
     with pytest.raises(plumb.PathError, match="hinj"):
         plumb.identify(pendulum, log, fit="dof_damping[hinj]")
+
+
+def test_save_model_writes_every_model_form(pendulum, log, tmp_path):
+    # issue 46: a mujoco.MjModel once gave "ParseXML: Error opening file '<MjModel ...>'"
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    for name, given in [("path", pendulum), ("mjmodel", model), ("loaded", plumb.load(model))]:
+        r = plumb.identify(given, log, fit="dof_damping[hinge]", threads=1)
+        out = tmp_path / f"{name}.xml"
+        r.save_model(out)
+        saved = mujoco.MjModel.from_xml_path(str(out))
+        assert saved.dof_damping[0] == pytest.approx(r.values[0], rel=1e-5)  # 6 digits
+        assert saved.body_mass[1] == pytest.approx(model.body_mass[1])
+
+
+def test_save_model_of_an_mjmodel_without_its_xml_says_what_to_give(pendulum, log, tmp_path):
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    r = plumb.identify(model, log, fit="dof_damping[hinge]", threads=1)
+    # MuJoCo's last parsed XML is now another model's
+    mujoco.MjModel.from_xml_string("<mujoco><worldbody><body><joint/><geom size='.1'/></body>"
+                                   "<body pos='1 0 0'><joint/><geom size='.1'/></body>"
+                                   "</worldbody></mujoco>")
+    out = tmp_path / "fitted.xml"
+    with pytest.raises(plumb.ValueError, match="no MJCF file of its own.*source") as caught:
+        r.save_model(out)
+    assert "<MjModel 'pendulum'>" in str(caught.value)
+    assert not out.exists()
+    r.save_model(out, source=pendulum)  # what the message says to do
+    assert mujoco.MjModel.from_xml_path(str(out)).dof_damping[0] == pytest.approx(r.values[0])
+    # a source that is another model is refused
+    other = tmp_path / "other.xml"
+    other.write_text("<mujoco><worldbody><body name='b'><joint name='hinge'/>"
+                     "<geom size='.1'/></body></worldbody></mujoco>")
+    with pytest.raises(plumb.ValueError, match="is not the MJCF of the fitted model"):
+        r.save_model(tmp_path / "wrong.xml", source=other)
