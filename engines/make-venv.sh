@@ -9,10 +9,14 @@
 # distribution (see the lock's header). The work is done by test-venv.sh: scripts/ in a
 # source checkout, beside this script where CMake installs it.
 # Exit codes: 0 ready, 2 bad usage, 5 the packages could not be downloaded or do not import.
+# It stops at its first failure, command substitutions included: `set -e` does not reach into
+# `$(...)` (inherit_errexit does), and an assignment takes the status of its last
+# substitution only, so each one is checked where it is made.
 set -euo pipefail
+shopt -s inherit_errexit
 engine="${1:-}"
 dir="${2:-}"
-here="$(cd "$(dirname "$0")" && pwd)"
+here="$(cd "$(dirname "$0")" && pwd)" && [[ -n "$here" ]] || exit 2
 case "$engine" in
   warp) module=mujoco_warp; what="MuJoCo Warp"; size="about 170 MB to download, 540 MB installed" ;;
   mjx) module=mujoco.mjx; what="MJX (JAX on CPU)"; size="about 150 MB to download, 690 MB installed" ;;
@@ -29,17 +33,29 @@ if [[ ! -f "$lock" || ! -f "$script" ]]; then
   echo "make-venv.sh: $lock or test-venv.sh is missing beside $0 (a broken install)" >&2
   exit 2
 fi
-dir="$(mkdir -p "$(dirname "$dir")" && cd "$(dirname "$dir")" && pwd)/$(basename "$dir")"
+# the folder that holds DIR: made, and writable, before anything is downloaded
+parent="$(dirname -- "$dir")" && [[ -n "$parent" ]] || exit 2
+if ! mkdir -p -- "$parent" || ! parent="$(cd -- "$parent" && pwd)" || [[ -z "$parent" ]] ||
+    [[ ! -w "$parent" ]]; then
+  echo "make-venv.sh: cannot make the environment in $dir: $parent is not a folder that can" \
+    "be made and written; give a DIR in a writable folder" >&2
+  exit 2
+fi
+dir="$parent/$(basename -- "$dir")"
 if ! ls "$dir"/.complete-* >/dev/null 2>&1; then
   echo "make-venv.sh: downloading $what and its dependencies, $size, into $dir" >&2
 fi
-if ! python="$(PLUMB_PIP_OPTIONS="--no-deps" bash "$script" "$dir" "$lock")"; then
+if ! python="$(PLUMB_PIP_OPTIONS="--no-deps" bash "$script" "$dir" "$lock")" ||
+    [[ -z "$python" ]]; then
   echo "make-venv.sh: could not install $what into $dir: pip could not download the packages" \
     "of $lock (is PyPI reachable? behind a proxy set HTTPS_PROXY, or point PIP_INDEX_URL at" \
     "a mirror), then run it again" >&2
   exit 5
 fi
-core="$(sed -n 's/^mujoco-core==\([^ ]*\).*/\1/p' "$lock")"
+core="$(sed -n 's/^mujoco-core==\([^ ]*\).*/\1/p' "$lock")" && [[ -n "$core" ]] || {
+  echo "make-venv.sh: $lock pins no mujoco-core (a broken install)" >&2
+  exit 2
+}
 check="import mujoco, $module, sys
 if mujoco.__version__ != '$core':
     sys.exit(f'mujoco is {mujoco.__version__}, not $core (another mujoco over mujoco-core?)')

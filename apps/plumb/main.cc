@@ -18,7 +18,12 @@ int main(int argc, char** argv) {
                ": load an MJCF model, run it headless, and check the numbers are credible."};
   app.require_subcommand(1);
   app.set_version_flag("--version", [] {
-    std::string plugins = plumb::MujocoPluginPath();
+    std::string plugins;
+    try {
+      plugins = plumb::MujocoPluginPath();
+    } catch (const plumb::Error& e) {
+      plugins = e.what();  // PLUMB_MUJOCO_PLUGIN_PATH names no folder: --version says so
+    }
     return std::string("plumb " PLUMB_VERSION ", MuJoCo ") + plumb::MujocoVersion() +
            "\n  MuJoCo compiled against: " + plumb::CompiledMujocoVersion() +
            "\n  MuJoCo loaded:           " + plumb::MujocoVersion() + " from " +

@@ -126,8 +126,12 @@ const std::vector<std::string>& CrosscheckEngines();
 //   prefix's, else the source tree's engines/ (a build tree);
 // - the environment: $PLUMB_ENGINE_VENVS/ENGINE-HASH, else $XDG_CACHE_HOME (or ~/.cache)
 //   /plumb/engines/ENGINE-HASH, HASH that of the engine's lock file, so a new lock makes a
-//   new environment. @throws ArgumentError for an unknown engine; UnavailableError when no
-//   adapter folder exists.
+//   new environment. The folder holding the environments is made if missing; it must be an
+//   absolute path plumb can write, checked before anything else is written.
+// @throws ArgumentError for an unknown engine; ValueError naming the variable when
+// PLUMB_ENGINE_VENVS (or the XDG_CACHE_HOME or HOME it derives from) is empty, relative, has a
+// file on its way, or cannot be made or written, and when PLUMB_ENGINES_DIR holds no
+// adapter.py; UnavailableError when no adapter folder exists.
 EngineSetup FindEngineSetup(const std::string& engine);
 
 // Whether `setup`'s environment is complete (made, and its last install finished).

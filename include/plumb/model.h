@@ -203,7 +203,9 @@ std::string MujocoLibraryPath();
 // bin/mujoco_plugin of the release folder the loaded library sits in (lib/../bin/
 // mujoco_plugin), else lib/mujoco_plugin beside it (an installed plumb), else plugin/ beside
 // it (the mujoco-core wheel's layout, which plumb's wheel uses); "" when none exists (and
-// always on MuJoCo 2.x, which has no plugins).
+// always on MuJoCo 2.x, which has no plugins). An empty PLUMB_MUJOCO_PLUGIN_PATH counts as
+// unset. @throws ValueError naming PLUMB_MUJOCO_PLUGIN_PATH when it is set to what is not a
+// folder (MuJoCo would skip it silently; the first model load then fails with this, exit 2).
 std::string MujocoPluginPath();
 
 }  // namespace plumb

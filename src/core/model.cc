@@ -265,7 +265,16 @@ std::string MujocoLibraryPath() {
 
 std::string MujocoPluginPath() {
   if (mjVERSION_HEADER < 300) return "";
-  if (const char* env = std::getenv("PLUMB_MUJOCO_PLUGIN_PATH"); env && *env) return env;
+  if (const char* env = std::getenv("PLUMB_MUJOCO_PLUGIN_PATH"); env && *env) {
+    std::error_code ec;
+    if (!fs::is_directory(env, ec)) {  // MuJoCo would skip it without a word
+      throw ValueError(std::string("PLUMB_MUJOCO_PLUGIN_PATH='") + env +
+                       "' is not a folder (" + (ec ? ec.message() : "it is a file") +
+                       "): set it to the folder of MuJoCo's plugin libraries, or unset it to "
+                       "use the one beside the MuJoCo library.");
+    }
+    return env;
+  }
   std::string library = MujocoLibraryPath();
   if (library.empty()) return "";
   fs::path dir = fs::path(library).parent_path();

@@ -6,7 +6,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 
 #include "crosscheck/engine_session.h"
@@ -28,9 +30,15 @@ std::string Env(const char* name) {
 
 std::string AdapterFolder() {
   std::string given = Env("PLUMB_ENGINES_DIR");
+  std::error_code ec;
+  if (!given.empty() && !fs::is_regular_file(fs::path(given) / "adapter.py", ec)) {
+    throw ValueError(fmt::format(
+        "plumb crosscheck: PLUMB_ENGINES_DIR='{}' is not a folder holding adapter.py: set it to "
+        "the engines/ folder of plumb's source, or unset it to use the installed one",
+        given));
+  }
   if (!given.empty()) return given;
   // an installed plumb moved to another prefix finds the adapter beside its own program
-  std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   const std::string beside =
       ec ? "" : (exe.parent_path().parent_path() / "share/plumb/engines").string();
@@ -44,12 +52,72 @@ std::string AdapterFolder() {
       PLUMB_INSTALL_ENGINES_DIR, PLUMB_SOURCE_ENGINES_DIR));
 }
 
-std::string VenvRoot() {
-  std::string given = Env("PLUMB_ENGINE_VENVS");
-  if (!given.empty()) return given;
-  std::string cache = Env("XDG_CACHE_HOME");
-  if (cache.empty()) cache = Env("HOME").empty() ? "/tmp" : Env("HOME") + "/.cache";
-  return cache + "/plumb/engines";
+// The folder that holds the engines' environments, and the variable it comes from (for the
+// messages): $PLUMB_ENGINE_VENVS, else $XDG_CACHE_HOME/plumb/engines (an empty or relative
+// XDG_CACHE_HOME is ignored, as the XDG base directory rules say), else
+// $HOME/.cache/plumb/engines.
+struct VenvRoot {
+  std::string path, variable, value;
+};
+
+VenvRoot FindVenvRoot() {
+  if (const char* given = std::getenv("PLUMB_ENGINE_VENVS")) {
+    return {given, "PLUMB_ENGINE_VENVS", given};
+  }
+  const std::string xdg = Env("XDG_CACHE_HOME");
+  if (!xdg.empty() && xdg.front() == '/') return {xdg + "/plumb/engines", "XDG_CACHE_HOME", xdg};
+  const std::string home = Env("HOME");
+  return {home + "/.cache/plumb/engines", "HOME", home};
+}
+
+[[noreturn]] void RefuseVenvRoot(const VenvRoot& root, const std::string& problem) {
+  const bool given = root.variable == "PLUMB_ENGINE_VENVS";
+  const std::string where =
+      given ? fmt::format("PLUMB_ENGINE_VENVS='{}'", root.value)
+            : fmt::format("{} (from {}='{}')", root.path, root.variable, root.value);
+  throw ValueError(fmt::format(
+      "plumb crosscheck: {} cannot hold the engines' environments: {}. Set PLUMB_ENGINE_VENVS "
+      "to the absolute path of a folder you can write (it is made if missing){}; nothing was "
+      "written",
+      where, problem, given ? ", or unset it to use ~/.cache/plumb/engines" : ""));
+}
+
+// The folder of the environments, made if missing, after checking that it is an absolute
+// path to a folder plumb can write: a file on the way, a place that cannot be made (/proc)
+// or written (a read-only file system, another user's folder), an empty or a relative value
+// are refused before anything is written.
+std::string ReadyVenvRoot() {
+  const VenvRoot root = FindVenvRoot();
+  if (root.value.empty()) {
+    RefuseVenvRoot(root, root.variable + (std::getenv(root.variable.c_str()) ? " is empty" : " is not set"));
+  }
+  if (root.value.front() != '/') {
+    RefuseVenvRoot(root, "it is a relative path (the environments would move with the current "
+                         "folder)");
+  }
+  // the nearest part of the path that exists must be a folder: `mkdir -p` would fail on a file
+  std::error_code ec;
+  for (fs::path part = root.path; !part.empty(); part = part.parent_path()) {
+    const fs::file_status status = fs::status(part, ec);
+    if (ec && status.type() != fs::file_type::not_found) {
+      RefuseVenvRoot(root, fmt::format("{} cannot be looked at ({})", part.string(), ec.message()));
+    }
+    if (fs::exists(status)) {
+      if (!fs::is_directory(status)) {
+        RefuseVenvRoot(root, fmt::format("{} is a file, not a folder", part.string()));
+      }
+      break;
+    }
+    if (part == part.parent_path()) break;
+  }
+  fs::create_directories(root.path, ec);
+  if (ec) {
+    RefuseVenvRoot(root, fmt::format("{} cannot be made ({})", root.path, ec.message()));
+  }
+  if (access(root.path.c_str(), W_OK | X_OK) != 0) {
+    RefuseVenvRoot(root, fmt::format("{} cannot be written ({})", root.path, std::strerror(errno)));
+  }
+  return root.path;
 }
 
 }  // namespace
@@ -67,7 +135,7 @@ EngineSetup FindEngineSetup(const std::string& engine) {
   const std::string lock = folder + "/requirements-" + engine + ".txt";
   EngineSetup setup;
   setup.adapter = folder + "/adapter.py";
-  const std::string venv = VenvRoot() + "/" + engine + "-" + HashFile(lock).substr(0, 12);
+  const std::string venv = ReadyVenvRoot() + "/" + engine + "-" + HashFile(lock).substr(0, 12);
   setup.python = venv + "/bin/python";
   return setup;
 }

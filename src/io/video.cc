@@ -30,17 +30,34 @@ extern char** environ;
 namespace plumb {
 namespace {
 
+// Why `path` is not a program plumb can start ("" when it is one): a folder passes access(X_OK).
+std::string NotAProgram(const std::string& path) {
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) return std::strerror(errno);
+  if (S_ISDIR(st.st_mode)) return "it is a folder";
+  if (!S_ISREG(st.st_mode)) return "it is not a regular file";
+  if (access(path.c_str(), X_OK) != 0) return "it is not executable";
+  return "";
+}
+
 // $PLUMB_FFMPEG, else the first executable `ffmpeg` on PATH; "" when there is none.
-std::string FindFfmpeg() {
+// @throws UnavailableError naming PLUMB_FFMPEG when it is set to what is not a program.
+std::string FindFfmpeg(const std::string& target) {
   if (const char* given = std::getenv("PLUMB_FFMPEG"); given != nullptr && *given != '\0') {
-    return access(given, X_OK) == 0 ? given : "";
+    if (std::string why = NotAProgram(given); !why.empty()) {
+      throw UnavailableError("writing '" + target + "' needs the ffmpeg program, and PLUMB_FFMPEG='" +
+                             given + "' is not one (" + why +
+                             "): set PLUMB_FFMPEG to the path of ffmpeg, or unset it to use "
+                             "the ffmpeg on PATH.");
+    }
+    return given;
   }
   const char* path = std::getenv("PATH");
   std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
   std::string dir;
   while (std::getline(dirs, dir, ':')) {
     std::string candidate = (dir.empty() ? "." : dir) + "/ffmpeg";
-    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+    if (NotAProgram(candidate).empty()) return candidate;
   }
   return "";
 }
@@ -70,7 +87,7 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   if (!(fps > 0) || !std::isfinite(fps) || fps > 1000) {
     throw ValueError("a video's frame rate must be above 0 and at most 1000 per second");
   }
-  std::string ffmpeg = FindFfmpeg();
+  std::string ffmpeg = FindFfmpeg(path_);
   if (ffmpeg.empty()) {
     throw UnavailableError(
         "writing '" + path_ +

@@ -38,6 +38,7 @@ int RunCrosscheck(CrosscheckCommandOptions& o, const Context& ctx) {
                         "give the MODEL to check (or --setup alone to make the "
                         "engine's environment)");
   }
+  FindEngineSetup(o.spec.engine);  // a bad engine or place for its environment, before any work
   Model model = LoadModel(o.model);
   CrosscheckOptions& spec = o.spec;
   spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
