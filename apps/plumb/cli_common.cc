@@ -134,6 +134,13 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return plumb::StartAssignments(model, {keyframe, pose.file, pose.qpos, sets}, WarnAboutStart);
 }
 
+std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& pose,
+                                   std::vector<NamedPath> more) {
+  std::vector<NamedPath> inputs = {{"the model", model}, {"the --pose file", pose.file}};
+  inputs.insert(inputs.end(), more.begin(), more.end());
+  return inputs;
+}
+
 std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose, bool warn) {
   StartSpec start;
   start.pose = pose.file;
@@ -220,9 +227,11 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
     return kExitInternal;
   }
   if (const auto* bad = dynamic_cast<const ArgumentError*>(&error)) {
-    // the library names its argument ("ctrl_noise"); the user typed the flag (--ctrl-noise)
+    // the library names its argument ("ctrl_noise"); the user typed the flag (--ctrl-noise),
+    // which an argument the command named itself ("-o", output_path.h) already is
     std::string flag = bad->argument() == "store" ? "--db" : "--" + bad->argument();
     std::replace(flag.begin(), flag.end(), '_', '-');
+    if (bad->argument().rfind('-', 0) == 0) flag = bad->argument();
     std::fprintf(stderr, "plumb: error: %s%s: %s\n", flag.c_str(),
                  bad->value().empty() ? "" : (" " + bad->value()).c_str(), bad->problem().c_str());
     return kExitBadInput;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "io/output_path.h"
 #include "plumb/check_table.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
@@ -84,6 +85,13 @@ void AddStartPoseOptions(CLI::App* cmd, StartPose* pose);
 // warnings are printed when `warn`. @throws as StartAssignments.
 std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose,
                                         bool warn = true);
+
+// The inputs of a model command, as RefuseOutputsOntoInputs (io/output_path.h) names them in
+// its message: the model, the --pose file (when given), then `more`. A command refuses an
+// output onto one of them before it writes anything:
+//   RefuseOutputsOntoInputs({{"-o", o.output}}, ModelInputs(o.model, o.pose));
+std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& pose = {},
+                                   std::vector<NamedPath> more = {});
 
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "fixture.h"
 
@@ -173,6 +174,128 @@ TEST(OutputCliTest, AuditStepResponseGivesTheLengthsUnit) {
   EXPECT_NE(text.find("(gear 10 x "), std::string::npos) << text;
   EXPECT_NE(text.find(" m at the joint)"), std::string::npos) << text;
   EXPECT_NE(text.find(" m/s at the joint)"), std::string::npos) << text;
+}
+
+// An output onto one of the command's inputs (issue 46): refused with exit 2 before anything is
+// written, under every name that reaches the input. {IN} is the input, {OUT} the output,
+// {M} the pendulum model when the input is another file; `flag` names the output.
+struct OntoInput {
+  const char* name;
+  const char* command;
+  const char* input;  // "p.xml" (a copy of the pendulum) or "in.toml" (another input)
+  const char* flag;
+};
+
+const OntoInput kOntoInputs[] = {
+    {"RunOutput", "run {IN} --until 0.1 -o {OUT}", "p.xml", "-o"},
+    {"RunRepro", "run {IN} --until 0.1 --repro {OUT}", "p.xml", "--repro"},
+    {"RunPose", "run {M} --pose {IN} --until 0.1 --format csv -o {OUT}", "in.toml", "-o"},
+    {"Snapshot", "snapshot {IN} -o {OUT}", "p.xml", "-o"},
+    {"Render", "render {IN} -o {OUT}", "p.xml", "-o"},
+    {"IdentifyModel", "identify {IN} --log in.toml --fit 'dof_damping[hinge]' -o {OUT}", "p.xml",
+     "-o"},
+    {"IdentifyLog", "identify {M} --log {IN} --fit 'dof_damping[hinge]' --report {OUT}", "in.toml",
+     "--report"},
+    {"BridgeModel", "bridge {IN} --until 0.01 --log {OUT}", "p.xml", "--log"},
+    {"BridgeConfig", "bridge {M} --config {IN} --log {OUT}", "in.toml", "--log"},
+    {"AuditReport", "audit {IN} --report {OUT}", "p.xml", "--report"},
+    {"AuditRepro", "audit {IN} --repro {OUT}", "p.xml", "--repro"},
+    {"AuditAccept", "audit {M} --accept {IN} --report {OUT}", "in.toml", "--report"},
+    {"Verify", "verify {IN} --report {OUT}", "p.xml", "--report"},
+    {"Converge", "converge {IN} --metric 'qpos[hinge]@0.1' --report {OUT}", "p.xml", "--report"},
+    {"Crosscheck", "crosscheck {IN} --report {OUT}", "p.xml", "--report"},
+    {"SweepStore",
+     "sweep {IN} --vary 'dof_damping[hinge]=0.1,0.2' --metric 'qpos[hinge]@0.1' --db {OUT}",
+     "p.xml", "--db"},
+    {"RolloutStore", "rollout {IN} --count 2 --until 0.1 --metric 'qpos[hinge]@0.1' --db {OUT}",
+     "p.xml", "--db"},
+    {"RolloutReport", "rollout {IN} --count 2 --until 0.1 --report {OUT}", "p.xml", "--report"},
+    {"Merge", "merge {IN} -o {OUT}", "in.toml", "-o"},
+    {"Replay", "replay {M} --log {IN} --report {OUT}", "in.toml", "--report"},
+    {"Diff", "diff {IN} {M} --report {OUT}", "in.toml", "--report"},
+};
+
+class OutputOntoInputTest : public ::testing::TestWithParam<OntoInput> {};
+
+std::string Substituted(std::string text, const std::string& in, const std::string& out) {
+  for (auto [key, value] :
+       {std::pair<std::string, std::string>{"{IN}", in}, {"{OUT}", out}, {"{M}", kPendulum}}) {
+    for (std::size_t at; (at = text.find(key)) != std::string::npos;) {
+      text.replace(at, key.size(), value);
+    }
+  }
+  return text;
+}
+
+std::set<std::string> Listing(const std::string& dir) {
+  std::set<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    names.insert(e.path().filename().string());
+  }
+  return names;
+}
+
+TEST_P(OutputOntoInputTest, IsRefusedUnderEveryNameAndTheInputIsUntouched) {
+  const OntoInput& c = GetParam();
+  TempDir dir;
+  fs::copy_file(kPendulum, dir.File("p.xml"));
+  WriteFile(dir.File("in.toml"), "# an input, kept as it is\nuntil = 0.01\n");
+  fs::create_symlink(c.input, dir.File("link"));
+  fs::create_hard_link(dir.File(c.input), dir.File("hard"));
+  const std::string bytes = ReadFile(dir.File(c.input));
+  const std::set<std::string> before = Listing(dir.path());
+  std::string input = c.input;
+  // the output as the input is named, relative, absolute, through a symbolic and a hard link;
+  // then the input through the link and the output by name
+  std::vector<std::pair<std::string, std::string>> spellings = {
+      {input, input},  {input, "./" + input}, {"./" + input, dir.File(input)},
+      {input, "link"}, {input, "hard"},       {"link", input}};
+  for (const auto& [in, out] : spellings) {
+    std::string args = Substituted(c.command, in, out);
+    CommandResult r = RunPlumb(args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind(std::string("plumb: error: ") + c.flag + " '" + out + "': ", 0), 0u)
+        << args << "\n"
+        << r.err;
+    EXPECT_NE(r.err.find("is the same file"), std::string::npos) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("the output would destroy its input; write it elsewhere."),
+              std::string::npos)
+        << args << "\n"
+        << r.err;
+    EXPECT_EQ(ReadFile(dir.File(c.input)), bytes) << args << ": the input changed";
+    EXPECT_TRUE(fs::is_symlink(dir.File("link"))) << args << ": the link was replaced";
+    EXPECT_TRUE(fs::equivalent(dir.File("hard"), dir.File(c.input))) << args;
+    EXPECT_EQ(Listing(dir.path()), before) << args << ": something was written";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(OutputCliTest, OutputOntoInputTest, ::testing::ValuesIn(kOntoInputs),
+                         [](const ::testing::TestParamInfo<OntoInput>& info) {
+                           return std::string(info.param.name);
+                         });
+
+TEST(OutputCliTest, BridgeLogOfTheConfigOntoTheConfigIsRefused) {
+  TempDir dir;
+  const std::string config = "log = \"b.toml\"\nuntil = 0.01\n";
+  WriteFile(dir.File("b.toml"), config);
+  CommandResult r = RunPlumb("bridge " + kPendulum + " --config b.toml", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("the --config file 'b.toml' is the same file"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(dir.File("b.toml")), config);
+}
+
+TEST(OutputCliTest, OutputsBesideTheInputsAreWritten) {
+  // the rule is about identity: a new file, an earlier output or a copy of the input is no input
+  TempDir dir;
+  fs::copy_file(kPendulum, dir.File("p.xml"));
+  fs::copy_file(kPendulum, dir.File("copy.xml"));
+  for (int i = 0; i < 2; ++i) {
+    CommandResult r = RunPlumb("snapshot p.xml -o p.json", dir.path());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  CommandResult r = RunPlumb("run p.xml --until 0.1 --format csv -o copy.xml", dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(ReadFile(dir.File("copy.xml")).rfind("time,", 0), 0u);
 }
 
 }  // namespace

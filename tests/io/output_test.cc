@@ -16,6 +16,7 @@
 #include "core/strings.h"
 #include "fixture.h"
 #include "io/atomic_file.h"
+#include "io/output_path.h"
 #include "plumb/error.h"
 #include "plumb/repro.h"
 #include "plumb/sample_writer.h"
@@ -367,6 +368,72 @@ TEST(ReproTest, FolderHoldsEverythingToReproduce) {
   EXPECT_EQ(Model::Load(written + "/model.xml")->nq, 1);
   // a second repro does not overwrite the first
   EXPECT_EQ(WriteRepro(model, result, {"plumb"}, dir.File("repro")), dir.File("repro") + "-2");
+}
+
+TEST(OutputPathTest, SameFileUnderEveryName) {
+  TempDir dir;
+  testing::WriteFile(dir.File("in.xml"), "<mujoco/>");
+  fs::create_symlink("in.xml", dir.File("link.xml"));
+  fs::create_hard_link(dir.File("in.xml"), dir.File("hard.xml"));
+  testing::WriteFile(dir.File("copy.xml"), "<mujoco/>");
+  fs::create_directory(dir.File("sub"));
+  const std::string in = dir.File("in.xml");
+  EXPECT_TRUE(SameFile(in, in));
+  EXPECT_TRUE(SameFile(in, dir.File("./in.xml")));
+  EXPECT_TRUE(SameFile(in, dir.File("sub/../in.xml")));
+  EXPECT_TRUE(SameFile(in, dir.File("link.xml")));
+  EXPECT_TRUE(SameFile(in, dir.File("hard.xml")));
+  EXPECT_FALSE(SameFile(in, dir.File("copy.xml")));  // the same bytes are not the same file
+  EXPECT_FALSE(SameFile(in, dir.File("new.xml")));   // not there yet
+  EXPECT_FALSE(SameFile(dir.File("new.xml"), dir.File("new.xml")));
+  EXPECT_FALSE(SameFile(in, ""));
+}
+
+TEST(OutputPathTest, AnOutputOntoAnInputIsRefusedNamingBoth) {
+  TempDir dir;
+  testing::WriteFile(dir.File("in.xml"), "<mujoco/>");
+  fs::create_symlink("in.xml", dir.File("link.xml"));
+  const std::vector<NamedPath> inputs = {{"the pose file", ""}, {"the model", dir.File("in.xml")}};
+  try {
+    RefuseOutputsOntoInputs({{"out", dir.File("new.csv")}, {"output", dir.File("link.xml")}},
+                            inputs);
+    ADD_FAILURE() << "not refused";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "output");
+    EXPECT_EQ(e.value(), "'" + dir.File("link.xml") + "'");
+    EXPECT_EQ(e.problem(), "the model '" + dir.File("in.xml") +
+                               "' is the same file (under another name), and the output would "
+                               "destroy its input; write it elsewhere.");
+  }
+  try {
+    RefuseOutputsOntoInputs({{"output", dir.File("./in.xml")}}, inputs);
+    ADD_FAILURE() << "not refused";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.problem().find("the same file (under"), std::string::npos) << e.what();
+  }
+  // a folder output (a repro folder) that is an input folder
+  fs::create_directory(dir.File("d"));
+  EXPECT_THROW(RefuseOutputsOntoInputs({{"repro", dir.File("d")}}, {{"the data", dir.File("d/.")}}),
+               ArgumentError);
+}
+
+TEST(OutputPathTest, OutputsThatReplaceNoInputAreAccepted) {
+  TempDir dir;
+  testing::WriteFile(dir.File("in.xml"), "<mujoco/>");
+  testing::WriteFile(dir.File("copy.xml"), "<mujoco/>");
+  ASSERT_EQ(mkfifo(dir.File("pipe").c_str(), 0600), 0);
+  const std::vector<NamedPath> inputs = {{"the model", dir.File("in.xml")},
+                                         {"the pose file", dir.File("pipe")},
+                                         {"the tty", "/dev/null"}};
+  EXPECT_NO_THROW(RefuseOutputsOntoInputs({{"output", dir.File("copy.xml")},
+                                           {"output", dir.File("new.xml")},
+                                           {"output", ""},
+                                           {"output", "-"},
+                                           // written directly, never replaced
+                                           {"output", dir.File("pipe")},
+                                           {"output", "/dev/null"}},
+                                          inputs));
+  EXPECT_EQ(ReadFile(dir.File("in.xml")), "<mujoco/>");
 }
 
 }  // namespace

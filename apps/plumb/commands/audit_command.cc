@@ -31,6 +31,10 @@ struct AuditCommandOptions {
 };
 
 int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
+  RefuseOutputsOntoInputs(
+      {{"--report", o.report}, {"--repro", o.repro}},
+      ModelInputs(o.model, o.pose,
+                  {{"the --scenario file", o.scenario}, {"the --accept list", o.accept}}));
   Model model = LoadModel(o.model);
   AuditOptions options;
   // a whole pose is the reference pose's state, before the --set on top

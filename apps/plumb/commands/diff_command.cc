@@ -60,6 +60,8 @@ void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
 }
 
 int RunDiff(const DiffOptions& o, const Context& ctx) {
+  RefuseOutputsOntoInputs({{"--report", o.report}},
+                          ModelInputs(o.model, {}, {{"the snapshot", o.snapshot}}));
   bool readable = false;
   std::string text = ReadWhole(o.snapshot, &readable);
   if (!readable)

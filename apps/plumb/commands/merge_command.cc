@@ -26,6 +26,9 @@ void SetupMergeCommand(CLI::App& app, Context& ctx) {
             "merge -o -: a results store is an SQLite file and cannot go to standard output; "
             "give a file name, then print it with plumb results FILE.");
       }
+      std::vector<NamedPath> stores;
+      for (const std::string& input : *inputs) stores.push_back({"the input store", input});
+      RefuseOutputsOntoInputs({{"-o", *output}}, stores);
       MergeStores(*inputs, *output);
       return static_cast<int>(kExitOk);
     };

@@ -43,6 +43,7 @@ void SayDiverged(const RunResult& result, double dt, const std::string& shown) {
 }
 
 int RunRender(const RenderCommandOptions& o) {
+  RefuseOutputsOntoInputs({{"-o", o.output}}, ModelInputs(o.model, o.pose));
   bool video = EndsWith(o.output, ".mp4");
   if (!video && !EndsWith(o.output, ".png")) {
     throw ValueError("-o '" + o.output + "': write a picture (.png) or a video (.mp4)");

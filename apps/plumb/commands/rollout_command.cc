@@ -222,6 +222,7 @@ void RunShard(const Model& model, const RolloutSpec& spec, long total, ProgressB
 }
 
 int RunRollout(const RolloutOptions& o, const Context& ctx) {
+  RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   RolloutSpec spec = MakeSpec(o, model);
   std::vector<std::string> params = ParameterNames(spec);

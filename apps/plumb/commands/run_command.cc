@@ -136,6 +136,7 @@ void CheckCost(const RunOptions& o, const RunEstimate& e, bool to_file) {
 }
 
 int RunRun(const RunOptions& o, const Context& ctx) {
+  RefuseOutputsOntoInputs({{"-o", o.output}, {"--repro", o.repro}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   Data data(model);
   std::vector<Assignment> sets = StartAssignments(model, o.keyframe, o.pose, o.sets);

@@ -26,6 +26,7 @@ struct SnapshotOptions {
 };
 
 int RunSnapshot(const SnapshotOptions& o) {
+  RefuseOutputsOntoInputs({{"-o", o.output}}, ModelInputs(o.model));
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);
   std::string divergence;

@@ -213,6 +213,7 @@ class SweepProblems {
 };
 
 int RunSweep(const SweepOptions& o, const Context& ctx) {
+  RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   SweepSpec spec = MakeSweepSpec(o, model);
   const long total = CaseCount(spec.axes);
