@@ -317,6 +317,8 @@ BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyfra
   }
   a.threads = ThreadsOrAllCores(threads);
   a.db = OptionalPathArg(db, "db");
+  RefuseOutputsOntoInputs({{"db", a.db}},
+                          {{"the model", a.model->name()}, {"the pose file", a.start.pose}});
   a.resume = resume;
   return a;
 }

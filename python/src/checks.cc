@@ -190,6 +190,9 @@ void BindAudit(nb::module_& m) {
         std::string accept_file = OptionalPathArg(accept, "accept");
         std::string scenario_file = OptionalPathArg(scenario, "scenario");
         std::string repro_dir = OptionalPathArg(repro, "repro");
+        RefuseOutputsOntoInputs({{"repro", repro_dir}}, {{"the model", result->model->name()},
+                                                         {"the accept list", accept_file},
+                                                         {"the scenario file", scenario_file}});
         std::string key = keyframe.value_or(result->model->keyframe());
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/output_path.h"
 #include "plumb/check.h"
 #include "plumb/keyframe.h"
 #include "plumb/model.h"
@@ -233,6 +234,13 @@ inline std::string PathArg(FileArg path, const char* argument) {
 // A file argument that may be None: "" for None.
 std::string OptionalPathArg(const std::optional<FileArg>& path, const char* argument);
 
+// The files a result was made from, which its save_report must not replace (io/output_path.h):
+// the model's file; a result that read more files (logs) gives them with an overload of its own.
+template <typename Result>
+std::vector<NamedPath> ResultInputs(const Result& r) {
+  return {{"the model", r.model->name()}};
+}
+
 // The methods every result type has, made from what its struct provides:
 //   std::string Json() const;                          the CLI's --format json document
 //   std::string Table() const;                         the CLI's table text
@@ -250,6 +258,7 @@ void AddResultMethods(nb::class_<Result>& type, const char* command) {
           "save_report",
           [](const Result& r, nb::handle path) {
             std::string file = PathArg(path, "path");
+            RefuseOutputsOntoInputs({{"path", file}}, ResultInputs(r));
             RunLong([&](StopToken) {
               r.WriteReport(file);
               return 0;

@@ -46,6 +46,11 @@ struct PyReplay {
   }
 };
 
+// What save_report must not replace: the model and the log (common.h).
+std::vector<NamedPath> ResultInputs(const PyReplay& r) {
+  return {{"the model", r.model->name()}, {"the log", r.log.source}};
+}
+
 void BindReplay(nb::module_& m) {
   nb::class_<PyReplay> type(m, "ReplayResult",
                             "plumb.replay's result: per measured signal its fit, rms and largest "
@@ -169,6 +174,14 @@ nb::object SquareMatrix(const std::vector<std::vector<double>>& rows) {
   return Matrix(std::move(flat), rows.size(), rows.size());
 }
 
+// What save_report and save_model must not replace: the model and every log (common.h).
+std::vector<NamedPath> ResultInputs(const PyIdentify& r) {
+  std::vector<NamedPath> inputs = {{"the model", r.model->name()}};
+  for (const RobotLog& log : r.logs) inputs.push_back({"the log", log.source});
+  for (const RobotLog& log : r.validation) inputs.push_back({"the validate log", log.source});
+  return inputs;
+}
+
 void BindIdentifyCall(nb::module_& m) {
   nb::class_<PyIdentify> type(
       m, "IdentifyResult",
@@ -246,6 +259,9 @@ void BindIdentifyCall(nb::module_& m) {
           [](const PyIdentify& r, FileArg path, std::optional<FileArg> source) {
             std::string file = PathArg(path, "path");
             std::string mjcf = OptionalPathArg(source, "source");
+            std::vector<NamedPath> inputs = ResultInputs(r);
+            inputs.push_back({"the source", mjcf});
+            RefuseOutputsOntoInputs({{"path", file}}, inputs);
             RunLong([&](StopToken) {
               SaveFittedModel(r.model->model(), *r.fitted, r.result, file, mjcf);
               return 0;
