@@ -8,17 +8,20 @@
 # Usage: bench/audit_findings.sh [PLUMB] > findings.tsv
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
-plumb="${1:-$here/build/plumb}"
+plumb="$(realpath "${1:-$here/build/plumb}")"
 root=$("$here/scripts/fetch-robots.sh" --path)
-out=$(mktemp)
-trap 'rm -f "$out"' EXIT
+out=$(mktemp) && [[ -n "$out" ]] || exit 1
+# plumb runs in a folder of its own: a diverging run writes its plumb-repro-* folder there, not
+# into the current folder (it left them in the checkout)
+work=$(mktemp -d) && [[ -n "$work" ]] || exit 1
+trap 'rm -f "$out"; rm -rf "$work"' EXIT
 {
   find "$root" -name '*.xml' | sort
   find "$here/tests/models/dm_control/suite" -maxdepth 1 -name '*.xml' | sort
 } | while read -r file; do
   for command in audit verify; do
     set +e
-    timeout 600 "$plumb" "$command" "$file" --format json >"$out" 2>/dev/null
+    (cd "$work" && timeout 600 "$plumb" "$command" "$file" --format json) >"$out" 2>/dev/null
     code=$?
     set -e
     name=${file#"$root"/}
