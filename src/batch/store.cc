@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "batch/store_path.h"
 #include "plumb/error.h"
 #include "plumb/version.h"
 
@@ -241,6 +242,7 @@ std::string CreateTablesSql() {
 ResultsStore::ResultsStore(const std::string& path, Mode mode) : impl_(std::make_unique<Impl>()) {
   impl_->file = path;
   bool read_only = mode == Mode::kReadOnly;
+  CheckStorePath(path, !read_only);  // the real cause, not SQLite's "unable to open database"
   impl_->db = OpenDatabase(
       path, read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   try {

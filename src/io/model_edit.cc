@@ -93,12 +93,15 @@ void AbsoluteFolder(mjString* folder, const std::filesystem::path& base) {
 
 // What differs between two compiled models' elements (sizes, then names), or "".
 std::string ElementDifference(const mjModel* a, const mjModel* b) {
-  const std::pair<const char*, int> sizes[] = {
-      {"nq", a->nq - b->nq},           {"nv", a->nv - b->nv},
-      {"nu", a->nu - b->nu},           {"nbody", a->nbody - b->nbody},
-      {"njnt", a->njnt - b->njnt},     {"ngeom", a->ngeom - b->ngeom},
-      {"nsite", a->nsite - b->nsite},  {"nsensor", a->nsensor - b->nsensor},
-      {"nnames", a->nnames - b->nnames}};
+  const std::pair<const char*, int> sizes[] = {{"nq", a->nq - b->nq},
+                                               {"nv", a->nv - b->nv},
+                                               {"nu", a->nu - b->nu},
+                                               {"nbody", a->nbody - b->nbody},
+                                               {"njnt", a->njnt - b->njnt},
+                                               {"ngeom", a->ngeom - b->ngeom},
+                                               {"nsite", a->nsite - b->nsite},
+                                               {"nsensor", a->nsensor - b->nsensor},
+                                               {"nnames", a->nnames - b->nnames}};
   for (const auto& [name, difference] : sizes) {
     if (difference != 0) return fmt::format("its {} differs by {}", name, difference);
   }
@@ -144,9 +147,10 @@ void SaveXmlWithParameters(const std::string& source_xml, const Model& edited,
   std::string difference = ElementDifference(check, edited.get());
   mj_deleteModel(check);
   if (!difference.empty()) {
-    throw ValueError(fmt::format("{} is not the MJCF of the fitted model {} ({}): give the file "
-                                 "that model was compiled from",
-                                 source_xml, edited.file(), difference));
+    throw ValueError(
+        fmt::format("{} is not the MJCF of the fitted model {} ({}): give the file "
+                    "that model was compiled from",
+                    source_xml, edited.file(), difference));
   }
   int size = mj_saveXMLString(spec.get(), nullptr, 0, error, sizeof error);
   std::string xml(size > 0 ? size + 1 : 0, '\0');

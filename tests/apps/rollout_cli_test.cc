@@ -244,6 +244,36 @@ TEST(CliRolloutTest, ASummaryWithoutValuesPrintsNoInfinity) {
   EXPECT_EQ(r.err.find("inf"), std::string::npos) << r.err;
 }
 
+// issue 46: a store where none can be said "unable to open database file" or "disk I/O error"
+TEST(CliRolloutTest, AStoreWhereNoneCanBeIsExit2WithTheCause) {
+  TempDir dir;
+  const std::string rollout =
+      "rollout " + testing::kPendulum + " --count 2 --until 0.01 --metric 'qpos[hinge]@0.01' --db ";
+  CommandResult r = RunPlumb(rollout + "/dev/null", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("results store '/dev/null' is not a regular file (a character device)"),
+            std::string::npos)
+      << r.err;
+  r = RunPlumb(rollout + "missing/r.db", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("the folder 'missing' does not exist"), std::string::npos) << r.err;
+  // a read-only file system: a tmpfs mounted read-only in a mount namespace of its own, where
+  // the machine allows one (unshare); root's writes stop there too
+  std::filesystem::create_directory(dir.File("ro"));
+  r = testing::RunShell(
+      "unshare --user --map-root-user --mount sh -c \"mount -t tmpfs -o ro none "
+      "ro && '" +
+          std::string(PLUMB_CLI) + "' " + rollout + "ro/r.db\"",
+      dir.path());
+  if (r.err.find("results store") == std::string::npos) {
+    GTEST_SKIP() << "no read-only mount here (unshare): " << r.err;
+  }
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("results store 'ro/r.db': its folder 'ro' is on a read-only file system"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CliRolloutTest, BadInputIsExit2) {
   EXPECT_EQ(
       RunPlumb("rollout " + testing::kHumanoid + " --randomize 'body_mass[*]=W(1,2)'").exit_code,

@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <future>
 #include <thread>
+#include <vector>
 
 #include "fixture.h"
 #include "io/hash.h"
@@ -265,6 +267,62 @@ TEST(StoreTest, AStoreOfALaterFormatIsRefusedNamingItsFormat) {
     }
   }
   EXPECT_EQ(testing::ReadFile(path), before);
+}
+
+// The IoError message of opening a store at `path`, or "" when it opens.
+std::string OpenError(const std::string& path, ResultsStore::Mode mode) {
+  try {
+    ResultsStore store(path, mode);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// issue 46: "unable to open database file" and "disk I/O error" said nothing of the cause
+TEST(StoreTest, AStoreWhereNoneCanBeIsRefusedWithTheCause) {
+  TempDir dir;
+  testing::WriteFile(dir.File("file"), "");
+  const std::pair<std::string, std::string> cases[] = {
+      {"/dev/null", "is not a regular file (a character device)"},
+      {dir.path(), "is not a regular file (a directory)"},
+      {dir.File("no/such/r.db"), "the folder '" + dir.File("no/such") + "' does not exist"},
+      {dir.File("file/r.db"), "'" + dir.File("file") + "' is not a folder"},
+  };
+  for (const auto& [path, cause] : cases) {
+    for (auto mode : {ResultsStore::Mode::kReadWrite, ResultsStore::Mode::kReadOnly}) {
+      std::string message = OpenError(path, mode);
+      EXPECT_NE(message.find("results store '" + path + "'"), std::string::npos) << message;
+      if (mode == ResultsStore::Mode::kReadWrite || path == "/dev/null") {
+        EXPECT_NE(message.find(cause), std::string::npos) << message;
+      }
+      EXPECT_EQ(message.find("unable to open"), std::string::npos) << message;
+      EXPECT_EQ(message.find("disk I/O"), std::string::npos) << message;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.File("no")));
+  // a folder that takes no new file: read-only for a user, /sys and /proc for root (whom
+  // permissions do not stop)
+  std::vector<std::string> unwritable = {"/proc/plumb-store-test.db"};
+  if (geteuid() != 0) {
+    std::filesystem::create_directory(dir.File("ro"));
+    std::filesystem::permissions(
+        dir.File("ro"), std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    unwritable.push_back(dir.File("ro/r.db"));
+  } else {
+    unwritable.push_back("/sys/plumb-store-test.db");
+  }
+  for (const std::string& path : unwritable) {
+    std::string message = OpenError(path, ResultsStore::Mode::kReadWrite);
+    EXPECT_NE(message.find("results store '" + path + "': its folder"), std::string::npos)
+        << message;
+    EXPECT_TRUE(message.find("is not writable") != std::string::npos ||
+                message.find("read-only file system") != std::string::npos)
+        << message;
+    EXPECT_FALSE(std::filesystem::exists(path));
+  }
+  EXPECT_NE(OpenError(dir.File("none.db"), ResultsStore::Mode::kReadOnly).find("does not exist"),
+            std::string::npos);
 }
 
 }  // namespace
