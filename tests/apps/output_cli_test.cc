@@ -215,6 +215,9 @@ const OntoInput kOntoInputs[] = {
     {"Diff", "diff {IN} {M} --report {OUT}", "in.toml", "--report"},
 };
 
+// A case's name, not its bytes, in the test's description.
+void PrintTo(const OntoInput& c, std::ostream* out) { *out << c.name; }
+
 class OutputOntoInputTest : public ::testing::TestWithParam<OntoInput> {};
 
 std::string Substituted(std::string text, const std::string& in, const std::string& out) {
