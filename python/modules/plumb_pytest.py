@@ -65,6 +65,16 @@ def _unknown_argument(kwargs: dict[str, Any]) -> str | None:
     return None
 
 
+def _not_a_model(model: Any) -> str | None:
+    """What is wrong with a model that is not one (None, a number, bytes), else None."""
+    kind = type(model)
+    if isinstance(model, (str, os.PathLike)) or kind.__name__ == "MjModel" or (
+            kind.__name__ == "Model" and kind.__module__.startswith("plumb")):
+        return None
+    return (f"the model must be a path (str or os.PathLike), a mujoco.MjModel or a plumb.Model, "
+            f"not {kind.__name__} ({model!r})")
+
+
 def _path(base: pathlib.Path, value: Any) -> Any:
     if isinstance(value, (str, os.PathLike)):
         return str(base / value)
@@ -115,13 +125,13 @@ def _check(request: pytest.FixtureRequest, where: str, model: Any,
     """Runs the checks; failed checks and bad input are in the result, nothing is raised."""
     import plumb
 
-    unknown = _unknown_argument(kwargs)
+    unknown = _unknown_argument(kwargs) or _not_a_model(model)
     if unknown:
         return ModelChecks(model=_shown(model), error=f"{where}: {unknown}")
     try:
         found = check_model(model, base=request.path.parent,
                             update=request.config.getoption("plumb_update"), **kwargs)
-    except plumb.Error as error:  # bad input: the message names the file or argument
+    except (plumb.Error, TypeError) as error:  # bad input: the message names the argument
         return ModelChecks(model=_shown(model), error=f"{where}: {type(error).__name__}: {error}")
     if found.snapshot_written:
         request.config.stash[_updated].append(found.snapshot_written)

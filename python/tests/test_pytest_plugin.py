@@ -123,9 +123,26 @@ def test_misspelt():
 @pytest.mark.plumb_model("pendulum.xml", "pendulum.xml")
 def test_two_models():
     pass
+
+@pytest.mark.plumb_model(None)
+def test_no_model():
+    pass
+
+@pytest.mark.plumb_model("pendulum.xml", set=b"qpos[hinge]=0.7")
+def test_bytes():
+    pass
+
+def test_none_at_run_time(plumb_check):
+    plumb_check(None)
 """)
     done = pytest_in(tmp_path)
-    assert "4 failed" in done.stdout, done.stdout
+    # failures of the tests, with the message alone: no set-up ERROR, no traceback (issue 46)
+    assert "7 failed in" in done.stdout and "ERROR" not in done.stdout, done.stdout
+    assert "Traceback" not in done.stdout and "site-packages" not in done.stdout, done.stdout
+    assert ("test_no_model: plumb_model: the model must be a path (str or os.PathLike), a "
+            "mujoco.MjModel or a plumb.Model, not NoneType (None)") in done.stdout, done.stdout
+    assert "test_none_at_run_time: plumb_check: the model must be a path" in done.stdout
+    assert "test_bytes: plumb_model: TypeError: set: expected a dict" in done.stdout
     assert "FAIL  convergence              the result converges as the timestep shrinks" \
         in done.stdout
     assert "missing.toml" in done.stdout
