@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,12 @@ struct BridgeGamepad {
   std::vector<std::string> topics = {"rt/wirelesscontroller", "rt/wireless_controller"};
 };
 
+// Where each name the model must have was written in the configuration file, so that a name
+// the model lacks is reported at its line: "motors[2]", "imu.body", "secondary_imu.gyroscope",
+// "band.body", "sport_state.feet[0]", ... -> "FILE:LINE:COLUMN". Empty for a configuration
+// built in code.
+using BridgePositions = std::map<std::string, std::string>;
+
 struct BridgeConfig {
   BridgeFamily family = BridgeFamily::kGo;
   BridgeMode mode = BridgeMode::kLockstep;
@@ -142,6 +149,7 @@ struct BridgeConfig {
   std::uint64_t seed = 0;         // of every random draw of the faults
   // lockstep: commands that may wait for their period; beyond it the oldest is dropped
   std::size_t command_queue = 64;
+  BridgePositions positions;  // filled by LoadBridgeConfig
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
@@ -151,7 +159,10 @@ struct BridgeConfig {
 // publish, base and feet, a [band] table with body, anchor = [x, y, z], stiffness, damping,
 // length, release_at and release_button, a [gamepad] table with events (a file, relative to
 // the configuration's folder; RunBridge reads it), rate and topics, and [[faults]] tables.
-// @throws ValueError naming the file, line and key for anything unknown or out of range.
+// The file is read as ReadInputFile reads it (src/core/input_file.h): a FIFO, a directory or a
+// device is refused, and so is a file over 1 MiB.
+// @throws ValueError naming the file, line and key for anything unknown or out of range, or a
+// motor named twice; IoError when the file is missing, not a regular file, or too large.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {

@@ -8,6 +8,7 @@
 
 #include "common.h"
 #include "core/file_kind.h"
+#include "core/input_file.h"
 #include "io/atomic_file.h"
 #include "plumb/accept.h"
 #include "plumb/audit.h"
@@ -329,18 +330,13 @@ struct Snapshot {
   std::string source;  // the file it was loaded from, or the model it was taken of
 
   static Snapshot Load(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in || std::filesystem::is_directory(path)) {
-      throw IoError("cannot read snapshot '" + path + "': no such file or not readable.");
-    }
-    std::stringstream text;
-    text << in.rdbuf();
-    FileKind kind = SniffFileKind(text.str());
+    std::string text = ReadInputFile(path, InputKind::kSnapshot);  // refuses a FIFO or a device
+    FileKind kind = SniffFileKind(text);
     if (kind != FileKind::kSnapshot && kind != FileKind::kJson && kind != FileKind::kText) {
       throw ValueError("'" + path + "' is " + FileKindName(kind) +
                        ", not a plumb snapshot: take one with plumb.snapshot(model).save(path).");
     }
-    return {text.str(), path};
+    return {text, path};
   }
 };
 

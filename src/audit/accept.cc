@@ -8,10 +8,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
+#include "core/input_file.h"
 #include "core/strings.h"
 #include "plumb/error.h"
 
@@ -188,16 +186,10 @@ CheckRow StaleRow(const AcceptList& list, const AcceptEntry& e, const std::vecto
 }  // namespace
 
 AcceptList LoadAcceptList(const std::string& path) {
-  std::ifstream in(path);
-  std::error_code folder;
-  if (!in || std::filesystem::is_directory(path, folder)) {
-    throw IoError("cannot read accept list '" + path + "': no such file or not readable.");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
+  std::string text = ReadInputFile(path, InputKind::kAcceptList);
   toml::table table;
   try {
-    table = toml::parse(text.str(), path);
+    table = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     Bad(path, e.source(), "not valid TOML: " + std::string(e.description()));
   }

@@ -7,15 +7,19 @@
 #include <cmath>
 
 #include "bridge/gamepad_script.h"
+#include "bridge/positions.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
 
-Band::Band(const mjModel* m, const mjData* d, const BridgeBand& config) {
+Band::Band(const mjModel* m, const mjData* d, const BridgeBand& config,
+           const BridgePositions& positions) {
   if (config.body.empty()) return;
   body_ = mj_name2id(m, mjOBJ_BODY, config.body.c_str());
   if (body_ <= 0) {
-    throw ValueError(fmt::format("[band] body = '{}': the model has no such body{}", config.body,
+    throw ValueError(fmt::format("{}[band] body = '{}': the model has no such body{}",
+                                 Place(positions, "band.body"), Echo(config.body),
                                  body_ == 0 ? " (the world body cannot hang on a band)" : ""));
   }
   const mjtNum* com = d->xipos + 3 * body_;

@@ -18,8 +18,10 @@ class Band {
  public:
   Band() = default;  // no band
   // Binds the band to `d`'s state at the start (its anchor and rest length may come from it).
-  // @throws ValueError naming [band] body when the body is not in the model.
-  Band(const mjModel* m, const mjData* d, const BridgeBand& config);
+  // @throws ValueError naming [band] body (at its file:line, given `positions`,
+  // BridgeConfig::positions) when the body is not in the model.
+  Band(const mjModel* m, const mjData* d, const BridgeBand& config,
+       const BridgePositions& positions = {});
   bool on() const { return body_ >= 0 && !released_; }
   // Sets the band's pull on the body in d->xfrc_applied; `d`'s positions and velocities
   // must be computed (after mj_step1 or a forward pass).

@@ -64,7 +64,7 @@ class Loop {
         faults_(config.faults, config.seed) {
     ApplyAssignments(work_, data_, start);
     data_.Forward();
-    map_ = bridge::MotorMap::Bind(work_, config.motors);
+    map_ = bridge::MotorMap::Bind(work_, config.motors, config.positions);
     if (map_.size() > static_cast<std::size_t>(Family<F>::kMotors)) {
       throw ValueError(fmt::format(
           "{}: {} motors, but a {} message carries {}: name at most that many in motors = [...]",
@@ -81,16 +81,17 @@ class Loop {
     }
     commands_.resize(map_.size());
     stuck_at_.assign(map_.size(), NAN);
-    imu_ = bridge::Imu::Bind(work_, config.imu);
-    secondary_ = bridge::Imu::Bind(work_, config.secondary_imu, bridge::kSecondaryImu);
+    imu_ = bridge::Imu::Bind(work_, config.imu, bridge::kPrimaryImu, config.positions);
+    secondary_ =
+        bridge::Imu::Bind(work_, config.secondary_imu, bridge::kSecondaryImu, config.positions);
     if (config.secondary_imu_configured && !secondary_.reads()) {
       throw ValueError(
           fmt::format("{}: [secondary_imu] reads nothing: name its sensors (quaternion, gyroscope, "
                       "accelerometer) or its body",
                       config.source.empty() ? "the bridge" : config.source));
     }
-    sport_ = bridge::SportState::Bind(work_, config.sport_state);
-    band_ = bridge::Band(work_.get(), data_.get(), config.band);
+    sport_ = bridge::SportState::Bind(work_, config.sport_state, config.positions);
+    band_ = bridge::Band(work_.get(), data_.get(), config.band, config.positions);
     if (!config.gamepad.events.empty()) {
       pad_ = bridge::GamepadScript::Load(config.gamepad.events);
       pad_on_ = true;

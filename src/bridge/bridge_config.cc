@@ -9,6 +9,8 @@
 #include <set>
 
 #include "bridge/gamepad_script.h"
+#include "core/input_file.h"
+#include "core/strings.h"
 #include "plumb/bridge.h"
 #include "plumb/error.h"
 
@@ -17,15 +19,19 @@ namespace {
 
 class Reader {
  public:
-  explicit Reader(std::string path) : path_(std::move(path)) {}
+  // Records where each name was written in `positions` (for the messages of RunBridge).
+  Reader(std::string path, BridgePositions* positions)
+      : path_(std::move(path)), positions_(positions) {}
+
+  // "FILE:LINE:COLUMN" of `node`, or the file when the node has no position.
+  std::string At(const toml::node* node) const {
+    if (node == nullptr || node->source().begin.line == 0) return path_;
+    return fmt::format("{}:{}:{}", path_, node->source().begin.line, node->source().begin.column);
+  }
 
   [[noreturn]] void Fail(const toml::node* node, const std::string& key,
                          const std::string& why) const {
-    std::string at = path_;
-    if (node != nullptr && node->source().begin.line > 0) {
-      at += fmt::format(":{}:{}", node->source().begin.line, node->source().begin.column);
-    }
-    throw ValueError(fmt::format("{}: {}: {}", at, key, why));
+    throw ValueError(fmt::format("{}: {}: {}", At(node), key, why));
   }
 
   double Number(const toml::table& t, const std::string& key, double fallback, double lo, double hi,
@@ -65,6 +71,7 @@ class Reader {
     if (node == nullptr) return "";
     std::optional<std::string> v = node->value<std::string>();
     if (!v || v->empty()) Fail(node, prefix + key, "must be " + what + " in quotes");
+    (*positions_)[prefix + key] = At(node);
     return *v;
   }
 
@@ -74,7 +81,7 @@ class Reader {
       if (known.count(std::string(key.str())) == 0) {
         std::string listed;
         for (const std::string& k : known) listed += (listed.empty() ? "" : ", ") + k;
-        Fail(&node, prefix + std::string(key.str()), "unknown key (known: " + listed + ")");
+        Fail(&node, prefix + Echo(key.str()), "unknown key (known: " + listed + ")");
       }
     }
   }
@@ -100,6 +107,7 @@ class Reader {
     for (const toml::node& name : *names) {
       std::optional<std::string> v = name.value<std::string>();
       if (!v || v->empty()) Fail(&name, prefix + key, "every entry must be a name in quotes");
+      (*positions_)[fmt::format("{}{}[{}]", prefix, key, out.size())] = At(&name);
       out.push_back(*v);
     }
     return out;
@@ -118,6 +126,7 @@ class Reader {
 
  private:
   std::string path_;
+  BridgePositions* positions_;
 };
 
 // The settings of fault `f` that its kind takes (a latency's delays, a noise's signal and
@@ -266,8 +275,9 @@ BridgeBand ReadBand(Reader& r, const toml::table& t) {
     std::string names;
     for (const char* n : bridge::kButtonNames)
       names += (names.empty() ? "" : ", ") + std::string(n);
-    r.Fail(t.get("release_button"), p + "release_button",
-           fmt::format("'{}' is not a gamepad button (buttons: {})", b.release_button, names));
+    r.Fail(
+        t.get("release_button"), p + "release_button",
+        fmt::format("'{}' is not a gamepad button (buttons: {})", Echo(b.release_button), names));
   }
   return b;
 }
@@ -286,23 +296,41 @@ BridgeGamepad ReadGamepad(Reader& r, const toml::table& t) {
   return g;
 }
 
+// Refuses a motor named twice: the flight recorder names its columns by motor, and a log with
+// a column twice is one plumb replay refuses.
+void CheckMotorsOnce(const Reader& r, const toml::table& table,
+                     const std::vector<std::string>& motors) {
+  const toml::array* nodes = table.get_as<toml::array>("motors");
+  for (std::size_t j = 0; j < motors.size(); ++j) {
+    for (std::size_t i = 0; i < j; ++i) {
+      if (motors[i] != motors[j]) continue;
+      r.Fail(nodes->get(j), "motors",
+             fmt::format("'{}' is named twice, as motor {} (at {}) and motor {}: name each "
+                         "motor once",
+                         Echo(motors[j]), i, r.At(nodes->get(i)), j));
+    }
+  }
+}
+
 }  // namespace
 
 BridgeConfig LoadBridgeConfig(const std::string& path) {
+  // a FIFO, a directory or /dev/zero is refused, not read: the user meant a file
+  std::string text = ReadInputFile(path, InputKind::kBridgeConfig);
   toml::table table;
   try {
-    table = toml::parse_file(path);
+    table = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
     throw ValueError(fmt::format("{}:{}:{}: {}", path, where.line, where.column, e.description()));
   }
-  Reader r(path);
+  BridgeConfig c;
+  Reader r(path, &c.positions);
   r.OnlyKeys(table,
              {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
               "watchdog", "imu", "secondary_imu", "sport_state", "band", "gamepad", "faults",
               "seed", "command_queue"},
              "");
-  BridgeConfig c;
   c.source = path;
   c.family =
       r.Choice(table, "family", "go", {"go", "hg"}) == "go" ? BridgeFamily::kGo : BridgeFamily::kHg;
@@ -316,6 +344,7 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   c.check_crc = r.Flag(table, "check_crc", true);
   c.log = r.Text(table, "log", "a file name");
   c.motors = r.Names(table, "motors", "actuator or joint names", "");
+  CheckMotorsOnce(r, table, c.motors);
   if (const toml::table* w = r.Table(table, "watchdog")) {
     r.OnlyKeys(*w, {"timeout_ms", "kd"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;

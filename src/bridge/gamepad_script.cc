@@ -6,14 +6,13 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
 #include <string_view>
 
+#include "core/input_file.h"
 #include "core/strings.h"
 #include "plumb/error.h"
 
@@ -28,6 +27,10 @@ namespace {
 constexpr std::array<const char*, 4> kAxisNames = {"lx", "ly", "rx", "ry"};
 constexpr double kTapSeconds = 0.1;
 constexpr int kL2Bit = 5;
+// A line of a script holds at most this many bytes (a few hundred actions): a line of millions
+// of presses would cost the realtime loop its periods (At() walks the presses that start
+// together).
+constexpr std::size_t kMaxLineBytes = 4096;
 
 int AxisIndex(std::string_view name) {
   for (std::size_t i = 0; i < kAxisNames.size(); ++i) {
@@ -78,10 +81,19 @@ class Parser {
  public:
   explicit Parser(const std::string& source) : source_(source) {}
 
-  std::vector<Action> Run(const std::string& text) {
+  std::vector<Action> Run(std::string_view text) {
+    // a UTF-8 byte order mark (as some editors write) is no part of the first statement
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
     int line_number = 0;
     for (std::string_view line : Split(text, '\n')) {
       line_ = ++line_number;
+      if (line.size() > kMaxLineBytes) {
+        Fail(
+            fmt::format("the line is {} bytes; a line of a gamepad script may be at most {} "
+                        "(write the actions over several lines, one statement each: "
+                        "t = 2.0: start)",
+                        line.size(), kMaxLineBytes));
+      }
       line = line.substr(0, line.find('#'));
       for (std::string_view statement : Split(line, ';')) {
         statement = Trim(statement);
@@ -104,12 +116,12 @@ class Parser {
     if (!has_t && colon == std::string_view::npos && !head.empty() &&
         (head[0] == 't' || head[0] == 'T') && Trim(head.substr(1)).substr(0, 1) == "=") {
       Fail(fmt::format("\"{}\": missing \":\" after the time (write e.g. \"t = 2.0: start\")",
-                       statement));
+                       Echo(statement)));
     }
     if (!has_t) {
       Fail(fmt::format(
           "\"{}\": missing \"t = SECONDS:\" before the actions (write e.g. \"t = 2.0: start\")",
-          statement));
+          Echo(statement)));
     }
     std::string_view time_text = Trim(Trim(head.substr(1)).substr(1));
     if (time_text.empty()) {
@@ -120,20 +132,20 @@ class Parser {
       Fail(
           fmt::format("t = {}: the time is not a number (write seconds of simulated time >= 0, "
                       "e.g. \"t = 2.0:\")",
-                      time_text));
+                      Echo(time_text)));
     }
     if (*time < 0) {
       Fail(
           fmt::format("t = {}: the time is negative (write seconds from the start of the run, "
                       ">= 0)",
-                      time_text));
+                      Echo(time_text)));
     }
     std::string_view actions = Trim(statement.substr(colon + 1));
     if (actions.empty()) {
       Fail(
           fmt::format("t = {}: no action after \":\" (write a button, e.g. \"start\", or a "
                       "stick, e.g. \"lx = 0.5\")",
-                      time_text));
+                      Echo(time_text)));
     }
     for (std::string_view action : Split(actions, ',')) {
       action = Trim(action);
@@ -141,15 +153,15 @@ class Parser {
         Fail(
             fmt::format("t = {}: an empty action between commas (write a button or a stick "
                         "between each pair of \",\")",
-                        time_text));
+                        Echo(time_text)));
       }
       Act(*time, action);
     }
   }
 
   [[noreturn]] void Unknown(std::string_view name) const {
-    Fail(fmt::format("\"{}\": not a button or stick (buttons: {}; sticks: lx, ly, rx, ry)", name,
-                     ButtonList()));
+    Fail(fmt::format("\"{}\": not a button or stick (buttons: {}; sticks: lx, ly, rx, ry)",
+                     Echo(name), ButtonList()));
   }
 
   void Act(double time, std::string_view action) {
@@ -161,7 +173,7 @@ class Parser {
         Fail(
             fmt::format("\"{}\": a stick needs a value (write \"{} = 0.5\" or \"{} = 0.5 for 1 "
                         "s\", values in [-1, 1])",
-                        action, name, name));
+                        Echo(action), Echo(name), Echo(name)));
       }
       int bit = ButtonBit(name);
       if (bit < 0) Unknown(name);
@@ -178,7 +190,7 @@ class Parser {
         Fail(
             fmt::format("\"{}\": a button takes no value (write \"{}\" for a press or \"{} for "
                         "0.5 s\" to hold it)",
-                        action, name, name));
+                        Echo(action), Echo(name), Echo(name)));
       }
       Unknown(name.empty() ? std::string(action) : name);
     }
@@ -187,18 +199,18 @@ class Parser {
       Fail(
           fmt::format("\"{}\": no value after \"=\" (write a number in [-1, 1], e.g. \"{} = "
                       "0.5\")",
-                      action, name));
+                      Echo(action), Echo(name)));
     }
     std::optional<double> value = Number(words[0]);
     if (!value) {
       Fail(
           fmt::format("\"{}\": \"{}\" is not a number (write a stick value in [-1, 1], e.g. "
                       "\"{} = 0.5\")",
-                      action, words[0], name));
+                      Echo(action), Echo(words[0]), Echo(name)));
     }
     if (*value < -1 || *value > 1) {
       Fail(fmt::format("\"{}\": {} is out of range (a stick value is in [-1, 1])", action,
-                       words[0]));
+                       Echo(words[0])));
     }
     std::optional<double> duration = For(action, words, 1);
     std::string text = fmt::format("gamepad: {} = {}", kAxisNames[axis], *value);
@@ -216,13 +228,13 @@ class Parser {
       Fail(
           fmt::format("\"{}\": unexpected \"{}\" (after the action write only \"for SECONDS "
                       "s\", e.g. \"for 0.5 s\")",
-                      action, words[i]));
+                      Echo(action), Echo(words[i])));
     }
     if (i + 1 >= words.size()) {
       Fail(
           fmt::format("\"{}\": \"for\" without a duration (write a positive number of "
                       "seconds, e.g. \"for 0.5 s\")",
-                      action));
+                      Echo(action)));
     }
     std::string_view number = words[i + 1];
     if (number.size() > 1 && (number.back() == 's' || number.back() == 'S')) {
@@ -233,7 +245,7 @@ class Parser {
       Fail(
           fmt::format("\"{}\": \"for {}\" is not a positive duration (write a number of "
                       "seconds > 0, e.g. \"for 0.5 s\")",
-                      action, words[i + 1]));
+                      Echo(action), Echo(words[i + 1])));
     }
     std::size_t next = i + 2;
     if (next < words.size() && number.size() == words[i + 1].size() &&
@@ -244,7 +256,7 @@ class Parser {
       Fail(
           fmt::format("\"{}\": unexpected \"{}\" after the duration (write \"for SECONDS s\", "
                       "e.g. \"for 0.5 s\"; separate actions with \",\")",
-                      action, words[next]));
+                      Echo(action), Echo(words[next])));
     }
     return *duration;
   }
@@ -291,23 +303,8 @@ GamepadScript GamepadScript::Parse(const std::string& text, const std::string& s
 }
 
 GamepadScript GamepadScript::Load(const std::string& path) {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    throw IoError(
-        fmt::format("{}: cannot read the gamepad script: {}", path, std::strerror(errno)));
-  }
-  std::string text;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) text.append(buffer, n);
-  bool failed = std::ferror(file) != 0;
-  int error = errno;
-  std::fclose(file);
-  if (failed) {
-    throw IoError(
-        fmt::format("{}: cannot read the gamepad script: {}", path, std::strerror(error)));
-  }
-  return Parse(text, path);
+  // a FIFO or a device (/dev/zero) is refused, not read; the file is at most 4 MiB
+  return Parse(ReadInputFile(path, InputKind::kGamepadScript), path);
 }
 
 GamepadState GamepadScript::At(double t) const {

@@ -26,7 +26,11 @@
 //   event was given a duration which has passed, the axis is 0. A button is held while any of
 //   its presses holds: press [start, start + D) contains t.
 // - A mistake is reported as a ValueError "SOURCE:LINE: ..." saying what was found and what
-//   to write instead.
+//   to write instead; text from the script is quoted through Echo (at most 60 characters,
+//   bytes that would not print as \xNN).
+// - A UTF-8 byte order mark at the start is skipped. A line may hold at most 4096 bytes, a
+//   file (Load) at most 4 MiB: a script is read as ReadInputFile reads it (a FIFO or a device
+//   is refused).
 
 #ifndef PLUMB_SRC_BRIDGE_GAMEPAD_SCRIPT_H_
 #define PLUMB_SRC_BRIDGE_GAMEPAD_SCRIPT_H_
@@ -67,7 +71,8 @@ class GamepadScript {
   // @throws ValueError naming source:line, what was found and what to write instead.
   static GamepadScript Parse(const std::string& text, const std::string& source);
   // Reads the file at `path` and parses it (errors name `path` as the source).
-  // @throws IoError when the file cannot be read, ValueError as Parse.
+  // @throws IoError when the file is missing, not a regular file or over 4 MiB (InputCap),
+  // ValueError as Parse.
   static GamepadScript Load(const std::string& path);
 
   // The pad at simulated time t (s).

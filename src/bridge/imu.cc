@@ -8,7 +8,9 @@
 #include <cmath>
 #include <string>
 
+#include "bridge/positions.h"
 #include "core/joint_size.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -16,8 +18,10 @@ namespace {
 
 // The sensordata address of the sensor called `name` (of `type`); when `name` is empty, of the
 // one called `preferred` or (`first`) the first of `type`; -1 when there is none unnamed.
+// `key` is "[imu] quaternion"; `place` where the name was written ("FILE:LINE:COLUMN: " or "").
 int FindSensor(const mjModel* m, int type, const std::string& name, const char* preferred,
-               bool first, const std::string& key, const char* type_name) {
+               bool first, const std::string& key, const std::string& place,
+               const char* type_name) {
   std::string have;
   int first_of_type = -1;
   for (int s = 0; s < m->nsensor; ++s) {
@@ -29,8 +33,8 @@ int FindSensor(const mjModel* m, int type, const std::string& name, const char* 
     have += fmt::format("{}'{}'", have.empty() ? "" : ", ", its != nullptr ? its : "");
   }
   if (name.empty()) return first ? first_of_type : -1;
-  throw ValueError(fmt::format("{} = '{}': the model has no {} sensor of that name ({})", key, name,
-                               type_name,
+  throw ValueError(fmt::format("{}{} = '{}': the model has no {} sensor of that name ({})", place,
+                               key, Echo(name), type_name,
                                have.empty() ? std::string("it has none") : "it has " + have));
 }
 
@@ -44,22 +48,26 @@ std::array<double, 3> RollPitchYaw(const std::array<double, 4>& q) {
   return {roll, pitch, yaw};
 }
 
-Imu Imu::Bind(const Model& model, const BridgeImuSource& source, const ImuDefaults& defaults) {
+Imu Imu::Bind(const Model& model, const BridgeImuSource& source, const ImuDefaults& defaults,
+              const BridgePositions& positions) {
   const mjModel* m = model.get();
   Imu imu;
   std::string t = "[" + std::string(defaults.table) + "] ";
+  auto place = [&](const char* key) {
+    return Place(positions, defaults.table + ("." + std::string(key)));
+  };
   bool first = defaults.first_of_type;
   imu.quat_ = FindSensor(m, mjSENS_FRAMEQUAT, source.quaternion, defaults.quaternion, first,
-                         t + "quaternion", "framequat");
+                         t + "quaternion", place("quaternion"), "framequat");
   imu.gyro_ = FindSensor(m, mjSENS_GYRO, source.gyroscope, defaults.gyroscope, first,
-                         t + "gyroscope", "gyro");
+                         t + "gyroscope", place("gyroscope"), "gyro");
   imu.accel_ = FindSensor(m, mjSENS_ACCELEROMETER, source.accelerometer, defaults.accelerometer,
-                          first, t + "accelerometer", "accelerometer");
+                          first, t + "accelerometer", place("accelerometer"), "accelerometer");
   if (!source.body.empty()) {
     imu.base_ = mj_name2id(m, mjOBJ_BODY, source.body.c_str());
     if (imu.base_ <= 0) {
-      throw ValueError(fmt::format("[{}] body = '{}': the model has no such body{}", defaults.table,
-                                   source.body,
+      throw ValueError(fmt::format("{}[{}] body = '{}': the model has no such body{}",
+                                   place("body"), defaults.table, Echo(source.body),
                                    imu.base_ == 0 ? " (the world body cannot carry an IMU)" : ""));
     }
     return imu;

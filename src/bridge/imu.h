@@ -43,9 +43,10 @@ inline constexpr ImuDefaults kSecondaryImu = {
 class Imu {
  public:
   // @throws ValueError when a named sensor is missing or of another type, or the named body
-  // is missing; the message names the table's key and lists what the model has.
+  // is missing; the message names the table's key (at its file:line, given `positions`,
+  // BridgeConfig::positions) and lists what the model has.
   static Imu Bind(const Model& model, const BridgeImuSource& source = {},
-                  const ImuDefaults& defaults = kPrimaryImu);
+                  const ImuDefaults& defaults = kPrimaryImu, const BridgePositions& positions = {});
   // Whether anything is read (a sensor or a body): else Read gives the identity and zeros.
   bool reads() const { return quat_ >= 0 || gyro_ >= 0 || accel_ >= 0 || base_ >= 0; }
   // `d`'s derived arrays must describe its state (after mj_forward or DerivedRefresher, not

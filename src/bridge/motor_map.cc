@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bridge/positions.h"
 #include "core/mujoco_compat.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -90,7 +92,8 @@ Motor FromJoint(const Model& model, int j, std::size_t index) {
 
 }  // namespace
 
-MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& names) {
+MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& names,
+                        const BridgePositions& positions) {
   const mjModel* m = model.get();
   MotorMap map;
   if (names.empty()) {
@@ -104,15 +107,20 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
     }
   }
   for (const std::string& name : names) {
+    std::string place = Place(positions, fmt::format("motors[{}]", map.size()));
     int u = mj_name2id(m, mjOBJ_ACTUATOR, name.c_str());
     int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
-    if (u >= 0) {
-      map.motors_.push_back(FromActuator(model, u, map.size()));
-    } else if (j >= 0) {
-      map.motors_.push_back(FromJoint(model, j, map.size()));
-    } else {
-      throw ValueError(fmt::format("motor {}: '{}' is neither an actuator nor a joint of '{}'",
-                                   map.size(), name, model.file()));
+    try {
+      if (u >= 0) {
+        map.motors_.push_back(FromActuator(model, u, map.size()));
+      } else if (j >= 0) {
+        map.motors_.push_back(FromJoint(model, j, map.size()));
+      } else {
+        throw ValueError(fmt::format("motor {}: '{}' is neither an actuator nor a joint of '{}'",
+                                     map.size(), Echo(name), model.file()));
+      }
+    } catch (const ValueError& e) {
+      throw ValueError(place + e.what());
     }
   }
   for (Motor& motor : map.motors_) {

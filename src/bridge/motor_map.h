@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "plumb/bridge.h"
 #include "plumb/model.h"
 
 namespace plumb::bridge {
@@ -39,8 +40,10 @@ class MotorMap {
   // Binds `names` (actuator or joint names, one a motor, in motor order) or, when empty,
   // every actuator in order (by actuator, not by control: a pid takes two controls). @throws
   // ValueError naming the motor and the element when a name is unknown, an actuator is not a torque
-  // motor on a single joint, or a joint is not a hinge or slide.
-  static MotorMap Bind(const Model& model, const std::vector<std::string>& names);
+  // motor on a single joint, or a joint is not a hinge or slide; with `positions`
+  // (BridgeConfig::positions) the message starts at the name's file:line.
+  static MotorMap Bind(const Model& model, const std::vector<std::string>& names,
+                       const BridgePositions& positions = {});
 
   const std::vector<Motor>& motors() const { return motors_; }
   std::size_t size() const { return motors_.size(); }

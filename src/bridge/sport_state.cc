@@ -6,7 +6,9 @@
 
 #include <string>
 
+#include "bridge/positions.h"
 #include "core/joint_size.h"
+#include "core/strings.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
@@ -21,7 +23,8 @@ std::array<double, 3> ToLocal(const mjtNum* R, const double v[3]) {
 
 }  // namespace
 
-SportState SportState::Bind(const Model& model, const BridgeSportState& config) {
+SportState SportState::Bind(const Model& model, const BridgeSportState& config,
+                            const BridgePositions& positions) {
   const mjModel* m = model.get();
   SportState s;
   if (!config.publish) return s;
@@ -29,7 +32,8 @@ SportState SportState::Bind(const Model& model, const BridgeSportState& config) 
     s.base_ = mj_name2id(m, mjOBJ_BODY, config.base.c_str());
     if (s.base_ <= 0) {
       throw ValueError(
-          fmt::format("[sport_state] base = '{}': the model has no such body{}", config.base,
+          fmt::format("{}[sport_state] base = '{}': the model has no such body{}",
+                      Place(positions, "sport_state.base"), Echo(config.base),
                       s.base_ == 0 ? " (the world body has no motion to report)" : ""));
     }
   } else {
@@ -37,6 +41,7 @@ SportState SportState::Bind(const Model& model, const BridgeSportState& config) 
   }
   if (s.base_ < 0) return s;
   for (const std::string& name : config.feet) {
+    std::string place = Place(positions, fmt::format("sport_state.feet[{}]", s.feet_.size()));
     Foot f;
     for (int type : {mjOBJ_SITE, mjOBJ_GEOM, mjOBJ_BODY}) {
       int id = mj_name2id(m, static_cast<mjtObj>(type), name.c_str());
@@ -48,9 +53,9 @@ SportState SportState::Bind(const Model& model, const BridgeSportState& config) 
     }
     if (f.id < 0 || (f.type == mjOBJ_BODY && f.id == 0)) {
       throw ValueError(fmt::format(
-          "[sport_state] feet: '{}' is not a site, geom or body of the model (name each foot's "
+          "{}[sport_state] feet: '{}' is not a site, geom or body of the model (name each foot's "
           "sole: a site or geom where it touches the ground, or its body)",
-          name));
+          place, Echo(name)));
     }
     s.feet_.push_back(f);
   }

@@ -30,7 +30,9 @@ class SportState {
  public:
   // An unbound reader publishes nothing (no base body, or [sport_state] publish = false).
   // @throws ValueError naming the [sport_state] key when the base or a foot is not in the model.
-  static SportState Bind(const Model& model, const BridgeSportState& config);
+  // With `positions` (BridgeConfig::positions) the message starts at the name's file:line.
+  static SportState Bind(const Model& model, const BridgeSportState& config,
+                         const BridgePositions& positions = {});
   bool enabled() const { return base_ >= 0; }
   std::size_t feet() const { return feet_.size(); }
   // `d`'s derived arrays (poses, velocities, contacts) must describe its state.

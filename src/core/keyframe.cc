@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <sstream>
 
+#include "core/input_file.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/check.h"
@@ -229,8 +229,7 @@ Assignment QposAssignment(const Model& model, const std::string& values) {
 }
 
 std::vector<Assignment> PoseFileAssignments(const Model& model, const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError("cannot read the pose file '" + path + "'");
+  std::istringstream in(ReadInputFile(path, InputKind::kPoseFile));
   std::vector<std::pair<int, std::string>> lines;  // line number, text
   bool assignments = false;
   std::string line;

@@ -10,12 +10,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 
 #include "core/derived.h"
 #include "core/file_kind.h"
+#include "core/input_file.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/error.h"
@@ -88,24 +87,6 @@ void OnMujocoLog(const mjLogMessage* message) {
 bool EndsWith(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// Reads a whole file. Returns false and sets `reason` when it cannot.
-bool ReadFile(const std::string& path, std::string* out, std::string* reason) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    *reason = "it is a directory, not a model file";
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *reason = std::strerror(errno);
-    return false;
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  *out = buffer.str();
-  return true;
 }
 
 // Inserts <compiler autolimits="true"/> right after the <mujoco ...> tag, or returns ""
@@ -314,11 +295,11 @@ Model::~Model() = default;
 
 Model Model::Load(const std::string& path) {
   InstallMujocoHandlers();
-  std::string text, reason;
-  if (!ReadFile(path, &text, &reason)) {
-    throw LoadError("cannot open model file '" + path + "': " + reason +
-                        ". Check the path (it is relative to the current directory).",
-                    "");
+  std::string text;
+  try {
+    text = ReadInputFile(path, InputKind::kModel);  // a FIFO or a device is refused, not waited on
+  } catch (const IoError& e) {
+    throw LoadError(e.what(), "");
   }
   // the content decides, not the name: MJCF named .mjb is compiled, a compiled model named
   // otherwise is loaded; an empty or JSON file is named for what it is

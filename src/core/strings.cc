@@ -180,4 +180,45 @@ std::string ShellQuote(const std::string& arg) {
   return out + "'";
 }
 
+namespace {
+
+// The length of the UTF-8 sequence starting at text[i] (2 to 4), or 0 when it is not one.
+std::size_t Utf8Length(std::string_view text, std::size_t i) {
+  auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  unsigned char lead = byte(i);
+  std::size_t n = lead >= 0xC2 && lead <= 0xDF   ? 2
+                  : lead >= 0xE0 && lead <= 0xEF ? 3
+                  : lead >= 0xF0 && lead <= 0xF4 ? 4
+                                                 : 0;
+  if (n == 0 || i + n > text.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k) {
+    if ((byte(i + k) & 0xC0) != 0x80) return 0;
+  }
+  return n;
+}
+
+}  // namespace
+
+std::string Echo(std::string_view text, std::size_t limit) {
+  std::string out;
+  std::size_t shown = 0, i = 0;
+  for (; i < text.size() && shown < limit; ++shown) {
+    auto c = static_cast<unsigned char>(text[i]);
+    std::size_t n = c >= 0x80 ? Utf8Length(text, i) : 0;
+    if (n > 0) {
+      out.append(text.substr(i, n));
+      i += n;
+    } else if (c < 0x20 || c >= 0x7F) {
+      static const char kHex[] = "0123456789abcdef";
+      out += {'\\', 'x', kHex[c >> 4], kHex[c & 0xF]};
+      ++i;
+    } else {
+      out += static_cast<char>(c);
+      ++i;
+    }
+  }
+  if (i < text.size()) out += "\xE2\x80\xA6 (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
 }  // namespace plumb

@@ -59,6 +59,12 @@ std::vector<std::string> Closest(std::string_view word, const std::vector<std::s
 // Quotes `arg` for a POSIX shell when it needs it: a b -> 'a b', it's -> 'it'\''s'.
 std::string ShellQuote(const std::string& arg);
 
+// `text` from a user's file as a message quotes it: at most `limit` characters (then "…" and
+// the whole length: "aaaa… (102400 bytes)"), with every byte that would not print (control
+// characters, a NUL, bytes that are not UTF-8) written \xNN. Every message that echoes text
+// read from a file goes through it, so that binary garbage or a 100 KB line stays readable.
+std::string Echo(std::string_view text, std::size_t limit = 60);
+
 }  // namespace plumb
 
 #endif  // PLUMB_SRC_CORE_STRINGS_H_

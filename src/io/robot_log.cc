@@ -9,9 +9,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <set>
 
+#include "core/input_file.h"
 #include "plumb/error.h"
 
 namespace plumb {
@@ -60,25 +60,47 @@ struct ColumnUse {
   std::size_t index = 0;
 };
 
+// The lines of a text as std::getline reads them from a stream: eof() once a line ran to the
+// end of the text without a newline (or nothing was left).
+class Lines {
+ public:
+  explicit Lines(std::string text) : text_(std::move(text)) {}
+  bool Next(std::string* line) {
+    if (at_ >= text_.size()) {
+      eof_ = true;
+      return false;
+    }
+    std::size_t end = text_.find('\n', at_);
+    eof_ = end == std::string::npos;
+    if (eof_) end = text_.size();
+    line->assign(text_, at_, end - at_);
+    at_ = end + 1;
+    return true;
+  }
+  bool eof() const { return eof_; }
+
+ private:
+  std::string text_;
+  std::size_t at_ = 0;
+  bool eof_ = false;
+};
+
 class LogReader {
  public:
   LogReader(const Model& model, const std::string& path, const ColumnMap& map)
       : model_(model), path_(path), map_(map) {}
 
   RobotLog Read(double timestep) {
-    std::ifstream in(path_);
-    if (!in)
-      throw IoError(fmt::format("cannot read log '{}': no such file or not readable", path_));
+    Lines in(ReadInputFile(path_, InputKind::kRobotLog));
     log_.source = path_;
     std::string line;
-    if (!std::getline(in, line) || line.empty())
-      Fail(1, "", "is empty: a log starts with a header row");
+    if (!in.Next(&line) || line.empty()) Fail(1, "", "is empty: a log starts with a header row");
     Header(line);
     std::vector<std::string> cells;
     long row = 1;
     bool first = true;
     double last = -INFINITY;
-    while (std::getline(in, line)) {
+    while (in.Next(&line)) {
       ++row;
       if (line.empty() || line == "\r") continue;
       // every line of the flight recorder ends with a newline: one without was being written
@@ -229,13 +251,12 @@ class LogReader {
 ColumnMap LoadColumnMap(const std::string& path) {
   ColumnMap map;
   map.source = path;
+  std::string text = ReadInputFile(path, InputKind::kColumnMap);
   toml::table table;
   try {
-    table = toml::parse_file(path);
+    table = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
-    if (where.line == 0)
-      throw IoError(fmt::format("cannot read column map '{}': {}", path, e.description()));
     throw ValueError(fmt::format("{}:{}:{}: {}", path, where.line, where.column, e.description()));
   }
   auto at = [&](const toml::node& node) {

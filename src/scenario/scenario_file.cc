@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -15,6 +14,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/input_file.h"
 #include "core/mujoco_compat.h"
 #include "core/strings.h"
 #include "plumb/error.h"
@@ -288,19 +288,16 @@ Scenario ReadScenario(const Model& model, const std::string& file, const json& j
 }  // namespace
 
 Scenario LoadScenario(const Model& model, const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw IoError("cannot read scenario '" + file + "': no such file or not readable.");
-  std::stringstream text;
-  text << in.rdbuf();
+  std::string text = ReadInputFile(file, InputKind::kScenario);
   json j;
   bool toml = file.size() > 5 && file.substr(file.size() - 5) == ".toml";
   std::optional<Positions> positions;
   try {
     if (toml) {
       positions.emplace();
-      j = ToJson(toml::parse(text.str(), file), "", &*positions);
+      j = ToJson(toml::parse(text, file), "", &*positions);
     } else {
-      j = json::parse(text.str());
+      j = json::parse(text);
     }
   } catch (const toml::parse_error& e) {
     // toml++ knows where: the line and column of the first problem

@@ -2,6 +2,7 @@
 // examples/pd_client (CycloneDDS and our IDL only), checked through the flight recorder.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -313,6 +314,44 @@ TEST(CliBridgeTest, ABadConfigurationNamesTheLine) {
   r = testing::RunPlumb("bridge '" + testing::kPendulum + "' --config motors.toml", dir.path());
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("'nosuch' is neither an actuator nor a joint"), std::string::npos) << r.err;
+}
+
+// Issue 46: --config DIR or /dev/zero ran on defaults, a FIFO as --config or --gamepad hung,
+// --gamepad /dev/zero ran out of memory; a motor named twice ran and wrote a log replay refuses.
+TEST(CliBridgeTest, InputsThatAreNotFilesAreRefused) {
+  testing::TempDir dir;
+  ASSERT_EQ(mkfifo(dir.File("p").c_str(), 0600), 0);
+  testing::WriteFile(dir.File("bridge.toml"), "motors = [\"hinge\"]\n");
+  std::string bridge = "timeout -s KILL 30 '" + std::string(PLUMB_CLI) + "' bridge '" +
+                       testing::kPendulum + "' --until 0.01 --domain " +
+                       std::to_string(testing::FreeDomain());
+  struct Case {
+    std::string args, says;
+  };
+  for (const Case& c :
+       {Case{"--config .", "'.' is a directory, not a file: plumb reads a bridge config"},
+        Case{"--config /dev/zero", "'/dev/zero' is a character device"},
+        Case{"--config p", "'p' is a FIFO (named pipe), not a file"},
+        Case{"--config nonexist.toml",
+             "no bridge config 'nonexist.toml' (No such file or directory)"},
+        Case{"--config bridge.toml --gamepad p", "plumb reads a gamepad script only from"},
+        Case{"--config bridge.toml --gamepad /dev/zero", "'/dev/zero' is a character device"}}) {
+    auto r = testing::RunShell(bridge + " " + c.args, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << ": " << r.err;
+  }
+  testing::WriteFile(dir.File("twice.toml"), "motors = [\"hinge\", \"hinge\"]\n");
+  auto r = testing::RunShell(bridge + " --config twice.toml", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("twice.toml:1:20: motors: 'hinge' is named twice, as motor 0 (at "
+                       "twice.toml:1:11) and motor 1"),
+            std::string::npos)
+      << r.err;
+  testing::WriteFile(dir.File("motors.toml"), "until = 1\nmotors = [\"nosuch\"]\n");
+  r = testing::RunShell(bridge + " --config motors.toml", dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("motors.toml:2:11: motor 0: 'nosuch' is neither"), std::string::npos)
+      << r.err;
 }
 
 }  // namespace

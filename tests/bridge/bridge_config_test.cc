@@ -1,7 +1,18 @@
 // The bridge's configuration file: every key read, every mistake named with file:line.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <functional>
+#include <future>
+
+#include "bridge/band.h"
+#include "bridge/imu.h"
+#include "bridge/motor_map.h"
+#include "bridge/sport_state.h"
 #include "fixture.h"
 #include "plumb/bridge.h"
 #include "plumb/error.h"
@@ -175,6 +186,107 @@ TEST(BridgeConfigTest, MistakesInTheNewTablesAreNamed) {
             std::string::npos);
   EXPECT_NE(Complaint("gamepad = 3\n").find("gamepad: must be a table: [gamepad]"),
             std::string::npos);
+}
+
+// The message LoadBridgeConfig gives for `path` as an IoError, or "" when it loads.
+std::string Unreadable(const std::string& path) {
+  try {
+    LoadBridgeConfig(path);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Issue 46: a missing file, a directory, /dev/zero and a FIFO are refused (a directory and
+// /dev/zero ran on defaults, a FIFO hung), and so is a file over 1 MiB.
+TEST(BridgeConfigTest, OnlyARegularFileIsAConfiguration) {
+  testing::TempDir dir;
+  EXPECT_NE(
+      Unreadable(dir.File("nonexist.toml"))
+          .find("no bridge config '" + dir.File("nonexist.toml") + "' (No such file or directory)"),
+      std::string::npos);
+  EXPECT_NE(Unreadable(dir.path()).find("is a directory, not a file"), std::string::npos);
+  EXPECT_NE(Unreadable("/dev/zero").find("'/dev/zero' is a character device"), std::string::npos);
+  ASSERT_EQ(mkfifo(dir.File("p").c_str(), 0600), 0);
+  auto fifo = std::async(std::launch::async, [&] { return Unreadable(dir.File("p")); });
+  if (fifo.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+    int fd = ::open(dir.File("p").c_str(), O_WRONLY | O_NONBLOCK);  // let it go
+    if (fd >= 0) ::close(fd);
+    ADD_FAILURE() << "LoadBridgeConfig waited on a FIFO";
+  }
+  EXPECT_NE(fifo.get().find("is a FIFO (named pipe), not a file"), std::string::npos);
+  testing::WriteFile(dir.File("big.toml"), "# " + std::string(1 << 20, 'x') + "\n");
+  EXPECT_NE(Unreadable(dir.File("big.toml")).find("a bridge config may be at most 1048576"),
+            std::string::npos);
+}
+
+TEST(BridgeConfigTest, AByteOrderMarkIsSkipped) {
+  EXPECT_EQ(Complaint("\xEF\xBB\xBF"
+                      "family = \"hg\"\n"),
+            "");
+}
+
+// Issue 46: a 100 KB unknown key is cut, and a key's bytes that would not print are escaped.
+TEST(BridgeConfigTest, EchoedKeysAreShortAndPrintable) {
+  std::string why = Complaint(std::string(100000, 'k') + " = 1\n");
+  EXPECT_LT(why.size(), 600u) << why.substr(0, 600);
+  EXPECT_NE(why.find(std::string(60, 'k') + "\xE2\x80\xA6 (100000 bytes): unknown key"),
+            std::string::npos)
+      << why.substr(0, 600);
+  why = Complaint("\"a\\u0001b\" = 1\n");
+  EXPECT_NE(why.find("a\\x01b: unknown key"), std::string::npos) << why;
+}
+
+// Issue 8 of 46: a motor named twice was accepted, and plumb replay then refused its log.
+TEST(BridgeConfigTest, AMotorNamedTwiceIsRefused) {
+  std::string why = Complaint("motors = [\"abdomen_y\", \"knee\", \"abdomen_y\"]\n");
+  EXPECT_NE(why.find("b.toml:1:32: motors: 'abdomen_y' is named twice, as motor 0 (at "),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("b.toml:1:11) and motor 2"), std::string::npos) << why;
+}
+
+// Issue 46: a name the model lacks ([imu], [band], motors, [sport_state]) is reported at the
+// line that wrote it.
+TEST(BridgeConfigTest, NamesTheModelLacksAreReportedAtTheirLine) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"),
+                     "motors = [\"hinge\", \"elbow\"]\n"
+                     "[imu]\n"
+                     "gyroscope = \"no_gyro\"\n"
+                     "body = \"no_body\"\n"
+                     "[band]\n"
+                     "body = \"no_band\"\n"
+                     "[sport_state]\n"
+                     "base = \"no_base\"\n");
+  BridgeConfig c = LoadBridgeConfig(dir.File("b.toml"));
+  EXPECT_EQ(c.positions.at("motors[1]"), dir.File("b.toml") + ":1:20");
+  EXPECT_EQ(c.positions.at("imu.gyroscope"), dir.File("b.toml") + ":3:13");
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  auto message = [](const std::function<void()>& bind) { return testing::ValueErrorOf(bind); };
+  EXPECT_EQ(message([&] {
+              bridge::MotorMap::Bind(model, c.motors, c.positions);
+            }).rfind(dir.File("b.toml") + ":1:20: motor 1: 'elbow' is neither", 0),
+            0u);
+  EXPECT_EQ(message([&] {
+              bridge::Imu::Bind(model, c.imu, bridge::kPrimaryImu, c.positions);
+            }).rfind(dir.File("b.toml") + ":3:13: [imu] gyroscope = 'no_gyro'", 0),
+            0u);
+  c.imu.gyroscope.clear();
+  EXPECT_EQ(message([&] {
+              bridge::Imu::Bind(model, c.imu, bridge::kPrimaryImu, c.positions);
+            }).rfind(dir.File("b.toml") + ":4:8: [imu] body = 'no_body'", 0),
+            0u);
+  EXPECT_EQ(message([&] {
+              bridge::Band(model.get(), data.get(), c.band, c.positions);
+            }).rfind(dir.File("b.toml") + ":6:8: [band] body = 'no_band'", 0),
+            0u);
+  EXPECT_EQ(message([&] {
+              bridge::SportState::Bind(model, c.sport_state, c.positions);
+            }).rfind(dir.File("b.toml") + ":8:8: [sport_state] base = 'no_base'", 0),
+            0u);
 }
 
 }  // namespace

@@ -2,11 +2,16 @@
 
 #include "bridge/gamepad_script.h"
 
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <string>
 #include <utility>
 
@@ -273,6 +278,60 @@ TEST(GamepadScriptTest, LoadOfAMissingFileThrowsIoError) {
   } catch (const IoError& e) {
     EXPECT_THAT(e.what(), HasSubstr("/nonexistent/dir/events.txt"));
   }
+}
+
+// Issue 46: a NUL cut the message at the NUL and binary bytes were echoed raw; a long line is
+// cut in the message.
+TEST(GamepadScriptTest, EchoedTextIsPrintableAndShort) {
+  std::string why = Complaint(std::string("t = 1: st\0art\xff", 14));
+  EXPECT_THAT(why, HasSubstr("events.txt:1: \"st\\x00art\\xff\": not a button or stick"));
+  why = Complaint("t = 1: " + std::string(1000, 'Z'));
+  EXPECT_THAT(why, HasSubstr(std::string(60, 'Z') + "\xE2\x80\xA6 (1000 bytes)"));
+  EXPECT_LT(why.size(), 300u);
+}
+
+// Issue 46: a UTF-8 byte order mark gave "missing t = SECONDS:" on a line that has it.
+TEST(GamepadScriptTest, AByteOrderMarkIsSkipped) {
+  EXPECT_EQ(Complaint("\xEF\xBB\xBFt = 1: start\n"), "");
+  EXPECT_EQ(GamepadScript::Parse("\xEF\xBB\xBFt = 1: A", "e").At(1).keys, Bit("A"));
+}
+
+// Issue 46: millions of presses on one line cost the realtime loop its periods.
+TEST(GamepadScriptTest, ALineHoldsAtMost4096Bytes) {
+  std::string line = "t = 1: A";
+  while (line.size() <= 4096) line += ", A";
+  EXPECT_THAT(Complaint("t = 0: B\n" + line + "\n"),
+              HasSubstr("events.txt:2: the line is 4097 bytes; a line of a gamepad script may "
+                        "be at most 4096"));
+  std::string fits = "t = 1: A" + std::string(4096 - 8, ' ');
+  EXPECT_EQ(Complaint(fits + "\n"), "");
+}
+
+// Issue 46: --gamepad /dev/zero ran out of memory, a FIFO hung; a directory stays refused.
+TEST(GamepadScriptTest, LoadReadsOnlyARegularFile) {
+  auto refusal = [](const std::string& path) {
+    try {
+      GamepadScript::Load(path);
+    } catch (const IoError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_THAT(refusal("/dev/zero"), HasSubstr("'/dev/zero' is a character device"));
+  EXPECT_THAT(refusal("/"), HasSubstr("'/' is a directory"));
+  char dir[] = "/tmp/plumb-gamepad-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  std::string fifo = std::string(dir) + "/p";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  auto read = std::async(std::launch::async, [&] { return refusal(fifo); });
+  if (read.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+    int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go
+    if (fd >= 0) ::close(fd);
+    ADD_FAILURE() << "Load waited on a FIFO";
+  }
+  EXPECT_THAT(read.get(), HasSubstr("is a FIFO (named pipe), not a file"));
+  std::remove(fifo.c_str());
+  rmdir(dir);
 }
 
 }  // namespace

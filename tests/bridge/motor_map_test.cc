@@ -135,5 +135,19 @@ TEST(PdLawTest, IsUnitreesLawAndModeZeroIsLimp) {
   EXPECT_FALSE(c.finite());
 }
 
+// Issue 46: a motor the model lacks is reported at the line of the configuration that named it.
+TEST(MotorMapTest, AnUnknownNameIsReportedAtItsLine) {
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  BridgePositions positions = {{"motors[1]", "b.toml:3:22"}};
+  EXPECT_EQ(testing::ValueErrorOf([&] { MotorMap::Bind(model, {"elbow", "knee"}, positions); }),
+            "b.toml:3:22: motor 1: 'knee' is neither an actuator nor a joint of 'arm.xml'");
+  EXPECT_EQ(testing::ValueErrorOf([&] { MotorMap::Bind(model, {"servo"}, {{"motors[0]", "b:1:2"}}); })
+                .rfind("b:1:2: motor 0 (actuator 'servo'", 0),
+            0u);
+  // without positions (a configuration built in code) as before
+  EXPECT_EQ(testing::ValueErrorOf([&] { MotorMap::Bind(model, {"knee"}); }),
+            "motor 0: 'knee' is neither an actuator nor a joint of 'arm.xml'");
+}
+
 }  // namespace
 }  // namespace plumb::bridge

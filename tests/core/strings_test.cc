@@ -76,5 +76,18 @@ TEST(StringsTest, PluralsOfTheNounsThatNameElements) {
   EXPECT_EQ(Plural("mesh"), "meshes");
 }
 
+// Text from a user's file in a message (issue 46): control bytes and bytes that are not UTF-8
+// escaped, a long text cut with its length.
+TEST(StringsTest, EchoEscapesAndCuts) {
+  EXPECT_EQ(Echo("start"), "start");
+  EXPECT_EQ(Echo(std::string("st\0art", 6)), "st\\x00art");
+  EXPECT_EQ(Echo("a\tb\x7f\xff\xc3"), "a\\x09b\\x7f\\xff\\xc3");
+  EXPECT_EQ(Echo("caf\xc3\xa9"), "caf\xc3\xa9");  // UTF-8 stays as it is
+  std::string key(100000, 'k');
+  EXPECT_EQ(Echo(key), std::string(60, 'k') + "\xE2\x80\xA6 (100000 bytes)");
+  EXPECT_EQ(Echo(std::string(60, 'k')), std::string(60, 'k'));
+  EXPECT_EQ(Echo("abcdef", 3), "abc\xE2\x80\xA6 (6 bytes)");
+}
+
 }  // namespace
 }  // namespace plumb

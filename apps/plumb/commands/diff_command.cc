@@ -10,6 +10,7 @@
 
 #include "cli_common.h"
 #include "core/file_kind.h"
+#include "core/input_file.h"
 #include "io/atomic_file.h"
 #include "plumb/error.h"
 #include "plumb/regression.h"
@@ -29,12 +30,17 @@ struct DiffOptions {
   std::string report;  // --report FILE.html
 };
 
+// The text of `path` as a snapshot is read (ReadInputFile: a FIFO or a device is refused, not
+// waited on), or "" and `readable` false when it cannot be.
 std::string ReadWhole(const std::string& path, bool* readable) {
-  std::ifstream in(path, std::ios::binary);
-  *readable = static_cast<bool>(in) && !std::filesystem::is_directory(path);
-  std::stringstream text;
-  if (*readable) text << in.rdbuf();
-  return text.str();
+  try {
+    std::string text = ReadInputFile(path, InputKind::kSnapshot);
+    *readable = true;
+    return text;
+  } catch (const IoError&) {
+    *readable = false;
+    return "";
+  }
 }
 
 // Refuses a snapshot argument that is no snapshot (a model, swapped arguments, an empty
@@ -62,10 +68,7 @@ void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
 int RunDiff(const DiffOptions& o, const Context& ctx) {
   RefuseOutputsOntoInputs({{"--report", o.report}},
                           ModelInputs(o.model, {}, {{"the snapshot", o.snapshot}}));
-  bool readable = false;
-  std::string text = ReadWhole(o.snapshot, &readable);
-  if (!readable)
-    throw IoError("cannot read snapshot '" + o.snapshot + "': no such file or not readable.");
+  std::string text = ReadInputFile(o.snapshot, InputKind::kSnapshot);
   CheckSnapshotArgument(o, text);
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);
