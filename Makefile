@@ -115,7 +115,7 @@ test-fuzz: deps
 	  -DPLUMB_BUILD_BENCHMARKS=OFF -DPLUMB_BUILD_EXAMPLES=OFF -DPLUMB_WITH_MPI=OFF \
 	  -DPLUMB_WITH_RENDER=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_paths fuzz_expressions fuzz_scenario \
-	  fuzz_snapshot fuzz_robot_log fuzz_store $$(grep -q 'PLUMB_WITH_DDS:BOOL=ON' $(FUZZ_BUILD)/CMakeCache.txt && echo fuzz_bridge_config fuzz_dds)
+	  fuzz_snapshot fuzz_robot_log fuzz_store $$(grep -q 'PLUMB_WITH_DDS:BOOL=ON' $(FUZZ_BUILD)/CMakeCache.txt && echo fuzz_bridge_config fuzz_dds fuzz_gamepad_script)
 	@scripts/run-fuzzers.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
 # a build without the renderer (PLUMB_WITH_RENDER=OFF, as on a machine without EGL or
