@@ -402,6 +402,16 @@ void Model::SaveXml(const std::string& path) const {
                                     : mj_loadXML(file_.c_str(), nullptr, error, sizeof(error));
     if (!reparsed) {
       throw IoError("cannot write '" + path + "': re-reading '" + file_ + "' failed: " + error);
+    }
+    mj_deleteModel(reparsed);
+    g_last_xml_load_id = xml_load_id_;
+  }
+  char error[1024] = {0};
+  if (!mj_saveLastXML(path.c_str(), m_.get(), error, sizeof(error))) {
+    throw IoError("cannot write MJCF to '" + path + "': " + Trimmed(error));
+  }
+}
+
 bool Model::SaveLastXml(const std::string& path, std::string* reason) const {
   std::lock_guard<std::mutex> lock(LoaderMutex());
   char error[1024] = {0};
@@ -413,16 +423,6 @@ bool Model::SaveLastXml(const std::string& path, std::string* reason) const {
   }
   *reason = Trimmed(error);
   return false;
-}
-
-    }
-    mj_deleteModel(reparsed);
-    g_last_xml_load_id = xml_load_id_;
-  }
-  char error[1024] = {0};
-  if (!mj_saveLastXML(path.c_str(), m_.get(), error, sizeof(error))) {
-    throw IoError("cannot write MJCF to '" + path + "': " + Trimmed(error));
-  }
 }
 
 void Model::SaveBinary(const std::string& path) const {
