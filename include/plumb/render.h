@@ -103,11 +103,11 @@ bool RendererBuilt();
 // @throws ArgumentError (argument "size") otherwise.
 std::pair<int, int> ParseImageSize(const std::string& text);
 
-// Steps `data` from its state to `at` s (rounded to whole timesteps) with the model's
-// timestep and draws the state it reaches (positions recomputed after the last step) into `image`.
-// When the run diverges nothing is drawn (the result says so). @throws ArgumentError (argument
-// "at") for a time that is not a finite number >= 0; Interrupted when `stop` asks; as Run and
-// Renderer::Render do.
+// Steps `data` from its state to `at` s (up to whole timesteps, as RequireStepsToReach) with
+// the model's timestep and draws the state it reaches (positions recomputed after the last
+// step) into `image`. When the run diverges nothing is drawn (the result says so).
+// @throws ArgumentError (argument "at") for a time that is not a finite number >= 0 or is more
+// than 2^53 steps; Interrupted when `stop` asks; as Run and Renderer::Render do.
 RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at, StopToken stop,
                    Image* image);
 
@@ -121,7 +121,8 @@ struct FilmPlan {
   long frames = 0;  // when the run does not diverge: the start, then every stride-th step
 };
 
-// @throws ArgumentError (argument "until") for a time that is not a finite number >= 0, and
+// @throws ArgumentError (argument "until") for a time that is not a finite number >= 0 or takes
+// more than 2^53 steps (RequireStepsToReach), and
 // (argument "fps") for a rate not above 0 or above 1000.
 FilmPlan PlanFilm(double timestep, double until, double fps);
 

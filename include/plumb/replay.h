@@ -71,7 +71,8 @@ struct ReplayResult {
 
 // Where each window starts (log time, s): the log's start, then (window > 0) the first time
 // the logged state has a sample at or after each further `window` seconds.
-// @throws ValueError when windows are asked for and the log lacks some of the state.
+// @throws ValueError when windows are asked for and the log lacks some of the state;
+// ArgumentError (argument "window") for a window shorter than one timestep.
 std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
                                  const ReplayOptions& options);
 

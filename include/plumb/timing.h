@@ -1,6 +1,7 @@
-// Timing rules every command shares: which timestep a run uses, and whether a time
-// (a sampling interval, a metric time, a run length that is measured) falls on a whole
-// number of steps. One function per rule, so run, verify, converge, sweep, rollout,
+// Timing rules every command shares: which timestep a run uses, whether a time (a
+// sampling interval, a metric time, a run length that is measured) falls on a whole number
+// of steps, how many steps a time takes (at most 2^53), and whether what that many steps
+// hold fits in memory. One function per rule, so run, verify, converge, sweep, rollout,
 // audit and snapshot accept and refuse the same inputs with the same words.
 //
 // Example:
@@ -49,6 +50,28 @@ long RequireWholeSteps(double time, double timestep, const std::string& argument
 // is one (WholeSteps' tolerance), else rounded up. A run's end is the one time that may
 // fall between steps. Expects until >= 0 and timestep > 0.
 long StepsToReach(double until, double timestep);
+
+// The most steps a run may take: a run counts its steps in a long and times them as
+// step * timestep, both exact up to 2^53 (9.0e15).
+inline constexpr double kMostSteps = 9007199254740992.0;  // 2^53
+
+// StepsToReach, checked: the one rule by which every command and Python function turns a
+// time it was given (a run's end, a picture's time, a bridge's stop) into steps. `argument`
+// and `value` name the time as the caller gave it ("until", "1e+17"; "at", "0.5"); an empty
+// `value` shows `until` as a number; `source` says where the timestep comes from, as
+// RequireWholeSteps takes it ("the convergence ladder's finest level").
+// @throws ArgumentError when `until` is NaN, negative or infinite, or takes more than
+//         kMostSteps steps of `timestep`; ValueError for a timestep that is not positive.
+long RequireStepsToReach(double until, double timestep, const std::string& argument,
+                         const std::string& value = "", const std::string& source = "");
+
+// The check before a buffer of `bytes` is allocated for what a caller asked (every row of
+// `count` rollouts, every frame of a film): refuses what this machine's memory cannot hold,
+// instead of failing with std::bad_alloc after work was done. `what` says what the bytes hold
+// ("the rows of 1e+12 rollouts"); `argument` and `value` name the argument that asked.
+// @throws ArgumentError when `bytes` is not finite or passes the physical memory.
+void RequireMemoryFor(double bytes, const std::string& what, const std::string& argument,
+                      const std::string& value);
 
 // The default sampling interval for a model whose timestep is `timestep` s: the whole
 // number of steps nearest to `wanted` s, at least one step (0.1 s at dt = 0.002; 0.09 s

@@ -16,6 +16,7 @@
 #include "plumb/error.h"
 #include "plumb/image.h"
 #include "plumb/report.h"
+#include "plumb/timing.h"
 #include "plumb/video.h"
 #include "trajectory.h"
 
@@ -263,6 +264,11 @@ void Draw(const RenderRequest& r, Frames* f, std::vector<std::uint8_t>* pixels) 
       f->fps = 1.0 / r.samples->every;
     } else if (r.until) {
       FilmPlan plan = PlanFilm(dt, *r.until, r.fps);
+      // every frame is kept in the array: refuse a film this machine cannot hold
+      RequireMemoryFor(
+          static_cast<double>(size) * plan.frames,
+          fmt::format("the {} frames of {}x{} pixels", plan.frames, f->width, f->height), "until",
+          fmt::format("{:g}", *r.until));
       pixels->reserve(size * plan.frames);
       f->fps = plan.fps;
       f->result = RenderFilm(*f->model, data, renderer, plan, stop, add);

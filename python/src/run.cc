@@ -170,6 +170,9 @@ void BindRunCall(nb::module_& m) {
           t->every = RunEvery(every, dt);
           // refuses a bad until or every before the run, and sizes the samples' buffer
           const long rows = SampleCount(MakeSchedule(dt, until, t->every));
+          RequireMemoryFor(8.0 * static_cast<double>(rows) * t->columns.size(),
+                           fmt::format("the {} samples of {} columns", rows, t->columns.size()),
+                           "until", fmt::format("{:g}", until));
           t->result = RunLong([&](StopToken stop) {
             Data data(*t->ran);
             ApplyAssignments(*t->ran, data, start);

@@ -122,3 +122,16 @@ def test_every_way_of_drawing_a_time_shows_the_state_at_that_time(pendulum):
     np.testing.assert_array_equal(from_samples[-1], at)
     np.testing.assert_array_equal(film[-1], at)
     np.testing.assert_array_equal(film.array, from_samples.array)
+
+
+def test_a_time_beyond_countable_steps_is_refused_by_its_own_name(pendulum):
+    # issue 46: until=1e30 raised MemoryError; at=1e17 blamed "until -1.84467e+16"
+    for keyword, value in (("until", 1e30), ("at", 1e17), ("at", float("nan"))):
+        with pytest.raises(plumb.ArgumentError) as caught:
+            draw(pendulum, **{keyword: value}, **SMALL)
+        assert caught.value.argument == keyword
+        assert "-1.84467e+16" not in str(caught.value)
+    # a film whose frames this machine cannot hold is refused before a frame is drawn
+    with pytest.raises(plumb.ArgumentError, match="more than this machine's memory") as caught:
+        draw(pendulum, until=1e12, **SMALL)
+    assert caught.value.argument == "until"

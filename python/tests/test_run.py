@@ -63,6 +63,13 @@ def test_errors_name_the_keyword(pendulum):
     assert caught.value.argument == "qpos"
 
 
+def test_samples_beyond_memory_are_refused_before_the_run(pendulum):
+    # issue 46: the samples' buffer is sized from until: a huge one raised MemoryError
+    with pytest.raises(plumb.ArgumentError, match="more than this machine's memory") as caught:
+        plumb.run(pendulum, until=1e12, every=0.002)
+    assert caught.value.argument == "until"
+
+
 def test_divergence_keeps_the_samples_before_it(pendulum):
     t = plumb.run(pendulum, until=1, every=0.002,
                   set={"opt.timestep": 0.002, "qvel[hinge]": 1e12})

@@ -183,6 +183,14 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
       timesteps.push_back({axis.Value(v).values[0], "varied by " + Quoted(axis.text)});
     }
   }
+  if (spec.until != 0) {  // NaN too: only 0 means each metric's default
+    if (!(spec.until > 0)) {
+      throw ArgumentError("until", fmt::format("{:g}", spec.until),
+                          "the run length must be a positive number of seconds (or leave it "
+                          "out for each metric's default).");
+    }
+    for (const auto& ts : timesteps) RequireStepsToReach(spec.until, ts.first, "until");
+  }
   for (const Metric& metric : spec.metrics) {
     bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
     double until = at_time ? metric.time : spec.until > 0 ? spec.until : DefaultDuration(metric);

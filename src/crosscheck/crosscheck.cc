@@ -15,6 +15,7 @@
 #include "crosscheck/support_check.h"
 #include "crosscheck/trajectory_check.h"
 #include "plumb/error.h"
+#include "plumb/rollout.h"
 #include "plumb/timing.h"
 
 namespace plumb {
@@ -44,6 +45,7 @@ void Validate(const CrosscheckOptions& o) {
   positive("until", o.until);
   positive("tol", o.tol);
   positive("margin", o.margin);
+  RequireCtrlNoise(o.ctrl_noise);
   if (o.samples < 1) throw ArgumentError("samples", std::to_string(o.samples), "must be >= 1");
   if (o.starts < 1) throw ArgumentError("starts", std::to_string(o.starts), "must be >= 1");
   if (o.worlds < 2) throw ArgumentError("worlds", std::to_string(o.worlds), "must be >= 2");
@@ -191,6 +193,7 @@ int CrosscheckReport::Count(CheckStatus status) const { return CountUnaccepted(r
 
 CrosscheckReport Crosscheck(const Model& model, const CrosscheckOptions& o) {
   Validate(o);
+  RequireStepsToReach(o.until, RunTimestep(model, o.sets), "until");
   CrosscheckReport report;
   report.model = model.file();
   report.mujoco_version = mj_versionString();

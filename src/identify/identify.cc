@@ -25,6 +25,7 @@
 #include "plumb/error.h"
 #include "plumb/model_edit.h"
 #include "plumb/run.h"
+#include "plumb/timing.h"
 
 namespace plumb {
 namespace {
@@ -206,6 +207,7 @@ void ProfileDelay(Residuals& f, const std::vector<FitParameter>& params,
   double best_cost = INFINITY;
   std::vector<double> best_x = *x;
   ReplayOptions replay = f.replay(), best_replay = replay;
+  RequireStepsToReach(options.max_delay, dt, "max_delay");  // counted in a long: 2^53 at most
   long steps = std::max(1L, std::lround(options.max_delay / dt));
   for (long k = 0; k <= steps; ++k) {
     (options.delay == DelayKind::kInput ? replay.input_delay : replay.sensor_delay) = k * dt;

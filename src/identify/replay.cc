@@ -275,8 +275,15 @@ std::vector<double> WindowStarts(const Model& model, const RobotLog& log,
                     "windows",
                     log.source, state.size(), m->nq + m->nv));
   }
+  if (options.window < m->opt.timestep - tolerance) {
+    // shorter windows would each restart before a step: and there would be no end to them
+    throw ArgumentError("window", fmt::format("{:g}", options.window),
+                        fmt::format("a window must be at least one timestep of the model ({:g} "
+                                    "s) long",
+                                    m->opt.timestep));
+  }
   const std::vector<double>& times = state.front()->time;
-  for (int j = 1;; ++j) {
+  for (long j = 1;; ++j) {
     double at = log.start + j * options.window;
     std::size_t i = FirstAtOrAfter(times, at, tolerance);
     if (i >= times.size() || times[i] >= log.end - tolerance) break;

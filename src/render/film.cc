@@ -9,19 +9,9 @@
 
 #include "plumb/error.h"
 #include "plumb/render.h"
+#include "plumb/timing.h"
 
 namespace plumb {
-namespace {
-
-long StepsTo(double t, double dt, const char* argument) {
-  if (!(t >= 0) || !std::isfinite(t)) {
-    throw ArgumentError(argument, fmt::format("{:g}", t),
-                        "the time must be a finite number of seconds >= 0");
-  }
-  return std::lround(t / dt);
-}
-
-}  // namespace
 
 std::pair<int, int> ParseImageSize(const std::string& text) {
   int w = 0, h = 0;
@@ -39,7 +29,7 @@ RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at
   double dt = model->opt.timestep;
   RunSpec spec;
   spec.every = dt;
-  spec.until = StepsTo(at, dt, "at") * dt;
+  spec.until = RequireStepsToReach(at, dt, "at") * dt;
   spec.stop = stop;
   NullSink sink;
   RunResult result = Run(model, data, spec, sink);
@@ -55,7 +45,7 @@ FilmPlan PlanFilm(double timestep, double until, double fps) {
     throw ArgumentError("fps", fmt::format("{:g}", fps), "give a frame rate above 0, at most 1000");
   }
   FilmPlan plan;
-  plan.steps = StepsTo(until, timestep, "until");
+  plan.steps = RequireStepsToReach(until, timestep, "until");
   plan.stride = std::max(1L, std::lround(1.0 / (fps * timestep)));
   plan.fps = 1.0 / (plan.stride * timestep);
   plan.frames = plan.steps / plan.stride + 1;

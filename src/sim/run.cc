@@ -47,23 +47,9 @@ Schedule MakeSchedule(double timestep, double until, double every) {
     throw ValueError("the model's timestep is " + Format("%g", timestep) +
                      "; it must be a positive number (set opt.timestep).");
   }
-  if (!std::isfinite(until) || until < 0) {
-    throw ArgumentError("until", Format("%g", until),
-                        "the final time must be a finite number of seconds >= 0.");
-  }
   Schedule schedule;
   // the chapter's loop `while (d->time < until) mj_step(...)` takes ceil(until/dt) steps
-  double ratio = until / timestep;
-  // steps are counted in a long and timed as step * timestep: both exact below 2^53
-  constexpr double kMaxSteps = 9007199254740992.0;  // 2^53
-  if (!(ratio < kMaxSteps)) {
-    throw ArgumentError(
-        "until", Format("%g", until),
-        "it is " + Format("%g", ratio) +
-            Format(" steps of %g s; plumb counts steps exactly up to 2^53 (9.0e15). ", timestep) +
-            "Choose a shorter final time.");
-  }
-  schedule.steps = StepsToReach(until, timestep);
+  schedule.steps = RequireStepsToReach(until, timestep, "until");
   if (!std::isfinite(every) || every <= 0) {
     throw ArgumentError("every", Format("%g", every),
                         "the sampling interval must be a positive number of seconds.");

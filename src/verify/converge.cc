@@ -381,6 +381,11 @@ ConvergenceResult Converge(const Model& model, const Metric& metric,
   positive(options.tol, "tol", "the relative tolerance");
   double dt0 = options.dt ? *options.dt : RunTimestep(model, options.sets);
   double until = options.until ? *options.until : DefaultDuration(metric);
+  // the finest level takes the most steps
+  if (options.until) {
+    RequireStepsToReach(until, std::ldexp(dt0, -std::max(0, options.halvings)), "until", "",
+                        "the timestep of the finest level");
+  }
   ConvergenceResult r = Converge(model, options.sets, metric, dt0, options.halvings, options.tol,
                                  until, options.stop);
   if (!r.ok && !r.diverged) {

@@ -81,9 +81,12 @@ VerifyHorizon NominalLength(const VerifyOptions& options, const mjModel* m, doub
   VerifyHorizon h;
   h.requested = options.until ? *options.until : 2.0;
   double max_steps =
-      std::max(20.0, std::min(250.0, 1e5 / std::max(1.0, static_cast<double>(m->nv))));
+      std::max(20.0, std::min(250.0, std::floor(1e5 / std::max(1.0, static_cast<double>(m->nv)))));
   double until = options.until || pendulum ? h.requested : std::min(2.0, max_steps * dt);
   if (options.until) {
+    // the convergence ladder's finest level (dt / 16) takes the most steps
+    RequireStepsToReach(*options.until, dt / 16, "until", "",
+                        "the timestep of the convergence ladder's finest level, dt / 16");
     // the convergence ladder's coarsest level is the model's own timestep
     RequireWholeSteps(*options.until, dt, "until", fmt::format("{:g}", *options.until),
                       "the timestep: the convergence ladder's coarsest level");

@@ -51,6 +51,60 @@ TEST_F(TimingTest, RequireWholeStepsNamesTheNearestTimes) {
   EXPECT_EQ(RequireWholeSteps(0, 0.01, "metric", "'x@0'", "", 0), 0);
 }
 
+// issue 46: one rule turns a time into steps, for every command and argument
+TEST_F(TimingTest, RequireStepsToReachRefusesWhatCannotBeCounted) {
+  EXPECT_EQ(RequireStepsToReach(0.1, 0.002, "until"), 50);
+  EXPECT_EQ(RequireStepsToReach(0.1001, 0.002, "until"), 51);  // up to the next step
+  EXPECT_EQ(RequireStepsToReach(0, 0.002, "at"), 0);
+  for (double bad : {-1.0, double(NAN), double(INFINITY), 1e17, 1e30}) {
+    try {
+      RequireStepsToReach(bad, 0.002, "at");
+      FAIL() << bad << " s was accepted";
+    } catch (const ArgumentError& e) {
+      EXPECT_EQ(e.argument(), "at") << e.what();  // the caller's name, never another's
+      EXPECT_EQ(std::string(e.what()).find("-1.84467e+16"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    RequireStepsToReach(1e17, 0.002, "until", "1e17", "the finest level");
+    FAIL();
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.value(), "1e17");
+    EXPECT_NE(e.problem().find("5e+19 steps of 0.002 s (the finest level; plumb counts steps "
+                               "exactly up to 2^53"),
+              std::string::npos)
+        << e.problem();
+  }
+  EXPECT_THROW(RequireStepsToReach(1, 0, "until"), ValueError);
+}
+
+// a time beyond 2^53 steps has no nearest whole time: "Use 1e+30" repeated the input
+TEST_F(TimingTest, RequireWholeStepsSuggestsNoTimeItCannotRun) {
+  for (double bad : {1e30, double(INFINITY), double(NAN)}) {
+    try {
+      RequireWholeSteps(bad, 0.002, "until", "x");
+      FAIL() << bad;
+    } catch (const ArgumentError& e) {
+      EXPECT_EQ(e.problem().find("Use "), std::string::npos) << e.problem();
+    }
+  }
+}
+
+TEST_F(TimingTest, RequireMemoryForRefusesWhatNoMachineHolds) {
+  EXPECT_NO_THROW(RequireMemoryFor(1e6, "the rows", "count", "10"));
+  try {
+    RequireMemoryFor(1e30, "the rows of 1e+29 cases", "count", "100000000000000000000000000000");
+    FAIL();
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "count");
+    EXPECT_NE(e.problem().find("the rows of 1e+29 cases take 1e+30 bytes, more than this "
+                               "machine's memory"),
+              std::string::npos)
+        << e.problem();
+  }
+  EXPECT_THROW(RequireMemoryFor(INFINITY, "x", "count", "1"), ArgumentError);
+}
+
 TEST_F(TimingTest, DefaultEveryIsTheNearestWholeNumberOfStepsToATenth) {
   EXPECT_DOUBLE_EQ(DefaultEvery(0.002), 0.1);
   EXPECT_DOUBLE_EQ(DefaultEvery(0.03), 0.09);  // dm_control's lqr.xml

@@ -172,6 +172,29 @@ TEST_F(VerifyTest, AShortenedHorizonIsSaidInEveryRowItJudgesAndTheSummary) {
   EXPECT_FALSE(VerifyPendulum({"qpos[hinge]=0.7"}).horizon.shortened());
 }
 
+// issue 46: the budget is whole steps ("of 204.082 steps" for nv = 490), and an until beyond 2^53
+// steps is refused by the one rule, without suggesting itself ("Use 1e+30")
+TEST_F(VerifyTest, TheStepBudgetIsWholeStepsAndAHugeUntilIsRefused) {
+  std::string bodies;
+  for (int i = 0; i < 70; ++i) {  // nv = 420: 1e5 / 420 = 238.1
+    bodies += "<body pos='" + std::to_string(i) + " 0 1'><freejoint/><geom size='0.1'/></body>";
+  }
+  Model model = Model::FromXmlString("<mujoco><worldbody>" + bodies + "</worldbody></mujoco>");
+  VerifyHorizon h = NominalHorizon(model, {});
+  EXPECT_EQ(h.steps, 238);
+  EXPECT_EQ(h.why, "verify's step budget for a model with nv = 420 is 238 steps");
+  VerifyOptions huge;
+  huge.until = 1e30;
+  try {
+    NominalHorizon(model, huge);
+    FAIL() << "until 1e30 was accepted";
+  } catch (const ArgumentError& e) {
+    EXPECT_EQ(e.argument(), "until");
+    EXPECT_NE(e.problem().find("2^53"), std::string::npos) << e.problem();
+    EXPECT_EQ(e.problem().find("Use "), std::string::npos) << e.problem();
+  }
+}
+
 TEST_F(VerifyTest, FreeBoxOnAPlaneGetsWhatApplies) {
   Model box = Model::FromXmlString(R"(<mujoco><worldbody>
       <geom type="plane" size="2 2 0.1"/>
