@@ -125,13 +125,30 @@ class RolloutPool {
 
   void Run(const std::vector<long>& indices, const std::function<void(const RolloutResult&)>& emit,
            const StopToken& stop = {});
+  // Runs the rollouts of spec's shard that spec.skip leaves, in index order, as Rollout does:
+  // their indices are made as they are run, so memory does not grow with spec.count.
+  void RunShard(const std::function<void(const RolloutResult&)>& emit, const StopToken& stop = {});
 
  private:
+  // Runs `total` rollouts, whose indices `next` hands out (up to its second argument at a time).
+  void Stream(long total, const std::function<void(std::vector<long>*, std::size_t)>& next,
+              const std::function<void(const RolloutResult&)>& emit, const StopToken& stop);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
-// Checks a spec (counts, shard, until, metric times). @throws ValueError.
+// The number of rollouts in spec's shard: the indices i < spec.count with
+// i % shard_count == shard_index; ShardToRun leaves out those in spec.skip. Counted, never
+// listed (a count of 2^53 takes no time).
+long ShardSize(const RolloutSpec& spec);
+long ShardToRun(const RolloutSpec& spec);
+
+// Checks control noise as RolloutSpec::ctrl_noise takes it (rollout and crosscheck).
+// @throws ArgumentError (argument "ctrl_noise") unless 0 <= ctrl_noise <= 1 (NaN is refused).
+void RequireCtrlNoise(double ctrl_noise);
+
+// Checks a spec (counts, shard, until as RequireStepsToReach, control noise, metric times).
+// @throws ValueError.
 void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec);
 
 // Serialises a result to bytes and back, for sending it between processes. DecodeResult

@@ -25,6 +25,7 @@
 #include "plumb/rollout_csv.h"
 #include "plumb/stored_run.h"
 #include "plumb/sweep.h"
+#include "plumb/timing.h"
 
 namespace plumb::python {
 namespace {
@@ -381,6 +382,14 @@ void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total,
   if (batch.summary.resumed > 0) batch.rows.SortByIndex();
 }
 
+// Refuses, before any run, a batch whose `rows` (each kept in the Batch: index, parameters,
+// metrics, divergence) this machine's memory cannot hold; `argument` = `value` asked for them.
+void RequireRowsFit(long rows, std::size_t params, std::size_t metrics, const char* argument,
+                    const std::string& value) {
+  double bytes = static_cast<double>(rows) * (17.0 + 8.0 * static_cast<double>(params + metrics));
+  RequireMemoryFor(bytes, fmt::format("the rows of {} cases", rows), argument, value);
+}
+
 // An empty batch of `kind` for the call `a`.
 std::shared_ptr<Batch> NewBatch(const char* kind, const BatchArgs& a) {
   auto batch = std::make_shared<Batch>();
@@ -422,6 +431,8 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
       spec.ctrl_noise = ctrl_noise;
       if (!shard.empty()) ParseShard(shard, &spec);
       ValidateRolloutSpec(model, spec);
+      RequireRowsFit(ShardSize(spec), ParameterNames(spec).size(), spec.metrics.size(), "count",
+                     std::to_string(count));
     });
     batch->sets = spec.sets;
     batch->parameters = ParameterNames(spec);
@@ -455,6 +466,7 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
       spec.threads = a.threads;
       spec.until = a.until;
       ValidateSweepSpec(model, spec);
+      RequireRowsFit(CaseCount(spec.axes), AxisNames(spec).size(), spec.metrics.size(), "vary", "");
     });
     batch->sets = spec.sets;
     batch->parameters = AxisNames(spec);

@@ -182,6 +182,20 @@ def test_ctrl_noise_keyframe_and_shard_as_the_cli(arm, cli_json):
     assert half.to_dict() == [row for row in batch.to_dict() if row["rollout"] % 2 == 1]
 
 
+def test_nan_and_counts_beyond_memory_are_refused_by_name(arm, pendulum):
+    # issue 46: ctrl_noise=nan ran as no noise; count=2**63-1 raised MemoryError
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.rollout(arm, 2, ctrl_noise=float("nan"), until=0.1)
+    assert caught.value.argument == "ctrl_noise"
+    for count in (2**63 - 1, 10**12):
+        with pytest.raises(plumb.ArgumentError, match="more than this machine's memory") as caught:
+            plumb.rollout(pendulum, count, until=0.01)
+        assert caught.value.argument == "count"
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.sweep(pendulum, ["qpos[hinge]=0.1,0.2"], ["maxabs(qpos[hinge])"], until=float("nan"))
+    assert caught.value.argument == "until"
+
+
 def test_bad_arguments_name_the_python_keyword(pendulum):
     cases = [
         (dict(randomize="dof_damping[hinge]=*U(0.9"), "randomize"),

@@ -328,6 +328,26 @@ bool NeedsEnergy(const RolloutSpec& spec) {
 }
 }  // namespace
 
+long ShardSize(const RolloutSpec& spec) {
+  if (spec.count <= spec.shard_index || spec.shard_count < 1) return 0;
+  return (spec.count - spec.shard_index - 1) / spec.shard_count + 1;
+}
+
+long ShardToRun(const RolloutSpec& spec) {
+  long total = ShardSize(spec);
+  for (long i : spec.skip) {
+    if (i >= 0 && i < spec.count && i % spec.shard_count == spec.shard_index) --total;
+  }
+  return total;
+}
+
+void RequireCtrlNoise(double ctrl_noise) {
+  if (!(ctrl_noise >= 0 && ctrl_noise <= 1)) {
+    throw ArgumentError("ctrl_noise", fmt::format("{:g}", ctrl_noise),
+                        "must be in [0, 1], a fraction of each ctrlrange.");
+  }
+}
+
 void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   if (spec.count < 0) throw ArgumentError("count", std::to_string(spec.count), "must be >= 0");
   if (spec.threads < 1) {
@@ -341,9 +361,8 @@ void ValidateRolloutSpec(const Model& model, const RolloutSpec& spec) {
   if (!(spec.until > 0) || !std::isfinite(spec.until)) {
     throw ArgumentError("until", fmt::format("{:g}", spec.until), "must be > 0 s");
   }
-  if (spec.ctrl_noise < 0 || spec.ctrl_noise > 1) {
-    throw ArgumentError("ctrl_noise", fmt::format("{:g}", spec.ctrl_noise), "must be in [0, 1]");
-  }
+  RequireStepsToReach(spec.until, RunTimestep(model, spec.sets), "until");
+  RequireCtrlNoise(spec.ctrl_noise);
   // each element drawn once: a second draw of the same element would silently win, and two
   // columns would carry one name
   std::map<std::pair<int, long>, const Randomization*> drawn;
@@ -405,6 +424,40 @@ RolloutPool::~RolloutPool() = default;
 void RolloutPool::Run(const std::vector<long>& indices,
                       const std::function<void(const RolloutResult&)>& emit,
                       const StopToken& stop) {
+  std::size_t first = 0;
+  Stream(
+      static_cast<long>(indices.size()),
+      [&](std::vector<long>* out, std::size_t most) {
+        std::size_t n = std::min(most, indices.size() - first);
+        out->assign(indices.begin() + first, indices.begin() + first + n);
+        first += n;
+      },
+      emit, stop);
+}
+
+void RolloutPool::RunShard(const std::function<void(const RolloutResult&)>& emit,
+                           const StopToken& stop) {
+  const RolloutSpec& spec = impl_->spec;
+  // the shard's indices below count, less those skipped: counted, never held
+  long total = ShardToRun(spec);
+  long next = spec.shard_index;
+  Stream(
+      total,
+      [&](std::vector<long>* out, std::size_t most) {
+        while (next < spec.count && out->size() < most) {
+          long i = next;
+          // the last index stops at count: adding past it could overflow a long
+          next = i > spec.count - spec.shard_count ? spec.count : i + spec.shard_count;
+          if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) out->push_back(i);
+        }
+      },
+      emit, stop);
+}
+
+void RolloutPool::Stream(long total,
+                         const std::function<void(std::vector<long>*, std::size_t)>& next,
+                         const std::function<void(const RolloutResult&)>& emit,
+                         const StopToken& stop) {
   Impl& p = *impl_;
   std::atomic<long> done{0};
   WorkerPool::Job<RolloutResult> job = [&](WorkerPool::Worker& w, long index,
@@ -415,16 +468,11 @@ void RolloutPool::Run(const std::vector<long>& indices,
       return false;  // abandoned mid-run (`stop` asked)
     }
     long count = ++done;
-    if (p.spec.progress) p.spec.progress(count, static_cast<long>(indices.size()));
+    if (p.spec.progress) p.spec.progress(count, total);
     return true;
   };
   const std::size_t chunk = 64 * static_cast<std::size_t>(p.spec.threads);
-  std::size_t first = 0;
-  auto next_chunk = [&](std::vector<long>* out) {
-    std::size_t n = std::min(chunk, indices.size() - first);
-    out->assign(indices.begin() + first, indices.begin() + first + n);
-    first += n;
-  };
+  auto next_chunk = [&](std::vector<long>* out) { next(out, chunk); };
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
   };
@@ -440,11 +488,8 @@ void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector
 void Rollout(const Model& model, const RolloutSpec& spec,
              const std::function<void(const RolloutResult&)>& emit, const StopToken& stop) {
   ValidateRolloutSpec(model, spec);
-  std::vector<long> indices;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
-    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) indices.push_back(i);
-  }
-  RolloutCases(model, spec, indices, emit, stop);
+  RolloutPool pool(model, spec);
+  pool.RunShard(emit, stop);
 }
 
 namespace {

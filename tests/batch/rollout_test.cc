@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 
 #include "fixture.h"
@@ -158,6 +159,46 @@ TEST_F(RolloutTest, SkippedIndicesAreNotRunAndOthersUnchanged) {
   ASSERT_EQ(rest.size(), 4u);
   EXPECT_EQ(rest[1].index, 2);
   EXPECT_TRUE(BitEqual(rest[1].metrics[0], all[2].metrics[0]));
+}
+
+// issue 46: a count near 2^63 was listed index by index before the first rollout ran (bad_alloc,
+// or minutes deaf to a stop): the shard is counted, and its indices made as they run
+TEST_F(RolloutTest, AHugeCountStartsAtOnceAndStops) {
+  RolloutSpec spec;
+  spec.count = std::numeric_limits<long>::max();
+  spec.until = 0.002;
+  spec.shard_index = 1;
+  spec.shard_count = 3;
+  spec.skip = {1, 4, 5};
+  EXPECT_EQ(ShardSize(spec), (spec.count - 2) / 3 + 1);
+  EXPECT_EQ(ShardToRun(spec), ShardSize(spec) - 2);  // 5 is not of this shard
+  StopSource stop;
+  std::vector<long> run;
+  EXPECT_THROW(Rollout(
+                   humanoid_, spec,
+                   [&](const RolloutResult& r) {
+                     run.push_back(r.index);
+                     if (run.size() == 3) stop.RequestStop();
+                   },
+                   stop.token()),
+               Interrupted);
+  ASSERT_GE(run.size(), 3u);
+  EXPECT_EQ(run[0], 7);
+  EXPECT_EQ(run[1], 10);
+  spec.count = 5;
+  spec.skip.clear();
+  EXPECT_EQ(ShardSize(spec), 2);  // 1 and 4
+}
+
+TEST_F(RolloutTest, ControlNoiseIsAFractionNeverNaN) {
+  EXPECT_NO_THROW(RequireCtrlNoise(0));
+  EXPECT_NO_THROW(RequireCtrlNoise(1));
+  for (double bad : {-1.0, 1.5, double(NAN), double(INFINITY)}) {
+    EXPECT_THROW(RequireCtrlNoise(bad), ArgumentError) << bad;
+    RolloutSpec spec;
+    spec.ctrl_noise = bad;
+    EXPECT_THROW(ValidateRolloutSpec(humanoid_, spec), ArgumentError) << bad;
+  }
 }
 
 TEST_F(RolloutTest, RandomizedMassChangesTheDynamicsThroughSetConst) {

@@ -235,10 +235,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   StoredRun stored = OpenRolloutStore(o, ctx, model, spec);
   spec.skip = stored.done;
   // from here on an error on rank 0 stops every rank (see main)
-  long total = 0;
-  for (long i = spec.shard_index; i < spec.count; i += spec.shard_count) {
-    if (!std::binary_search(spec.skip.begin(), spec.skip.end(), i)) ++total;
-  }
+  long total = ShardToRun(spec);  // counted, not listed: --count 2^53 starts at once
   ProgressBar progress(total, "rollouts");
   RolloutWriter writer(o.format, params, o.metrics, progress);
   // the summary: every row of the shard, stored before a --resume or run now
