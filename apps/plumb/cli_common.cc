@@ -360,6 +360,22 @@ void AcceptIntegerNotation(CLI::App* app) {
   }
 }
 
+void RefuseNotANumber(CLI::App* app) {
+  for (CLI::App* sub : app->get_subcommands(std::function<bool(CLI::App*)>())) {
+    RefuseNotANumber(sub);
+  }
+  for (CLI::Option* opt : app->get_options()) {
+    if (opt->get_type_name().rfind("FLOAT", 0) != 0) continue;
+    // CLI11 reads "nan" as a number, and NaN passes every `x < 0` or `x > hi` check after it
+    opt->transform(CLI::Validator(
+        [](std::string& text) -> std::string {
+          std::optional<double> v = ParseNumber(text);
+          return v && std::isnan(*v) ? "takes a number, not '" + text + "'" : "";
+        },
+        "", ""));
+  }
+}
+
 std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::string>& args) {
   std::vector<std::string> commands;
   const CLI::App* cmd = nullptr;

@@ -178,6 +178,10 @@ void SetupHelpCommand(CLI::App& app, Context& ctx);  // the manual's pages, docs
 // ("--count takes an integer, not '1.5'"; unsigned options also refuse negative values).
 // Call once, after every subcommand is set up.
 void AcceptIntegerNotation(CLI::App* app);
+// Makes every floating-point option of `app` and of its subcommands refuse NaN ("--every:
+// takes a number, not 'nan'"), which no option means. Call once, after every subcommand is
+// set up; the library refuses NaN too (its checks are written !(x >= 0)).
+void RefuseNotANumber(CLI::App* app);
 
 // Why `args` (the command line without the program name) failed to parse, said for a
 // user: an unknown command or option with the nearest valid names, or an option that takes

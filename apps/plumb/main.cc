@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   SetupMergeCommand(app, ctx);
   SetupHelpCommand(app, ctx);
   AcceptIntegerNotation(&app);
+  RefuseNotANumber(&app);
 
   plumb::MpiInit(&argc, &argv);
   struct Finalize {

@@ -210,7 +210,9 @@ using BridgeNotice = std::function<void(const std::string&)>;
 // writer with a good command takes over, and the log says so.
 // @throws ValueError for a configuration that does not fit the model (unknown motor or IMU
 // sensor, more motors than the family has, a control_period that is not a whole number of
-// timesteps) or a domain id above 232; ValueError / PathError when the model refuses `start`;
+// timesteps) or a domain id above 232; ArgumentError (argument "until") for a config.until that
+// is negative or NaN, as LoadBridgeConfig refuses it in a file; ValueError / PathError when the
+// model refuses `start`;
 // UnavailableError when DDS cannot start or fails; IoError when config.log cannot be written;
 // MujocoError.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,

@@ -581,6 +581,12 @@ class Loop {
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
                       const BridgeConfig& config, const StopToken& stop,
                       const BridgeNotice& notice) {
+  // the rule LoadBridgeConfig applies to the file's until, for one set in code (--until)
+  if (!(config.until >= 0)) {
+    throw ArgumentError("until", fmt::format("{:g}", config.until),
+                        "must be in [0, inf]: a simulated time in seconds to stop at (leave it "
+                        "out to run until stopped)");
+  }
   if (config.family == BridgeFamily::kGo) {
     return Loop<BridgeFamily::kGo>(model, start, config, notice).Run(stop);
   }

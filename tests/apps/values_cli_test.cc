@@ -132,5 +132,90 @@ TEST(ValuesCliTest, RandomizedMassKeepsTheShapeSoThePeriodStays) {
   }
 }
 
+// issue 46: CLI11 reads "nan" as a number, and NaN passes every `x < 0` check: --ctrl-noise
+// nan ran as no noise, --max-seconds nan and sweep --until nan ran. Every floating-point option
+// of every command, read from its --help, refuses it naming the option.
+TEST(ValuesCliTest, EveryNumericOptionRefusesNaN) {
+  TempDir dir;
+  int tried = 0;
+  for (const char* command :
+       {"run", "rollout", "sweep", "verify", "converge", "audit", "crosscheck", "render", "bridge",
+        "replay", "identify", "snapshot", "diff", "inspect", "merge", "results"}) {
+    CommandResult help = RunPlumb(std::string(command) + " --help");
+    ASSERT_EQ(help.exit_code, 0) << command << ": " << help.err;
+    std::istringstream lines(help.out);
+    for (std::string line; std::getline(lines, line);) {
+      std::size_t at = line.find("--"), type = line.find(" FLOAT");
+      if (at == std::string::npos || type == std::string::npos || type < at) continue;
+      std::string flag = line.substr(at, type - at);
+      if (flag.find(' ') != std::string::npos) continue;  // not an option's own line
+      ++tried;
+      CommandResult r =
+          RunPlumb(std::string(command) + " '" + kPendulum + "' " + flag + " nan", dir.path());
+      EXPECT_EQ(r.exit_code, 2) << command << " " << flag << " nan: " << r.err;
+      EXPECT_NE(r.err.find(flag), std::string::npos) << command << " " << flag << ": " << r.err;
+    }
+  }
+  EXPECT_GE(tried, 25);  // the help was read: --until, --every, --tol, --ctrl-noise, ...
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+// issue 46: one rule turns a time into steps: a time beyond 2^53 steps is refused naming the
+// option the user typed (render --at 1e17 said "--until -1.84467e+16"; crosscheck blamed the
+// engine adapter with exit 6; verify suggested its own input, "Use 1e+30")
+TEST(ValuesCliTest, ATimeBeyondCountableStepsIsRefusedByItsOwnName) {
+  TempDir dir;
+  const std::string m = " '" + kPendulum + "' ";
+  struct Case {
+    std::string args, flag;
+  } cases[] = {
+      {"run" + m + "--until 1e17", "--until 1e+17"},
+      {"rollout" + m + "--count 2 --until 1e17", "--until 1e+17"},
+      {"sweep" + m + "--vary 'qpos[hinge]=0.1,0.2' --metric 'maxabs(qpos[hinge])' --until 1e17",
+       "--until 1e+17"},
+      {"converge" + m + "--metric 'maxabs(qpos[hinge])' --until 1e17", "--until 1e+17"},
+      {"verify" + m + "--until 1e30", "--until 1e+30"},
+      {"crosscheck" + m + "--until 1e17", "--until 1e+17"},
+      {"render" + m + "--at 1e17 -o p.png", "--at 1e+17"},
+      {"render" + m + "--until 1e17 -o v.mp4", "--until 1e+17"},
+  };
+  for (const Case& c : cases) {
+    CommandResult r = RunPlumb(c.args, dir.path());
+    if (r.exit_code == 5 && c.args.rfind("render", 0) == 0) continue;  // no renderer here
+    EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("plumb: error: " + c.flag + ":", 0), 0u) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find("up to 2^53"), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_EQ(r.err.find("Use 1e"), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+// issue 46: --until -1 ran the bridge for no steps and exit 0, while until = -1 in its file is
+// exit 2: the same rule for both
+TEST(ValuesCliTest, TheBridgeRefusesANegativeUntilAsItsFileDoes) {
+  TempDir dir;
+  WriteFile(dir.File("bridge.toml"), "until = -1\n");
+  CommandResult file =
+      RunPlumb("bridge '" + testing::kSourceDir + "/tests/models/arm2.xml' --config bridge.toml",
+               dir.path());
+  EXPECT_EQ(file.exit_code, 2) << file.err;
+  CommandResult r =
+      RunPlumb("bridge '" + testing::kSourceDir + "/tests/models/arm2.xml' --until -1", dir.path());
+  if (r.exit_code == 5) GTEST_SKIP() << "no DDS bridge in this build: " << r.err;
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--until -1: must be in [0, inf]"), std::string::npos) << r.err;
+}
+
+// issue 46: every index of --count was listed before the first rollout: --count 2^53 ran out of
+// memory, or sat deaf to --max-seconds and SIGTERM. The count is counted, not listed.
+TEST(ValuesCliTest, AHugeCountStartsAtOnceAndKeepsItsBudget) {
+  CommandResult r = testing::RunShell(std::string("timeout -s KILL 60 '") + PLUMB_CLI +
+                                      "' rollout '" + kPendulum +
+                                      "' --count 9007199254740992 --until 0.002 --max-seconds 1 "
+                                      "--format csv >/dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("--max-seconds 1 spent"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace plumb
