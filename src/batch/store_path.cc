@@ -9,22 +9,13 @@
 #include <cstring>
 #include <filesystem>
 
+#include "core/input_file.h"
 #include "plumb/error.h"
 
 namespace plumb {
 namespace {
 
 namespace fs = std::filesystem;
-
-// What a path that is not a regular file is, in words.
-const char* Kind(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a file";
-}
 
 // Why `what` cannot be written (errno `error` of access(W_OK)), with what to do.
 std::string Unwritable(const std::string& what, int error) {
@@ -45,7 +36,7 @@ void CheckStorePath(const std::string& path, bool write) {
     throw IoError(
         fmt::format("{} is not a regular file ({}): give the path of a store file, "
                     "new or one plumb wrote, e.g. results.db.",
-                    store, Kind(st.st_mode)));
+                    store, FileTypeName(st.st_mode)));
   }
   if (!exists && errno != ENOENT && errno != ENOTDIR) {  // a missing folder is told below
     throw IoError(fmt::format("{} cannot be reached ({}); give another store path.", store,
@@ -66,7 +57,7 @@ void CheckStorePath(const std::string& path, bool write) {
   }
   if (!S_ISDIR(dir.st_mode)) {
     throw IoError(fmt::format("{}: '{}' is not a folder ({}); give a store path in a folder.",
-                              store, shown, Kind(dir.st_mode)));
+                              store, shown, FileTypeName(dir.st_mode)));
   }
   if (exists && ::access(path.c_str(), W_OK) != 0) throw IoError(Unwritable(store, errno) + ".");
   if (!exists) {

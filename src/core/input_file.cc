@@ -45,16 +45,6 @@ KindInfo Info(InputKind kind) {
   return {"input file", 1 * kMiB, "a file"};
 }
 
-// What a file that is not a regular file is, in words.
-const char* NotAFile(mode_t mode) {
-  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISCHR(mode)) return "a character device (such as /dev/zero or a terminal)";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
 // "a bridge config", "an accept list".
 std::string Article(const char* name) {
   return (std::strchr("aeiou", name[0]) != nullptr ? "an " : "a ") + std::string(name);
@@ -82,6 +72,16 @@ class Descriptor {
 
 }  // namespace
 
+const char* FileTypeName(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
 const char* InputKindName(InputKind kind) { return Info(kind).name; }
 
 std::size_t InputCap(InputKind kind) { return Info(kind).cap; }
@@ -89,7 +89,7 @@ std::size_t InputCap(InputKind kind) { return Info(kind).cap; }
 std::string ReadInputFile(const std::string& path, InputKind kind) {
   const KindInfo info = Info(kind);
   auto not_a_file = [&](mode_t mode) {
-    return IoError("'" + path + "' is " + NotAFile(mode) + ", not a file: plumb reads " +
+    return IoError("'" + path + "' is " + FileTypeName(mode) + ", not a file: plumb reads " +
                    Article(info.name) + " only from a regular file. Give " + info.give +
                    (S_ISFIFO(mode) ? "; write what the pipe carries to a file first." : "."));
   };

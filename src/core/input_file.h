@@ -14,6 +14,8 @@
 #ifndef PLUMB_SRC_CORE_INPUT_FILE_H_
 #define PLUMB_SRC_CORE_INPUT_FILE_H_
 
+#include <sys/types.h>
+
 #include <cstddef>
 #include <string>
 
@@ -30,6 +32,11 @@ enum class InputKind {
   kColumnMap,      // a robot log's column map (TOML)
   kSnapshot,       // a plumb snapshot (JSON)
 };
+
+// What a file of mode `mode` (stat's st_mode) is, in words: "a FIFO (named pipe)", "a
+// directory", "a character device" (/dev/zero, a terminal), "a block device", "a
+// socket", "a regular file".
+const char* FileTypeName(mode_t mode);
 
 // The kind in words for messages: "model file", "bridge config", "gamepad script", ...
 const char* InputKindName(InputKind kind);
