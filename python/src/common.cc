@@ -1,21 +1,19 @@
 #include "common.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "io/temp_file.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 
 namespace plumb::python {
 namespace {
 
-namespace fs = std::filesystem;
 
 // The exception classes, made once by BindErrors (module state lives as long as the module).
 struct ErrorTypes {
@@ -249,28 +247,12 @@ nb::object FromJson(const std::string& json) {
 }
 
 std::string ReportHtml(const std::function<void(const std::string& path)>& write) {
-  std::string pattern = (fs::temp_directory_path() / "plumb-report-XXXXXX").string();
-  if (mkdtemp(pattern.data()) == nullptr) {
-    throw IoError("could not make a temporary folder for the report in " +
-                  fs::temp_directory_path().string());
-  }
-  fs::path dir = pattern;
-  std::string html;
-  try {
-    std::string path = (dir / "report.html").string();
-    write(path);
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    html = text.str();
-  } catch (...) {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-    throw;
-  }
-  std::error_code ec;
-  fs::remove_all(dir, ec);
-  return html;
+  TempFolder dir("plumb-report", "the report");
+  write(dir.File("report.html"));
+  std::ifstream in(dir.File("report.html"), std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 nb::list RowList(const std::vector<CheckRow>& rows) {

@@ -9,10 +9,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -22,6 +20,7 @@
 #include "identify/fit_residuals.h"
 #include "identify/identifiability.h"
 #include "identify/identify_residuals.h"
+#include "io/temp_file.h"
 #include "plumb/error.h"
 #include "plumb/model_edit.h"
 #include "plumb/run.h"
@@ -539,27 +538,11 @@ void SaveFittedModel(const Model& nominal, const Model& fitted, const IdentifyRe
   if (!source.empty()) return SaveFittedXml(source, fitted, result, out);
   if (nominal.from_xml_file()) return SaveFittedXml(nominal.file(), fitted, result, out);
   // no MJCF of its own (a mujoco.MjModel): the XML MuJoCo parsed last, when it is this model's
-  namespace fs = std::filesystem;
-  std::string dir = (fs::temp_directory_path() / "plumb-fitted-XXXXXX").string();
-  if (mkdtemp(dir.data()) == nullptr) {
-    throw IoError(fmt::format("cannot write the fitted model {}: cannot make a folder in {}: {}",
-                              out, fs::temp_directory_path().string(), std::strerror(errno)));
-  }
-  std::string last = (fs::path(dir) / "last.xml").string(), why;
+  TempFolder dir("plumb-fitted", "the fitted model " + out);
+  std::string last = dir.File("last.xml"), why;
   bool saved = nominal.SaveLastXml(last, &why);
   if (saved) why = SourceMismatch(last, nominal);
-  if (why.empty()) {
-    try {
-      SaveFittedXml(last, fitted, result, out);
-    } catch (...) {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-      throw;
-    }
-  }
-  std::error_code ec;
-  fs::remove_all(dir, ec);
-  if (why.empty()) return;
+  if (why.empty()) return SaveFittedXml(last, fitted, result, out);
   throw ValueError(fmt::format(
       "cannot write the fitted model {}: {} has no MJCF file of its own, and the XML MuJoCo "
       "parsed last is not its MJCF ({}). Give the MJCF file the model was compiled from as the "

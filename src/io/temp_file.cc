@@ -113,4 +113,21 @@ int CreateLockedTemporary(const std::string& target, const std::string& suffix, 
   }
 }
 
+TempFolder::TempFolder(const std::string& prefix, const std::string& purpose) {
+  std::error_code ec;
+  fs::path base = fs::temp_directory_path(ec);
+  if (ec) base = "/tmp";
+  std::string pattern = (base / (prefix + "-XXXXXX")).string();
+  if (mkdtemp(pattern.data()) == nullptr) {
+    throw IoError("cannot make a temporary folder in '" + base.string() + "' for " + purpose +
+                  " (" + std::strerror(errno) + "): set TMPDIR to a writable folder");
+  }
+  path_ = pattern;
+}
+
+TempFolder::~TempFolder() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
 }  // namespace plumb

@@ -25,6 +25,25 @@ int RemoveStaleTemporaries(const std::string& target);
 // @throws IoError naming `target` and the folder when the folder cannot be written.
 int CreateLockedTemporary(const std::string& target, const std::string& suffix, std::string* path);
 
+// A private folder (mode 0700) in the system's temporary folder ($TMPDIR, else /tmp), named
+// "<prefix>-XXXXXX", removed with all it holds when the object goes.
+class TempFolder {
+ public:
+  // @throws IoError naming the temporary folder and `purpose` ("the fitted model") when it
+  // cannot be made.
+  TempFolder(const std::string& prefix, const std::string& purpose);
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  ~TempFolder();
+
+  const std::string& path() const { return path_; }
+  // The path of `name` in the folder.
+  std::string File(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
+
 }  // namespace plumb
 
 #endif  // PLUMB_SRC_IO_TEMP_FILE_H_
