@@ -2,12 +2,18 @@
 """The layer check: a folder of src/ includes only from its own folder and from folders in the
 layers below it (README.md, "How the code is laid out"). Public headers (include/plumb/NAME.h)
 belong to the folder whose source says the same word (src/FOLDER/NAME.cc), or to the folder
-kPublicHome names; they are checked too, as part of their folder.
+PUBLIC_HOME names; they are checked too, as part of their folder.
+
+It also checks every header's include guard against its path, so a renamed folder or file
+cannot leave a stale guard: src/core/worker_pool.h is guarded by PLUMB_SRC_CORE_WORKER_POOL_H_,
+include/plumb/version.h.in by PLUMB_INCLUDE_PLUMB_VERSION_H_ (the generated header's path), in
+the #ifndef, the #define after it, and the comment of the last #endif.
 
     scripts/check-layers.py [ROOT]      (ROOT: the checkout; default: this script's parent's)
 
-Prints every upward or sideways include as FILE:LINE: ... and exits 1 when there is one; exits
-0 with a one-line summary otherwise; 2 when ROOT has no src/ or a public header has no home.
+Prints every upward or sideways include and every wrong guard as FILE:LINE: ... and exits 1
+when there is one; exits 0 with a one-line summary otherwise; 2 when ROOT has no src/ or a
+public header has no home.
 """
 import os
 import re
@@ -32,6 +38,57 @@ PUBLIC_HOME = {
     "plumb": "apps",        # the umbrella: every public header, for users (above every layer)
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+# Folders whose headers carry a guard named after their path (those present in ROOT).
+GUARDED = ["src", "include", "apps", "python/src", "tests"]
+
+
+def expected_guard(rel):
+    """The guard for the header at rel (a path from ROOT, with /): PLUMB_ and the path in
+    capitals, every other character an underscore; a template (.h.in) is guarded as the
+    header it generates."""
+    if rel.endswith(".h.in"):
+        rel = rel[:-len(".in")]
+    return "PLUMB_" + re.sub(r"[^A-Z0-9]", "_", rel.upper()) + "_"
+
+
+def guard_problems(path, rel):
+    """(line, what is wrong) for the header at path whose guard does not match rel."""
+    want = expected_guard(rel)
+    with open(path, encoding="utf-8", errors="replace") as f:
+        lines = f.read().split("\n")
+    problems = []
+    first = next((i for i, t in enumerate(lines) if t.startswith("#ifndef ")), None)
+    if first is None:
+        return [(1, f"no include guard: begin with #ifndef {want}, #define {want}")]
+    if lines[first].split()[1:2] != [want]:
+        problems.append((first + 1, f"include guard \"{lines[first][len('#ifndef '):].strip()}\" "
+                                    f"does not match the path: expected {want}"))
+    if first + 1 >= len(lines) or lines[first + 1].strip() != f"#define {want}":
+        problems.append((first + 2, f"the line after #ifndef must be #define {want}"))
+    last = max((i for i, t in enumerate(lines) if t.startswith("#endif")), default=None)
+    if last is None or lines[last].strip() != f"#endif  // {want}":
+        problems.append(((last if last is not None else len(lines) - 1) + 1,
+                         f"the last #endif must read \"#endif  // {want}\""))
+    return problems
+
+
+def check_guards(root):
+    """Prints every wrong guard under GUARDED; returns (wrong, headers checked)."""
+    bad = 0
+    count = 0
+    for top in GUARDED:
+        for dirpath, dirs, names in os.walk(os.path.join(root, top)):
+            dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+            for name in sorted(names):
+                if not name.endswith((".h", ".h.in")):
+                    continue
+                path = os.path.join(dirpath, name)
+                rel = os.path.relpath(path, root).replace(os.sep, "/")
+                count += 1
+                for number, what in guard_problems(path, rel):
+                    print(f"{rel}:{number}: {what}")
+                    bad += 1
+    return bad, count
 
 
 def main():
@@ -101,9 +158,15 @@ def main():
     if bad:
         print(f"check-layers: {bad} include(s) against the layer order "
               f"{' <- '.join('{' + ', '.join(r) + '}' for r in LAYERS)}", file=sys.stderr)
+    wrong_guards, headers = check_guards(root)
+    if wrong_guards:
+        print(f"check-layers: {wrong_guards} include guard line(s) that do not match their "
+              f"header's path", file=sys.stderr)
+    if bad or wrong_guards:
         return 1
     print(f"check-layers: {checked} includes across folders, all downward "
-          f"({len(files)} files in {len(folders)} folders)")
+          f"({len(files)} files in {len(folders)} folders); {headers} include guards match "
+          f"their paths")
     return 0
 
 

@@ -2,8 +2,8 @@
 // the reference pose, and the observed runs that the actuator, contact and behaviour layers
 // judge. Private to the check layer.
 
-#ifndef PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
-#define PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+#ifndef PLUMB_SRC_AUDIT_AUDIT_LAYERS_H_
+#define PLUMB_SRC_AUDIT_AUDIT_LAYERS_H_
 
 #include <cmath>
 #include <functional>
@@ -172,4 +172,4 @@ void BehaviourLayer(const Model& model, const std::vector<Assignment>& sets,
 
 }  // namespace plumb::audit
 
-#endif  // PLUMB_SRC_CHECK_AUDIT_LAYERS_H_
+#endif  // PLUMB_SRC_AUDIT_AUDIT_LAYERS_H_

@@ -3,8 +3,8 @@
 // mjModel keeps no mesh volume). The inertia checks hold a body's compiled mass, centre of
 // mass and inertia against it. Private to the check layer.
 
-#ifndef PLUMB_SRC_CHECK_BODY_SHAPE_H_
-#define PLUMB_SRC_CHECK_BODY_SHAPE_H_
+#ifndef PLUMB_SRC_AUDIT_BODY_SHAPE_H_
+#define PLUMB_SRC_AUDIT_BODY_SHAPE_H_
 
 #include <mujoco/mujoco.h>
 
@@ -45,4 +45,4 @@ BodySolids BodySolid(const mjModel* m, int b);
 
 }  // namespace plumb::audit
 
-#endif  // PLUMB_SRC_CHECK_BODY_SHAPE_H_
+#endif  // PLUMB_SRC_AUDIT_BODY_SHAPE_H_

@@ -3,8 +3,8 @@
 // subtree for the question "can this free body come to rest on something the world holds,
 // and through what?". The contact layer of plumb audit is built on it.
 
-#ifndef PLUMB_SRC_CHECK_COLLISION_GRAPH_H_
-#define PLUMB_SRC_CHECK_COLLISION_GRAPH_H_
+#ifndef PLUMB_SRC_AUDIT_COLLISION_GRAPH_H_
+#define PLUMB_SRC_AUDIT_COLLISION_GRAPH_H_
 
 #include <mujoco/mujoco.h>
 
@@ -41,4 +41,4 @@ CollisionGraph MakeCollisionGraph(const mjModel* m);
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_COLLISION_GRAPH_H_
+#endif  // PLUMB_SRC_AUDIT_COLLISION_GRAPH_H_

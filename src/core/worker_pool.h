@@ -4,8 +4,8 @@
 // they and every job before them are done, so output streams in order and memory stays
 // flat, and a stop request keeps what finished before it.
 
-#ifndef PLUMB_SRC_CHECK_WORKER_POOL_H_
-#define PLUMB_SRC_CHECK_WORKER_POOL_H_
+#ifndef PLUMB_SRC_CORE_WORKER_POOL_H_
+#define PLUMB_SRC_CORE_WORKER_POOL_H_
 
 #include <atomic>
 #include <cstddef>
@@ -106,4 +106,4 @@ class WorkerPool {
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_WORKER_POOL_H_
+#endif  // PLUMB_SRC_CORE_WORKER_POOL_H_

@@ -1,8 +1,8 @@
 // Identifiability diagnostics of a fit (plumb identify): which parameters the logs barely
 // see, which move together, and what log would settle each.
 
-#ifndef PLUMB_SRC_CHECK_IDENTIFIABILITY_H_
-#define PLUMB_SRC_CHECK_IDENTIFIABILITY_H_
+#ifndef PLUMB_SRC_IDENTIFY_IDENTIFIABILITY_H_
+#define PLUMB_SRC_IDENTIFY_IDENTIFIABILITY_H_
 
 #include <Eigen/Dense>
 #include <string>
@@ -28,4 +28,4 @@ void AddIdentifiabilityWarnings(const std::vector<FitParameter>& params, const E
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_IDENTIFIABILITY_H_
+#endif  // PLUMB_SRC_IDENTIFY_IDENTIFIABILITY_H_

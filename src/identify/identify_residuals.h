@@ -2,8 +2,8 @@
 // time that noise does not have (lag-1 autocorrelation, a runs test of the signs), a fit worse
 // than nominal, and standard errors that hold when the model is wrong (a Newey–West sandwich).
 
-#ifndef PLUMB_SRC_CHECK_IDENTIFY_RESIDUALS_H_
-#define PLUMB_SRC_CHECK_IDENTIFY_RESIDUALS_H_
+#ifndef PLUMB_SRC_IDENTIFY_IDENTIFY_RESIDUALS_H_
+#define PLUMB_SRC_IDENTIFY_IDENTIFY_RESIDUALS_H_
 
 #include <Eigen/Dense>
 #include <vector>
@@ -99,4 +99,4 @@ void JudgeFit(const std::vector<RobotLog>& logs, const std::vector<FitParameter>
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_IDENTIFY_RESIDUALS_H_
+#endif  // PLUMB_SRC_IDENTIFY_IDENTIFY_RESIDUALS_H_

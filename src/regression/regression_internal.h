@@ -1,8 +1,8 @@
 // What regression.cc (writing a snapshot) gives regression_diff.cc (comparing one with the
 // current model). Private to the regression folder.
 
-#ifndef PLUMB_SRC_CHECK_SNAPSHOT_INTERNAL_H_
-#define PLUMB_SRC_CHECK_SNAPSHOT_INTERNAL_H_
+#ifndef PLUMB_SRC_REGRESSION_REGRESSION_INTERNAL_H_
+#define PLUMB_SRC_REGRESSION_REGRESSION_INTERNAL_H_
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -30,4 +30,4 @@ std::string SnapshotElementName(const Model& model, int obj, int id);
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_SNAPSHOT_INTERNAL_H_
+#endif  // PLUMB_SRC_REGRESSION_REGRESSION_INTERNAL_H_

@@ -1,8 +1,8 @@
 // Judging a scenario's assertions over a run: each assertion on each of its paths, sample
 // by sample, reduced over its window, then a verdict per assertion.
 
-#ifndef PLUMB_SRC_CHECK_ASSERTION_TALLY_H_
-#define PLUMB_SRC_CHECK_ASSERTION_TALLY_H_
+#ifndef PLUMB_SRC_SCENARIO_ASSERTION_TALLY_H_
+#define PLUMB_SRC_SCENARIO_ASSERTION_TALLY_H_
 
 #include <cstddef>
 #include <string>
@@ -45,4 +45,4 @@ class AssertionTally {
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_ASSERTION_TALLY_H_
+#endif  // PLUMB_SRC_SCENARIO_ASSERTION_TALLY_H_

@@ -3,8 +3,8 @@
 // each step, it reads what each metric needs, recomputing derived quantities (xpos,
 // sensordata, energy) only at the steps a metric reads them.
 
-#ifndef PLUMB_SRC_CHECK_METRIC_PROBE_H_
-#define PLUMB_SRC_CHECK_METRIC_PROBE_H_
+#ifndef PLUMB_SRC_SCENARIO_METRIC_PROBE_H_
+#define PLUMB_SRC_SCENARIO_METRIC_PROBE_H_
 
 #include <vector>
 
@@ -54,4 +54,4 @@ class MetricProbe {
 
 }  // namespace plumb
 
-#endif  // PLUMB_SRC_CHECK_METRIC_PROBE_H_
+#endif  // PLUMB_SRC_SCENARIO_METRIC_PROBE_H_

@@ -2,8 +2,8 @@
 // the rows checks fill in, and the checks themselves. Private to the check layer; the
 // public entry point is plumb::Verify (plumb/verify.h).
 
-#ifndef PLUMB_SRC_CHECK_VERIFY_PROTOCOL_H_
-#define PLUMB_SRC_CHECK_VERIFY_PROTOCOL_H_
+#ifndef PLUMB_SRC_VERIFY_VERIFY_PROTOCOL_H_
+#define PLUMB_SRC_VERIFY_VERIFY_PROTOCOL_H_
 
 #include <limits>
 #include <map>
@@ -157,4 +157,4 @@ CheckRow ExerciseDensity(const VerifyContext& ctx, CheckRow r);
 
 }  // namespace plumb::verify
 
-#endif  // PLUMB_SRC_CHECK_VERIFY_PROTOCOL_H_
+#endif  // PLUMB_SRC_VERIFY_VERIFY_PROTOCOL_H_
