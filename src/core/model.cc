@@ -148,7 +148,7 @@ std::string AutolimitsHint(const std::string& xml, const fs::path& dir) {
 struct SchemaChange {
   const char* element;    // as MuJoCo's error names it ("Element 'contact'")
   const char* attribute;  // "unrecognized attribute: 'internal'"
-  int removed_in;         // mjVERSION_HEADER of the release that removed it
+  int removed_in;         // the release that removed it: major*10^6 + minor*10^3 + patch
   const char* what;
 };
 constexpr SchemaChange kSchemaChanges[] = {
@@ -169,7 +169,7 @@ constexpr SchemaChange kSchemaChanges[] = {
 // What changed between releases, when `error` is a schema violation that one caused.
 std::string SchemaChangeHint(const std::string& error) {
   for (const SchemaChange& c : kSchemaChanges) {
-    if (mjVERSION_HEADER < c.removed_in) continue;
+    if (!compat::CompiledAtLeast(c.removed_in)) continue;
     if (error.find("unrecognized attribute: '" + std::string(c.attribute) + "'") ==
             std::string::npos ||
         error.find("Element '" + std::string(c.element) + "'") == std::string::npos) {
@@ -189,7 +189,7 @@ std::string LoadHint(const std::string& error, const std::string& xml, const fs:
 }  // namespace
 
 void InstallMujocoHandlers() {
-  if (mj_version() != mjVERSION_HEADER) {
+  if (!compat::LoadedMujocoIsCompiledOne()) {
     throw Error("the MuJoCo library loaded (" + MujocoVersion() + ", " + MujocoLibraryPath() +
                 ") is not the one plumb was built with (" + CompiledMujocoVersion() +
                 "): MuJoCo changes its binary interface between releases. Rebuild plumb "
@@ -234,7 +234,7 @@ MujocoCallScope::~MujocoCallScope() {
 #endif
 }
 
-std::string CompiledMujocoVersion() { return compat::VersionText(mjVERSION_HEADER); }
+std::string CompiledMujocoVersion() { return compat::CompiledVersionText(); }
 
 std::string MujocoLibraryPath() {
   Dl_info info;
@@ -245,7 +245,7 @@ std::string MujocoLibraryPath() {
 }
 
 std::string MujocoPluginPath() {
-  if (mjVERSION_HEADER < 300) return "";
+  if (!compat::kMujoco3) return "";  // 2.x has no plugins
   if (const char* env = std::getenv("PLUMB_MUJOCO_PLUGIN_PATH"); env && *env) {
     std::error_code ec;
     if (!fs::is_directory(env, ec)) {  // MuJoCo would skip it without a word

@@ -281,15 +281,30 @@ inline void FullInertia(const mjModel* m, const mjData* d, mjtNum* dst) {
 #endif
 }
 
-// "2.2.2", "3.11.0", "4.0.1" for an mjVERSION_HEADER-style number: three digits up to
-// 3.4.0 (340), major*10^6 + minor*10^3 + patch from 3.5.0 (3011000).
-inline std::string VersionText(int v) {
-  if (v >= 1000000) {
-    return std::to_string(v / 1000000) + "." + std::to_string(v / 1000 % 1000) + "." +
-           std::to_string(v % 1000);
-  }
-  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
+// An mjVERSION_HEADER-style number in the encoding of 3.5.0 on (major*10^6 + minor*10^3 +
+// patch), so versions from either side of the switch compare: 222 -> 2002002, 340 ->
+// 3004000, 3011000 as it is.
+constexpr int VersionNumber(int v) {
+  return v >= 1000000 ? v : v / 100 * 1000000 + v / 10 % 10 * 1000 + v % 10;
 }
+
+// True when the MuJoCo plumb is compiled against is `version` (major*10^6 + minor*10^3 +
+// patch: 3003006 for 3.3.6) or later.
+constexpr bool CompiledAtLeast(int version) { return VersionNumber(mjVERSION_HEADER) >= version; }
+
+// True when the MuJoCo library loaded at run time is the release plumb was compiled against
+// (MuJoCo changes its binary interface between releases).
+inline bool LoadedMujocoIsCompiledOne() { return mj_version() == mjVERSION_HEADER; }
+
+// "2.2.2", "3.11.0", "4.0.1" for an mjVERSION_HEADER-style number (either encoding).
+inline std::string VersionText(int v) {
+  const int n = VersionNumber(v);
+  return std::to_string(n / 1000000) + "." + std::to_string(n / 1000 % 1000) + "." +
+         std::to_string(n % 1000);
+}
+
+// The MuJoCo plumb is compiled against, as VersionText says it.
+inline std::string CompiledVersionText() { return VersionText(mjVERSION_HEADER); }
 
 // Loads every plugin library (mujoco.pid, elasticity, SDF, sensor plugins, ...) in `dir`,
 // so models that use them compile. MuJoCo 2.x has no plugins: nothing to do.
