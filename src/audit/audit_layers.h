@@ -1,6 +1,6 @@
 // What the audit's layers share (src/audit/audit_*.cc): how a finding names an element,
 // the reference pose, and the observed runs that the actuator, contact and behaviour layers
-// judge. Private to the check layer.
+// judge. Private to the audit (src/audit/).
 
 #ifndef PLUMB_SRC_AUDIT_AUDIT_LAYERS_H_
 #define PLUMB_SRC_AUDIT_AUDIT_LAYERS_H_

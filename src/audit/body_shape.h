@@ -1,7 +1,7 @@
 // The solid a body's geoms describe, filled at a uniform density: its volume, centroid,
 // second moments and extent in the body frame, meshes included (from mesh_vert/mesh_face:
 // mjModel keeps no mesh volume). The inertia checks hold a body's compiled mass, centre of
-// mass and inertia against it. Private to the check layer.
+// mass and inertia against it. Private to the audit (src/audit/).
 
 #ifndef PLUMB_SRC_AUDIT_BODY_SHAPE_H_
 #define PLUMB_SRC_AUDIT_BODY_SHAPE_H_

@@ -1,5 +1,5 @@
 // The verify protocol's parts (src/verify/verify_*.cc): the nominal scenario and its runs,
-// the rows checks fill in, and the checks themselves. Private to the check layer; the
+// the rows checks fill in, and the checks themselves. Private to verify (src/verify/); the
 // public entry point is plumb::Verify (plumb/verify.h).
 
 #ifndef PLUMB_SRC_VERIFY_VERIFY_PROTOCOL_H_

@@ -485,7 +485,7 @@ TEST_F(AuditTest, DivergingTimestepIsCaughtWithARepro) {
   EXPECT_NE(f->fix.find("Repro folder: " + r.repro_folders[0]), std::string::npos) << f->fix;
 }
 
-// The check layer writes nothing: without keep_diverged a diverged run is reported, and no
+// The audit writes nothing: without keep_diverged a diverged run is reported, and no
 // folder appears.
 TEST_F(AuditTest, ADivergedRunIsReportedWithoutWritingAnything) {
   TempDir dir;
