@@ -9,6 +9,9 @@ cannot leave a stale guard: src/core/worker_pool.h is guarded by PLUMB_SRC_CORE_
 include/plumb/version.h.in by PLUMB_INCLUDE_PLUMB_VERSION_H_ (the generated header's path), in
 the #ifndef, the #define after it, and the comment of the last #endif.
 
+And every public header has its line in docs/layout.md ("  NAME.h  what it is"), when ROOT
+has docs/.
+
     scripts/check-layers.py [ROOT]      (ROOT: the checkout; default: this script's parent's)
 
 Prints every upward or sideways include and every wrong guard as FILE:LINE: ... and exits 1
@@ -70,6 +73,23 @@ def guard_problems(path, rel):
         problems.append(((last if last is not None else len(lines) - 1) + 1,
                          f"the last #endif must read \"#endif  // {want}\""))
     return problems
+
+
+def check_layout_doc(root):
+    """Prints every public header docs/layout.md has no line for; returns how many."""
+    if not os.path.isdir(os.path.join(root, "docs")):
+        return 0  # a copy of the sources only (tests/layers/)
+    doc = os.path.join(root, "docs", "layout.md")
+    text = open(doc, encoding="utf-8").read() if os.path.isfile(doc) else ""
+    listed = set(re.findall(r"^  (\S+\.h) ", text, re.M))
+    missing = 0
+    for name in sorted(os.listdir(os.path.join(root, "include", "plumb"))):
+        header = name[:-len(".in")] if name.endswith(".h.in") else name
+        if header.endswith(".h") and header not in listed:
+            print(f"docs/layout.md: include/plumb/{name} has no line: add \"  {header}  "
+                  f"<what it is>\" under include/plumb/")
+            missing += 1
+    return missing
 
 
 def check_guards(root):
@@ -162,11 +182,12 @@ def main():
     if wrong_guards:
         print(f"check-layers: {wrong_guards} include guard line(s) that do not match their "
               f"header's path", file=sys.stderr)
-    if bad or wrong_guards:
+    undocumented = check_layout_doc(root)
+    if bad or wrong_guards or undocumented:
         return 1
     print(f"check-layers: {checked} includes across folders, all downward "
           f"({len(files)} files in {len(folders)} folders); {headers} include guards match "
-          f"their paths")
+          f"their paths; docs/layout.md names every public header")
     return 0
 
 

@@ -2,11 +2,12 @@
 # The include-guard check in scripts/check-layers.py: every header of the tree is guarded by its
 # path, and a copy fails, naming the file, the line and the expected guard, when a guard is stale
 # (the name a header had in a folder since renamed), when only the #endif comment is, and when a
-# header moves to another folder without its guard following.
+# header moves to another folder without its guard following. The same check fails when
+# docs/layout.md has no line for a public header.
 set -euo pipefail
 root="${1:?give the checkout}"
 check="$root/scripts/check-layers.py"
-python3 "$check" "$root" | grep -q "include guards match their paths"
+python3 "$check" "$root" | grep -q "include guards match their paths; docs/layout.md names"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 fresh() {
@@ -49,3 +50,17 @@ expect src/core/hash.h '^#ifndef' 'expected PLUMB_SRC_CORE_HASH_H_'
 fresh
 sed -i 's/PLUMB_INCLUDE_PLUMB_STOP_H_/PLUMB_STOP_H_/' "$work/tree/include/plumb/stop.h"
 expect include/plumb/stop.h '^#ifndef' 'expected PLUMB_INCLUDE_PLUMB_STOP_H_'
+# a public header docs/layout.md has no line for
+fresh
+mkdir -p "$work/tree/docs"
+grep -v '^  sleep\.h ' "$root/docs/layout.md" >"$work/tree/docs/layout.md"
+set +e
+out=$(python3 "$check" "$work/tree" 2>&1)
+rc=$?
+set -e
+if [[ $rc -ne 1 || "$out" != *"docs/layout.md: include/plumb/sleep.h has no line"* ]]; then
+  echo "FAIL: docs/layout.md without sleep.h: the check exited $rc and said:"
+  echo "$out"
+  exit 1
+fi
+echo "ok: docs/layout.md without sleep.h: caught"
