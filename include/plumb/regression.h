@@ -88,6 +88,9 @@ struct SnapshotDiff {
 SnapshotDiff DiffSnapshot(const std::string& snapshot_text, const Model& model,
                           const std::vector<Assignment>& sets, double tol);
 
+// The default tol of plumb diff (--tol) and plumb.diff (tol=).
+inline constexpr double kDiffTolerance = 1e-6;
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_REGRESSION_H_

@@ -111,6 +111,11 @@ std::pair<int, int> ParseImageSize(const std::string& text);
 RunResult RenderAt(const Model& model, Data& data, Renderer& renderer, double at, StopToken stop,
                    Image* image);
 
+// The defaults of plumb render's --at and --fps and plumb.render's at= and fps= (the rest are
+// RenderOptions'): a picture of the start, a video at about 30 frames per second.
+inline constexpr double kPictureTime = 0;  // s
+inline constexpr double kFilmFps = 30;
+
 // The frames of a video of a run to `until` s at about `fps` frames per second: frames a whole
 // number of steps apart (so the video plays in real time at that spacing), the first at the
 // start.

@@ -569,15 +569,16 @@ void BindBatch(nb::module_& m) {
         a.until = until;
         a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
                              count, until, seed);
-        return RunRollout(a, count, StringList(randomize, "randomize"), ctrl_noise.value_or(0),
-                          seed, shard.value_or(""));
+        return RunRollout(a, count, StringList(randomize, "randomize"),
+                          ctrl_noise.value_or(RolloutSpec{}.ctrl_noise), seed, shard.value_or(""));
       },
       nb::arg("model"), nb::arg("count"), nb::arg("randomize") = nb::none(),
-      nb::arg("ctrl_noise") = nb::none(), nb::arg("metrics") = nb::none(), nb::kw_only(),
-      nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("pose") = nb::none(),
-      nb::arg("qpos") = nb::none(), nb::arg("until") = 2.0, nb::arg("threads") = 0,
-      nb::arg("seed") = 0, nb::arg("shard") = nb::none(), nb::arg("db") = nb::none(),
-      nb::arg("resume") = false,
+      nb::arg("ctrl_noise") = RolloutSpec{}.ctrl_noise, nb::arg("metrics") = nb::none(),
+      nb::kw_only(), nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(),
+      nb::arg("pose") = nb::none(), nb::arg("qpos") = nb::none(),
+      nb::arg("until") = RolloutSpec{}.until, nb::arg("threads") = 0,
+      nb::arg("seed") = RolloutSpec{}.seed, nb::arg("shard") = nb::none(),
+      nb::arg("db") = nb::none(), nb::arg("resume") = false,
       "Runs `count` rollouts of the model (plumb rollout), each `until` s from the start (as the "
       "CLI orders them: keyframe, pose file, whole qpos, set) with parameters drawn by `randomize` "
       "('body_mass[*]=*U(0.9,1.1)'; U, N, LogU; "

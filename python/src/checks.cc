@@ -116,7 +116,7 @@ void BindVerify(nb::module_& m) {
         });
         return result;
       },
-      nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = 1e-2,
+      nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = VerifyOptions{}.tol,
       nb::arg("until") = nb::none(), nb::arg("keyframe") = nb::none(),
       "Checks that a model's numbers are credible (plumb verify): the start, determinism, "
       "warnings, convergence as the timestep shrinks, energy, and for a single hinge pendulum "
@@ -315,7 +315,8 @@ void BindConverge(nb::module_& m) {
         return result;
       },
       nb::arg("model"), nb::arg("metric"), nb::arg("set") = nb::none(), nb::arg("dt") = nb::none(),
-      nb::arg("halvings") = 4, nb::arg("tol") = 1e-3, nb::arg("until") = nb::none(),
+      nb::arg("halvings") = ConvergeOptions{}.halvings, nb::arg("tol") = ConvergeOptions{}.tol,
+      nb::arg("until") = nb::none(),
       "Runs `metric` (the CLI's vocabulary: 'qpos[hinge]@2', 'period(qpos[hinge])', "
       "'maxabs(PATH)', 'energy_drift', 'state@T') at dt, dt/2, ... dt/2^halvings (plumb "
       "converge): observed order, extrapolation, the recommended timestep. `dt` defaults to the "
@@ -467,7 +468,8 @@ void BindSnapshot(nb::module_& m) {
         });
         return result;
       },
-      nb::arg("snapshot"), nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = 1e-6,
+      nb::arg("snapshot"), nb::arg("model"), nb::arg("set") = nb::none(),
+      nb::arg("tol") = kDiffTolerance,
       "Compares a model with a snapshot (a plumb.Snapshot or a file plumb snapshot wrote), in "
       "words (plumb diff): sizes, options, every element's parameters and where the golden "
       "trajectory departs. Returns a DiffResult; .ok is False when anything changed.");

@@ -140,8 +140,10 @@ void BindReplay(nb::module_& m) {
         });
         return r;
       },
-      nb::arg("model"), nb::arg("log"), nb::arg("columns") = nb::none(), nb::arg("window") = 0.0,
-      nb::arg("input_delay") = 0.0, nb::arg("sensor_delay") = 0.0, nb::arg("set") = nb::none(),
+      nb::arg("model"), nb::arg("log"), nb::arg("columns") = nb::none(),
+      nb::arg("window") = ReplayOptions{}.window,
+      nb::arg("input_delay") = ReplayOptions{}.input_delay,
+      nb::arg("sensor_delay") = ReplayOptions{}.sensor_delay, nb::arg("set") = nb::none(),
       "Drives the model with a log's inputs from its logged start state and compares what it "
       "measured (plumb replay). `log`: a CSV of time and plumb paths; `columns`: a column map "
       "(TOML); `window`: restart from the logged state every so many seconds; `set`: model "
@@ -332,9 +334,10 @@ void BindIdentifyCall(nb::module_& m) {
         return r;
       },
       nb::arg("model"), nb::arg("log"), nb::arg("fit"), nb::arg("bounds") = nb::none(),
-      nb::arg("columns") = nb::none(), nb::arg("window") = 0.0, nb::arg("delay") = nb::none(),
-      nb::arg("max_delay") = 0.1, nb::arg("validate") = nb::none(), nb::arg("threads") = 0,
-      nb::arg("max_iterations") = 100, nb::arg("set") = nb::none(),
+      nb::arg("columns") = nb::none(), nb::arg("window") = IdentifyOptions{}.replay.window,
+      nb::arg("delay") = nb::none(), nb::arg("max_delay") = IdentifyOptions{}.max_delay,
+      nb::arg("validate") = nb::none(), nb::arg("threads") = IdentifyOptions{}.threads,
+      nb::arg("max_iterations") = IdentifyOptions{}.max_iterations, nb::arg("set") = nb::none(),
       "Fits model parameters to logs (plumb identify): `log` one CSV or a list (each an "
       "experiment), `fit` paths ('dof_damping[hinge]', '*' rows), `bounds` 'PATH=LO:HI', "
       "`delay` 'ctrl' or 'sensor' to estimate a pure delay, `validate` a held-out log. The "

@@ -330,11 +330,13 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
 void BindRender(nb::module_& m) {
   BindFrames(m);
   m.def("render", &Render, nb::arg("model"), nb::arg("state") = nb::none(),
-        nb::arg("camera") = "auto", nb::arg("width") = 640, nb::arg("height") = 480,
-        nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("at") = 0.0,
-        nb::arg("until") = nb::none(), nb::arg("fps") = 30.0, nb::arg("highlight") = nb::none(),
-        nb::arg("msaa") = false, nb::arg("shadow_size") = 0, nb::arg("gl") = "auto",
-        nb::arg("output") = nb::none(),
+        nb::arg("camera") = RenderOptions{}.camera, nb::arg("width") = RenderOptions{}.width,
+        nb::arg("height") = RenderOptions{}.height, nb::arg("set") = nb::none(),
+        nb::arg("keyframe") = nb::none(), nb::arg("at") = kPictureTime,
+        nb::arg("until") = nb::none(), nb::arg("fps") = kFilmFps, nb::arg("highlight") = nb::none(),
+        nb::arg("msaa") = RenderOptions{}.msaa,
+        nb::arg("shadow_size") = RenderOptions{}.shadow_size,
+        nb::arg("gl") = RenderOptions{}.backend, nb::arg("output") = nb::none(),
         "Draws the model without a window (plumb render). A picture, as a height x width x 3 "
         "uint8 numpy array: of the start (`set`, `keyframe`), of the state a run reaches at `at` "
         "s, or of `state`, a mujoco.MjData of this model (read, not changed). A sequence, as "

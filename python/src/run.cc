@@ -195,7 +195,7 @@ void BindRunCall(nb::module_& m) {
         t->array = Matrix(std::move(samples), static_cast<std::size_t>(t->rows), width);
         return t;
       },
-      nb::arg("model"), nb::arg("until") = 2.0, nb::arg("every") = nb::none(),
+      nb::arg("model"), nb::arg("until") = RunSpec{}.until, nb::arg("every") = nb::none(),
       nb::arg("columns") = nb::none(), nb::arg("set") = nb::none(),
       nb::arg("keyframe") = nb::none(), nb::arg("pose") = nb::none(), nb::arg("qpos") = nb::none(),
       "Steps the model with mj_step to `until` s and samples `columns` every `every` s (plumb "

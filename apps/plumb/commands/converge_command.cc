@@ -23,8 +23,8 @@ struct ConvergeCommandOptions {
   StartPose pose;
   std::string metric;
   std::optional<double> dt;  // unset: the model's timestep
-  int halvings = 4;
-  double tol = 1e-3;
+  int halvings = ConvergeOptions{}.halvings;
+  double tol = ConvergeOptions{}.tol;
   std::optional<double> until;  // unset: the metric's default
   std::string format = "table";
   std::string report;  // --report FILE.html

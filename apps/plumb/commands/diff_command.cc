@@ -25,7 +25,7 @@ struct DiffOptions {
   std::string snapshot;
   std::string model;
   std::vector<std::string> sets;
-  double tol = 1e-6;
+  double tol = kDiffTolerance;
   std::string format = "table";
   std::string report;  // --report FILE.html
 };

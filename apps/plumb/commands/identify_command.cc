@@ -98,7 +98,8 @@ void SetupIdentifyCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--columns", o->columns,
                   "column map (TOML: [columns] \"robot name\" = \"plumb path\")");
   cmd->add_option("--window", o->identify.replay.window,
-                  "restart from the logged state every S seconds (multiple shooting)");
+                  "restart from the logged state every S seconds (multiple shooting)")
+      ->capture_default_str();
   cmd->add_option("--delay", o->delay, "estimate a pure delay on the inputs or measurements")
       ->check(CLI::IsMember({"ctrl", "sensor"}));
   cmd->add_option("--max-delay", o->identify.max_delay, "the longest delay tried, s")

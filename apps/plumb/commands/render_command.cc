@@ -21,15 +21,15 @@ struct RenderCommandOptions {
   std::vector<std::string> sets;
   std::string keyframe;
   StartPose pose;
-  double at = 0;
+  double at = kPictureTime;
   std::optional<double> until;
-  double fps = 30;
-  std::string camera = "auto";
-  std::string size = "640x480";
+  double fps = kFilmFps;
+  std::string camera = RenderOptions{}.camera;
+  std::string size = fmt::format("{}x{}", RenderOptions{}.width, RenderOptions{}.height);
   std::vector<std::string> highlight;
-  bool msaa = false;
-  int shadow_size = 0;
-  std::string gl = "auto";
+  bool msaa = RenderOptions{}.msaa;
+  int shadow_size = RenderOptions{}.shadow_size;
+  std::string gl = RenderOptions{}.backend;
   std::string output;
 };
 

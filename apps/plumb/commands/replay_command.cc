@@ -65,10 +65,13 @@ void SetupReplayCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--columns", o->columns,
                   "column map (TOML: [columns] \"robot name\" = \"plumb path\")");
   cmd->add_option("--window", o->replay.window,
-                  "restart from the logged state every S seconds (multiple shooting)");
-  cmd->add_option("--input-delay", o->replay.input_delay, "inputs act S seconds after logged");
+                  "restart from the logged state every S seconds (multiple shooting)")
+      ->capture_default_str();
+  cmd->add_option("--input-delay", o->replay.input_delay, "inputs act S seconds after logged")
+      ->capture_default_str();
   cmd->add_option("--sensor-delay", o->replay.sensor_delay,
-                  "measurements show the state S seconds before their time stamp");
+                  "measurements show the state S seconds before their time stamp")
+      ->capture_default_str();
   AddFormatOption(cmd, &o->format, {"table", "json"});
   AddReportOption(cmd, &o->report);
   cmd->callback([o, &ctx] { ctx.action = [o, &ctx] { return RunReplay(*o, ctx); }; });

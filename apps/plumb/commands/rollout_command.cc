@@ -34,12 +34,12 @@ struct RolloutOptions {
   std::vector<std::string> sets;
   std::string keyframe;
   StartPose pose;
-  long count = 100;
-  double until = 2;
-  int threads = 1;
-  std::uint64_t seed = 0;
+  long count = 100;  // the CLI's own: plumb.rollout takes count as a required argument
+  double until = RolloutSpec{}.until;
+  int threads = RolloutSpec{}.threads;
+  std::uint64_t seed = RolloutSpec{}.seed;
   std::vector<std::string> randomize;
-  double ctrl_noise = 0;
+  double ctrl_noise = RolloutSpec{}.ctrl_noise;
   std::vector<std::string> metrics;
   std::string format = "table";
   std::string shard;

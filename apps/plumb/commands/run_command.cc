@@ -29,8 +29,8 @@ struct RunOptions {
   std::vector<std::string> sets;
   std::string keyframe;
   StartPose pose;
-  double until = 2.0;
-  double every = 0.1;
+  double until = RunSpec{}.until;
+  double every = RunSpec{}.every;
   bool every_given = false;  // else about 0.1 s, on whole steps of the timestep the run uses
   std::string columns;
   std::string format = "table";

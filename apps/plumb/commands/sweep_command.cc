@@ -31,8 +31,8 @@ struct SweepOptions {
   StartPose pose;
   std::vector<std::string> vary;
   std::vector<std::string> metrics;
-  int threads = 1;
-  double until = 0;
+  int threads = SweepSpec{}.threads;
+  double until = SweepSpec{}.until;
   std::string format = "table";
   std::string db;
   double max_seconds = 0;  // --max-seconds: 0 none

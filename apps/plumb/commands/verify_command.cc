@@ -21,7 +21,7 @@ struct VerifyCommandOptions {
   std::string keyframe;
   StartPose pose;
   std::string format = "table";
-  double tol = 1e-2;
+  double tol = VerifyOptions{}.tol;
   std::optional<double> until;  // unset: the default run length
   TableDetail detail = TableDetail::kFindings;
   std::string report;  // --report FILE.html
