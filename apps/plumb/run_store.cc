@@ -49,10 +49,8 @@ void KeepFinishedOnStop(const std::function<void()>& work, ProgressBar& progress
                    stored.store ? (" and stored in '" + db + "': --resume goes on").c_str() : "");
       return;
     }
-    throw Interrupted(fmt::format(
-        "{}; {}{}", e.what(), finished(),
-        stored.store ? " and stored in '" + db + "': repeat the command with --resume to go on"
-                     : ""));
+    throw Interrupted(StoppedBatchMessage(e.what(), finished(), stored.store ? db : "",
+                                          "repeat the command with --resume"));
   } catch (const OutputClosed&) {
     // the reader has gone: keep what finished, stop quietly
     progress.Finish();

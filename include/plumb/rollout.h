@@ -97,8 +97,9 @@ std::vector<std::string> ParameterNames(const RolloutSpec& spec);
 // rollout in increasing index order (from the calling thread). Memory does not grow
 // with count: work is done in chunks. Results are bit-identical whatever the thread
 // count, shard split or skipped set: every random number is keyed by (seed, rollout
-// index, parameter). @throws ValueError for a bad spec; Interrupted when `stop` asks (the
-// rollouts before the first unfinished one were emitted); MujocoError; what `emit` throws.
+// index, parameter). @throws ValueError for a bad spec; Interrupted when `stop` asks (every
+// rollout that finished was emitted: those after the first unfinished one last, still in
+// increasing index order, with gaps); MujocoError; what `emit` throws.
 void Rollout(const Model& model, const RolloutSpec& spec,
              const std::function<void(const RolloutResult&)>& emit, const StopToken& stop = {});
 
@@ -107,7 +108,8 @@ void Rollout(const Model& model, const RolloutSpec& spec,
 // of distributing rollouts over processes. Ignores spec.shard_* and spec.skip, and checks
 // nothing of `spec` (ValidateRolloutSpec does): spec.threads < 1 ends in InternalError.
 // @throws ValueError / PathError when the model refuses spec.sets; Interrupted when `stop`
-// asks; MujocoError; what `emit` throws.
+// asks (every rollout that finished was emitted, as Rollout says); MujocoError; what `emit`
+// throws.
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,
                   const std::function<void(const RolloutResult&)>& emit,
                   const StopToken& stop = {});

@@ -77,6 +77,15 @@ StoredRun OpenStoredRun(const std::string& path, bool resume, const RunInfo& inf
 // Commits the store and marks the run finished when it holds all `total` indices.
 void CompleteStoredRun(StoredRun& stored, long total);
 
+// What a batch that a stop request ended says, the same from every front end: `stopped` (the
+// batch's Interrupted: "interrupted after 12 rollouts"), `finished` ("12 rollouts
+// finished") and, when it is stored in `path` (empty when not), that every finished one is
+// stored there and how to go on, in the front end's words (`resume`: "repeat the command
+// with ..." or "call it again with resume=True"). Example: "interrupted after 12 rollouts;
+// 12 rollouts finished and stored in 'r.sqlite': call it again with resume=True to go on".
+std::string StoppedBatchMessage(const std::string& stopped, const std::string& finished,
+                                const std::string& path, const std::string& resume);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_STORED_RUN_H_

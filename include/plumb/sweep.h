@@ -86,8 +86,9 @@ void ValidateSweepSpec(const Model& model, const SweepSpec& spec);
 // Runs the cases 0 .. CaseCount-1 that are not in `skip` (sorted; for --resume) and calls
 // `emit` once per case in increasing index order, from the calling thread, as soon as it and
 // every case before it are done: memory does not grow with the number of cases. When `stop`
-// asks (the running cases see it at their next step), the cases already finished are
-// emitted and Interrupted is thrown. A range value that
+// asks (the running cases see it at their next step, those not started are skipped), every
+// case that finished is emitted (those after the first unfinished one last, in increasing
+// index order with gaps) and Interrupted is thrown. A range value that
 // fails CheckAssignable (see ParseSweepAxis) is that case's problem. Bit-identical for any
 // thread count. @throws ValueError as ValidateSweepSpec; Interrupted; MujocoError; what `emit`
 // throws.

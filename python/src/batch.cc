@@ -347,8 +347,9 @@ BatchOrigin Origin(const BatchArgs& a) {
 // Runs a batch into `batch` with its store (`info` in a.db): first the cases the store holds
 // (`stored` gives each one's unmeasured metrics, or nothing for a case not of this batch), then
 // `run(done, keep)` runs the rest, calling keep with each case as it finishes, which stores it.
-// On a stop (Ctrl-C: the caller raises KeyboardInterrupt) what finished is committed to the
-// store; at the end the run is marked complete when it holds all `total` cases.
+// On a stop (Ctrl-C: the caller raises KeyboardInterrupt with the CLI's message) what finished
+// is committed to the store; at the end the run is marked complete when it holds all `total`
+// cases.
 template <typename FromStore, typename Run>
 void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total, FromStore&& stored,
               Run&& run) {
@@ -372,9 +373,13 @@ void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total,
           if (store.store) store.store->Add(store.id, r);
           batch.rows.Add(r, unmeasured);
         }));
-  } catch (const Interrupted&) {
+  } catch (const Interrupted& e) {
+    // every case that finished is stored (the pool emits those past the first unfinished one)
     if (store.store) store.store->Commit();
-    throw;
+    std::string finished = fmt::format("{} {} finished", batch.summary.run_now,
+                                       batch.kind == "rollout" ? "rollouts" : "cases");
+    throw Interrupted(StoppedBatchMessage(e.what(), finished, store.store ? a.db : "",
+                                          "call it again with resume=True"));
   }
   batch.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CompleteStoredRun(store, total);

@@ -29,6 +29,7 @@
 
 #include "io/output_path.h"
 #include "plumb/check.h"
+#include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/model.h"
 #include "plumb/path.h"
@@ -181,7 +182,8 @@ inline nb::object Matrix(std::vector<double>&& values, std::size_t rows, std::si
 // so other Python threads run. Every 20 ms the caller checks for signals (PyErr_CheckSignals:
 // Ctrl-C on the main thread); when one raised, it asks `body` to stop through its token,
 // waits for it (a rollout or sweep keeps what it finished) and raises the signal's exception
-// (KeyboardInterrupt). `body` runs inside a MujocoCallScope; what it throws is rethrown here.
+// (KeyboardInterrupt; when `body` ended in Interrupted, with its message). `body` runs inside
+// a MujocoCallScope; what it throws is rethrown here.
 template <typename Body>
 auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
   using Result = decltype(body(StopToken{}));
@@ -219,7 +221,19 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
     }
     worker.join();
   }
-  if (signalled) throw nb::python_error();  // the signal handler's exception
+  if (signalled) {
+    nb::python_error raised;  // the signal handler's exception
+    // a KeyboardInterrupt that stopped a batch carries what the batch says of it (Interrupted)
+    if (error && raised.matches(PyExc_KeyboardInterrupt)) {
+      try {
+        std::rethrow_exception(error);
+      } catch (const Interrupted&) {
+        throw;
+      } catch (...) {
+      }
+    }
+    throw raised;
+  }
   if (error) std::rethrow_exception(error);
   return std::move(*result);
 }

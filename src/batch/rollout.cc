@@ -476,7 +476,9 @@ void RolloutPool::Stream(long total,
   auto interrupted = [&] {
     return Interrupted("interrupted after " + std::to_string(done.load()) + " rollouts");
   };
-  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop, interrupted);
+  // on a stop every finished rollout is emitted (each names its index), so a store keeps it
+  p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop, interrupted,
+                               WorkerPool::OnStop::kEveryFinished);
 }
 
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,

@@ -110,4 +110,11 @@ void CompleteStoredRun(StoredRun& stored, long total) {
   if (stored.store->CountDone(stored.id) == total) stored.store->FinishRun(stored.id);
 }
 
+std::string StoppedBatchMessage(const std::string& stopped, const std::string& finished,
+                                const std::string& path, const std::string& resume) {
+  if (path.empty()) return fmt::format("{}; {}", stopped, finished);
+  return fmt::format("{}; {} and stored in {}: {} to go on", stopped, finished, Quoted(path),
+                     resume);
+}
+
 }  // namespace plumb

@@ -240,7 +240,8 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
     if (spec.progress) spec.progress(finished, total);
     return true;
   };
-  // the cases not yet done, a chunk at a time (16 per thread), emitted in order
+  // the cases not yet done, a chunk at a time (16 per thread), emitted in order (on a stop,
+  // the finished ones after the first unfinished one follow it)
   const long chunk_size = 16L * spec.threads;
   long next = 0;
   auto next_chunk = [&](std::vector<long>* indices) {
@@ -253,8 +254,9 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
                        std::to_string(total - static_cast<long>(skip.size())) + " cases");
   };
   WorkerPool pool(model, spec.threads);
+  // on a stop every finished case is emitted (each names its index), so a store keeps it
   pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit, stop,
-                         interrupted);
+                         interrupted, WorkerPool::OnStop::kEveryFinished);
 }
 
 std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {

@@ -20,13 +20,17 @@ int ThreadsOrAllCores(int threads) {
 
 namespace {
 
-// One job on the worker of the thread that runs it: the worker is made on first use, and
-// dropped when the job is abandoned (its copy may hold the job's edits) or throws (a MuJoCo
-// error left it mid-job), so the next job on that thread starts from the nominal model.
+// One job on the worker of the thread that runs it, unless a stop was asked before it began:
+// then it is skipped, without a worker. The worker is made on first use, and dropped when
+// the job is abandoned (its copy may hold the job's edits) or throws (a MuJoCo error left it
+// mid-job), so the next job on that thread, if any, makes a fresh one from the nominal model:
+// a stop makes no model copy.
 template <typename Finished>
 void RunJob(const Model& nominal, std::optional<WorkerPool::Worker>& worker,
             const std::function<bool(WorkerPool::Worker&, std::size_t)>& run, std::size_t i,
-            Finished* finished) {
+            Finished* finished, const StopToken& stop) {
+  if (stop.stop_requested()) return;  // not finished: Stream sees the stop
+
   MujocoCallScope scope;  // MuJoCo's errors on this thread are plumb's
   if (!worker) worker.emplace(nominal);
   bool done;
@@ -70,13 +74,14 @@ int WorkerPool::threads() const { return impl_->threads; }
 #if !defined(__SANITIZE_THREAD__)
 
 void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                          Finished* finished, const std::function<void()>& after_own_job) {
+                          Finished* finished, const std::function<void()>& after_own_job,
+                          const StopToken& stop) {
   Impl& p = *impl_;
   const std::thread::id caller = std::this_thread::get_id();
   // the calling thread takes a slot of the arena (one is kept for it) and runs jobs too
   p.arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      RunJob(p.nominal, p.workers.local(), run, i, finished);
+      RunJob(p.nominal, p.workers.local(), run, i, finished, stop);
       if (std::this_thread::get_id() == caller) after_own_job();
     });
   });
@@ -93,7 +98,8 @@ void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::
 // by one thread and read by another through libtbb's queues (tried: races reported in
 // start_for, tree_node and fold_tree). Checking the arena itself needs a oneTBB built with TSan.
 void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                          Finished* finished, const std::function<void()>& after_own_job) {
+                          Finished* finished, const std::function<void()>& after_own_job,
+                          const StopToken& stop) {
   Impl& p = *impl_;
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
@@ -101,7 +107,7 @@ void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::
   auto thread_body = [&](int slot) {
     for (std::size_t i; (i = next++) < n;) {
       try {
-        RunJob(p.nominal, p.slots[slot], run, i, finished);
+        RunJob(p.nominal, p.slots[slot], run, i, finished, stop);
         if (slot == 0) after_own_job();  // slot 0 is the calling thread
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);

@@ -2,7 +2,8 @@
 // of the nominal model with its data, made on first use and kept for every job that thread
 // runs. Jobs run a chunk at a time and their results are handed on in job order as soon as
 // they and every job before them are done, so output streams in order and memory stays
-// flat, and a stop request keeps what finished before it.
+// flat. A stop request is honoured at once: the jobs not yet started are skipped (no worker
+// is made for them), the running ones end at their next step, and what finished is kept.
 
 #ifndef PLUMB_SRC_CORE_WORKER_POOL_H_
 #define PLUMB_SRC_CORE_WORKER_POOL_H_
@@ -34,9 +35,17 @@ class WorkerPool {
 
   // A job runs `index` on `worker`, writing its result; it returns false when a stop request
   // abandoned it. An abandoned job's worker (its model copy may hold the job's edits) is
-  // replaced, and so is the worker of a job that throws; the exception then leaves Stream.
+  // dropped and made again only when its thread next runs a job (never during a stop), and
+  // so is the worker of a job that throws; the exception then leaves Stream.
   template <typename Result>
   using Job = std::function<bool(Worker& worker, long index, Result* result)>;
+
+  // What a stop hands on of a chunk's results besides those before its first unfinished job.
+  enum class OnStop {
+    kInOrderOnly,    // nothing more: `emit` may count on every result coming in job order
+    kEveryFinished,  // then every other finished one, in job order with gaps: each result
+                     // must name its own job (a rollout's or a sweep case's index)
+  };
 
   // `threads` must be at least 1 (else plumb::InternalError: the callers validate it).
   WorkerPool(const Model& nominal, int threads);
@@ -50,13 +59,16 @@ class WorkerPool {
   // up to `chunk` indices, none when all are done), each chunk in parallel, and passes their
   // results to `emit` in index order, on the calling thread: the calling thread runs jobs
   // too, and after each of its own it emits every result whose job and all jobs before it
-  // are done (so with one thread each result is emitted before the next job starts). Between
-  // chunks it looks at `stop`: when asked, or when a job was abandoned, it throws what
-  // `interrupted` makes, after emitting every result before the first unfinished job.
+  // are done (so with one thread each result is emitted before the next job starts). A job
+  // that has not started when `stop` is asked is skipped; between chunks Stream looks at
+  // `stop` too. When asked, or when a job was abandoned, it throws what `interrupted` makes,
+  // after emitting every result before the first unfinished job and, with
+  // OnStop::kEveryFinished, the finished ones after it.
   template <typename Result>
   void Stream(std::size_t chunk, const std::function<void(std::vector<long>*)>& next_chunk,
               const Job<Result>& job, const std::function<void(const Result&)>& emit,
-              const StopToken& stop, const std::function<Interrupted()>& interrupted) {
+              const StopToken& stop, const std::function<Interrupted()>& interrupted,
+              OnStop on_stop = OnStop::kInOrderOnly) {
     std::vector<long> indices;
     std::vector<Result> results;
     while (true) {
@@ -76,9 +88,14 @@ class WorkerPool {
       RunChunk(
           indices.size(),
           [&](Worker& worker, std::size_t i) { return job(worker, indices[i], &results[i]); },
-          &finished, emit_ready);
+          &finished, emit_ready, stop);
       emit_ready();
-      if (emitted < indices.size()) throw interrupted();  // the results before it were emitted
+      if (emitted == indices.size()) continue;
+      // stopped: the results before the first unfinished job were emitted
+      for (std::size_t i = emitted; on_stop == OnStop::kEveryFinished && i < indices.size(); ++i) {
+        if (finished.done(i)) emit(results[i]);
+      }
+      throw interrupted();
     }
   }
 
@@ -96,9 +113,11 @@ class WorkerPool {
   };
 
   // Runs run(worker, i) for i in [0, n) on the arena and marks in `finished` which returned
-  // true; calls `after_own_job` on the calling thread after each job that thread ran.
+  // true; calls `after_own_job` on the calling thread after each job that thread ran. Once
+  // `stop` is asked the jobs not started are skipped: no worker is made for them.
   void RunChunk(std::size_t n, const std::function<bool(Worker&, std::size_t)>& run,
-                Finished* finished, const std::function<void()>& after_own_job);
+                Finished* finished, const std::function<void()>& after_own_job,
+                const StopToken& stop);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

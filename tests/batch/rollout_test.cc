@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -9,6 +11,7 @@
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/stored_run.h"
 
 namespace plumb {
 namespace {
@@ -441,6 +444,71 @@ TEST_F(RolloutTest, AStopRequestKeepsTheRolloutsThatFinished) {
   ASSERT_GE(emitted.size(), 3u);
   EXPECT_LT(emitted.size(), 200u);
   for (std::size_t i = 0; i < emitted.size(); ++i) EXPECT_EQ(emitted[i], static_cast<long>(i));
+}
+
+// A stop in the middle of a chunk of two threads: every rollout that finished is emitted and
+// stored, also those after the first unfinished one (before, a stop kept only the results
+// before it), and resuming the store completes a batch equal to one never stopped.
+TEST_F(RolloutTest, AStopMidChunkStoresEveryFinishedRolloutAndResumeCompletesIt) {
+  testing::TempDir dir;
+  const std::string db = dir.File("r.sqlite");
+  RolloutSpec spec;
+  spec.count = 300;
+  spec.until = 0.3;
+  spec.threads = 2;
+  spec.randomize = {ParseRandomization(humanoid_, "body_mass[torso]=*U(0.8,1.2)")};
+  spec.metrics = {ParseMetric(humanoid_, "xpos[torso][2]@0.3")};
+  const std::vector<RolloutResult> whole = Collect(humanoid_, spec);
+  RunInfo info = NewRunInfo("rollout", "stop-mid-chunk", {"test"}, "humanoid.xml", "h");
+  info.count = spec.count;
+
+  StopSource stop;
+  std::atomic<long> finished{0};
+  RolloutSpec stopped = spec;
+  stopped.progress = [&](long done, long) {
+    for (long seen = finished.load(); seen < done && !finished.compare_exchange_weak(seen, done);) {
+    }
+    if (done == 40) stop.RequestStop();  // a chunk is 128 rollouts: this is the middle of one
+  };
+  std::vector<long> emitted;
+  {
+    StoredRun run = OpenStoredRun(db, false, info);
+    EXPECT_THROW(Rollout(
+                     humanoid_, stopped,
+                     [&](const RolloutResult& r) {
+                       emitted.push_back(r.index);
+                       run.store->Add(run.id, r);
+                     },
+                     stop.token()),
+                 Interrupted);
+    run.store->Commit();
+  }
+  ASSERT_GE(emitted.size(), 40u);
+  ASSERT_LT(emitted.size(), 300u);
+  // every rollout that finished was emitted, in increasing index order (gaps allowed)
+  EXPECT_EQ(static_cast<long>(emitted.size()), finished.load());
+  EXPECT_TRUE(std::is_sorted(emitted.begin(), emitted.end()));
+  // and stored
+  StoredRun resumed = OpenStoredRun(db, true, info);
+  EXPECT_EQ(resumed.done, emitted);
+
+  // the rest, resumed, completes the batch: every row as the uninterrupted batch's
+  RolloutSpec rest = spec;
+  rest.skip = resumed.done;
+  Rollout(humanoid_, rest, [&](const RolloutResult& r) { resumed.store->Add(resumed.id, r); });
+  CompleteStoredRun(resumed, spec.count);
+  std::vector<RolloutResult> stored = resumed.store->Results(resumed.id);
+  ASSERT_EQ(stored.size(), whole.size());
+  std::sort(stored.begin(), stored.end(),
+            [](const RolloutResult& a, const RolloutResult& b) { return a.index < b.index; });
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    SCOPED_TRACE(i);
+    ASSERT_EQ(stored[i].index, whole[i].index);
+    ASSERT_EQ(stored[i].metrics.size(), 1u);
+    EXPECT_TRUE(BitEqual(stored[i].metrics[0], whole[i].metrics[0]));
+    EXPECT_TRUE(BitEqual(stored[i].params[0], whole[i].params[0]));
+    EXPECT_EQ(stored[i].diverged, whole[i].diverged);
+  }
 }
 
 }  // namespace

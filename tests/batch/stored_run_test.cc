@@ -91,5 +91,16 @@ TEST(StoredRunTest, AFirstAttemptThatResumesStartsTheBatch) {
   }
 }
 
+// What a stopped batch says is written once, for the CLI and Python alike; only the words for
+// going on are each front end's.
+TEST(StoredRunTest, AStoppedBatchSaysWhatFinishedAndHowToGoOn) {
+  EXPECT_EQ(StoppedBatchMessage("interrupted after 12 rollouts", "12 rollouts finished", "r.sqlite",
+                                "call it again with resume=True"),
+            "interrupted after 12 rollouts; 12 rollouts finished and stored in 'r.sqlite': call it "
+            "again with resume=True to go on");
+  EXPECT_EQ(StoppedBatchMessage("interrupted after 3 of 9 cases", "3 cases finished", "", "x"),
+            "interrupted after 3 of 9 cases; 3 cases finished");
+}
+
 }  // namespace
 }  // namespace plumb

@@ -11,6 +11,7 @@
 
 #include "fixture.h"
 #include "plumb/error.h"
+#include "plumb/stop.h"
 
 namespace plumb {
 namespace {
@@ -118,6 +119,50 @@ TEST_F(WorkerPoolTest, ResultsStreamOnTheCallingThreadAsTheyFinish) {
     // with two threads, when a result leaves depends on how the jobs were shared
     if (threads == 1) {
       for (long i = 0; i < 64; ++i) EXPECT_EQ(started_at_emit[i], i + 1) << "result " << i;
+    }
+  }
+}
+
+// A stop asked in the middle of a chunk: the jobs not started are skipped (no worker is made
+// for them, and no job runs), the running ones end, and with OnStop::kEveryFinished every
+// job that finished is emitted, those after the first unfinished one last.
+TEST_F(WorkerPoolTest, AStopSkipsTheJobsNotStartedAndEmitsEveryFinishedOne) {
+  Model model = Model::Load(testing::kPendulum);
+  for (auto on_stop : {WorkerPool::OnStop::kEveryFinished, WorkerPool::OnStop::kInOrderOnly}) {
+    WorkerPool pool(model, 2);
+    StopSource stop;
+    std::atomic<long> calls{0};
+    std::vector<std::atomic<bool>> done(64);
+    WorkerPool::Job<long> job = [&](WorkerPool::Worker&, long index, long* out) {
+      if (++calls == 6) {  // the sixth job to start asks to stop and is abandoned
+        stop.RequestStop();
+        return false;
+      }
+      *out = index;
+      done[index] = true;
+      return true;
+    };
+    long next = 0;
+    std::vector<long> emitted;
+    EXPECT_THROW(pool.Stream<long>(
+                     64,
+                     [&](std::vector<long>* chunk) {
+                       for (; next < 64 && chunk->size() < 64; ++next) chunk->push_back(next);
+                     },
+                     job, [&](const long& i) { emitted.push_back(i); }, stop.token(),
+                     [] { return Interrupted("stopped"); }, on_stop),
+                 Interrupted);
+    // the six jobs, and at most one more the other thread had begun before the stop
+    EXPECT_LE(calls.load(), 7);
+    std::vector<long> finished;
+    for (long i = 0; i < 64; ++i) {
+      if (done[i]) finished.push_back(i);
+    }
+    if (on_stop == WorkerPool::OnStop::kEveryFinished) {
+      EXPECT_EQ(emitted, finished);
+    } else {  // only those before the first unfinished job
+      for (std::size_t i = 0; i < emitted.size(); ++i) EXPECT_EQ(emitted[i], static_cast<long>(i));
+      EXPECT_LE(emitted.size(), finished.size());
     }
   }
 }
