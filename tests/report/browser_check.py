@@ -137,10 +137,16 @@ def main():
         print(f"browser_check: {CHROMIUM} is missing: apt-get install chromium", file=sys.stderr)
         return 1
     failed = False
-    with tempfile.TemporaryDirectory(prefix="plumb-chromium-") as profile, sync_playwright() as p:
+    with tempfile.TemporaryDirectory(prefix="plumb-chromium-") as scratch, sync_playwright() as p:
+        # Chromium keeps its crash reporter's settings in $XDG_CONFIG_HOME/chromium and more
+        # below $HOME: both point into the scratch folder, so the test writes nothing in the
+        # user's home (CI lists what a test run writes: scripts/list-created-files.sh)
+        home = os.path.join(scratch, "home")
+        env = dict(os.environ, HOME=home, XDG_CONFIG_HOME=os.path.join(home, ".config"),
+                   XDG_CACHE_HOME=os.path.join(home, ".cache"))
         context = p.chromium.launch_persistent_context(
-            profile, executable_path=CHROMIUM, args=FLAGS, headless=True,
-            viewport={"width": 1280, "height": 900})
+            os.path.join(scratch, "profile"), executable_path=CHROMIUM, args=FLAGS,
+            headless=True, viewport={"width": 1280, "height": 900}, env=env)
         for path in sys.argv[1:]:
             problems = check(context, path) if os.path.isfile(path) else ["no such file"]
             for problem in problems:
