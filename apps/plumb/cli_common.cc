@@ -304,75 +304,76 @@ std::string Suggestion(const std::string& word, const std::vector<std::string>& 
   for (const std::string& n : Closest(word, candidates)) quoted.push_back("'" + n + "'");
   return quoted.empty() ? "" : "; did you mean " + Join(quoted, " or ") + "?";
 }
+
+// An integer option takes an integer in any number notation (CheckNumberOptions).
+void AcceptIntegerNotation(CLI::Option* opt, bool is_unsigned) {
+  opt->transform(CLI::Validator(
+      [is_unsigned](std::string& text) -> std::string {
+        std::string kind = is_unsigned ? "a non-negative integer" : "an integer";
+        std::optional<double> v = ParseNumber(text);
+        if (!v || !std::isfinite(*v) || std::floor(*v) != *v) {
+          return "takes " + kind + ", not '" + text + "'";
+        }
+        if (is_unsigned && (*v < 0 || text.find('-') == 0)) {
+          return "takes " + kind + ", not '" + text + "'";
+        }
+        // digits go to CLI11 without leading zeros (which it would read as octal: "010"
+        // is 10, not 8) and otherwise unchanged, so its range checks see every digit; an
+        // exact integer in other notation ("1e3", "100.0") is rewritten as its digits
+        bool digits = text.find_first_not_of("+-0123456789") == std::string::npos;
+        if (digits) {
+          std::size_t sign = text[0] == '+' || text[0] == '-' ? 1 : 0;
+          std::size_t first = text.find_first_not_of('0', sign);
+          text = text.substr(0, sign) + (first == std::string::npos ? "0" : text.substr(first));
+          // beyond 64 bits CLI11's conversion saturates (every larger seed would become
+          // 2^64 - 1): refuse what does not fit instead
+          bool negative = text[0] == '-';
+          std::string magnitude = text.substr(sign);
+          std::string limit = is_unsigned ? "18446744073709551615"
+                              : negative  ? "9223372036854775808"
+                                          : "9223372036854775807";
+          if (magnitude.size() > limit.size() ||
+              (magnitude.size() == limit.size() && magnitude > limit)) {
+            return "takes " + kind + " from " +
+                   (is_unsigned ? std::string("0 to 18446744073709551615")
+                                : std::string("-9223372036854775808 to 9223372036854775807")) +
+                   ", not '" + text + "'";
+          }
+        } else {
+          if (std::fabs(*v) > 9007199254740992.0) {
+            return "takes " + kind + ": '" + text + "' is too large to be exact; write its digits";
+          }
+          text = fmt::format("{:.0f}", *v);
+        }
+        return "";
+      },
+      "", ""));
+}
+
+// A floating-point option refuses NaN: CLI11 reads "nan" as a number, and NaN passes every
+// `x < 0` or `x > hi` check after it.
+void RefuseNotANumber(CLI::Option* opt) {
+  opt->transform(CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::optional<double> v = ParseNumber(text);
+        return v && std::isnan(*v) ? "takes a number, not '" + text + "'" : "";
+      },
+      "", ""));
+}
+
 }  // namespace
 
-void AcceptIntegerNotation(CLI::App* app) {
+void CheckNumberOptions(CLI::App* app) {
   for (CLI::App* sub : app->get_subcommands(std::function<bool(CLI::App*)>())) {
-    AcceptIntegerNotation(sub);
+    CheckNumberOptions(sub);
   }
   for (CLI::Option* opt : app->get_options()) {
     std::string type = opt->get_type_name();
-    bool is_unsigned = type.rfind("UINT", 0) == 0;
-    if (!is_unsigned && type.rfind("INT", 0) != 0) continue;
-    std::string name = opt->get_name();
-    opt->transform(CLI::Validator(
-        [name, is_unsigned](std::string& text) -> std::string {
-          std::string kind = is_unsigned ? "a non-negative integer" : "an integer";
-          std::optional<double> v = ParseNumber(text);
-          if (!v || !std::isfinite(*v) || std::floor(*v) != *v) {
-            return "takes " + kind + ", not '" + text + "'";
-          }
-          if (is_unsigned && (*v < 0 || text.find('-') == 0)) {
-            return "takes " + kind + ", not '" + text + "'";
-          }
-          // digits go to CLI11 without leading zeros (which it would read as octal: "010"
-          // is 10, not 8) and otherwise unchanged, so its range checks see every digit; an
-          // exact integer in other notation ("1e3", "100.0") is rewritten as its digits
-          bool digits = text.find_first_not_of("+-0123456789") == std::string::npos;
-          if (digits) {
-            std::size_t sign = text[0] == '+' || text[0] == '-' ? 1 : 0;
-            std::size_t first = text.find_first_not_of('0', sign);
-            text = text.substr(0, sign) + (first == std::string::npos ? "0" : text.substr(first));
-            // beyond 64 bits CLI11's conversion saturates (every larger seed would become
-            // 2^64 - 1): refuse what does not fit instead
-            bool negative = text[0] == '-';
-            std::string magnitude = text.substr(sign);
-            std::string limit = is_unsigned ? "18446744073709551615"
-                                : negative  ? "9223372036854775808"
-                                            : "9223372036854775807";
-            if (magnitude.size() > limit.size() ||
-                (magnitude.size() == limit.size() && magnitude > limit)) {
-              return "takes " + kind + " from " +
-                     (is_unsigned ? std::string("0 to 18446744073709551615")
-                                  : std::string("-9223372036854775808 to 9223372036854775807")) +
-                     ", not '" + text + "'";
-            }
-          } else {
-            if (std::fabs(*v) > 9007199254740992.0) {
-              return "takes " + kind + ": '" + text +
-                     "' is too large to be exact; write its digits";
-            }
-            text = fmt::format("{:.0f}", *v);
-          }
-          return "";
-        },
-        "", ""));
-  }
-}
-
-void RefuseNotANumber(CLI::App* app) {
-  for (CLI::App* sub : app->get_subcommands(std::function<bool(CLI::App*)>())) {
-    RefuseNotANumber(sub);
-  }
-  for (CLI::Option* opt : app->get_options()) {
-    if (opt->get_type_name().rfind("FLOAT", 0) != 0) continue;
-    // CLI11 reads "nan" as a number, and NaN passes every `x < 0` or `x > hi` check after it
-    opt->transform(CLI::Validator(
-        [](std::string& text) -> std::string {
-          std::optional<double> v = ParseNumber(text);
-          return v && std::isnan(*v) ? "takes a number, not '" + text + "'" : "";
-        },
-        "", ""));
+    if (type.rfind("UINT", 0) == 0 || type.rfind("INT", 0) == 0) {
+      AcceptIntegerNotation(opt, type.rfind("UINT", 0) == 0);
+    } else if (type.rfind("FLOAT", 0) == 0) {
+      RefuseNotANumber(opt);
+    }
   }
 }
 

@@ -173,15 +173,14 @@ void SetupReplayCommand(CLI::App& app, Context& ctx);
 void SetupIdentifyCommand(CLI::App& app, Context& ctx);
 void SetupHelpCommand(CLI::App& app, Context& ctx);  // the manual's pages, docs/*.md
 
-// Makes every integer option of `app` and of its subcommands take an integer written in any
-// number notation ("--count 1e3" is 1000) and refuse anything else with the option's name
-// ("--count takes an integer, not '1.5'"; unsigned options also refuse negative values).
+// Checks the numbers of every option of `app` and of its subcommands, in one walk:
+// - an integer option takes an integer written in any number notation ("--count 1e3" is
+//   1000) and refuses anything else with the option's name ("--count takes an integer, not
+//   '1.5'"; unsigned options also refuse negative values);
+// - a floating-point option refuses NaN ("--every: takes a number, not 'nan'"), which no
+//   option means (the library refuses NaN too: its checks are written !(x >= 0)).
 // Call once, after every subcommand is set up.
-void AcceptIntegerNotation(CLI::App* app);
-// Makes every floating-point option of `app` and of its subcommands refuse NaN ("--every:
-// takes a number, not 'nan'"), which no option means. Call once, after every subcommand is
-// set up; the library refuses NaN too (its checks are written !(x >= 0)).
-void RefuseNotANumber(CLI::App* app);
+void CheckNumberOptions(CLI::App* app);
 
 // Why `args` (the command line without the program name) failed to parse, said for a
 // user: an unknown command or option with the nearest valid names, or an option that takes

@@ -52,8 +52,7 @@ int main(int argc, char** argv) {
   SetupResultsCommand(app, ctx);
   SetupMergeCommand(app, ctx);
   SetupHelpCommand(app, ctx);
-  AcceptIntegerNotation(&app);
-  RefuseNotANumber(&app);
+  CheckNumberOptions(&app);
 
   plumb::MpiInit(&argc, &argv);
   struct Finalize {
