@@ -14,7 +14,6 @@
 namespace plumb::python {
 namespace {
 
-
 // The exception classes, made once by BindErrors (module state lives as long as the module).
 struct ErrorTypes {
   PyObject* error = nullptr;
@@ -51,16 +50,21 @@ PyObject* NewError(nb::module_& m, const char* name, nb::handle bases, const cha
 // The Python type of `value`, for a TypeError: "bytes", "list", ...
 std::string TypeName(nb::handle value) { return nb::type_name(value.type()).c_str(); }
 
-// What a TypeError adds for bytes, which plumb never takes for text or paths.
+// bytes or bytearray, which plumb never takes for text or paths
+bool IsBytes(nb::handle value) {
+  return PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr());
+}
+
+// What a TypeError adds for bytes.
 std::string BytesAdvice(nb::handle value) {
-  return PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr())
+  return IsBytes(value)
              ? " (decode bytes first: os.fsdecode(value) for a path, value.decode() for text)"
              : "";
 }
 
 std::string ValueText(nb::handle value, const char* argument) {
   if (nb::isinstance<nb::str>(value)) return nb::cast<std::string>(value);
-  if (PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr())) {
+  if (IsBytes(value)) {
     throw nb::type_error(fmt::format("{}: a value must be a number, a string or a sequence of "
                                      "numbers, not {}{}",
                                      argument, TypeName(value), BytesAdvice(value))
@@ -157,7 +161,7 @@ std::vector<std::string> SetTexts(nb::handle set) {
     }
     return out;
   }
-  if (!PyBytes_Check(set.ptr()) && !PyByteArray_Check(set.ptr()) && nb::hasattr(set, "__iter__")) {
+  if (!IsBytes(set) && nb::hasattr(set, "__iter__")) {
     for (nb::handle item : set) {
       if (!nb::isinstance<nb::str>(item)) {
         throw nb::type_error(fmt::format("set: each item of a list must be a 'PATH=VALUE' "
@@ -178,8 +182,7 @@ std::vector<std::string> SetTexts(nb::handle set) {
 std::string QposText(QposArg qpos) {
   if (qpos.object.is_none()) return "";
   if (nb::isinstance<nb::str>(qpos.object)) return nb::cast<std::string>(qpos.object);
-  if (PyBytes_Check(qpos.object.ptr()) || PyByteArray_Check(qpos.object.ptr()) ||
-      !nb::hasattr(qpos.object, "__iter__")) {
+  if (IsBytes(qpos.object) || !nb::hasattr(qpos.object, "__iter__")) {
     throw nb::type_error(fmt::format("qpos: expected a string of nq numbers or a sequence of "
                                      "numbers, not {}{}",
                                      TypeName(qpos.object), BytesAdvice(qpos.object))
@@ -199,8 +202,7 @@ std::vector<std::string> StringList(nb::handle value, const char* argument) {
                                       argument, what, TypeName(wrong), BytesAdvice(wrong))
                               .c_str());
   };
-  if (PyBytes_Check(value.ptr()) || PyByteArray_Check(value.ptr()) ||
-      !nb::hasattr(value, "__iter__")) {
+  if (IsBytes(value) || !nb::hasattr(value, "__iter__")) {
     throw refuse(value, "not ");
   }
   for (nb::handle item : value) {
