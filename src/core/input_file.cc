@@ -93,6 +93,10 @@ std::string ReadInputFile(const std::string& path, InputKind kind) {
                    Article(info.name) + " only from a regular file. Give " + info.give +
                    (S_ISFIFO(mode) ? "; write what the pipe carries to a file first." : "."));
   };
+  auto unreadable = [&](int error) {
+    return IoError(std::string("cannot read the ") + info.name + " '" + path + "' (" +
+                   std::strerror(error) + ").");
+  };
   // non-blocking: opening a FIFO waits for a writer otherwise, and no signal would end it
   Descriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
   if (fd.get() < 0) {
@@ -104,14 +108,10 @@ std::string ReadInputFile(const std::string& path, InputKind kind) {
       throw IoError(std::string("no ") + info.name + " '" + path + "' (" + std::strerror(error) +
                     "): check the path (a relative one starts at the current directory).");
     }
-    throw IoError(std::string("cannot read the ") + info.name + " '" + path + "' (" +
-                  std::strerror(error) + ").");
+    throw unreadable(error);
   }
   struct stat st;
-  if (::fstat(fd.get(), &st) != 0) {
-    throw IoError(std::string("cannot read the ") + info.name + " '" + path + "' (" +
-                  std::strerror(errno) + ").");
-  }
+  if (::fstat(fd.get(), &st) != 0) throw unreadable(errno);
   if (!S_ISREG(st.st_mode)) throw not_a_file(st.st_mode);
   auto too_big = [&](std::size_t size, bool or_more) {
     return IoError(
@@ -132,10 +132,7 @@ std::string ReadInputFile(const std::string& path, InputKind kind) {
     if (used == text.size()) text.resize(std::min(text.size() * 2, info.cap + 1));
     ssize_t n = ::read(fd.get(), &text[used], text.size() - used);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      throw IoError(std::string("cannot read the ") + info.name + " '" + path + "' (" +
-                    std::strerror(errno) + ").");
-    }
+    if (n < 0) throw unreadable(errno);
     if (n == 0) break;
     used += static_cast<std::size_t>(n);
     if (used > info.cap) throw too_big(used, true);
