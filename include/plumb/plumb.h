@@ -16,6 +16,7 @@
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 #include "plumb/sleep.h"
 #include "plumb/statistics.h"

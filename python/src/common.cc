@@ -30,6 +30,29 @@ struct ErrorTypes {
 };
 ErrorTypes g_errors;
 
+// The warning classes, one per notice topic (plumb/notice.h), made once by BindErrors.
+struct WarningTypes {
+  PyObject* base = nullptr;  // plumb.PlumbWarning, for kOther
+  PyObject* compile = nullptr;
+  PyObject* start = nullptr;
+  PyObject* log = nullptr;
+  PyObject* batch = nullptr;
+  PyObject* model = nullptr;
+};
+WarningTypes g_warnings;
+
+PyObject* WarningType(NoticeTopic topic) {
+  switch (topic) {
+    case NoticeTopic::kCompile: return g_warnings.compile;
+    case NoticeTopic::kStart: return g_warnings.start;
+    case NoticeTopic::kLog: return g_warnings.log;
+    case NoticeTopic::kBatch: return g_warnings.batch;
+    case NoticeTopic::kModel: return g_warnings.model;
+    case NoticeTopic::kOther: break;
+  }
+  return g_warnings.base;
+}
+
 // Raises `type`(message) with the given attributes set on the instance.
 void Raise(PyObject* type, const char* message,
            const std::vector<std::pair<const char*, std::string>>& attributes = {}) {
@@ -281,8 +304,49 @@ nb::object Array(const std::vector<double>& values) {
   return OwnedArray(std::vector<double>(values), {values.size()});
 }
 
+void IssueNotice(const Notice& notice) {
+  // stacklevel 2: the warning points at the user's line that made the plumb call
+  if (PyErr_WarnEx(WarningType(notice.topic), notice.Line().c_str(), 2) != 0) {
+    throw nb::python_error();
+  }
+}
+
+void CallNotices::Issue() {
+  std::vector<Notice> notices = notices_.all();
+  while (issued_ < notices.size()) IssueNotice(notices[issued_++]);
+}
+
+CallNotices::~CallNotices() {
+  if (issued_ == notices_.all().size()) return;
+  nb::gil_scoped_acquire acquire;  // a no-op when the caller holds it, as it does here
+  // the call's own error, if one is being raised, is not set in Python yet (nanobind
+  // translates it later); a warning filter's error must not be left pending in its place
+  try {
+    Issue();
+  } catch (nb::python_error& e) {
+    e.discard_as_unraisable("plumb: a warning filter raised while a plumb call failed");
+  }
+}
+
 void BindErrors(nb::module_& m) {
   nb::handle builtins = nb::module_::import_("builtins");
+  g_warnings.base = NewError(m, "PlumbWarning", PyExc_UserWarning,
+                               "Base of every warning, note and hint a plumb call gives (the "
+                               "lines the plumb command prints on stderr); the call's result "
+                               "keeps them too (.notes).");
+  g_warnings.compile = NewError(m, "CompileWarning", g_warnings.base,
+                                  "MuJoCo's compiler or loader said something about the model.");
+  g_warnings.start = NewError(m, "StartWarning", g_warnings.base,
+                                "A start value the model changes (a ctrl outside its ctrlrange, "
+                                "which MuJoCo clamps).");
+  g_warnings.log = NewError(m, "LogWarning", g_warnings.base,
+                              "A robot log: a last line cut short, a column left out.");
+  g_warnings.batch = NewError(m, "BatchWarning", g_warnings.base,
+                                "A rollout, sweep or identify run: resumed, stopped, cases "
+                                "skipped or unmeasured.");
+  g_warnings.model = NewError(m, "ModelWarning", g_warnings.base,
+                                "The model as a check reads it (a randomized field that "
+                                "changes nothing).");
   g_errors.error = NewError(m, "Error", PyExc_Exception,
                             "Base of every error plumb raises for bad input or a failed run: the "
                             "message says what failed, where, and what to do.");
@@ -343,6 +407,20 @@ void BindErrors(nb::module_& m) {
 }
 
 void BindCore(nb::module_& m) {
+  nb::class_<Notice>(m, "Notice",
+                     "What a call said besides its result (a result's .notes): the lines the "
+                     "plumb command prints on stderr, each also issued as a plumb.PlumbWarning.")
+      .def_prop_ro(
+          "level", [](const Notice& n) { return std::string(LevelName(n.level)); },
+          "'warning', 'note' or 'hint'")
+      .def_prop_ro(
+          "topic", [](const Notice& n) { return std::string(TopicName(n.topic)); },
+          "'compile', 'start', 'log', 'batch', 'model' or 'other' (the warning class)")
+      .def_ro("subject", &Notice::subject, "the file or option it is about, or ''")
+      .def_ro("text", &Notice::text)
+      .def("__str__", &Notice::Line)
+      .def("__repr__", [](const Notice& n) { return "<plumb.Notice " + n.Line() + ">"; });
+
   nb::enum_<CheckStatus>(m, "Status", "A check row's verdict.")
       .value("PASS", CheckStatus::kPass)
       .value("WARN", CheckStatus::kWarn)

@@ -32,6 +32,7 @@
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 #include "plumb/report.h"
 #include "plumb/stop.h"
@@ -237,6 +238,37 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
   if (error) std::rethrow_exception(error);
   return std::move(*result);
 }
+
+// The notices of one call (plumb/notice.h): give sink() to the library call; when the call
+// returns, Issue() hands each notice to Python's `warnings` with plumb's class for its topic
+// (plumb.CompileWarning, plumb.StartWarning, plumb.LogWarning, plumb.BatchWarning,
+// plumb.ModelWarning, else plumb.PlumbWarning; all subclasses of plumb.PlumbWarning, a
+// UserWarning), its message Notice::Line(), and all() keeps them for the result's `.notes`.
+// A notice added while the call runs on another thread (RunLong) waits for Issue(), which
+// needs the GIL. Notices not issued when this is destroyed (the call raised) are issued then,
+// so a warning that came before an error is still heard; a warning filter that turns one into
+// an error then is dropped, as the call's own error stands.
+class CallNotices {
+ public:
+  CallNotices() = default;
+  CallNotices(const CallNotices&) = delete;
+  CallNotices& operator=(const CallNotices&) = delete;
+  ~CallNotices();
+
+  Notices* sink() { return &notices_; }
+  // Issues the notices not issued yet. @throws nb::python_error when a warning filter turned
+  // one into an error (warnings.simplefilter("error")).
+  void Issue();
+  std::vector<Notice> all() const { return notices_.all(); }
+
+ private:
+  Notices notices_;
+  std::size_t issued_ = 0;
+};
+
+// Issues `notice` through Python's `warnings` (the GIL held). @throws nb::python_error when a
+// warning filter turned it into an error.
+void IssueNotice(const Notice& notice);
 
 // A file argument: str or os.PathLike (pathlib.Path) whose os.fspath is a str. TypeError
 // naming `argument` for anything else (bytes, a list, a number); plumb.ArgumentError for a
