@@ -243,6 +243,10 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
   return kExitBadInput;
 }
 
+void PrintNotice(const Notice& notice) {
+  std::fprintf(stderr, "plumb: %s\n", notice.Line().c_str());
+}
+
 Model LoadModel(const std::string& path) {
   Model model = Model::Load(path);
   if (!model.compile_warnings().empty()) {

@@ -16,6 +16,7 @@
 #include "io/output_path.h"
 #include "plumb/check_table.h"
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 #include "plumb/rollout.h"
 #include "plumb/stop.h"
@@ -95,6 +96,17 @@ std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& po
 
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";
+
+// Prints a notice as the plumb command says everything besides its result: "plumb: " and
+// Notice::Line() on stderr ("plumb: warning: models/g1.xml: ...").
+void PrintNotice(const Notice& notice);
+
+// The channel a command gives a library call: each notice printed as it comes; all() keeps
+// them for a JSON document.
+class PrintedNotices : public Notices {
+ public:
+  PrintedNotices() : Notices(PrintNotice) {}
+};
 
 // Prints an assignment's warnings (Assignment::warnings) on stderr, naming it as the user
 // wrote it: "plumb: warning: --set 'ctrl[hip]=5': ...".

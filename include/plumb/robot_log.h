@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 
 namespace plumb {
@@ -75,10 +76,11 @@ RobotLog LoadRobotLog(const Model& model, const std::string& path, double timest
                       const ColumnMap& map = {});
 
 // Every log of `paths` at the model's timestep, with the column map at `column_map` (none when
-// empty) applied to each. A log whose last line was cut short says so (last_line_cut).
+// empty) applied to each. A log whose last line was cut short says so (last_line_cut), and
+// gets a note (NoticeTopic::kLog) in `notices` when given.
 // @throws as LoadColumnMap and LoadRobotLog do.
 std::vector<RobotLog> LoadRobotLogs(const Model& model, const std::vector<std::string>& paths,
-                                    const std::string& column_map);
+                                    const std::string& column_map, Notices* notices = nullptr);
 
 }  // namespace plumb
 

@@ -287,12 +287,16 @@ ColumnMap LoadColumnMap(const std::string& path) {
 }
 
 std::vector<RobotLog> LoadRobotLogs(const Model& model, const std::vector<std::string>& paths,
-                                    const std::string& column_map) {
+                                    const std::string& column_map, Notices* notices) {
   ColumnMap map;
   if (!column_map.empty()) map = LoadColumnMap(column_map);
   std::vector<RobotLog> logs;
   for (const std::string& path : paths) {
     logs.push_back(LoadRobotLog(model, path, model->opt.timestep, map));
+    if (!logs.back().last_line_cut) continue;
+    AddTo(notices, {NoticeLevel::kNote, NoticeTopic::kLog, logs.back().source,
+                    "the last line is cut short (the bridge was killed while writing it); it is "
+                    "left out"});
   }
   return logs;
 }
