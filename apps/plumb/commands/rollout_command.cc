@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <utility>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -17,6 +18,7 @@
 #include "cli_common.h"
 #include "core/strings.h"
 #include "plumb/batch.h"
+#include "plumb/batch_job.h"
 #include "plumb/error.h"
 #include "plumb/mpi_rollout.h"
 #include "plumb/report.h"
@@ -49,12 +51,8 @@ struct RolloutOptions {
   std::string report;  // --report FILE.html
 };
 
-// --shard I/N, or the Slurm job array's task id and count when --shard is absent.
-void ShardFromOptions(const std::string& text, RolloutSpec* spec) {
-  if (!text.empty()) {
-    ParseShard(text, spec);
-    return;
-  }
+// The Slurm job array's task id and count as the shard, when --shard is absent.
+void ShardFromSlurm(RolloutSpec* spec) {
   // array ids run from SLURM_ARRAY_TASK_MIN (often 1, as in --array=1-8), not from 0
   const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
   const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
@@ -82,33 +80,32 @@ void ShardFromOptions(const std::string& text, RolloutSpec* spec) {
 RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
   RolloutSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
-  for (const std::string& r : o.randomize) spec.randomize.push_back(ParseRandomization(model, r));
-  for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.count = o.count;
   spec.until = o.until;
   spec.threads = o.threads;
   spec.seed = o.seed;
   spec.ctrl_noise = o.ctrl_noise;
-  ShardFromOptions(o.shard, &spec);
-  ValidateRolloutSpec(model, spec);
-  return spec;
+  if (o.shard.empty()) ShardFromSlurm(&spec);
+  return ParseRolloutSpec(model, spec, {o.randomize, {}, o.metrics, o.shard});
 }
 
-// The results store: a new run, or the same run continued with --resume. Under MPI the
-// other ranks wait for rank 0 to get this far (an error here must not leave them waiting).
-StoredRun OpenRolloutStore(const RolloutOptions& o, const Context& ctx, const Model& model,
-                           const RolloutSpec& spec) {
-  StoredRun stored;
+// The batch in its results store: a new run, or the same run continued with --resume. Under
+// MPI the other ranks wait for rank 0 to get this far (an error here must not leave them
+// waiting).
+BatchJob OpenRolloutJob(const RolloutOptions& o, const Context& ctx, const Model& model,
+                        const RolloutSpec& spec, Notices& notices) {
+  std::optional<BatchJob> job;
   try {
     BatchOrigin origin{o.model, ctx.argv,
                        StartConfig(model, {o.keyframe, o.pose.file, o.pose.qpos, o.sets})};
-    stored = OpenBatchStore(o.db, o.resume, RolloutRunInfo(model, spec, origin, o.db));
+    job.emplace(o.db, o.resume, RolloutRunInfo(model, spec, origin, o.db), CliBatchWords(),
+                &notices);
   } catch (...) {
     MpiGo(false);
     throw;
   }
   MpiGo(true);
-  return stored;
+  return std::move(*job);
 }
 
 // The rows as table, CSV or JSON, reaching stdout as they finish, in order (at most ten
@@ -232,14 +229,14 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     MpiRollout(model, spec, {}, nullptr, CommandStop().token());
     return kExitOk;
   }
-  StoredRun stored = OpenRolloutStore(o, ctx, model, spec);
-  spec.skip = stored.done;
+  BatchNotices notices;
+  BatchJob job = OpenRolloutJob(o, ctx, model, spec, notices);
+  spec.skip = job.done();
   // from here on an error on rank 0 stops every rank (see main)
   long total = ShardToRun(spec);  // counted, not listed: --count 2^53 starts at once
   ProgressBar progress(total, "rollouts");
+  notices.Show(&progress);
   RolloutWriter writer(o.format, params, o.metrics, progress);
-  // the summary: every row of the shard, stored before a --resume or run now
-  BatchSummary tally(spec.metrics.size());
   std::optional<BatchCollector> batch;
   ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
@@ -247,39 +244,29 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     info.nominal_until = o.until;
     info.ahead = StartPictures(model, spec.sets, info);  // drawn while the rollouts run
   }
-  if (stored.store && !spec.skip.empty()) {
-    stored.store->ForEachResult(stored.id, [&](const RolloutResult& r) {
-      if (r.index % spec.shard_count != spec.shard_index) return;
-      ++tally.resumed;
-      tally.Add(r);
-      if (batch) batch->Add(r.params, r.metrics, r.diverged);
-    });
-  }
-  auto start = std::chrono::steady_clock::now();
-  EtaNote eta("rollouts", stored.store != nullptr, progress);
-  auto emit = [&](const RolloutResult& r) {
-    ++tally.run_now;
-    eta.See(tally.run_now, total - tally.run_now);
-    tally.Add(r);
+  // the summary: every row of the shard, stored before a --resume or run now
+  job.Resume(ShardSize(spec), InShard(spec), [&](const RolloutResult& r) {
     if (batch) batch->Add(r.params, r.metrics, r.diverged);
-    if (stored.store) stored.store->Add(stored.id, r);
+  });
+  EtaNote eta("rollouts", job.stored(), progress);
+  auto emit = [&](const RolloutResult& r) {
+    job.Add(r);
+    eta.See(job.summary().run_now, total - job.summary().run_now);
+    if (batch) batch->Add(r.params, r.metrics, r.diverged);
     writer.Row(r);
   };
   StopTimer budget(CommandStop(), o.max_seconds);  // --max-seconds
-  KeepFinishedOnStop([&] { RunShard(model, spec, total, progress, emit); }, progress, stored,
-                     [&] { writer.Flush(); },
-                     [&] { return fmt::format("{} rollouts finished", tally.run_now); }, o.db,
-                     budget);
+  KeepFinishedOnStop([&] { RunShard(model, spec, total, progress, emit); }, progress, job,
+                     [&] { writer.Flush(); }, nullptr, budget);
   writer.Finish();
   progress.Finish();
-  CompleteStoredRun(stored, spec.count);
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  job.Complete(spec.count);
   if (batch) {
     WriteBatchReport(o.report, "rollout", model, spec.sets, *batch, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   // the human summary: after the table, or on stderr when stdout carries data
-  std::string summary = tally.Text(o.metrics, "rollouts", seconds);
+  std::string summary = job.summary().Text(o.metrics, job.unit(), job.seconds());
   if (o.format == "table") {
     WriteStdout(summary);
   } else {

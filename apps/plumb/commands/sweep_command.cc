@@ -6,13 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <map>
 #include <optional>
 
 #include "budget.h"
 #include "cli_common.h"
 #include "plumb/batch.h"
+#include "plumb/batch_job.h"
 #include "plumb/error.h"
 #include "plumb/report.h"
 #include "plumb/sample_writer.h"
@@ -149,90 +148,39 @@ class SweepWriter {
   std::vector<int> widths_;
 };
 
-SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model) {
+// The spec, validated before the store and the cost line.
+SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model, Notices& notices) {
   SweepSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
-  for (const std::string& v : o.vary) {
-    spec.axes.push_back(ParseSweepAxis(model, v));
-    WarnAboutAssignment("--vary", v, spec.axes.back().prototype.warnings);
-    for (const Assignment& a : spec.axes.back().listed)
-      WarnAboutAssignment("--vary", v, a.warnings);
-  }
-  for (const std::string& m : o.metrics) spec.metrics.push_back(ParseMetric(model, m));
   spec.threads = o.threads;
   spec.until = o.until;
-  ValidateSweepSpec(model, spec);  // before the store and the cost line
-  return spec;
+  return ParseSweepSpec(model, spec, {{}, o.vary, o.metrics, ""}, CliBatchWords(), &notices);
 }
-
-// The store: a new run, or the same run continued with --resume.
-StoredRun OpenSweepStore(const SweepOptions& o, const Context& ctx, const Model& model,
-                         const SweepSpec& spec) {
-  BatchOrigin origin{o.model, ctx.argv,
-                     StartConfig(model, {o.keyframe, o.pose.file, o.pose.qpos, o.sets})};
-  return OpenBatchStore(o.db, o.resume, SweepRunInfo(model, spec, origin, o.db));
-}
-
-// Measurements that could not be made: each reason said once, as it first happens, and how
-// often it recurred at the end.
-class SweepProblems {
- public:
-  SweepProblems(const std::vector<std::string>& metrics, ProgressBar& progress)
-      : metrics_(metrics), progress_(progress) {}
-
-  void See(const SweepCase& c) {
-    for (std::size_t m = 0; m < c.metrics.size(); ++m) {
-      if (c.metrics[m].ok) continue;
-      ++failed_;
-      auto [it, first] = problems_.try_emplace({m, c.metrics[m].problem}, 0L);
-      ++it->second;
-      if (!first) continue;
-      progress_.Clear();
-      std::fprintf(stderr, "plumb: case %ld, %s: %s\n", c.index, metrics_[m].c_str(),
-                   c.metrics[m].problem.c_str());
-    }
-  }
-
-  void Report(long measurements) const {
-    for (const auto& [key, cases] : problems_) {
-      if (cases < 2) continue;
-      std::fprintf(stderr, "plumb: %s: %ld cases in all could not be measured because '%.60s...'\n",
-                   metrics_[key.first].c_str(), cases, key.second.c_str());
-    }
-    if (failed_ > 0) {
-      std::fprintf(stderr, "plumb: %ld of %ld measurements could not be made (see above)\n",
-                   failed_, measurements);
-    }
-  }
-
- private:
-  const std::vector<std::string>& metrics_;
-  ProgressBar& progress_;
-  long failed_ = 0;
-  std::map<std::pair<std::size_t, std::string>, long> problems_;  // (metric, reason): cases
-};
 
 int RunSweep(const SweepOptions& o, const Context& ctx) {
   RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
-  SweepSpec spec = MakeSweepSpec(o, model);
+  BatchNotices notices;
+  SweepSpec spec = MakeSweepSpec(o, model, notices);
   const long total = CaseCount(spec.axes);
-  StoredRun stored = OpenSweepStore(o, ctx, model, spec);
+  BatchOrigin origin{o.model, ctx.argv,
+                     StartConfig(model, {o.keyframe, o.pose.file, o.pose.qpos, o.sets})};
+  BatchJob job(o.db, o.resume, SweepRunInfo(model, spec, origin, o.db), CliBatchWords(),
+               &notices);
   SweepWriter writer(o, spec);
   std::string header = writer.Header();
   std::size_t row_bytes =
       o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size()) : header.size();
   std::fprintf(stderr, "plumb: %s\n", CostLine(model, o, spec, total, row_bytes).c_str());
-  if (!stored.done.empty()) {
-    std::fprintf(stderr, "plumb: --resume: %zu of %ld cases are stored in '%s'; running the rest\n",
-                 stored.done.size(), total, o.db.c_str());
-  }
-  ProgressBar progress(total - static_cast<long>(stored.done.size()), "cases");
+  SweepNotices said(spec, &notices);
+  job.Resume(total, [](const RolloutResult&) { return true; },
+             [&](const RolloutResult& r) { said.SeeStored(r); });
+  ProgressBar progress(total - static_cast<long>(job.done().size()), "cases");
+  notices.Show(&progress);
   spec.progress = [&](long done, long) { progress.Update(done); };
   // rows reach stdout as they finish, in order, at most ten writes a second
   std::string out = header;
-  auto start = std::chrono::steady_clock::now();
-  auto last_write = start;
+  auto last_write = std::chrono::steady_clock::now();
   auto flush = [&] {
     last_write = std::chrono::steady_clock::now();
     progress.Clear();
@@ -241,8 +189,6 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     WriteStdout(text);
   };
   flush();
-  SweepEffects effect(spec);
-  SweepProblems problems(o.metrics, progress);
   std::optional<BatchCollector> batch;
   ReportInfo info{ctx.argv};
   if (!o.report.empty()) {
@@ -250,33 +196,28 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
     info.nominal_until = o.until > 0 ? o.until : 2.0;
     info.ahead = StartPictures(model, spec.sets, info);  // drawn while the cases run
   }
-  EtaNote eta("cases", stored.store != nullptr, progress);
-  long emitted = 0;
+  EtaNote eta("cases", job.stored(), progress);
   auto emit = [&](const SweepCase& c) {
-    ++emitted;
     RolloutResult row = SweepCaseResult(spec, c);
-    effect.See(row);
-    if (stored.store) stored.store->Add(stored.id, row);
+    job.Add(row);
     out += writer.Row(c);
-    problems.See(c);
+    said.See(c, row);
     if (batch) batch->Add(row.params, row.metrics, row.diverged);
     auto now = std::chrono::steady_clock::now();
-    eta.See(emitted, total - static_cast<long>(stored.done.size()) - emitted);
+    long emitted = job.summary().run_now;
+    eta.See(emitted, total - static_cast<long>(job.done().size()) - emitted);
     if (out.size() > (1 << 16) || now - last_write > std::chrono::milliseconds(100)) flush();
   };
   StopTimer budget(CommandStop(), o.max_seconds);  // --max-seconds
-  KeepFinishedOnStop([&] { Sweep(model, spec, stored.done, emit, CommandStop().token()); },
-                     progress, stored, flush,
-                     [&] { return fmt::format("the {} finished cases were printed", emitted); },
-                     o.db, budget);
+  KeepFinishedOnStop(
+      [&] { Sweep(model, spec, job.done(), emit, CommandStop().token()); }, progress, job, flush,
+      [&] { return fmt::format("the {} finished cases were printed", job.summary().run_now); },
+      budget);
   progress.Finish();
   out += writer.Footer();
   flush();
-  CompleteStoredRun(stored, total);
-  for (const std::string& note : effect.Notes()) {
-    std::fprintf(stderr, "plumb: note: --%s\n", note.c_str());
-  }
-  problems.Report(emitted * static_cast<long>(spec.metrics.size()));
+  job.Complete(total);
+  said.Finish();
   if (batch) {
     WriteBatchReport(o.report, "sweep", model, spec.sets, *batch, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
