@@ -4,6 +4,7 @@
 // way), so --resume and resume=True continue each other's runs.
 
 #include "plumb/batch.h"
+#include "plumb/batch_job.h"
 
 #include <fmt/format.h>
 
@@ -139,6 +140,7 @@ struct Batch {
   BatchSummary summary{0};
   double seconds = 0;              // the cases run now took
   std::vector<std::string> notes;  // a sweep's axes that changed nothing (SweepEffects)
+  std::vector<Notice> said;        // what the call said (.notices), each issued as a warning
   std::string html;                // the report, made on first _repr_html_
 
   // The document `plumb rollout|sweep --format json` prints.
@@ -261,20 +263,6 @@ nb::dict SummaryDict(const Batch& b) {
   return out;
 }
 
-// An ArgumentError of the library named as the Python keyword `keyword` (the library names
-// "metric" for what Python calls metrics, "store" for db); a ValueError parsing `text` becomes
-// one. PathError passes unchanged.
-template <typename Parse>
-auto Keyword(const char* keyword, const std::string& text, Parse&& parse) -> decltype(parse()) {
-  try {
-    return parse();
-  } catch (const ArgumentError& e) {
-    throw ArgumentError(keyword, e.value().empty() ? Quoted(text) : e.value(), e.problem());
-  } catch (const ValueError& e) {
-    throw ArgumentError(keyword, Quoted(text), e.what());
-  }
-}
-
 // The library's argument names that differ from the Python keywords.
 void RenameArgument(const ArgumentError& e) {
   if (e.argument() == "metric") throw ArgumentError("metrics", e.value(), e.problem());
@@ -291,6 +279,9 @@ void WithKeywords(Parse&& parse) {
     throw;
   }
 }
+
+// How the batch job's messages name Python's arguments.
+BatchWords PythonWords() { return {"db", "resume=True", "call it again with resume=True", "vary"}; }
 
 // What a batch call was given, in the CLI's vocabulary.
 struct BatchArgs {
@@ -324,65 +315,35 @@ BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyfra
   return a;
 }
 
-// The batch's place in `a.db` (none without one): the run the config names, begun or resumed.
-StoredRun OpenStore(const BatchArgs& a, const RunInfo& info) {
-  try {
-    return OpenStoredRun(a.db, a.resume, info);
-  } catch (const RunAlreadyStored& e) {
-    throw ArgumentError("db", Quoted(a.db),
-                        fmt::format("the store already holds this run ({} run {}, {} of {} done): "
-                                    "pass resume=True to complete it, or use another db file.",
-                                    e.run().kind, e.run().id, e.done(), e.run().count));
-  } catch (const ArgumentError& e) {
-    RenameArgument(e);
-    throw;
-  }
-}
-
 BatchOrigin Origin(const BatchArgs& a) {
   const Model& model = a.model->model();
   return {a.model->name(), {a.call}, StartConfig(model, a.start)};
 }
 
-// Runs a batch into `batch` with its store (`info` in a.db): first the cases the store holds
-// (`stored` gives each one's unmeasured metrics, or nothing for a case not of this batch), then
-// `run(done, keep)` runs the rest, calling keep with each case as it finishes, which stores it.
-// On a stop (Ctrl-C: the caller raises KeyboardInterrupt with the CLI's message) what finished
-// is committed to the store; at the end the run is marked complete when it holds all `total`
-// cases.
-template <typename FromStore, typename Run>
-void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, long total, FromStore&& stored,
-              Run&& run) {
-  batch.summary = BatchSummary(batch.metrics.size());
+// Runs a batch into `batch` as the library's job (plumb/batch_job.h) with its store (`info` in
+// a.db), saying what it says to `notices`: first the cases of `shard_total` the store holds
+// that are `mine` (`unmeasured` gives each one's unmeasured metrics), then `run(done, keep)`
+// runs the rest, calling keep with each case as it finishes, which stores it. On a stop
+// (Ctrl-C: the caller raises KeyboardInterrupt with the job's message) what finished is
+// committed to the store; at the end the run is marked complete when it holds every case.
+template <typename Run>
+void RunBatch(Batch& batch, const BatchArgs& a, const RunInfo& info, Notices* notices,
+              long shard_total, const std::function<bool(const RolloutResult&)>& mine,
+              const std::function<Unmeasured(const RolloutResult&)>& unmeasured, Run&& run) {
   batch.rows.Resize(batch.parameters.size(), batch.metrics.size());
-  StoredRun store = OpenStore(a, info);
-  if (store.store && !store.done.empty()) {
-    store.store->ForEachResult(store.id, [&](const RolloutResult& r) {
-      std::optional<Unmeasured> unmeasured = stored(r);
-      if (!unmeasured) return;
-      ++batch.summary.resumed;
-      batch.summary.Add(r);
-      batch.rows.Add(r, *unmeasured);
-    });
-  }
-  auto start = std::chrono::steady_clock::now();
-  try {
-    run(store.done, Keep([&](const RolloutResult& r, const Unmeasured& unmeasured) {
-          ++batch.summary.run_now;
-          batch.summary.Add(r);
-          if (store.store) store.store->Add(store.id, r);
-          batch.rows.Add(r, unmeasured);
+  std::optional<BatchJob> job;
+  WithKeywords([&] { job.emplace(a.db, a.resume, info, PythonWords(), notices); });
+  job->Resume(shard_total, mine,
+              [&](const RolloutResult& r) { batch.rows.Add(r, unmeasured(r)); });
+  job->Run([&] {
+    run(job->done(), Keep([&](const RolloutResult& r, const Unmeasured& u) {
+          job->Add(r);
+          batch.rows.Add(r, u);
         }));
-  } catch (const Interrupted& e) {
-    // every case that finished is stored (the pool emits those past the first unfinished one)
-    if (store.store) store.store->Commit();
-    std::string finished = fmt::format("{} {} finished", batch.summary.run_now,
-                                       batch.kind == "rollout" ? "rollouts" : "cases");
-    throw Interrupted(StoppedBatchMessage(e.what(), finished, store.store ? a.db : "",
-                                          "call it again with resume=True"));
-  }
-  batch.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  CompleteStoredRun(store, total);
+  });
+  job->Complete(info.count);
+  batch.summary = job->summary();
+  batch.seconds = job->seconds();
   // the cases a resume found stored come first: index order
   if (batch.summary.resumed > 0) batch.rows.SortByIndex();
 }
@@ -406,47 +367,30 @@ std::shared_ptr<Batch> NewBatch(const char* kind, const BatchArgs& a) {
   return batch;
 }
 
-// The call's metrics, parsed; an error names the keyword.
-std::vector<Metric> ParseMetrics(const Model& model, const std::vector<std::string>& metrics) {
-  std::vector<Metric> out;
-  for (const std::string& m : metrics) {
-    out.push_back(Keyword("metrics", m, [&] { return ParseMetric(model, m); }));
-  }
-  return out;
-}
-
 std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
                                   const std::vector<std::string>& randomize, double ctrl_noise,
-                                  std::uint64_t seed, const std::string& shard) {
+                                  std::uint64_t seed, const std::string& shard, Notices* notices) {
   std::shared_ptr<Batch> batch = NewBatch("rollout", a);
   RunLong([&](StopToken stop) {
     const Model& model = a.model->model();
     RolloutSpec spec;
     WithKeywords([&] {
-      spec.sets = StartAssignments(model, a.start);
-      for (const std::string& r : randomize) {
-        spec.randomize.push_back(
-            Keyword("randomize", r, [&] { return ParseRandomization(model, r); }));
-      }
-      spec.metrics = ParseMetrics(model, a.metrics);
-      spec.count = count;
-      spec.until = a.until;
-      spec.threads = a.threads;
-      spec.seed = seed;
-      spec.ctrl_noise = ctrl_noise;
-      if (!shard.empty()) ParseShard(shard, &spec);
-      ValidateRolloutSpec(model, spec);
+      RolloutSpec given;
+      given.sets = StartAssignments(model, a.start);
+      given.count = count;
+      given.until = a.until;
+      given.threads = a.threads;
+      given.seed = seed;
+      given.ctrl_noise = ctrl_noise;
+      spec = ParseRolloutSpec(model, given, {randomize, {}, a.metrics, shard});
       RequireRowsFit(ShardSize(spec), ParameterNames(spec).size(), spec.metrics.size(), "count",
                      std::to_string(count));
     });
     batch->sets = spec.sets;
     batch->parameters = ParameterNames(spec);
     RunBatch(
-        *batch, a, RolloutRunInfo(model, spec, Origin(a), a.db), spec.count,
-        [&](const RolloutResult& r) -> std::optional<Unmeasured> {
-          if (r.index % spec.shard_count != spec.shard_index) return std::nullopt;
-          return Unmeasured{};
-        },
+        *batch, a, RolloutRunInfo(model, spec, Origin(a), a.db), notices, ShardSize(spec),
+        InShard(spec), [](const RolloutResult&) { return Unmeasured{}; },
         [&](const std::vector<long>& done, const Keep& keep) {
           spec.skip = done;
           Rollout(
@@ -457,27 +401,28 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
   return batch;
 }
 
-std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::string>& vary) {
+std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::string>& vary,
+                                Notices* notices) {
   std::shared_ptr<Batch> batch = NewBatch("sweep", a);
   RunLong([&](StopToken stop) {
     const Model& model = a.model->model();
     SweepSpec spec;
     WithKeywords([&] {
-      spec.sets = StartAssignments(model, a.start);
-      for (const std::string& v : vary) {
-        spec.axes.push_back(Keyword("vary", v, [&] { return ParseSweepAxis(model, v); }));
-      }
-      spec.metrics = ParseMetrics(model, a.metrics);
-      spec.threads = a.threads;
-      spec.until = a.until;
-      ValidateSweepSpec(model, spec);
+      SweepSpec given;
+      given.sets = StartAssignments(model, a.start);
+      given.threads = a.threads;
+      given.until = a.until;
+      spec = ParseSweepSpec(model, given, {{}, vary, a.metrics, ""}, PythonWords(), notices);
       RequireRowsFit(CaseCount(spec.axes), AxisNames(spec).size(), spec.metrics.size(), "vary", "");
     });
     batch->sets = spec.sets;
     batch->parameters = AxisNames(spec);
+    SweepNotices said(spec, notices);
     RunBatch(
-        *batch, a, SweepRunInfo(model, spec, Origin(a), a.db), CaseCount(spec.axes),
-        [&](const RolloutResult& r) -> std::optional<Unmeasured> {
+        *batch, a, SweepRunInfo(model, spec, Origin(a), a.db), notices, CaseCount(spec.axes),
+        [](const RolloutResult&) { return true; },
+        [&](const RolloutResult& r) {
+          said.SeeStored(r);
           // a stored case keeps its metrics and its reasons joined (the store's one problem)
           Unmeasured unmeasured;
           for (std::size_t m = 0; m < r.metrics.size(); ++m) {
@@ -493,13 +438,13 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
                 for (std::size_t m = 0; m < c.metrics.size(); ++m) {
                   if (!c.metrics[m].ok) unmeasured.emplace_back(m, c.metrics[m].problem);
                 }
-                keep(SweepCaseResult(spec, c), unmeasured);
+                RolloutResult row = SweepCaseResult(spec, c);
+                said.See(c, row);
+                keep(row, unmeasured);
               },
               stop);
         });
-    SweepEffects effects(spec);
-    for (std::size_t k = 0; k < batch->rows.size(); ++k) effects.See(batch->rows.Result(k));
-    batch->notes = effects.Notes();
+    batch->notes = said.Finish();
     return 0;
   });
   return batch;
@@ -547,6 +492,9 @@ void BindBatchType(nb::module_& m) {
             throw ArgumentError("name", Quoted(name), "not a column of this batch (see .columns)");
           },
           nb::arg("name"), "one column of the table by its name (see .columns)")
+      .def_ro("notices", &Batch::said,
+              "what the call said besides its result, each also issued as a plumb.BatchWarning "
+              "(or plumb.StartWarning): a list of plumb.Notice")
       .def_ro("notes", &Batch::notes,
               "a sweep's notes: each axis along which every metric came out bit-identical, "
               "with the likely reason (the CLI prints them on stderr)")
@@ -574,8 +522,14 @@ void BindBatch(nb::module_& m) {
         a.until = until;
         a.call = fmt::format("plumb.rollout({}, count={}, until={}, seed={})", a.model->name(),
                              count, until, seed);
-        return RunRollout(a, count, StringList(randomize, "randomize"),
-                          ctrl_noise.value_or(RolloutSpec{}.ctrl_noise), seed, shard.value_or(""));
+        CallNotices notices;
+        std::shared_ptr<Batch> batch =
+            RunRollout(a, count, StringList(randomize, "randomize"),
+                       ctrl_noise.value_or(RolloutSpec{}.ctrl_noise), seed, shard.value_or(""),
+                       notices.sink());
+        notices.Issue();
+        batch->said = notices.all();
+        return batch;
       },
       nb::arg("model"), nb::arg("count"), nb::arg("randomize") = nb::none(),
       nb::arg("ctrl_noise") = RolloutSpec{}.ctrl_noise, nb::arg("metrics") = nb::none(),
@@ -603,7 +557,11 @@ void BindBatch(nb::module_& m) {
         BatchArgs a = ReadArgs(model, set, keyframe, pose, qpos, metrics, threads, db, resume);
         a.until = until.value_or(0);
         a.call = fmt::format("plumb.sweep({})", a.model->name());
-        return RunSweep(a, StringList(vary, "vary"));
+        CallNotices notices;
+        std::shared_ptr<Batch> batch = RunSweep(a, StringList(vary, "vary"), notices.sink());
+        notices.Issue();
+        batch->said = notices.all();
+        return batch;
       },
       nb::arg("model"), nb::arg("vary"), nb::arg("metrics"), nb::kw_only(),
       nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(), nb::arg("pose") = nb::none(),

@@ -374,6 +374,35 @@ def test_ctrl_c_keeps_the_finished_rollouts_and_resume_completes_them(pendulum, 
     assert len(_stored(db)) == 8000
 
 
+def test_a_resumed_batch_says_what_it_found_as_batch_warnings(pendulum, tmp_path):
+    db = str(tmp_path / "r.sqlite")
+    # the first attempt of a resumable job starts the run, and says so
+    with pytest.warns(plumb.BatchWarning) as first:
+        _rollout(pendulum, shard="0/2", db=db, resume=True)
+    assert [str(w.message) for w in first] == [
+        f"note: resume=True: '{db}' holds no rollout run yet; starting one"]
+    # the next one says how many are stored and runs the rest (as the CLI's --resume does)
+    with pytest.warns(plumb.BatchWarning) as again:
+        batch = _rollout(pendulum, db=db, resume=True)
+    assert [str(w.message) for w in again] == [
+        f"note: resume=True: 6 of 12 rollouts are stored in '{db}'; running the rest"]
+    assert batch.summary["resumed"] == 6 and batch.summary["run_now"] == 6
+    # and keeps it
+    assert [(n.level, n.topic, n.subject) for n in batch.notices] == [
+        ("note", "batch", "resume=True")]
+    assert batch.notices[0].text == f"6 of 12 rollouts are stored in '{db}'; running the rest"
+
+
+def test_a_sweep_says_what_it_could_not_measure_as_batch_warnings(pendulum):
+    # from rest the pendulum never swings: no period in any case
+    with pytest.warns(plumb.BatchWarning) as said:
+        batch = plumb.sweep(pendulum, "dof_damping[hinge]=0,0.1", "period(qpos[hinge])")
+    messages = [str(w.message) for w in said]
+    assert messages[0].startswith("warning: case 0, period(qpos[hinge]): "), messages
+    assert "warning: 2 of 2 measurements could not be made (see above)" in messages
+    assert np.isnan(batch.metrics).all()
+
+
 def test_a_sweep_over_a_parameter_with_no_effect_says_so(pendulum):
     humanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml"
     if not os.path.exists(humanoid):

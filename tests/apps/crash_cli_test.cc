@@ -629,7 +629,9 @@ TEST(CliCrashTest, TwoWritersOfOneStoreLoseNoRowAndCorruptNothing) {
     std::multiset<int> codes = {Wait(a).exit_code, Wait(b).exit_code};
     EXPECT_EQ(codes, (std::multiset<int>{0, 2}));
     std::string refused = ReadFile(dir.File("erra.txt")) + ReadFile(dir.File("errb.txt"));
-    EXPECT_NE(refused.find("results store '" + db + "'"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("--db '" + db + "': the results store already holds this run"),
+              std::string::npos)
+        << refused;
     StoreContents now = ReadStore(dir.File(db));
     EXPECT_EQ(now.integrity, "ok");
     EXPECT_EQ(now.run_rows, 1);
