@@ -87,7 +87,8 @@ class BatchJob {
   const std::string& unit() const { return unit_; }
 
   // Counts each stored row that is `mine` as resumed and hands it to `row`; when there are
-  // any, a note says "N of TOTAL rollouts are stored in 'r.sqlite'; running the rest".
+  // any, a note says "N of TOTAL rollouts are stored in 'r.sqlite'; running the rest" (or
+  // that all are stored and nothing is left to run).
   void Resume(long total, const std::function<bool(const RolloutResult&)>& mine,
               const std::function<void(const RolloutResult&)>& row);
   // A row run now: tallied and stored.

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "plumb/error.h"
 
@@ -106,9 +107,13 @@ void BatchJob::Resume(long total, const std::function<bool(const RolloutResult&)
     row(r);
   });
   if (summary_.resumed == 0) return;
-  AddTo(notices_, {NoticeLevel::kNote, NoticeTopic::kBatch, words_.resume,
-                   fmt::format("{} of {} {} are stored in {}; running the rest", summary_.resumed,
-                               total, unit_, Quoted(db_))});
+  std::string text =
+      summary_.resumed >= total
+          ? fmt::format("all {} {} are stored in {}; nothing is left to run", total, unit_,
+                        Quoted(db_))
+          : fmt::format("{} of {} {} are stored in {}; running the rest", summary_.resumed, total,
+                        unit_, Quoted(db_));
+  AddTo(notices_, {NoticeLevel::kNote, NoticeTopic::kBatch, words_.resume, std::move(text)});
 }
 
 void BatchJob::Add(const RolloutResult& r) {

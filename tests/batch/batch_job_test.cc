@@ -158,6 +158,12 @@ TEST_F(BatchJobTest, AStopStoresEveryFinishedRowAndAResumedJobEqualsAnUninterrup
     EXPECT_TRUE(BitEqual(rows[i].params[0], whole[i].params[0]));
     EXPECT_TRUE(BitEqual(rows[i].metrics[0], whole[i].metrics[0]));
   }
+  // a resume of the finished run says there is nothing left to run
+  Notices third;
+  BatchJob done(db, true, RolloutRunInfo(pendulum_, spec, origin, db), words, &third);
+  done.Resume(ShardSize(spec), InShard(spec), [](const RolloutResult&) {});
+  EXPECT_EQ(Texts(third), std::vector<std::string>{"note: resume=True: all 60 rollouts are stored "
+                                                   "in '" + db + "'; nothing is left to run"});
   // a finished run is not run again by accident: the refusal names the caller's words
   words.store = "db";
   try {
