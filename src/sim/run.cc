@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <memory>
 #include <string_view>
 #include <system_error>
@@ -33,6 +35,14 @@ int FirstBad(const mjtNum* values, int n) {
     if (Bad(values[i])) return i;
   }
   return -1;
+}
+
+// Whether any element of `values` is NaN, Inf or beyond MuJoCo's limit: the check after every
+// step, which FirstBad repeats to name the element only when it fails.
+bool AnyBad(const mjtNum* values, int n) {
+  bool bad = false;
+  for (int i = 0; i < n; ++i) bad |= Bad(values[i]);
+  return bad;
 }
 
 bool IsStateCheck(int kind) {
@@ -115,43 +125,99 @@ std::string FatalRunProblem(const Model& model, const std::string& what) {
 
 namespace {
 
-// Everything a step starts from: the state, its inputs and the solver's warm start.
-// Kept before every step, so a step that MuJoCo's checks abort can be examined again.
+// Steps between two states PreStep keeps when the run can be re-simulated: a copy of the whole
+// state costs about 1 500 instructions for the humanoid (half a percent of its mj_step), one in
+// 64 steps costs 25, and naming a divergence re-steps at most 63 steps.
+constexpr long kCheckpointSteps = 64;
+
+// Whether anything but the state decides what the next step does, so that re-stepping from an
+// earlier state could not repeat the run: a before_step callback (it may write inputs each
+// step), MuJoCo's global callbacks, plugins (their instance data is not in the state) and
+// sleeping trees (which ones sleep is not in the state either).
+bool OnlyTheStateDecides(const mjModel* m, const RunSpec& spec) {
+  bool callbacks = mjcb_control || mjcb_passive || mjcb_contactfilter || mjcb_sensor ||
+                   mjcb_act_dyn || mjcb_act_gain || mjcb_act_bias;
+  return !spec.before_step && !callbacks && compat::PluginCount(m) == 0 &&
+         !compat::SleepEnabled(m);
+}
+
+// The state each step starts from (mj_getState's mjSTATE_INTEGRATION: the state, its inputs
+// and the solver's warm start), so a divergence can name the state the failing step started
+// from even when MuJoCo's checks reset the data. When only the state decides the trajectory,
+// it keeps every kCheckpointSteps-th state and re-steps from the last one on a scratch Data
+// when asked: stepping is deterministic within one MuJoCo version, and the scratch goes
+// through the states the run went through. Otherwise it keeps the state before every step.
 class PreStep {
  public:
-  PreStep(const mjModel* m, const mjData* d) : m_(m), state_(SnapshotOf(m, d, 0)) {}
-
-  // Copies the state `d` holds at `step`, whose time is `time`.
-  void Keep(const mjData* d, long step, double time) {
-    state_.step = step;
-    state_.time = time;
-    Copy(d->qpos, &state_.qpos);
-    Copy(d->qvel, &state_.qvel);
-    Copy(d->act, &state_.act);
-    Copy(d->ctrl, &state_.ctrl);
-    compat::GetIntegrationState(m_, d, state_.integration.data());
+  PreStep(const Model& model, bool every_step)
+      : model_(model), interval_(every_step ? 1 : kCheckpointSteps) {
+    kept_.integration.resize(compat::IntegrationStateSize(model.get()));
   }
 
-  const StateSnapshot& state() const { return state_; }
+  // Before the step that starts from the state after step `step` (by the clock) at `time`.
+  void Keep(const mjData* d, long step, double time) {
+    if (step < next_) return;
+    next_ = step + interval_;
+    kept_.step = step;
+    kept_.time = time;
+    compat::GetIntegrationState(model_.get(), d, kept_.integration.data());
+  }
 
-  // The accelerations MuJoCo computes at the kept state (on a scratch mjData).
-  std::vector<double> Accelerations() const {
-    std::unique_ptr<mjData, void (*)(mjData*)> scratch(mj_makeData(m_), mj_deleteData);
+  // The state after step `step` at `time`: the step after it failed, leaving `d` behind (the
+  // bad state, or the data MuJoCo reset when its state check of kind `reset_kind` fired, else
+  // -1). Re-steps from the last kept state, then takes the failing step once more to check
+  // that it fails the same way; says so in the state's note when it does not.
+  StateSnapshot Before(long step, double time, const mjData* d, int reset_kind) const {
+    const mjModel* m = model_.get();
+    Data scratch(model_);
+    mjData* s = scratch.get();
+    compat::SetIntegrationState(m, s, kept_.integration.data());
+    // the run has told its warnings: re-stepping tells no one again
+    for (mjWarningStat& w : s->warning) w.number = 1;
+    for (long n = kept_.step; n < step; ++n) mj_step(m, s);
+    StateSnapshot state = SnapshotOf(m, s, step);
+    state.time = time;
+    // a state check that fires resets the data and its warnings, then records itself
+    if (reset_kind >= 0) s->warning[reset_kind].lastinfo = -1;
+    mj_step(m, s);
+    bool repeated = reset_kind >= 0 ? s->warning[reset_kind].number > 0 &&
+                                          s->warning[reset_kind].lastinfo ==
+                                              d->warning[reset_kind].lastinfo
+                                    : SameState(m, s, d);
+    if (!repeated) {
+      state.note = fmt::format(
+          "re-stepped from the state after step {}; stepping it again did not repeat the "
+          "failing step exactly, so this state may differ from the run's",
+          kept_.step);
+    }
+    return state;
+  }
+
+  // The accelerations MuJoCo computes at `state` (on a scratch Data).
+  std::vector<double> Accelerations(const StateSnapshot& state) const {
+    const mjModel* m = model_.get();
+    std::unique_ptr<mjData, void (*)(mjData*)> scratch(mj_makeData(m), mj_deleteData);
     mjData* d = scratch.get();
     if (!d) return {};
-    compat::SetIntegrationState(m_, d, state_.integration.data());
-    d->time = state_.time;
-    mj_forward(m_, d);
-    return std::vector<double>(d->qacc, d->qacc + m_->nv);
+    compat::SetIntegrationState(m, d, state.integration.data());
+    d->time = state.time;
+    mj_forward(m, d);
+    return std::vector<double>(d->qacc, d->qacc + m->nv);
   }
 
  private:
-  static void Copy(const mjtNum* from, std::vector<double>* to) {
-    std::copy(from, from + to->size(), to->begin());
+  // Bit for bit, NaN payloads included.
+  bool SameState(const mjModel* m, const mjData* a, const mjData* b) const {
+    std::vector<double> x(kept_.integration.size()), y(x.size());
+    compat::GetIntegrationState(m, a, x.data());
+    compat::GetIntegrationState(m, b, y.data());
+    return std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
   }
 
-  const mjModel* m_;
-  StateSnapshot state_;
+  const Model& model_;
+  long interval_;
+  long next_ = std::numeric_limits<long>::min();
+  StateSnapshot kept_;
 };
 
 // "dof 3 (joint 'slider')", "qpos[7] (joint 'root')", "ctrl[2] (actuator 'elbow')".
@@ -286,9 +352,9 @@ class WarningWatch {
   std::vector<double> first_time_;
 };
 
-// MuJoCo found the state step `step` started from bad (a state check of `kind`) and reset
+// MuJoCo found `start`, the state a step started from, bad (a state check of `kind`) and reset
 // the data to qpos0 in the middle of the step. Returns the reason; fills in `divergence`.
-std::string MujocoReset(const Model& model, const mjData* d, int kind, long step,
+std::string MujocoReset(const Model& model, const mjData* d, int kind, const StateSnapshot& start,
                         const PreStep& before, Divergence* divergence) {
   const mjModel* m = model.get();
   const char* name = "";
@@ -298,10 +364,8 @@ std::string MujocoReset(const Model& model, const mjData* d, int kind, long step
   int index = d->warning[kind].lastinfo;
   divergence->reset_by_mujoco = true;
   divergence->element = ElementLabel(model, CheckedArray(kind), index);
-  divergence->bad = before.state();
-  // the state it found bad is the one step `step` started from: step - 1, as its time
-  divergence->bad.step = step - 1;
-  divergence->bad.qacc = before.Accelerations();
+  divergence->bad = start;
+  divergence->bad.qacc = before.Accelerations(start);
   std::string value;
   if (kind == mjWARN_BADQACC && index >= 0 && index < m->nv &&
       static_cast<int>(divergence->bad.qacc.size()) == m->nv) {
@@ -311,17 +375,22 @@ std::string MujocoReset(const Model& model, const mjData* d, int kind, long step
       std::string("MuJoCo's state check (") + name + ") found " + divergence->element + value +
       " bad at this state and reset the data to qpos0 in the middle of the step; qpos, "
       "qvel, act and ctrl are the state it found bad, qacc the accelerations recomputed "
-      "from it.";
+      "from it." +
+      (start.note.empty() ? "" : " It was " + start.note + ".");
   return std::string("MuJoCo's state check fired (") + name + "): " + divergence->element + value +
          " is NaN, Inf or beyond 1e10. MuJoCo reset the state to qpos0 and would carry on "
          "as if nothing happened; plumb stops here.";
 }
 
-// Our own checks catch a state that went bad in step `step` (ending at `time`), before
-// MuJoCo's next check. Returns the reason ("" when the state is sound).
-std::string BadState(const Model& model, const mjData* d, long step, double time,
-                     Divergence* divergence) {
-  const mjModel* m = model.get();
+// The first element of qpos, qvel, act or qacc that is NaN, Inf or beyond MuJoCo's limit
+// (index -1 when the state is sound).
+struct BadElement {
+  const char* array = "";
+  int index = -1;
+  double value = 0;
+};
+
+BadElement FindBad(const mjModel* m, const mjData* d) {
   struct Checked {
     const char* name;
     const mjtNum* values;
@@ -332,14 +401,35 @@ std::string BadState(const Model& model, const mjData* d, long step, double time
                 {"qacc", d->qacc, static_cast<int>(m->nv)}};
   for (const Checked& c : checks) {
     int bad = FirstBad(c.values, c.n);
-    if (bad < 0) continue;
-    divergence->element = ElementLabel(model, c.name, bad);
-    divergence->bad = SnapshotOf(m, d, step);
-    divergence->bad.time = time;
-    return divergence->element + " = " + Format("%g", c.values[bad]) +
-           " is NaN, Inf or beyond 1e10";
+    if (bad >= 0) return {c.name, bad, c.values[bad]};
   }
-  return "";
+  return {};
+}
+
+// Our own checks caught `bad`, an element of the state that went bad in step `step` (ending at
+// `time`), before MuJoCo's next check. Returns the reason; fills in `divergence`.
+std::string BadState(const Model& model, const mjData* d, const BadElement& bad, long step,
+                     double time, Divergence* divergence) {
+  divergence->element = ElementLabel(model, bad.array, bad.index);
+  divergence->bad = SnapshotOf(model.get(), d, step);
+  divergence->bad.time = time;
+  return divergence->element + " = " + Format("%g", bad.value) + " is NaN, Inf or beyond 1e10";
+}
+
+// Why step `step` (by the clock, from `start` to `end` s) failed, with the state it started
+// from and the bad state. `reset_kind` is the kind of MuJoCo's state check that reset the
+// data in that step, or -1 when plumb's checks found `d` bad.
+Divergence Diverged(const Model& model, const mjData* d, int reset_kind, long step, double start,
+                    double end, const PreStep& before) {
+  Divergence divergence;
+  divergence.last_good = before.Before(step - 1, start, d, reset_kind);
+  std::string reason =
+      reset_kind >= 0
+          ? MujocoReset(model, d, reset_kind, divergence.last_good, before, &divergence)
+          : BadState(model, d, FindBad(model.get(), d), step, end, &divergence);
+  divergence.reason = "the simulation diverged at t = " + Format("%g s", start) + " (in step " +
+                      std::to_string(step) + ", to t = " + Format("%g s", end) + "): " + reason;
+  return divergence;
 }
 
 // The decimal places of the shortest text that reads back as `v` (0.002: 3, 1e-05: 5);
@@ -416,7 +506,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   long first = StepAt(start_time, m->opt.timestep);
   RunResult result;
   WarningWatch warnings(d, start_time);
-  PreStep before(m, d);
+  PreStep before(model, !OnlyTheStateDecides(m, spec));
   sink.Begin(spec.columns);
   SinkGuard finish(sink);
   sample(0);
@@ -432,17 +522,11 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
     data.Step();
     result.steps = step;
     int reset_kind = warnings.Update(d, label, time_at(step - 1));
-    Divergence divergence;
-    std::string reason = reset_kind >= 0
-                             ? MujocoReset(model, d, reset_kind, label, before, &divergence)
-                             : BadState(model, d, label, time_at(step), &divergence);
-    if (!reason.empty()) {
+    if (reset_kind >= 0 || AnyBad(d->qpos, m->nq) || AnyBad(d->qvel, m->nv) ||
+        AnyBad(d->act, m->na) || AnyBad(d->qacc, m->nv)) {
       result.diverged = true;
-      divergence.reason = "the simulation diverged at t = " + Format("%g s", time_at(step - 1)) +
-                          " (in step " + std::to_string(label) +
-                          ", to t = " + Format("%g s", time_at(step)) + "): " + reason;
-      divergence.last_good = before.state();
-      result.divergence = std::move(divergence);
+      result.divergence =
+          Diverged(model, d, reset_kind, label, time_at(step - 1), time_at(step), before);
       break;
     }
     if (spec.after_step) spec.after_step(d, step);
