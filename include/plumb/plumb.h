@@ -50,6 +50,7 @@
 #include "plumb/batch.h"
 #include "plumb/converge.h"
 #include "plumb/identify.h"
+#include "plumb/identify_job.h"
 #include "plumb/regression.h"
 #include "plumb/replay.h"
 #include "plumb/rollout.h"

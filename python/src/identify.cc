@@ -1,14 +1,13 @@
 // plumb.replay and plumb.identify: a log replayed on the model, and the model's parameters
 // fitted to logs, with the CLI's JSON, tables and reports.
 
-#include "plumb/identify.h"
-
 #include <fmt/format.h>
 
 #include <cmath>
 
 #include "common.h"
 #include "plumb/error.h"
+#include "plumb/identify_job.h"
 #include "plumb/replay.h"
 #include "plumb/report.h"
 #include "plumb/result_json.h"
@@ -154,19 +153,18 @@ void BindReplay(nb::module_& m) {
 struct PyIdentify {
   std::shared_ptr<PyModel> model;
   std::shared_ptr<Model> ran;
-  std::vector<RobotLog> logs;
-  std::vector<RobotLog> validation;  // none or one
-  DelayKind delay = DelayKind::kNone;
-  IdentifyResult result;
-  std::shared_ptr<Model> fitted;
-  HeldOutLog held_out;
+  IdentifyJobResult job;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice): a cut log
   std::string html;
 
-  const HeldOutLog* HeldOut() const { return validation.empty() ? nullptr : &held_out; }
-  std::string Json() const { return IdentifyToJson(model->name(), result, logs, delay, HeldOut()); }
-  std::string Table() const { return IdentifyTable(model->name(), result, logs, delay, HeldOut()); }
+  std::string Json() const {
+    return IdentifyToJson(model->name(), job.fit, job.logs, job.delay, job.HeldOut());
+  }
+  std::string Table() const {
+    return IdentifyTable(model->name(), job.fit, job.logs, job.delay, job.HeldOut());
+  }
   void WriteReport(const std::string& path) const {
-    WriteIdentifyReport(path, *ran, logs, result, PythonReportInfo("identify"), HeldOut());
+    WriteIdentifyReport(path, *ran, job.logs, job.fit, PythonReportInfo("identify"), job.HeldOut());
   }
 };
 
@@ -179,8 +177,8 @@ nb::object SquareMatrix(const std::vector<std::vector<double>>& rows) {
 // What save_report and save_model must not replace: the model and every log (common.h).
 std::vector<NamedPath> ResultInputs(const PyIdentify& r) {
   std::vector<NamedPath> inputs = {{"the model", r.model->name()}};
-  for (const RobotLog& log : r.logs) inputs.push_back({"the log", log.source});
-  for (const RobotLog& log : r.validation) inputs.push_back({"the validate log", log.source});
+  for (const RobotLog& log : r.job.logs) inputs.push_back({"the log", log.source});
+  for (const RobotLog& log : r.job.validation) inputs.push_back({"the validate log", log.source});
   return inputs;
 }
 
@@ -194,51 +192,54 @@ void BindIdentifyCall(nb::module_& m) {
   type.def_prop_ro("paths",
                    [](const PyIdentify& r) {
                      std::vector<std::string> out;
-                     for (const Estimate& e : r.result.estimates) out.push_back(e.path);
+                     for (const Estimate& e : r.job.fit.estimates) out.push_back(e.path);
                      return out;
                    })
       .def_prop_ro(
           "values",
-          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::value); },
+          [](const PyIdentify& r) { return FieldArray(r.job.fit.estimates, &Estimate::value); },
           "the estimates, in the parameters' units")
       .def_prop_ro(
           "nominal",
-          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::nominal); })
+          [](const PyIdentify& r) { return FieldArray(r.job.fit.estimates, &Estimate::nominal); })
       .def_prop_ro(
           "std_errors",
-          [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::std_error); },
+          [](const PyIdentify& r) { return FieldArray(r.job.fit.estimates, &Estimate::std_error); },
           "the standard errors given (std_error_kind says which; NaN when withheld)")
       .def_prop_ro(
-          "lo", [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::lo); })
+          "lo", [](const PyIdentify& r) { return FieldArray(r.job.fit.estimates, &Estimate::lo); })
       .def_prop_ro(
-          "hi", [](const PyIdentify& r) { return FieldArray(r.result.estimates, &Estimate::hi); })
+          "hi", [](const PyIdentify& r) { return FieldArray(r.job.fit.estimates, &Estimate::hi); })
       .def_prop_ro(
           "std_error_kind",
           [](const PyIdentify& r) {
-            return std::string(StdErrorKindName(r.result.std_errors.kind));
+            return std::string(StdErrorKindName(r.job.fit.std_errors.kind));
           },
           "'classical', 'newey-west' or 'withheld'")
       .def_prop_ro(
-          "correlation", [](const PyIdentify& r) { return SquareMatrix(r.result.correlation); },
+          "correlation", [](const PyIdentify& r) { return SquareMatrix(r.job.fit.correlation); },
           "of the classical covariance, parameters x parameters")
       .def_prop_ro(
           "covariance",
-          [](const PyIdentify& r) { return SquareMatrix(ClassicalCovariance(r.result)); },
+          [](const PyIdentify& r) { return SquareMatrix(ClassicalCovariance(r.job.fit)); },
           "the classical covariance of the estimates (ClassicalCovariance)")
       .def_prop_ro("singular_values",
-                   [](const PyIdentify& r) { return Array(r.result.singular_values); })
-      .def_prop_ro("warnings", [](const PyIdentify& r) { return r.result.warnings; })
-      .def_prop_ro("converged", [](const PyIdentify& r) { return r.result.converged; })
-      .def_prop_ro("iterations", [](const PyIdentify& r) { return r.result.iterations; })
+                   [](const PyIdentify& r) { return Array(r.job.fit.singular_values); })
+      .def_prop_ro("warnings", [](const PyIdentify& r) { return r.job.fit.warnings; })
+      .def_ro("notices", &PyIdentify::notices,
+              "what the call said besides its result (a log whose last line was cut, each also "
+              "issued as a plumb.LogWarning): a list of plumb.Notice")
+      .def_prop_ro("converged", [](const PyIdentify& r) { return r.job.fit.converged; })
+      .def_prop_ro("iterations", [](const PyIdentify& r) { return r.job.fit.iterations; })
       .def_prop_ro("residual_variance",
-                   [](const PyIdentify& r) { return r.result.residual_variance; })
+                   [](const PyIdentify& r) { return r.job.fit.residual_variance; })
       .def_prop_ro(
-          "delay", [](const PyIdentify& r) { return r.result.delay; }, "s")
+          "delay", [](const PyIdentify& r) { return r.job.fit.delay; }, "s")
       .def_prop_ro(
           "fits_before",
           [](const PyIdentify& r) {
             std::vector<double> out;
-            for (const ReplayResult& b : r.result.before) out.push_back(b.fit);
+            for (const ReplayResult& b : r.job.fit.before) out.push_back(b.fit);
             return Array(out);
           },
           "% per log, the nominal model")
@@ -246,14 +247,15 @@ void BindIdentifyCall(nb::module_& m) {
           "fits_after",
           [](const PyIdentify& r) {
             std::vector<double> out;
-            for (const ReplayResult& a : r.result.after) out.push_back(a.fit);
+            for (const ReplayResult& a : r.job.fit.after) out.push_back(a.fit);
             return Array(out);
           },
           "% per log, the fitted model")
       .def_prop_ro(
           "fitted",
           [](const PyIdentify& r) {
-            return std::make_shared<PyModel>(r.fitted, nb::none(), "", std::vector<std::string>{});
+            return std::make_shared<PyModel>(r.job.fitted, nb::none(), "",
+                                             std::vector<std::string>{});
           },
           "the model with the fitted values, a plumb.Model (a copy of its own)")
       .def(
@@ -265,7 +267,7 @@ void BindIdentifyCall(nb::module_& m) {
             inputs.push_back({"the source", mjcf});
             RefuseOutputsOntoInputs({{"path", file}}, inputs);
             RunLong([&](StopToken) {
-              SaveFittedModel(r.model->model(), *r.fitted, r.result, file, mjcf);
+              SaveFittedModel(r.model->model(), *r.job.fitted, r.job.fit, file, mjcf);
               return 0;
             });
           },
@@ -292,9 +294,8 @@ void BindIdentifyCall(nb::module_& m) {
          double max_delay, std::optional<FileArg> validate, int threads, int max_iterations,
          SetArg set) {
         auto r = std::make_shared<PyIdentify>();
+        CallNotices notices;
         r->model = ToModel(model);
-        std::string column_map = OptionalPathArg(columns, "columns");
-        std::string held_out = OptionalPathArg(validate, "validate");
         std::vector<std::string> files;
         nb::handle log = logs.object;
         if (nb::isinstance<nb::str>(log) || nb::hasattr(log, "__fspath__") ||
@@ -303,34 +304,29 @@ void BindIdentifyCall(nb::module_& m) {
         } else {
           for (nb::handle one : log) files.push_back(PathArg(one, "log"));
         }
-        if (files.empty()) throw ArgumentError("log", "[]", "give at least one log");
         std::vector<std::string> sets = SetTexts(set);
-        IdentifyOptions o;
+        IdentifyRequest request;
+        request.logs = std::move(files);
+        request.columns = OptionalPathArg(columns, "columns");
+        request.validate = OptionalPathArg(validate, "validate");
+        IdentifyOptions& o = request.options;
         o.fit = StringList(fit, "fit");
-        if (o.fit.empty()) throw ArgumentError("fit", "[]", "give a parameter to fit");
         o.bounds = StringList(bounds, "bounds");
         o.replay.window = window;
         o.delay = ParseDelayKind(delay.value_or(""));
         o.max_delay = max_delay;
         o.threads = threads;
         o.max_iterations = max_iterations;
-        CheckIdentifyOptions(o);
-        r->delay = o.delay;
         RunLong([&](StopToken stop) {
           r->ran = ParameterModel(*r->model, sets);
-          ResolveFitParameters(*r->ran, o.fit, o.bounds);  // before the logs are read
-          r->logs = LoadRobotLogs(*r->ran, files, column_map);
-          if (!held_out.empty()) r->validation = LoadRobotLogs(*r->ran, {held_out}, column_map);
-          o.stop = stop;
-          o.replay.stop = stop;
-          r->result = Identify(*r->ran, r->logs, o);
-          r->fitted = std::make_shared<Model>(FittedModel(*r->ran, r->result));
-          if (!r->validation.empty()) {
-            r->held_out = ReplayHeldOut(*r->ran, *r->fitted, r->validation.front(), o, r->result);
-          }
+          request.stop = stop;
+          request.notices = notices.sink();
+          r->job = RunIdentifyJob(*r->ran, request);
           TakeMujocoWarnings();
           return 0;
         });
+        notices.Issue();
+        r->notices = notices.all();
         return r;
       },
       nb::arg("model"), nb::arg("log"), nb::arg("fit"), nb::arg("bounds") = nb::none(),

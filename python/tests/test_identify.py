@@ -144,3 +144,30 @@ def test_save_model_of_an_mjmodel_without_its_xml_says_what_to_give(pendulum, lo
                      "<geom size='.1'/></body></worldbody></mujoco>")
     with pytest.raises(plumb.ValueError, match="is not the MJCF of the fitted model"):
         r.save_model(tmp_path / "wrong.xml", source=other)
+
+
+def test_identify_on_a_cut_log_warns_and_keeps_the_notice(pendulum, log, tmp_path):
+    # issue 47: only the CLI said that a log's last line was cut (the bridge killed mid-write)
+    # a flight recorder's log (a `kind` column) ends every line with a newline: one without
+    # was cut short by a kill
+    rows = [line.split(",", 1) for line in log.read_text().splitlines()]
+    text = "".join(f"{t},{'state' if i else 'kind'},{rest}\n" for i, (t, rest) in enumerate(rows))
+    cut = tmp_path / "cut.csv"
+    cut.write_text(text[:-4])  # the newline and three characters before it
+    with pytest.warns(plumb.LogWarning, match="cut.csv: the last line is cut short"):
+        r = plumb.identify(pendulum, cut, fit="dof_damping[hinge]", threads=1)
+    assert [(n.level, n.topic, n.subject) for n in r.notices] == [("note", "log", str(cut))]
+    assert "left out" in r.notices[0].text
+    with pytest.warns(plumb.LogWarning, match="cut.csv"):  # a held-out log too
+        held = plumb.identify(pendulum, log, fit="dof_damping[hinge]", validate=cut, threads=1)
+    assert [n.subject for n in held.notices] == [str(cut)]
+    assert plumb.identify(pendulum, log, fit="dof_damping[hinge]", threads=1).notices == []
+
+
+def test_identify_refuses_no_log_or_no_parameter_naming_the_keyword(pendulum, log):
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.identify(pendulum, [], fit="dof_damping[hinge]")
+    assert caught.value.argument == "log"
+    with pytest.raises(plumb.ArgumentError) as caught:
+        plumb.identify(pendulum, log, fit=[])
+    assert caught.value.argument == "fit"

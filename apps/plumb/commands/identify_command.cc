@@ -6,10 +6,8 @@
 #include <cstdio>
 
 #include "cli_common.h"
-#include "log_options.h"
 #include "plumb/error.h"
-#include "plumb/identify.h"
-#include "plumb/model_edit.h"
+#include "plumb/identify_job.h"
 #include "plumb/report.h"
 #include "plumb/result_json.h"
 #include "plumb/result_table.h"
@@ -36,36 +34,22 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   RefuseOutputsOntoInputs({{"-o", o.output}, {"--report", o.report}}, inputs);
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
+  PrintedNotices notices;
   o.identify.delay = ParseDelayKind(o.delay);
-  CheckIdentifyOptions(o.identify);
-  if (!o.output.empty() && !CanSaveEditedXml()) {
-    SaveXmlWithParameters(o.model, model, {}, o.output);  // says why, before the work
-  }
-  // everything that can be wrong with the input is found before the fit starts
-  ResolveFitParameters(model, o.identify.fit, o.identify.bounds);
-  std::vector<RobotLog> logs = LoadLogs(model, o.logs, o.columns);
-  std::vector<RobotLog> validation;
-  if (!o.validate.empty()) validation = LoadLogs(model, {o.validate}, o.columns);
-
-  o.identify.stop = CommandStop().token();
-  o.identify.replay.stop = o.identify.stop;
-  IdentifyResult r = Identify(model, logs, o.identify);
-  Model fitted = FittedModel(model, r);
-  HeldOutLog v;
-  if (!validation.empty()) v = ReplayHeldOut(model, fitted, validation.front(), o.identify, r);
+  IdentifyRequest request{
+      o.logs,  o.columns, o.validate, o.identify, o.output, o.model, CommandStop().token(),
+      &notices};
+  IdentifyJobResult r = RunIdentifyJob(model, request);
   if (!o.output.empty()) {
-    SaveFittedXml(o.model, fitted, r, o.output);
     std::fprintf(stderr, "plumb: wrote the fitted model %s\n", o.output.c_str());
   }
   if (!o.report.empty()) {
-    WriteIdentifyReport(o.report, model, logs, r, ReportInfo{ctx.argv},
-                        validation.empty() ? nullptr : &v);
+    WriteIdentifyReport(o.report, model, r.logs, r.fit, ReportInfo{ctx.argv}, r.HeldOut());
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  const HeldOutLog* shown = validation.empty() ? nullptr : &v;
-  WriteStdout(o.format == "json" ? IdentifyToJson(o.model, r, logs, o.identify.delay, shown)
-                                 : IdentifyTable(o.model, r, logs, o.identify.delay, shown));
-  for (const ReplayResult& after : r.after) {
+  WriteStdout(o.format == "json" ? IdentifyToJson(o.model, r.fit, r.logs, r.delay, r.HeldOut())
+                                 : IdentifyTable(o.model, r.fit, r.logs, r.delay, r.HeldOut()));
+  for (const ReplayResult& after : r.fit.after) {
     if (after.simulated.diverged) return kExitDiverged;
   }
   return kExitOk;
