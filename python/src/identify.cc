@@ -154,7 +154,9 @@ struct PyIdentify {
   std::shared_ptr<PyModel> model;
   std::shared_ptr<Model> ran;
   IdentifyJobResult job;
-  std::vector<Notice> notices;  // what the call said (plumb.Notice): a cut log
+  // what the call said (plumb.Notice): a cut log. Not `notices` until plumb identify's JSON
+  // carries them too (AddResultMethods would add them to to_json)
+  std::vector<Notice> said;
   std::string html;
 
   std::string Json() const {
@@ -226,7 +228,7 @@ void BindIdentifyCall(nb::module_& m) {
       .def_prop_ro("singular_values",
                    [](const PyIdentify& r) { return Array(r.job.fit.singular_values); })
       .def_prop_ro("warnings", [](const PyIdentify& r) { return r.job.fit.warnings; })
-      .def_ro("notices", &PyIdentify::notices,
+      .def_ro("notices", &PyIdentify::said,
               "what the call said besides its result (a log whose last line was cut, each also "
               "issued as a plumb.LogWarning): a list of plumb.Notice")
       .def_prop_ro("converged", [](const PyIdentify& r) { return r.job.fit.converged; })
@@ -326,7 +328,7 @@ void BindIdentifyCall(nb::module_& m) {
           return 0;
         });
         notices.Issue();
-        r->notices = notices.all();
+        r->said = notices.all();
         return r;
       },
       nb::arg("model"), nb::arg("log"), nb::arg("fit"), nb::arg("bounds") = nb::none(),
