@@ -2,6 +2,8 @@
 # Instruction counts of plumb run's loop against a bare mj_step loop (humanoid, 20 000
 # steps, sampling every 0.1 s to CSV), with valgrind's callgrind. Counts are repeatable
 # whatever else the machine is doing, unlike wall time on a small shared machine.
+# Only the loop is counted; bench/whole_process_overhead.sh counts whole processes of plumb run
+# against a bare C program.
 #
 # Usage: bench/callgrind_overhead.sh [BUILD_DIR]      (default: build)
 set -euo pipefail
