@@ -18,6 +18,7 @@
 #include "plumb/describe.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/load.h"
 #include "plumb/run.h"
 
 namespace plumb::cli {
@@ -121,17 +122,12 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
   return StartAssignments(model, keyframe, StartPose{}, sets);
 }
 
-namespace {
-// An assignment's warnings, naming the flag it came from (the library's argument: "set").
-void WarnAboutStart(const char* argument, const Assignment& a) {
-  WarnAboutAssignment(("--" + std::string(argument)).c_str(), a.text, a.warnings);
-}
-}  // namespace
-
 std::vector<Assignment> StartAssignments(const Model& model, const std::string& keyframe,
                                          const StartPose& pose,
                                          const std::vector<std::string>& sets) {
-  return plumb::StartAssignments(model, {keyframe, pose.file, pose.qpos, sets}, WarnAboutStart);
+  // the library names an assignment by its argument ("set"); the user typed the flag
+  return plumb::StartAssignments(model, {keyframe, pose.file, pose.qpos, sets},
+                                 &CommandNotices(), "--");
 }
 
 std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& pose,
@@ -145,8 +141,7 @@ std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pos
   StartSpec start;
   start.pose = pose.file;
   start.qpos = pose.qpos;
-  return warn ? plumb::StartAssignments(model, start, WarnAboutStart)
-              : plumb::StartAssignments(model, start);
+  return plumb::StartAssignments(model, start, warn ? &CommandNotices() : nullptr, "--");
 }
 
 void AddStartPoseOptions(CLI::App* cmd, StartPose* pose) {
@@ -247,37 +242,30 @@ void PrintNotice(const Notice& notice) {
   std::fprintf(stderr, "plumb: %s\n", notice.Line().c_str());
 }
 
-Model LoadModel(const std::string& path) {
-  Model model = Model::Load(path);
-  if (!model.compile_warnings().empty()) {
-    std::fprintf(stderr, "plumb: warning: MuJoCo's compiler on '%s': %s\n", path.c_str(),
-                 model.compile_warnings().c_str());
-  }
-  for (const std::string& w : TakeMujocoWarnings()) {
-    // MuJoCo 4 gives a compiler warning (settotalmass's deprecation) both ways: say it once
-    if (model.compile_warnings().find(w) != std::string::npos) continue;
-    std::fprintf(stderr, "plumb: warning: MuJoCo while loading '%s': %s\n", path.c_str(),
-                 w.c_str());
-  }
-  for (const DelayDescription& delay : Delays(model)) {
-    if (!delay.shortened()) continue;
-    std::fprintf(stderr, "plumb: warning: '%s': %s.\n", path.c_str(), delay.Warning().c_str());
-  }
-  return model;
+PrintedNotices& CommandNotices() {
+  static PrintedNotices notices;
+  return notices;
 }
+
+std::string WithNotices(const std::string& json) {
+  return JsonWithNotices(json, CommandNotices().all());
+}
+
+Model LoadModel(const std::string& path) { return plumb::LoadModel(path, &CommandNotices()); }
 
 void WarnAboutAssignment(const char* flag, const std::string& text,
                          const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) {
-    std::fprintf(stderr, "plumb: warning: %s '%s': %s\n", flag, text.c_str(), w.c_str());
-  }
+  Assignment a;
+  a.text = text;
+  a.warnings = warnings;
+  AddAssignmentNotices(a, flag, &CommandNotices());
 }
 
 std::vector<Assignment> ParseAssignments(const Model& model, const std::vector<std::string>& sets) {
   std::vector<Assignment> out;
   for (const std::string& s : sets) {
     out.push_back(ParseAssignment(model, s));
-    WarnAboutAssignment("--set", s, out.back().warnings);
+    AddAssignmentNotices(out.back(), "--set", &CommandNotices());
   }
   return out;
 }

@@ -83,7 +83,7 @@ struct StartPose {
 };
 void AddStartPoseOptions(CLI::App* cmd, StartPose* pose);
 // The pose's assignments: the file's, then --qpos (none when neither is given); each one's
-// warnings are printed when `warn`. @throws as StartAssignments.
+// warnings are said (CommandNotices) when `warn`. @throws as StartAssignments.
 std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pose,
                                         bool warn = true);
 
@@ -108,8 +108,17 @@ class PrintedNotices : public Notices {
   PrintedNotices() : Notices(PrintNotice) {}
 };
 
-// Prints an assignment's warnings (Assignment::warnings) on stderr, naming it as the user
-// wrote it: "plumb: warning: --set 'ctrl[hip]=5': ...".
+// The channel of the command this process runs: what its library calls say (LoadModel's
+// compile warnings, StartAssignments' warnings, a cut log's note), each printed as it comes;
+// a command's JSON document carries all() as "notices" (WithNotices).
+PrintedNotices& CommandNotices();
+
+// `json`, a JSON object's text, with "notices": the command's notices (CommandNotices) as
+// NoticesToJson writes them, added as its last member.
+std::string WithNotices(const std::string& json);
+
+// Says an assignment's warnings (Assignment::warnings) on the command's channel, naming it as
+// the user wrote it: "plumb: warning: --set 'ctrl[hip]=5': ..." (AddAssignmentNotices).
 void WarnAboutAssignment(const char* flag, const std::string& text,
                          const std::vector<std::string>& warnings);
 
@@ -132,7 +141,7 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
 // (the command line) gives an internal error its context.
 int ReportError(const std::exception& error, const std::vector<std::string>& argv = {});
 
-// Loads a model, printing MuJoCo's compile warnings on stderr.
+// Loads a model, saying what MuJoCo said on the way on the command's channel (plumb/load.h).
 Model LoadModel(const std::string& path);
 
 // Parses every --set assignment against the model.

@@ -8,8 +8,7 @@ namespace plumb::cli {
 
 std::vector<RobotLog> LoadLogs(const Model& model, const std::vector<std::string>& paths,
                                const std::string& column_map) {
-  PrintedNotices notices;
-  return LoadRobotLogs(model, paths, column_map, &notices);
+  return LoadRobotLogs(model, paths, column_map, &CommandNotices());
 }
 
 }  // namespace plumb::cli

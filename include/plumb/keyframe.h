@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 
 namespace plumb {
@@ -62,13 +63,19 @@ struct StartSpec {
 };
 
 // The start's assignments in the order a run applies them, each later one winning: the
-// keyframe, the pose file, the qpos vector, then every set. `warn`, when given, is called with
-// each assignment that has warnings (Assignment::warnings) and the argument it came from
-// ("pose", "qpos", "set"), for the caller to show. @throws as KeyframeAssignments,
-// PoseFileAssignments, QposAssignment and ParseAssignment do.
-std::vector<Assignment> StartAssignments(
-    const Model& model, const StartSpec& start,
-    const std::function<void(const char* argument, const Assignment& a)>& warn = nullptr);
+// keyframe, the pose file, the qpos vector, then every set. Each assignment's warnings go to
+// `notices` (AddAssignmentNotices), named by `prefix` and the argument it came from ("pose",
+// "qpos", "set"): Python's "set 'ctrl[hip]=5'", the plumb command's prefix "--" gives
+// "--set 'ctrl[hip]=5'". @throws as KeyframeAssignments, PoseFileAssignments, QposAssignment
+// and ParseAssignment do.
+std::vector<Assignment> StartAssignments(const Model& model, const StartSpec& start,
+                                         Notices* notices = nullptr,
+                                         const std::string& prefix = "");
+
+// Adds each of `a`'s warnings (Assignment::warnings: a ctrl outside its ctrlrange, which MuJoCo
+// clamps, ...) to `notices` as a kStart warning about the assignment as the caller wrote it:
+// subject "ARGUMENT 'TEXT'", `argument` as the caller names it ("set", "vary", "--set").
+void AddAssignmentNotices(const Assignment& a, const std::string& argument, Notices* notices);
 
 // Something about a start its authors would not have meant: a limited joint outside its range
 // (the limit throws it back in the first steps, and every check after measures that), or a

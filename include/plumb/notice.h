@@ -95,6 +95,12 @@ inline void AddTo(Notices* sink, Notice notice) {
 // [{"level": "warning", "topic": "compile", "subject": "...", "text": "..."}, ...]
 std::string NoticesToJson(const std::vector<Notice>& notices);
 
+// `json`, a command's JSON document (an object), with "notices": NoticesToJson(notices) added
+// as its last member, laid out as the document was (indented by two, or on one line). How the
+// plumb command's --format json and Python's to_json() carry a call's notices.
+// @throws InternalError (PLUMB_DEMAND) when `json` is not a JSON object.
+std::string JsonWithNotices(const std::string& json, const std::vector<Notice>& notices);
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_NOTICE_H_

@@ -15,6 +15,7 @@
 #include "plumb/describe.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/load.h"
 #include "plumb/model.h"
 #include "plumb/notice.h"
 #include "plumb/path.h"

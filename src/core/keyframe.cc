@@ -264,12 +264,11 @@ std::vector<Assignment> PoseFileAssignments(const Model& model, const std::strin
   return out;
 }
 
-std::vector<Assignment> StartAssignments(
-    const Model& model, const StartSpec& start,
-    const std::function<void(const char* argument, const Assignment& a)>& warn) {
+std::vector<Assignment> StartAssignments(const Model& model, const StartSpec& start,
+                                         Notices* notices, const std::string& prefix) {
   std::vector<Assignment> out = KeyframeAssignments(model, start.keyframe);
   auto add = [&](const char* argument, Assignment a) {
-    if (warn && !a.warnings.empty()) warn(argument, a);
+    AddAssignmentNotices(a, prefix + argument, notices);
     out.push_back(std::move(a));
   };
   if (!start.pose.empty()) {
@@ -278,6 +277,12 @@ std::vector<Assignment> StartAssignments(
   if (!start.qpos.empty()) add("qpos", QposAssignment(model, start.qpos));
   for (const std::string& text : start.sets) add("set", ParseAssignment(model, text));
   return out;
+}
+
+void AddAssignmentNotices(const Assignment& a, const std::string& argument, Notices* notices) {
+  for (const std::string& w : a.warnings) {
+    AddTo(notices, {NoticeLevel::kWarning, NoticeTopic::kStart, argument + " '" + a.text + "'", w});
+  }
 }
 
 namespace {

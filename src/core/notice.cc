@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/demand.h"
+
 namespace plumb {
 
 const char* TopicName(NoticeTopic topic) {
@@ -53,7 +55,18 @@ std::string NoticesToJson(const std::vector<Notice>& notices) {
                    {"subject", n.subject},
                    {"text", n.text}});
   }
-  return out.dump();
+  // a path's bytes need not be UTF-8: replaced, not refused
+  return out.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+std::string JsonWithNotices(const std::string& json, const std::vector<Notice>& notices) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(json, nullptr, false);
+  PLUMB_DEMAND(doc.is_object());
+  doc["notices"] = nlohmann::ordered_json::parse(NoticesToJson(notices));
+  bool indented = json.find('\n') != std::string::npos;
+  bool newline = !json.empty() && json.back() == '\n';
+  return doc.dump(indented ? 2 : -1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) +
+         (newline ? "\n" : "");
 }
 
 }  // namespace plumb

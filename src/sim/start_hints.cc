@@ -110,4 +110,15 @@ std::vector<StartHint> StartHints(const Model& model, const Data& data) {
   return hints;
 }
 
+void AddStartHints(const Model& model, const Data& data, const std::string& argument,
+                   Notices* notices) {
+  if (notices == nullptr) return;
+  for (const StartHint& hint : StartHints(model, data)) {
+    std::string evidence = hint.evidence.empty() ? "" : " (" + hint.evidence + ")";
+    notices->Hint(NoticeTopic::kStart, "",
+                  fmt::format("{} {}, e.g. {} '{}'{}.", hint.problem, hint.advice, argument,
+                              hint.assignment, evidence));
+  }
+}
+
 }  // namespace plumb

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "plumb/model.h"
+#include "plumb/notice.h"
 
 namespace plumb {
 
@@ -36,6 +37,13 @@ struct StartHint {
 // velocity when no offset does. Bodies that start asleep (plumb/sleep.h) stay still too;
 // that hint's assignment turns sleep off. @throws MujocoError.
 std::vector<StartHint> StartHints(const Model& model, const Data& data);
+
+// Each of StartHints' hints, added to `notices` as a hint (topic kStart) whose text is what the
+// plumb command prints after "plumb: hint: ": "PROBLEM ADVICE, e.g. ARGUMENT 'ASSIGNMENT'
+// (EVIDENCE).", `argument` as the caller names it (Python's "set", the plumb command's flag).
+// @throws MujocoError.
+void AddStartHints(const Model& model, const Data& data, const std::string& argument,
+                   Notices* notices);
 
 }  // namespace plumb
 

@@ -59,6 +59,29 @@ TEST(CliRunTest, LoadingWarnsOfAShortenedDelay) {
       << r.err;
 }
 
+// What a command says on stderr its JSON document carries too, as "notices": a start value
+// MuJoCo clamps, a delay MuJoCo shortened; the stderr lines are unchanged.
+TEST(CliRunTest, TheJsonDocumentCarriesTheNotices) {
+  testing::TempDir dir;
+  std::string model = dir.File("arm.xml");
+  testing::WriteFile(model, testing::TwoHingeArm(R"(<motor name="m" joint="a" ctrlrange="-1 1"
+      ctrllimited="true"/>)"));
+  CommandResult r = RunPlumb("inspect " + model + " --set 'ctrl[m]=5' --format json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("plumb: warning: --set 'ctrl[m]=5': 5 is outside the ctrlrange"),
+            std::string::npos)
+      << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["notices"].size(), 1u) << r.out;
+  EXPECT_EQ(j["notices"][0]["level"], "warning");
+  EXPECT_EQ(j["notices"][0]["topic"], "start");
+  EXPECT_EQ(j["notices"][0]["subject"], "--set 'ctrl[m]=5'");
+  EXPECT_NE(j["notices"][0]["text"].get<std::string>().find("ctrlrange"), std::string::npos);
+  CommandResult quiet = RunPlumb("verify " + testing::kPendulum + " --format json --quiet");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_EQ(nlohmann::json::parse(quiet.out)["notices"], nlohmann::json::array()) << quiet.out;
+}
+
 // MuJoCo 4 gives settotalmass's deprecation both in the compiler's message and to its
 // warning handler: plumb printed it twice.
 TEST(CliRunTest, ACompilerWarningIsPrintedOnce) {

@@ -6,6 +6,7 @@
 
 #include "core/mujoco_compat.h"
 #include "fixture.h"
+#include "plumb/load.h"
 
 namespace plumb {
 namespace {
@@ -178,6 +179,46 @@ TEST_F(DescribeTest, DelaysShowTheirBufferAndWhenMujocoShortensThem) {
       << late.Warning();
   EXPECT_FALSE(d.delays[1].shortened());  // 5 x 2 ms hold 10 ms
   EXPECT_EQ(d.delays[1].Warning(), "");
+}
+
+// Loading says once, on the call's channel, what MuJoCo said or did on the way: a delay it
+// shortened (MuJoCo says nothing), and its compiler's warnings (MuJoCo 4 gives settotalmass's
+// deprecation both to its handler and in the compiler's message: said once).
+TEST_F(DescribeTest, LoadingAddsWhatMujocoSaidToTheCallsNotices) {
+  testing::TempDir dir;
+  std::string total = dir.File("total.xml");
+  testing::WriteFile(total, R"(<mujoco><compiler settotalmass="5"/><worldbody>
+      <body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>)");
+  Notices said;
+  LoadModel(total, &said);
+  int settotalmass = 0;
+  for (const Notice& n : said.all()) {
+    EXPECT_EQ(n.topic, NoticeTopic::kCompile) << n.Line();
+    EXPECT_NE(n.subject.find("'" + total + "'"), std::string::npos) << n.Line();
+    if (n.text.find("settotalmass") != std::string::npos) ++settotalmass;
+  }
+  EXPECT_LE(settotalmass, 1);
+  EXPECT_TRUE(TakeMujocoWarnings().empty());  // taken, also when said
+
+  if (!(mjVERSION_HEADER >= 3005000)) GTEST_SKIP() << "delays came with MuJoCo 3.5";
+  std::string late = dir.File("late.xml");
+  testing::WriteFile(late, testing::TwoHingeArm(R"(<motor name="late" joint="a" delay="0.5"
+      nsample="20"/>)"));
+  Notices notices;
+  Model model = LoadModel(late, &notices);
+  std::vector<Notice> said_late = notices.all();
+  ASSERT_EQ(said_late.size(), 1u);
+  const Notice& n = said_late[0];
+  EXPECT_EQ(n.level, NoticeLevel::kWarning);
+  EXPECT_EQ(n.topic, NoticeTopic::kCompile);
+  EXPECT_EQ(n.subject, "'" + late + "'");
+  EXPECT_EQ(n.text, Delays(model)[0].Warning() + ".");
+  Notices wrapped;
+  AddModelNotices(model, "<MjModel 'arm'>", &wrapped);  // a model compiled elsewhere
+  ASSERT_EQ(wrapped.all().size(), 1u);
+  EXPECT_EQ(wrapped.all()[0].subject, "<MjModel 'arm'>");
+  LoadModel(late, nullptr);  // no channel: nothing said, nothing left behind
+  EXPECT_TRUE(TakeMujocoWarnings().empty());
 }
 
 }  // namespace

@@ -109,6 +109,33 @@ constexpr const char* kFloating = R"(<mujoco><worldbody><body name="base"><freej
         <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/></body></body></body>
   </worldbody></mujoco>)";
 
+// A start value MuJoCo changes (a ctrl outside its ctrlrange, clamped) is a kStart warning on
+// the call's channel, naming the assignment as the caller wrote it: Python's argument "set",
+// the plumb command's flag "--set" (the prefix "--").
+TEST_F(KeyframeTest, AStartValueMujocoChangesIsAStartWarning) {
+  Model model = Model::FromXmlString(
+      testing::TwoHingeArm(R"(<motor name="m" joint="a" ctrlrange="-1 1" ctrllimited="true"/>)"));
+  Notices python;
+  std::vector<Assignment> start =
+      StartAssignments(model, {"", "", "", {"ctrl[m]=5", "ctrl[m]=0.5"}}, &python);
+  ASSERT_EQ(start.size(), 2u);
+  std::vector<Notice> said = python.all();
+  ASSERT_EQ(said.size(), 1u);
+  const Notice& n = said[0];
+  EXPECT_EQ(n.level, NoticeLevel::kWarning);
+  EXPECT_EQ(n.topic, NoticeTopic::kStart);
+  EXPECT_EQ(n.subject, "set 'ctrl[m]=5'");
+  ASSERT_EQ(start[0].warnings.size(), 1u);
+  EXPECT_EQ(n.text, start[0].warnings[0]);
+  EXPECT_NE(n.text.find("ctrlrange"), std::string::npos) << n.text;
+  Notices cli;
+  StartAssignments(model, {"", "", "1,0", {"ctrl[m]=-3"}}, &cli, "--");
+  ASSERT_EQ(cli.all().size(), 1u);
+  EXPECT_EQ(cli.all()[0].Line().rfind("warning: --set 'ctrl[m]=-3': ", 0), 0u)
+      << cli.all()[0].Line();
+  EXPECT_NO_THROW(StartAssignments(model, {"", "", "", {"ctrl[m]=5"}}));  // no channel
+}
+
 TEST_F(KeyframeTest, AWholeQposStartsTheRunThere) {
   Model model = Model::FromXmlString(kFloating, "floating.xml");
   Data data(model);

@@ -63,7 +63,7 @@ int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string text =
-      o.format == "json" ? AuditToJson(report) : AuditTable(report, o.detail, kSeeAllRows);
+      o.format == "json" ? WithNotices(AuditToJson(report)) : AuditTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.Failed(o.strict) ? kExitCheckFailed : kExitOk;
 }

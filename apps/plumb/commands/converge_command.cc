@@ -52,7 +52,7 @@ int RunConverge(const ConvergeCommandOptions& o, const Context& ctx) {
     WriteConvergeReport(o.report, model, options.sets, {r}, r.integrator, info);
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? ConvergeToJson(r) : ConvergeTable(r);
+  std::string text = o.format == "json" ? WithNotices(ConvergeToJson(r)) : ConvergeTable(r);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return r.ok ? kExitOk : kExitDiverged;
 }

@@ -53,7 +53,7 @@ int RunCrosscheck(CrosscheckCommandOptions& o, const Context& ctx) {
     WriteCrosscheckReport(o.report, model, spec.sets, result, spec.until, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  std::string text = o.format == "json" ? CrosscheckToJson(result)
+  std::string text = o.format == "json" ? WithNotices(CrosscheckToJson(result))
                                         : CrosscheckTable(result, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return result.failed() ? kExitCheckFailed : kExitOk;

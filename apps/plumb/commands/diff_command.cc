@@ -87,7 +87,7 @@ int RunDiff(const DiffOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string out =
-      o.format == "json" ? DiffToJson(diff, o.snapshot) : DiffTable(diff, o.snapshot, "--set ");
+      o.format == "json" ? WithNotices(DiffToJson(diff, o.snapshot)) : DiffTable(diff, o.snapshot, "--set ");
   std::fwrite(out.data(), 1, out.size(), stdout);
   if (diff.diverged) return kExitDiverged;
   return diff.changed() ? kExitCheckFailed : kExitOk;

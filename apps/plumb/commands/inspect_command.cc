@@ -23,7 +23,7 @@ int RunInspect(const InspectOptions& o) {
     ApplyAssignments(model, data, ParseAssignments(model, o.sets));
   }
   ModelDescription description = Describe(model);
-  std::string text = o.format == "json" ? DescriptionToJson(description, MujocoVersion())
+  std::string text = o.format == "json" ? WithNotices(DescriptionToJson(description, MujocoVersion()))
                                         : DescriptionTable(description, MujocoVersion());
   std::fwrite(text.data(), 1, text.size(), stdout);
   return kExitOk;

@@ -40,7 +40,7 @@ int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
     WriteReplayReport(o.report, model, log, r, replay, ReportInfo{ctx.argv});
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  WriteStdout(o.format == "json" ? ReplayToJson(o.model, log, o.replay, r)
+  WriteStdout(o.format == "json" ? WithNotices(ReplayToJson(o.model, log, o.replay, r))
                                  : ReplayTable(o.model, log, o.replay, r));
   return r.simulated.diverged ? kExitDiverged : kExitOk;
 }

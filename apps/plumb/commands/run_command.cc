@@ -157,11 +157,7 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   std::optional<AtomicFile> file;
   if (!o.output.empty()) file.emplace(o.output);
   std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
-  for (const StartHint& hint : StartHints(model, data)) {
-    std::string evidence = hint.evidence.empty() ? "" : " (" + hint.evidence + ")";
-    std::fprintf(stderr, "plumb: hint: %s %s, e.g. --set '%s'%s.\n", hint.problem.c_str(),
-                 hint.advice.c_str(), hint.assignment.c_str(), evidence.c_str());
-  }
+  AddStartHints(model, data, "--set", &CommandNotices());
   // a bar only where it cannot interleave with the rows: output to a file or a pipe
   bool bar = estimate.seconds > 2 && (to_file || isatty(fileno(stdout)) == 0);
   BudgetedRun budgeted(*writer, o.budget, estimate.steps, bar);

@@ -51,7 +51,7 @@ int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
   std::string text =
-      o.format == "json" ? VerifyToJson(report) : VerifyTable(report, o.detail, kSeeAllRows);
+      o.format == "json" ? WithNotices(VerifyToJson(report)) : VerifyTable(report, o.detail, kSeeAllRows);
   std::fwrite(text.data(), 1, text.size(), stdout);
   return report.failed() ? kExitCheckFailed : kExitOk;
 }
