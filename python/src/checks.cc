@@ -47,6 +47,7 @@ struct VerifyResult {
   std::shared_ptr<PyModel> model;
   std::vector<Assignment> sets;
   VerifyReport report;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
 
   std::string Json() const { return VerifyToJson(report); }
@@ -100,20 +101,24 @@ void BindVerify(nb::module_& m) {
       [](ModelArg model, SetArg set, double tol, std::optional<double> until,
          std::optional<std::string> keyframe) {
         auto result = std::make_shared<VerifyResult>();
-        result->model = ToModel(model);
+        CallNotices notices;
+        result->model = ToModel(model, notices.sink());
         std::vector<std::string> sets = SetTexts(set);
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
           VerifyOptions options;
           // the library starts at the reference pose; the load's and the call's sets on top
           options.keyframe = keyframe.value_or(result->model->keyframe());
-          options.sets = StartAssignments(work, result->model->Spec("", "", "", sets));
+          options.sets =
+              StartAssignments(work, result->model->Spec("", "", "", sets), notices.sink());
           options.tol = tol;
           options.until = until;
           options.stop = stop;
           result->sets = VerifyStart(work, options);  // the pose the report's pictures show
           return Verify(work, options);
         });
+        notices.Issue();
+        result->notices = notices.all();
         return result;
       },
       nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = VerifyOptions{}.tol,
@@ -134,6 +139,7 @@ struct AuditResult {
   std::vector<Assignment> start;  // the pose the pictures show
   AuditReport report;
   bool strict = false;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
 
   std::string Json() const { return AuditToJson(report); }
@@ -185,7 +191,8 @@ void BindAudit(nb::module_& m) {
          std::optional<std::string> keyframe, std::optional<FileArg> scenario,
          std::optional<FileArg> repro) {
         auto result = std::make_shared<AuditResult>();
-        result->model = ToModel(model);
+        CallNotices notices;
+        result->model = ToModel(model, notices.sink());
         result->strict = strict;
         std::vector<std::string> sets = result->model->SetTexts(SetTexts(set));
         std::string accept_file = OptionalPathArg(accept, "accept");
@@ -198,7 +205,7 @@ void BindAudit(nb::module_& m) {
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
           AuditOptions options;
-          for (const std::string& text : sets) options.sets.push_back(ParseAssignment(work, text));
+          options.sets = StartAssignments(work, {"", "", "", sets}, notices.sink());
           options.keyframe = key;
           if (!scenario_file.empty()) options.scenario = LoadScenario(work, scenario_file);
           AcceptList accepted = accept_file.empty() ? AcceptList() : LoadAcceptList(accept_file);
@@ -214,6 +221,8 @@ void BindAudit(nb::module_& m) {
           ApplyAcceptList(accepted, &report.findings);
           return report;
         });
+        notices.Issue();
+        result->notices = notices.all();
         return result;
       },
       nb::arg("model"), nb::arg("strict") = false, nb::arg("accept") = nb::none(),
@@ -232,6 +241,7 @@ struct ConvergeResult {
   std::shared_ptr<PyModel> model;
   std::vector<Assignment> sets;
   ConvergenceResult result;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
 
   std::string Json() const { return ConvergeToJson(result); }
@@ -298,11 +308,12 @@ void BindConverge(nb::module_& m) {
       [](ModelArg model, const std::string& metric, SetArg set, std::optional<double> dt,
          int halvings, double tol, std::optional<double> until) {
         auto result = std::make_shared<ConvergeResult>();
-        result->model = ToModel(model);
+        CallNotices notices;
+        result->model = ToModel(model, notices.sink());
         std::vector<std::string> sets = SetTexts(set);
         result->result = RunLong([&](StopToken stop) {
           ConvergeOptions options;
-          options.sets = result->model->Start(sets);
+          options.sets = result->model->Start(sets, notices.sink());
           options.dt = dt;
           options.halvings = halvings;
           options.tol = tol;
@@ -312,6 +323,8 @@ void BindConverge(nb::module_& m) {
           return Converge(result->model->model(), ParseMetric(result->model->model(), metric),
                           options);
         });
+        notices.Issue();
+        result->notices = notices.all();
         return result;
       },
       nb::arg("model"), nb::arg("metric"), nb::arg("set") = nb::none(), nb::arg("dt") = nb::none(),
@@ -345,6 +358,7 @@ struct DiffResult {
   std::shared_ptr<PyModel> model;
   std::string snapshot;  // as given
   SnapshotDiff diff;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
 
   std::string Json() const { return DiffToJson(diff, snapshot); }
@@ -404,11 +418,12 @@ void BindSnapshot(nb::module_& m) {
   m.def(
       "snapshot",
       [](ModelArg model, SetArg set) {
-        std::shared_ptr<PyModel> p = ToModel(model);
+        CallNotices notices;
+        std::shared_ptr<PyModel> p = ToModel(model, notices.sink());
         std::vector<std::string> sets = p->SetTexts(SetTexts(set));
-        return RunLong([&](StopToken) {
-          std::vector<Assignment> parsed;
-          for (const std::string& text : sets) parsed.push_back(ParseAssignment(p->model(), text));
+        Snapshot snapshot = RunLong([&](StopToken) {
+          std::vector<Assignment> parsed =
+              StartAssignments(p->model(), {"", "", "", sets}, notices.sink());
           std::string divergence;
           Snapshot s{MakeSnapshot(p->model(), parsed, &divergence), p->name()};
           if (!divergence.empty()) {
@@ -419,6 +434,8 @@ void BindSnapshot(nb::module_& m) {
           }
           return s;
         });
+        notices.Issue();
+        return snapshot;
       },
       nb::arg("model"), nb::arg("set") = nb::none(),
       "Takes a model's regression snapshot (plumb snapshot), with the `set` assignments "
@@ -450,12 +467,13 @@ void BindSnapshot(nb::module_& m) {
                          : Snapshot::Load(PathArg(snapshot.object, "snapshot"));
         auto result = std::make_shared<DiffResult>();
         result->snapshot = s.source;
-        std::shared_ptr<PyModel> p = ToModel(model);
+        CallNotices notices;
+        std::shared_ptr<PyModel> p = ToModel(model, notices.sink());
         result->model = p;
         std::vector<std::string> sets = p->SetTexts(SetTexts(set));
         result->diff = RunLong([&](StopToken) {
-          std::vector<Assignment> parsed;
-          for (const std::string& text : sets) parsed.push_back(ParseAssignment(p->model(), text));
+          std::vector<Assignment> parsed =
+              StartAssignments(p->model(), {"", "", "", sets}, notices.sink());
           try {
             return DiffSnapshot(s.text, p->model(), parsed, tol);
           } catch (const ArgumentError&) {
@@ -466,6 +484,8 @@ void BindSnapshot(nb::module_& m) {
                              "plumb.snapshot(model).save(path).");
           }
         });
+        notices.Issue();
+        result->notices = notices.all();
         return result;
       },
       nb::arg("snapshot"), nb::arg("model"), nb::arg("set") = nb::none(),

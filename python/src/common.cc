@@ -10,6 +10,7 @@
 #include "io/temp_file.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
+#include "plumb/load.h"
 
 namespace plumb::python {
 namespace {
@@ -145,8 +146,10 @@ std::shared_ptr<Model> PyModel::EditableFor(const std::vector<Assignment>& assig
   return model_;
 }
 
-std::shared_ptr<PyModel> ToModel(nb::handle model) {
+std::shared_ptr<PyModel> ToModel(nb::handle model, Notices* notices) {
   if (nb::isinstance<PyModel>(model)) return nb::cast<std::shared_ptr<PyModel>>(model);
+  CallNotices own;  // issued at once when the caller gives no sink of its own
+  if (notices == nullptr) notices = own.sink();
   nb::handle type = model.type();
   std::string type_name = nb::type_name(type).c_str();
   if (type_name == "mujoco._structs.MjModel" || type_name == "MjModel") {
@@ -155,6 +158,8 @@ std::shared_ptr<PyModel> ToModel(nb::handle model) {
     std::string name = fmt::format("<MjModel '{}'>", m->nnames > 0 ? m->names : "");
     MujocoCallScope scope;
     auto borrowed = std::make_shared<Model>(Model::Borrow(m, name));
+    AddModelNotices(*borrowed, name, notices);
+    own.Issue();
     return std::make_shared<PyModel>(std::move(borrowed), nb::borrow(model), "",
                                      std::vector<std::string>{});
   }
@@ -164,8 +169,9 @@ std::shared_ptr<PyModel> ToModel(nb::handle model) {
     {
       nb::gil_scoped_release release;
       MujocoCallScope scope;
-      loaded = std::make_shared<Model>(Model::Load(path));
+      loaded = std::make_shared<Model>(LoadModel(path, notices));
     }
+    own.Issue();
     return std::make_shared<PyModel>(std::move(loaded), nb::none(), "", std::vector<std::string>{});
   }
   throw nb::type_error(fmt::format("model: expected a plumb.Model, a mujoco.MjModel or a path "
@@ -333,7 +339,7 @@ void BindErrors(nb::module_& m) {
   g_warnings.base = NewError(m, "PlumbWarning", PyExc_UserWarning,
                                "Base of every warning, note and hint a plumb call gives (the "
                                "lines the plumb command prints on stderr); the call's result "
-                               "keeps them too (.notes).");
+                               "keeps them too (.notices).");
   g_warnings.compile = NewError(m, "CompileWarning", g_warnings.base,
                                   "MuJoCo's compiler or loader said something about the model.");
   g_warnings.start = NewError(m, "StartWarning", g_warnings.base,
@@ -408,7 +414,7 @@ void BindErrors(nb::module_& m) {
 
 void BindCore(nb::module_& m) {
   nb::class_<Notice>(m, "Notice",
-                     "What a call said besides its result (a result's .notes): the lines the "
+                     "What a call said besides its result (a result's .notices): the lines the "
                      "plumb command prints on stderr, each also issued as a plumb.PlumbWarning.")
       .def_prop_ro(
           "level", [](const Notice& n) { return std::string(LevelName(n.level)); },
@@ -495,19 +501,24 @@ void BindCore(nb::module_& m) {
   m.def(
       "load",
       [](ModelArg model, SetArg set, std::optional<std::string> keyframe) {
-        std::shared_ptr<PyModel> base = ToModel(model);
+        CallNotices notices;
+        std::shared_ptr<PyModel> base = ToModel(model, notices.sink());
         std::vector<std::string> sets = base->SetTexts(SetTexts(set));
         auto out = std::make_shared<PyModel>(base->shared(), base->mjmodel(),
                                              keyframe.value_or(base->keyframe()), sets);
-        MujocoCallScope scope;
-        out->Start();  // validates the keyframe and every assignment now
+        {
+          MujocoCallScope scope;
+          out->Start({}, notices.sink());  // validates the keyframe and every assignment now
+        }
+        notices.Issue();
         return out;
       },
       nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("keyframe") = nb::none(),
       "Loads an MJCF or .mjb file, or wraps a mujoco.MjModel without copying it, with the start "
       "its calls begin from: the keyframe, then each set assignment "
-      "(set={'qpos[hinge]': 0.7}, the CLI's --set). Raises plumb.LoadError, plumb.PathError, "
-      "plumb.ArgumentError.");
+      "(set={'qpos[hinge]': 0.7}, the CLI's --set). Issues plumb.CompileWarning for what MuJoCo's "
+      "compiler said and plumb.StartWarning for a start value MuJoCo changes. Raises "
+      "plumb.LoadError, plumb.PathError, plumb.ArgumentError.");
 
   m.def("mujoco_version", &MujocoVersion, "the version of the MuJoCo library in use");
   m.def("compiled_mujoco_version", &CompiledMujocoVersion,

@@ -24,6 +24,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -96,10 +97,12 @@ class PyModel {
   StartSpec Spec(const std::optional<std::string>& keyframe = std::nullopt,
                  const std::string& pose = "", const std::string& qpos = "",
                  const std::vector<std::string>& more = {}) const;
-  // Its assignments, in the order a run applies them (StartAssignments).
+  // Its assignments, in the order a run applies them (StartAssignments); their warnings go to
+  // `notices` (a call's CallNotices::sink(): plumb.StartWarning, "set 'ctrl[hip]=5': ...").
   // @throws PathError / ArgumentError / ValueError for what the model refuses.
-  std::vector<Assignment> Start(const std::vector<std::string>& more = {}) const {
-    return StartAssignments(*model_, Spec(std::nullopt, "", "", more));
+  std::vector<Assignment> Start(const std::vector<std::string>& more = {},
+                                Notices* notices = nullptr) const {
+    return StartAssignments(*model_, Spec(std::nullopt, "", "", more), notices);
   }
   // The keyframe and every `set` text, in order (the CLI's --keyframe and --set words).
   std::vector<std::string> SetTexts(const std::vector<std::string>& more = {}) const;
@@ -117,9 +120,14 @@ class PyModel {
 };
 
 // A call's `model` argument: a plumb.Model, a mujoco.MjModel (wrapped, not copied) or a path
-// (str or os.PathLike). @throws LoadError for a path that does not load; TypeError otherwise.
-std::shared_ptr<PyModel> ToModel(nb::handle model);
-inline std::shared_ptr<PyModel> ToModel(ModelArg model) { return ToModel(model.object); }
+// (str or os.PathLike). What loading a path says (plumb/load.h: MuJoCo's compiler warnings, a
+// shortened delay; for a wrapped MjModel the shortened delays only) goes to `notices`, the
+// call's CallNotices::sink(), or is issued at once (plumb.CompileWarning) when it is null.
+// @throws LoadError for a path that does not load; TypeError otherwise.
+std::shared_ptr<PyModel> ToModel(nb::handle model, Notices* notices = nullptr);
+inline std::shared_ptr<PyModel> ToModel(ModelArg model, Notices* notices = nullptr) {
+  return ToModel(model.object, notices);
+}
 
 // A `set` argument in the CLI's vocabulary: None, {"qpos[hinge]": 0.7, "opt.gravity":
 // [0, 0, -1.62], "opt.integrator": "RK4"}, or a list of "PATH=VALUE" strings. Values are
@@ -243,7 +251,8 @@ auto RunLong(Body&& body) -> decltype(body(StopToken{})) {
 // returns, Issue() hands each notice to Python's `warnings` with plumb's class for its topic
 // (plumb.CompileWarning, plumb.StartWarning, plumb.LogWarning, plumb.BatchWarning,
 // plumb.ModelWarning, else plumb.PlumbWarning; all subclasses of plumb.PlumbWarning, a
-// UserWarning), its message Notice::Line(), and all() keeps them for the result's `.notes`.
+// UserWarning), its message Notice::Line(), and all() keeps them for the result's `.notices`
+// (a result struct's `std::vector<Notice> notices`, which AddResultMethods binds).
 // A notice added while the call runs on another thread (RunLong) waits for Issue(), which
 // needs the GIL. Notices not issued when this is destroyed (the call raised) are issued then,
 // so a warning that came before an error is still heard; a warning filter that turns one into
@@ -287,18 +296,46 @@ std::vector<NamedPath> ResultInputs(const Result& r) {
   return {{"the model", r.model->name()}};
 }
 
+// Whether a result struct keeps its call's notices (`std::vector<Notice> notices`).
+template <typename Result, typename = void>
+struct HasNotices : std::false_type {};
+template <typename Result>
+struct HasNotices<Result, std::void_t<decltype(std::declval<const Result&>().notices)>>
+    : std::true_type {};
+
+// A result's JSON document: Json(), with "notices" when the result keeps them, as the CLI's
+// --format json carries the command's (JsonWithNotices).
+template <typename Result>
+std::string ResultJson(const Result& r) {
+  if constexpr (HasNotices<Result>::value) {
+    return JsonWithNotices(r.Json(), r.notices);
+  } else {
+    return r.Json();
+  }
+}
+
+// .notices of a result type that keeps them: a list of plumb.Notice.
+template <typename Result>
+void AddNoticesProperty(nb::class_<Result>& type) {
+  type.def_ro("notices", &Result::notices,
+              "what the call said besides its result (each also issued as a plumb.PlumbWarning "
+              "subclass): a list of plumb.Notice");
+}
+
 // The methods every result type has, made from what its struct provides:
 //   std::string Json() const;                          the CLI's --format json document
 //   std::string Table() const;                         the CLI's table text
 //   void WriteReport(const std::string& path) const;   the CLI's --report HTML
 //   std::string html;                                  the report, kept once made
-// to_json(), to_dict(), save_report(path), _repr_html_() and __repr__.
+//   std::vector<Notice> notices;                       (optional) the call's notices
+// to_json(), to_dict(), save_report(path), _repr_html_() and __repr__; .notices when kept.
 template <typename Result>
 void AddResultMethods(nb::class_<Result>& type, const char* command) {
-  type.def("to_json", &Result::Json,
+  if constexpr (HasNotices<Result>::value) AddNoticesProperty(type);
+  type.def("to_json", &ResultJson<Result>,
            (std::string("the JSON document `plumb ") + command + " --format json` prints").c_str())
       .def(
-          "to_dict", [](const Result& r) { return FromJson(r.Json()); },
+          "to_dict", [](const Result& r) { return FromJson(ResultJson(r)); },
           "to_json() as Python objects (json.loads)")
       .def(
           "save_report",

@@ -37,6 +37,7 @@ struct PyReplay {
   RobotLog log;
   ReplayOptions options;
   ReplayResult result;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice): a cut log, ...
   std::string html;
   std::string Json() const { return ReplayToJson(model->name(), log, options, result); }
   std::string Table() const { return ReplayTable(model->name(), log, options, result); }
@@ -120,7 +121,8 @@ void BindReplay(nb::module_& m) {
       [](ModelArg model, FileArg log, std::optional<FileArg> columns, double window,
          double input_delay, double sensor_delay, SetArg set) {
         auto r = std::make_shared<PyReplay>();
-        r->model = ToModel(model);
+        CallNotices notices;
+        r->model = ToModel(model, notices.sink());
         std::string file = PathArg(log, "log");
         std::string column_map = OptionalPathArg(columns, "columns");
         std::vector<std::string> sets = SetTexts(set);
@@ -130,13 +132,15 @@ void BindReplay(nb::module_& m) {
         CheckReplayOptions(r->options);
         RunLong([&](StopToken stop) {
           r->ran = ParameterModel(*r->model, sets);
-          r->log = std::move(LoadRobotLogs(*r->ran, {file}, column_map).front());
+          r->log = std::move(LoadRobotLogs(*r->ran, {file}, column_map, notices.sink()).front());
           ReplayOptions options = r->options;
           options.stop = stop;
           r->result = Replay(*r->ran, r->log, options);
           TakeMujocoWarnings();
           return 0;
         });
+        notices.Issue();
+        r->notices = notices.all();
         return r;
       },
       nb::arg("model"), nb::arg("log"), nb::arg("columns") = nb::none(),

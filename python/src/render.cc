@@ -293,7 +293,8 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
                   std::optional<double> until, double fps, StringsArg highlight, bool msaa,
                   int shadow_size, std::string gl, std::optional<FileArg> output) {
   RenderRequest r;
-  r.model = ToModel(model);
+  CallNotices notices;
+  r.model = ToModel(model, notices.sink());
   r.options = ReadRenderOptions(camera, width, height, highlight, msaa, shadow_size, gl);
   r.at = at;
   r.until = until;
@@ -302,8 +303,10 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
   ReadState(state.object, sets, keyframe, &r);
   {
     MujocoCallScope scope;
-    r.start = StartAssignments(r.model->model(), r.model->Spec(keyframe, "", "", sets));
+    r.start = StartAssignments(r.model->model(), r.model->Spec(keyframe, "", "", sets),
+                               notices.sink());
   }
+  notices.Issue();
   std::string out = OptionalPathArg(output, "output");
   RefuseOutputsOntoInputs({{"output", out}}, {{"the model", r.model->name()}});
   auto f = std::make_shared<Frames>();

@@ -23,17 +23,19 @@
 #include "plumb/timing.h"
 #include "plumb/trajectory.h"
 #include "plumb/video.h"
+#include "sim/start_hints.h"
 #include "trajectory.h"
 
 namespace plumb::python {
 namespace {
 
 // The start a call runs from (PyModel::Spec): the call's keyframe, pose file and whole qpos,
-// then the load's and the call's `set`.
+// then the load's and the call's `set`; their warnings go to `notices`.
 std::vector<Assignment> CallStart(const PyModel& model, const std::optional<std::string>& keyframe,
                                   const std::string& pose, QposArg qpos,
-                                  const std::vector<std::string>& sets) {
-  return StartAssignments(model.model(), model.Spec(keyframe, pose, QposText(qpos), sets));
+                                  const std::vector<std::string>& sets, Notices* notices) {
+  return StartAssignments(model.model(), model.Spec(keyframe, pose, QposText(qpos), sets),
+                          notices);
 }
 
 // The text a sample writer of `format` writes for `rows` (row indices) of the samples.
@@ -100,6 +102,9 @@ void BindTrajectory(nb::module_& m) {
       .def_prop_ro(
           "warnings", [](const Trajectory& t) { return WarningList(t.result); },
           "MuJoCo's warnings of the run, one dict per kind")
+      .def_ro("notices", &Trajectory::notices,
+              "what the call said besides its samples (each also issued as a "
+              "plumb.PlumbWarning subclass): a list of plumb.Notice")
       .def("__len__", [](const Trajectory& t) { return t.rows; })
       .def(
           "__getitem__",
@@ -152,14 +157,16 @@ void BindRunCall(nb::module_& m) {
       [](ModelArg model, double until, std::optional<double> every, StringsArg columns, SetArg set,
          std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos) {
         auto t = std::make_shared<Trajectory>();
+        CallNotices notices;
         std::string pose_file = OptionalPathArg(pose, "pose");
-        t->model = ToModel(model);
+        t->model = ToModel(model, notices.sink());
         std::vector<std::string> sets = SetTexts(set);
         std::vector<std::string> column_texts = StringList(columns, "columns");
         std::vector<double> samples;
         {
           MujocoCallScope scope;
-          std::vector<Assignment> start = CallStart(*t->model, keyframe, pose_file, qpos, sets);
+          std::vector<Assignment> start =
+              CallStart(*t->model, keyframe, pose_file, qpos, sets, notices.sink());
           t->ran = t->model->EditableFor(start);
           double dt = RunTimestep(*t->ran, start);
           try {
@@ -176,6 +183,7 @@ void BindRunCall(nb::module_& m) {
           t->result = RunLong([&](StopToken stop) {
             Data data(*t->ran);
             ApplyAssignments(*t->ran, data, start);
+            AddStartHints(*t->ran, data, "set", notices.sink());
             RunSpec spec;
             spec.until = until;
             spec.every = t->every;
@@ -193,6 +201,8 @@ void BindRunCall(nb::module_& m) {
         std::size_t width = t->columns.size();
         t->values = samples.data();
         t->array = Matrix(std::move(samples), static_cast<std::size_t>(t->rows), width);
+        notices.Issue();
+        t->notices = notices.all();
         return t;
       },
       nb::arg("model"), nb::arg("until") = RunSpec{}.until, nb::arg("every") = nb::none(),
@@ -211,8 +221,11 @@ struct Description {
   std::shared_ptr<PyModel> owner;  // keeps a wrapped MjModel alive as long as `model`
   std::shared_ptr<Model> model;
   ModelDescription description;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
-  std::string Json() const { return DescriptionToJson(description, MujocoVersion()); }
+  std::string Json() const {
+    return JsonWithNotices(DescriptionToJson(description, MujocoVersion()), notices);
+  }
 };
 
 // inspect's JSON lists: each a property (a list of dicts) and a to_pandas() table
@@ -229,6 +242,7 @@ void BindInspect(nb::module_& m) {
     type.def_prop_ro(key,
                      [key](const Description& d) { return nb::object(FromJson(d.Json())[key]); });
   }
+  AddNoticesProperty(type);
   type.def_prop_ro("units",
                    [](const Description& d) { return nb::object(FromJson(d.Json())["units"]); })
       .def_prop_ro("sizes",
@@ -289,17 +303,22 @@ void BindInspect(nb::module_& m) {
       "inspect",
       [](ModelArg model, SetArg set) {
         auto d = std::make_shared<Description>();
-        std::shared_ptr<PyModel> pm = ToModel(model);
+        CallNotices notices;
+        std::shared_ptr<PyModel> pm = ToModel(model, notices.sink());
         std::vector<std::string> sets = SetTexts(set);
-        MujocoCallScope scope;
-        std::vector<Assignment> start = pm->Start(sets);
-        d->owner = pm;
-        d->model = pm->EditableFor(start);
-        if (!start.empty()) {
-          Data data(*d->model);
-          ApplyAssignments(*d->model, data, start);
+        {
+          MujocoCallScope scope;
+          std::vector<Assignment> start = pm->Start(sets, notices.sink());
+          d->owner = pm;
+          d->model = pm->EditableFor(start);
+          if (!start.empty()) {
+            Data data(*d->model);
+            ApplyAssignments(*d->model, data, start);
+          }
+          d->description = Describe(*d->model);
         }
-        d->description = Describe(*d->model);
+        notices.Issue();
+        d->notices = notices.all();
         return d;
       },
       nb::arg("model"), nb::arg("set") = nb::none(),

@@ -23,6 +23,7 @@ struct Trajectory {
   long rows = 0;
   double every = 0;
   RunResult result;
+  std::vector<Notice> notices;  // what the call said (plumb.Notice)
   std::string html;
 
   std::vector<std::string> Names() const;
