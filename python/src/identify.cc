@@ -158,13 +158,12 @@ struct PyIdentify {
   std::shared_ptr<PyModel> model;
   std::shared_ptr<Model> ran;
   IdentifyJobResult job;
-  // what the call said (plumb.Notice): a cut log. Not `notices` until plumb identify's JSON
-  // carries them too (AddResultMethods would add them to to_json)
-  std::vector<Notice> said;
+  std::vector<Notice> said;  // what the call said (plumb.Notice): a cut log; in Json()
   std::string html;
 
   std::string Json() const {
-    return IdentifyToJson(model->name(), job.fit, job.logs, job.delay, job.HeldOut());
+    return JsonWithNotices(
+        IdentifyToJson(model->name(), job.fit, job.logs, job.delay, job.HeldOut()), said);
   }
   std::string Table() const {
     return IdentifyTable(model->name(), job.fit, job.logs, job.delay, job.HeldOut());

@@ -158,6 +158,7 @@ def test_identify_on_a_cut_log_warns_and_keeps_the_notice(pendulum, log, tmp_pat
         r = plumb.identify(pendulum, cut, fit="dof_damping[hinge]", threads=1)
     assert [(n.level, n.topic, n.subject) for n in r.notices] == [("note", "log", str(cut))]
     assert "left out" in r.notices[0].text
+    assert r.to_dict()["notices"][0]["subject"] == str(cut)  # as plumb identify's JSON
     with pytest.warns(plumb.LogWarning, match="cut.csv"):  # a held-out log too
         held = plumb.identify(pendulum, log, fit="dof_damping[hinge]", validate=cut, threads=1)
     assert [n.subject for n in held.notices] == [str(cut)]

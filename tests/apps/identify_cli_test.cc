@@ -215,5 +215,30 @@ TEST_F(CliIdentifyTest, AMisspecifiedFitWarnsAndSaysWhichStandardErrors) {
   EXPECT_EQ(r.out.find("WARN"), std::string::npos) << r.out;
 }
 
+// A held-out flight log whose last line a kill cut: the command says so on stderr (as replay
+// does) and its JSON carries the note (issue 47: the identify job says it, both front ends
+// present it).
+TEST_F(CliIdentifyTest, ACutLogIsNotedOnStderrAndInTheJson) {
+  std::string flight;
+  for (const std::string& line : testing::Lines(testing::ReadFile(dir_.File("decay.csv")))) {
+    std::size_t comma = line.find(',');
+    flight +=
+        line.substr(0, comma) + (flight.empty() ? ",kind" : ",state") + line.substr(comma) + "\n";
+  }
+  testing::WriteFile(dir_.File("cut.csv"), flight.substr(0, flight.size() - 4));
+  const std::string identify = "identify '" + testing::kPendulum +
+                               "' --fit 'dof_damping[hinge]' --log decay.csv --validate cut.csv";
+  auto r = testing::RunPlumb(identify, dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("plumb: note: cut.csv: the last line is cut short"), std::string::npos)
+      << r.err;
+  r = testing::RunPlumb(identify + " --format json", dir_.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto notices = nlohmann::json::parse(r.out)["notices"];
+  ASSERT_EQ(notices.size(), 1u) << r.out;
+  EXPECT_EQ(notices[0]["topic"], "log");
+  EXPECT_EQ(notices[0]["subject"], "cut.csv");
+}
+
 }  // namespace
 }  // namespace plumb

@@ -34,11 +34,10 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
   RefuseOutputsOntoInputs({{"-o", o.output}, {"--report", o.report}}, inputs);
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
-  PrintedNotices notices;
   o.identify.delay = ParseDelayKind(o.delay);
+  Notices* notices = &CommandNotices();  // a cut log's note
   IdentifyRequest request{
-      o.logs,  o.columns, o.validate, o.identify, o.output, o.model, CommandStop().token(),
-      &notices};
+      o.logs, o.columns, o.validate, o.identify, o.output, o.model, CommandStop().token(), notices};
   IdentifyJobResult r = RunIdentifyJob(model, request);
   if (!o.output.empty()) {
     std::fprintf(stderr, "plumb: wrote the fitted model %s\n", o.output.c_str());
@@ -47,8 +46,9 @@ int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
     WriteIdentifyReport(o.report, model, r.logs, r.fit, ReportInfo{ctx.argv}, r.HeldOut());
     std::fprintf(stderr, "plumb: wrote the report %s\n", o.report.c_str());
   }
-  WriteStdout(o.format == "json" ? IdentifyToJson(o.model, r.fit, r.logs, r.delay, r.HeldOut())
-                                 : IdentifyTable(o.model, r.fit, r.logs, r.delay, r.HeldOut()));
+  WriteStdout(o.format == "json"
+                  ? WithNotices(IdentifyToJson(o.model, r.fit, r.logs, r.delay, r.HeldOut()))
+                  : IdentifyTable(o.model, r.fit, r.logs, r.delay, r.HeldOut()));
   for (const ReplayResult& after : r.fit.after) {
     if (after.simulated.diverged) return kExitDiverged;
   }
