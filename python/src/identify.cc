@@ -158,12 +158,11 @@ struct PyIdentify {
   std::shared_ptr<PyModel> model;
   std::shared_ptr<Model> ran;
   IdentifyJobResult job;
-  std::vector<Notice> said;  // what the call said (plumb.Notice): a cut log; in Json()
+  std::vector<Notice> notices;  // what the call said (plumb.Notice): a cut log, ...
   std::string html;
 
   std::string Json() const {
-    return JsonWithNotices(
-        IdentifyToJson(model->name(), job.fit, job.logs, job.delay, job.HeldOut()), said);
+    return IdentifyToJson(model->name(), job.fit, job.logs, job.delay, job.HeldOut());
   }
   std::string Table() const {
     return IdentifyTable(model->name(), job.fit, job.logs, job.delay, job.HeldOut());
@@ -231,9 +230,6 @@ void BindIdentifyCall(nb::module_& m) {
       .def_prop_ro("singular_values",
                    [](const PyIdentify& r) { return Array(r.job.fit.singular_values); })
       .def_prop_ro("warnings", [](const PyIdentify& r) { return r.job.fit.warnings; })
-      .def_ro("notices", &PyIdentify::said,
-              "what the call said besides its result (a log whose last line was cut, each also "
-              "issued as a plumb.LogWarning): a list of plumb.Notice")
       .def_prop_ro("converged", [](const PyIdentify& r) { return r.job.fit.converged; })
       .def_prop_ro("iterations", [](const PyIdentify& r) { return r.job.fit.iterations; })
       .def_prop_ro("residual_variance",
@@ -300,7 +296,7 @@ void BindIdentifyCall(nb::module_& m) {
          SetArg set) {
         auto r = std::make_shared<PyIdentify>();
         CallNotices notices;
-        r->model = ToModel(model);
+        r->model = ToModel(model, notices.sink());
         std::vector<std::string> files;
         nb::handle log = logs.object;
         if (nb::isinstance<nb::str>(log) || nb::hasattr(log, "__fspath__") ||
@@ -331,7 +327,7 @@ void BindIdentifyCall(nb::module_& m) {
           return 0;
         });
         notices.Issue();
-        r->said = notices.all();
+        r->notices = notices.all();
         return r;
       },
       nb::arg("model"), nb::arg("log"), nb::arg("fit"), nb::arg("bounds") = nb::none(),
