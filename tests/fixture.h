@@ -62,7 +62,7 @@ inline std::string CompiledMujocoVersion() { return plumb::CompiledMujocoVersion
 // True when `text` names line `line` of a MuJoCo load error, however this MuJoCo words it
 // ("line = 5" on 2.x, "line 5" on 3.x): tests never match MuJoCo's own wording.
 inline bool NamesLine(const std::string& text, int line) {
-  std::string lower = plumb::Lowercase(text);
+  std::string lower = plumb::internal::Lowercase(text);
   for (const std::string sep : {"line = ", "line ", "line: ", "line="}) {
     if (lower.find(sep + std::to_string(line)) != std::string::npos) return true;
   }

@@ -130,9 +130,9 @@ std::vector<Assignment> StartAssignments(const Model& model, const std::string& 
                                  &CommandNotices(), "--");
 }
 
-std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& pose,
-                                   std::vector<NamedPath> more) {
-  std::vector<NamedPath> inputs = {{"the model", model}, {"the --pose file", pose.file}};
+std::vector<internal::NamedPath> ModelInputs(const std::string& model, const StartPose& pose,
+                                             std::vector<internal::NamedPath> more) {
+  std::vector<internal::NamedPath> inputs = {{"the model", model}, {"the --pose file", pose.file}};
   inputs.insert(inputs.end(), more.begin(), more.end());
   return inputs;
 }
@@ -210,8 +210,9 @@ int ReportError(const std::exception& error, const std::vector<std::string>& arg
   }
   if (!dynamic_cast<const Error*>(&error)) {
     // not an error plumb reports by design: a bug, memory exhausted, data that cannot be
-    std::string command = argv.empty() ? "plumb" : ShellQuote(argv[0]);
-    for (std::size_t i = 1; i < argv.size() && i < 3; ++i) command += " " + ShellQuote(argv[i]);
+    std::string command = argv.empty() ? "plumb" : internal::ShellQuote(argv[0]);
+    for (std::size_t i = 1; i < argv.size() && i < 3; ++i)
+      command += " " + internal::ShellQuote(argv[i]);
     bool memory = dynamic_cast<const std::bad_alloc*>(&error) != nullptr;
     std::fprintf(stderr, "plumb: internal error: %s (in '%s%s'). %s\n",
                  memory ? "out of memory" : error.what(), command.c_str(),
@@ -285,7 +286,7 @@ std::vector<std::string> OptionNames(const CLI::App& cmd) {
 // The option `token` names ("--until", "--until=2", "-o"), or "" when it is no option name
 // (a value such as "-0.5").
 std::string OptionToken(const std::string& token) {
-  if (token.size() < 2 || token[0] != '-' || ParseNumber(token)) return "";
+  if (token.size() < 2 || token[0] != '-' || internal::ParseNumber(token)) return "";
   if (token[1] != '-') return token.substr(0, 2);
   return token.substr(0, token.find('='));
 }
@@ -293,8 +294,8 @@ std::string OptionToken(const std::string& token) {
 // "; did you mean 'a' or 'b'?" for the plausible typos of `word`, or "".
 std::string Suggestion(const std::string& word, const std::vector<std::string>& candidates) {
   std::vector<std::string> quoted;
-  for (const std::string& n : Closest(word, candidates)) quoted.push_back("'" + n + "'");
-  return quoted.empty() ? "" : "; did you mean " + Join(quoted, " or ") + "?";
+  for (const std::string& n : internal::Closest(word, candidates)) quoted.push_back("'" + n + "'");
+  return quoted.empty() ? "" : "; did you mean " + internal::Join(quoted, " or ") + "?";
 }
 
 // An integer option takes an integer in any number notation (CheckNumberOptions).
@@ -302,7 +303,7 @@ void AcceptIntegerNotation(CLI::Option* opt, bool is_unsigned) {
   opt->transform(CLI::Validator(
       [is_unsigned](std::string& text) -> std::string {
         std::string kind = is_unsigned ? "a non-negative integer" : "an integer";
-        std::optional<double> v = ParseNumber(text);
+        std::optional<double> v = internal::ParseNumber(text);
         if (!v || !std::isfinite(*v) || std::floor(*v) != *v) {
           return "takes " + kind + ", not '" + text + "'";
         }
@@ -347,7 +348,7 @@ void AcceptIntegerNotation(CLI::Option* opt, bool is_unsigned) {
 void RefuseNotANumber(CLI::Option* opt) {
   opt->transform(CLI::Validator(
       [](std::string& text) -> std::string {
-        std::optional<double> v = ParseNumber(text);
+        std::optional<double> v = internal::ParseNumber(text);
         return v && std::isnan(*v) ? "takes a number, not '" + text + "'" : "";
       },
       "", ""));
@@ -377,7 +378,7 @@ std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::stri
     if (!args.empty() && args[0] == sub->get_name()) cmd = sub;
   }
   // no command, an unknown one, or an unknown option before it
-  std::string list = "The commands are: " + Join(commands, ", ") + ".";
+  std::string list = "The commands are: " + internal::Join(commands, ", ") + ".";
   if (args.empty()) return "no command given. " + list;
   if (cmd == nullptr) {
     std::string name = OptionToken(args[0]);
@@ -422,10 +423,10 @@ std::string DiagnoseCommandLine(const CLI::App& app, const std::vector<std::stri
     std::vector<std::string> quoted;
     for (const std::string& v : values) quoted.push_back("'" + v + "'");
     problems.push_back(fmt::format("{} was given {} times ({}); it takes one value: give it once",
-                                   opt->get_name(), values.size(), Join(quoted, ", ")));
+                                   opt->get_name(), values.size(), internal::Join(quoted, ", ")));
   }
   // one problem a line, each as an error of its own
-  return Join(problems, "\nplumb: error: ");
+  return internal::Join(problems, "\nplumb: error: ");
 }
 
 }  // namespace plumb::cli

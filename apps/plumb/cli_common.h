@@ -91,8 +91,8 @@ std::vector<Assignment> PoseAssignments(const Model& model, const StartPose& pos
 // its message: the model, the --pose file (when given), then `more`. A command refuses an
 // output onto one of them before it writes anything:
 //   RefuseOutputsOntoInputs({{"-o", o.output}}, ModelInputs(o.model, o.pose));
-std::vector<NamedPath> ModelInputs(const std::string& model, const StartPose& pose = {},
-                                   std::vector<NamedPath> more = {});
+std::vector<internal::NamedPath> ModelInputs(const std::string& model, const StartPose& pose = {},
+                                             std::vector<internal::NamedPath> more = {});
 
 // What a check table says about the PASS rows it leaves out.
 inline constexpr const char* kSeeAllRows = "--all shows every check";

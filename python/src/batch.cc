@@ -307,10 +307,10 @@ BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyfra
   if (threads < 0) {
     throw ArgumentError("threads", std::to_string(threads), "must be 0 (every core) or more");
   }
-  a.threads = ThreadsOrAllCores(threads);
+  a.threads = internal::ThreadsOrAllCores(threads);
   a.db = OptionalPathArg(db, "db");
-  RefuseOutputsOntoInputs({{"db", a.db}},
-                          {{"the model", a.model->name()}, {"the pose file", a.start.pose}});
+  internal::RefuseOutputsOntoInputs(
+      {{"db", a.db}}, {{"the model", a.model->name()}, {"the pose file", a.start.pose}});
   a.resume = resume;
   return a;
 }

@@ -198,9 +198,10 @@ void BindAudit(nb::module_& m) {
         std::string accept_file = OptionalPathArg(accept, "accept");
         std::string scenario_file = OptionalPathArg(scenario, "scenario");
         std::string repro_dir = OptionalPathArg(repro, "repro");
-        RefuseOutputsOntoInputs({{"repro", repro_dir}}, {{"the model", result->model->name()},
-                                                         {"the accept list", accept_file},
-                                                         {"the scenario file", scenario_file}});
+        internal::RefuseOutputsOntoInputs({{"repro", repro_dir}},
+                                          {{"the model", result->model->name()},
+                                           {"the accept list", accept_file},
+                                           {"the scenario file", scenario_file}});
         std::string key = keyframe.value_or(result->model->keyframe());
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
@@ -344,10 +345,12 @@ struct Snapshot {
   std::string source;  // the file it was loaded from, or the model it was taken of
 
   static Snapshot Load(const std::string& path) {
-    std::string text = ReadInputFile(path, InputKind::kSnapshot);  // refuses a FIFO or a device
-    FileKind kind = SniffFileKind(text);
-    if (kind != FileKind::kSnapshot && kind != FileKind::kJson && kind != FileKind::kText) {
-      throw ValueError("'" + path + "' is " + FileKindName(kind) +
+    std::string text = internal::ReadInputFile(
+        path, internal::InputKind::kSnapshot);  // refuses a FIFO or a device
+    internal::FileKind kind = internal::SniffFileKind(text);
+    if (kind != internal::FileKind::kSnapshot && kind != internal::FileKind::kJson &&
+        kind != internal::FileKind::kText) {
+      throw ValueError("'" + path + "' is " + internal::FileKindName(kind) +
                        ", not a plumb snapshot: take one with plumb.snapshot(model).save(path).");
     }
     return {text, path};
@@ -392,7 +395,7 @@ void BindSnapshot(nb::module_& m) {
       .def(
           "save",
           [](const Snapshot& s, FileArg path) {
-            AtomicFile file(PathArg(path, "path"));
+            internal::AtomicFile file(PathArg(path, "path"));
             std::fwrite(s.text.data(), 1, s.text.size(), file.stream());
             file.Commit();
           },

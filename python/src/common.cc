@@ -278,7 +278,7 @@ nb::object FromJson(const std::string& json) {
 }
 
 std::string ReportHtml(const std::function<void(const std::string& path)>& write) {
-  TempFolder dir("plumb-report", "the report");
+  internal::TempFolder dir("plumb-report", "the report");
   write(dir.File("report.html"));
   std::ifstream in(dir.File("report.html"), std::ios::binary);
   std::ostringstream text;

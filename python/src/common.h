@@ -292,7 +292,7 @@ std::string OptionalPathArg(const std::optional<FileArg>& path, const char* argu
 // The files a result was made from, which its save_report must not replace (io/output_path.h):
 // the model's file; a result that read more files (logs) gives them with an overload of its own.
 template <typename Result>
-std::vector<NamedPath> ResultInputs(const Result& r) {
+std::vector<internal::NamedPath> ResultInputs(const Result& r) {
   return {{"the model", r.model->name()}};
 }
 
@@ -341,7 +341,7 @@ void AddResultMethods(nb::class_<Result>& type, const char* command) {
           "save_report",
           [](const Result& r, nb::handle path) {
             std::string file = PathArg(path, "path");
-            RefuseOutputsOntoInputs({{"path", file}}, ResultInputs(r));
+            internal::RefuseOutputsOntoInputs({{"path", file}}, ResultInputs(r));
             RunLong([&](StopToken) {
               r.WriteReport(file);
               return 0;

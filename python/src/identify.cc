@@ -47,7 +47,7 @@ struct PyReplay {
 };
 
 // What save_report must not replace: the model and the log (common.h).
-std::vector<NamedPath> ResultInputs(const PyReplay& r) {
+std::vector<internal::NamedPath> ResultInputs(const PyReplay& r) {
   return {{"the model", r.model->name()}, {"the log", r.log.source}};
 }
 
@@ -179,8 +179,8 @@ nb::object SquareMatrix(const std::vector<std::vector<double>>& rows) {
 }
 
 // What save_report and save_model must not replace: the model and every log (common.h).
-std::vector<NamedPath> ResultInputs(const PyIdentify& r) {
-  std::vector<NamedPath> inputs = {{"the model", r.model->name()}};
+std::vector<internal::NamedPath> ResultInputs(const PyIdentify& r) {
+  std::vector<internal::NamedPath> inputs = {{"the model", r.model->name()}};
   for (const RobotLog& log : r.job.logs) inputs.push_back({"the log", log.source});
   for (const RobotLog& log : r.job.validation) inputs.push_back({"the validate log", log.source});
   return inputs;
@@ -264,9 +264,9 @@ void BindIdentifyCall(nb::module_& m) {
           [](const PyIdentify& r, FileArg path, std::optional<FileArg> source) {
             std::string file = PathArg(path, "path");
             std::string mjcf = OptionalPathArg(source, "source");
-            std::vector<NamedPath> inputs = ResultInputs(r);
+            std::vector<internal::NamedPath> inputs = ResultInputs(r);
             inputs.push_back({"the source", mjcf});
-            RefuseOutputsOntoInputs({{"path", file}}, inputs);
+            internal::RefuseOutputsOntoInputs({{"path", file}}, inputs);
             RunLong([&](StopToken) {
               SaveFittedModel(r.model->model(), *r.job.fitted, r.job.fit, file, mjcf);
               return 0;

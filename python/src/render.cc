@@ -308,7 +308,7 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
   }
   notices.Issue();
   std::string out = OptionalPathArg(output, "output");
-  RefuseOutputsOntoInputs({{"output", out}}, {{"the model", r.model->name()}});
+  internal::RefuseOutputsOntoInputs({{"output", out}}, {{"the model", r.model->name()}});
   auto f = std::make_shared<Frames>();
   f->width = r.options.width;
   f->height = r.options.height;

@@ -183,7 +183,7 @@ void BindRunCall(nb::module_& m) {
           t->result = RunLong([&](StopToken stop) {
             Data data(*t->ran);
             ApplyAssignments(*t->ran, data, start);
-            AddStartHints(*t->ran, data, "set", notices.sink());
+            internal::AddStartHints(*t->ran, data, "set", notices.sink());
             RunSpec spec;
             spec.until = until;
             spec.every = t->every;

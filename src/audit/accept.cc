@@ -14,6 +14,13 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::Closest;
+using internal::InputKind;
+using internal::Join;
+using internal::Nearest;
+using internal::ReadInputFile;
+using internal::Trim;
+
 namespace {
 
 // The keys an [[accept]] table reads.

@@ -15,6 +15,8 @@
 #include "plumb/timing.h"
 
 namespace plumb {
+using internal::Join;
+
 namespace {
 
 // Every MuJoCo warning raised on the way, with the run that raised it.

@@ -12,6 +12,8 @@
 #include "scenario/assertion_tally.h"
 
 namespace plumb::audit {
+using internal::AssertionTally;
+
 namespace {
 
 constexpr const char* L = "behaviour";

@@ -11,6 +11,7 @@
 #include "plumb/describe.h"
 
 namespace plumb::audit {
+using internal::PrimitiveVolume;
 
 CheckElement ElementOf(const Model& model, int obj, int id, const char* noun) {
   return CheckElement{noun, model.Name(obj, id), id};

@@ -19,6 +19,8 @@
 #include "core/strings.h"
 
 namespace plumb::audit {
+using internal::Lowercase;
+
 namespace {
 
 // How far (relative) a mirror pair's values may differ: clean robots' pairs agree to 1e-3

@@ -20,6 +20,8 @@
 #include "plumb/describe.h"
 
 namespace plumb::audit {
+using internal::JointDofSize;
+
 namespace {
 
 constexpr const char* L = "actuator";

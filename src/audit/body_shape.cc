@@ -10,6 +10,8 @@
 #include "core/geometry.h"
 
 namespace plumb::audit {
+using internal::PrimitiveVolume;
+
 namespace {
 
 using Vec = std::array<double, 3>;

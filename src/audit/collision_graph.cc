@@ -6,7 +6,7 @@
 #include <set>
 #include <utility>
 
-namespace plumb {
+namespace plumb::audit {
 
 bool IsFreeRoot(const mjModel* m, int root) {
   return root > 0 && m->body_jntnum[root] > 0 && m->jnt_type[m->body_jntadr[root]] == mjJNT_FREE;
@@ -154,4 +154,4 @@ CollisionGraph MakeCollisionGraph(const mjModel* m) {
   return g;
 }
 
-}  // namespace plumb
+}  // namespace plumb::audit

@@ -10,7 +10,7 @@
 
 #include <vector>
 
-namespace plumb {
+namespace plumb::audit {
 
 struct CollisionGraph {
   // Per body: the bodies its collision geoms can meet (sorted; 0 is the world), and whether
@@ -39,6 +39,6 @@ bool IsFreeRoot(const mjModel* m, int root);
 // Reads the graph from `m` (body_subtreemass must be current: after mj_setConst or a load).
 CollisionGraph MakeCollisionGraph(const mjModel* m);
 
-}  // namespace plumb
+}  // namespace plumb::audit
 
 #endif  // PLUMB_SRC_AUDIT_COLLISION_GRAPH_H_

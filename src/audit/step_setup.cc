@@ -13,6 +13,8 @@
 #include "core/mujoco_compat.h"
 
 namespace plumb::audit {
+using internal::JointDofSize;
+
 namespace {
 
 // A step of kStepShare of the ctrlrange (0.1 of ctrl when unlimited). A position servo's step

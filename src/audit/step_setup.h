@@ -61,8 +61,9 @@ struct CtrlStep {
   void Hold(const mjModel* m, mjData* d) const {
     for (int j : held) {
       int q = m->jnt_qposadr[j], v = m->jnt_dofadr[j];
-      for (int k = 0; k < JointQposSize(m->jnt_type[j]); ++k) d->qpos[q + k] = qpos[q + k];
-      for (int k = 0; k < JointDofSize(m->jnt_type[j]); ++k) d->qvel[v + k] = 0;
+      for (int k = 0; k < internal::JointQposSize(m->jnt_type[j]); ++k)
+        d->qpos[q + k] = qpos[q + k];
+      for (int k = 0; k < internal::JointDofSize(m->jnt_type[j]); ++k) d->qvel[v + k] = 0;
     }
   }
 };

@@ -93,7 +93,7 @@ std::string SweepConfig(const SweepSpec& spec, const std::string& model_hash,
 
 RunInfo RolloutRunInfo(const Model& model, const RolloutSpec& spec, const BatchOrigin& origin,
                        const std::string& db) {
-  std::string model_hash = db.empty() ? std::string() : HashModel(model);
+  std::string model_hash = db.empty() ? std::string() : internal::HashModel(model);
   RunInfo info = NewRunInfo("rollout", RolloutConfig(spec, model_hash, origin.start),
                             origin.command, origin.model_file, model_hash);
   info.parameters = ParameterNames(spec);
@@ -104,7 +104,7 @@ RunInfo RolloutRunInfo(const Model& model, const RolloutSpec& spec, const BatchO
 
 RunInfo SweepRunInfo(const Model& model, const SweepSpec& spec, const BatchOrigin& origin,
                      const std::string& db) {
-  std::string model_hash = db.empty() ? std::string() : HashModel(model);
+  std::string model_hash = db.empty() ? std::string() : internal::HashModel(model);
   RunInfo info = NewRunInfo("sweep", SweepConfig(spec, model_hash, origin.start), origin.command,
                             origin.model_file, model_hash);
   info.parameters = AxisNames(spec);
@@ -114,9 +114,9 @@ RunInfo SweepRunInfo(const Model& model, const SweepSpec& spec, const BatchOrigi
 }
 
 void ParseShard(std::string_view text, RolloutSpec* spec) {
-  std::vector<std::string> parts = Split(std::string(text), '/');
-  std::optional<long> i = parts.size() == 2 ? ParseIndex(parts[0]) : std::nullopt;
-  std::optional<long> n = parts.size() == 2 ? ParseIndex(parts[1]) : std::nullopt;
+  std::vector<std::string> parts = internal::Split(std::string(text), '/');
+  std::optional<long> i = parts.size() == 2 ? internal::ParseIndex(parts[0]) : std::nullopt;
+  std::optional<long> n = parts.size() == 2 ? internal::ParseIndex(parts[1]) : std::nullopt;
   if (!i || !n || *n < 1 || *i >= *n) {
     throw ArgumentError("shard", Quoted(std::string(text)),
                         "expected I/N with 0 <= I < N, e.g. 0/4.");

@@ -53,8 +53,8 @@ double Distribution::Apply(double nominal, double u, double z) const {
 
 Distribution ParseDistribution(std::string_view raw) {
   Distribution d;
-  d.text = std::string(Trim(raw));
-  std::string_view s = Trim(raw);
+  d.text = std::string(internal::Trim(raw));
+  std::string_view s = internal::Trim(raw);
   auto bad = [&](const std::string& why) {
     return ValueError("distribution '" + d.text + "': " + why +
                       ". Use U(a,b), N(mu,sigma), LogU(a,b), optionally prefixed * (scale the "
@@ -62,11 +62,11 @@ Distribution ParseDistribution(std::string_view raw) {
   };
   if (!s.empty() && (s.front() == '*' || s.front() == '+')) {
     d.mode = s.front() == '*' ? Distribution::Mode::kScale : Distribution::Mode::kOffset;
-    s = Trim(s.substr(1));
+    s = internal::Trim(s.substr(1));
   }
   std::size_t open = s.find('(');
   if (open == std::string_view::npos || s.back() != ')') throw bad("expected NAME(a,b)");
-  std::string_view name = Trim(s.substr(0, open));
+  std::string_view name = internal::Trim(s.substr(0, open));
   if (name == "U") {
     d.kind = Distribution::Kind::kUniform;
   } else if (name == "N") {
@@ -76,9 +76,9 @@ Distribution ParseDistribution(std::string_view raw) {
   } else {
     throw bad("unknown distribution '" + std::string(name) + "'");
   }
-  std::vector<std::string> args = Split(s.substr(open + 1, s.size() - open - 2), ',');
-  std::optional<double> a = args.size() == 2 ? ParseNumber(args[0]) : std::nullopt;
-  std::optional<double> b = args.size() == 2 ? ParseNumber(args[1]) : std::nullopt;
+  std::vector<std::string> args = internal::Split(s.substr(open + 1, s.size() - open - 2), ',');
+  std::optional<double> a = args.size() == 2 ? internal::ParseNumber(args[0]) : std::nullopt;
+  std::optional<double> b = args.size() == 2 ? internal::ParseNumber(args[1]) : std::nullopt;
   if (!a || !b || !std::isfinite(*a) || !std::isfinite(*b)) throw bad("two finite numbers needed");
   d.a = *a;
   d.b = *b;
@@ -126,8 +126,8 @@ constexpr std::uint32_t kCtrlNoiseKey = 1u << 31;
 // to the nominal one afterwards.
 class OneRollout {
  public:
-  OneRollout(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec, long index,
-             const StopToken& stop)
+  OneRollout(const Model& nominal, internal::WorkerPool::Worker& w, const RolloutSpec& spec,
+             long index, const StopToken& stop)
       : nominal_(nominal),
         w_(w),
         spec_(spec),
@@ -268,7 +268,7 @@ class OneRollout {
   // The run, probing every step, and what it gave.
   void Simulate() {
     double dt = w_.work->opt.timestep;
-    MetricProbe probe(w_.work, spec_.metrics, /*scales=*/false);
+    internal::MetricProbe probe(w_.work, spec_.metrics, /*scales=*/false);
     RunSpec run;
     run.until = spec_.until;
     run.stop = stop_;
@@ -303,7 +303,7 @@ class OneRollout {
   }
 
   const Model& nominal_;
-  WorkerPool::Worker& w_;
+  internal::WorkerPool::Worker& w_;
   const RolloutSpec& spec_;
   long index_;
   const StopToken& stop_;
@@ -312,7 +312,7 @@ class OneRollout {
   std::string refusal_;  // why the last draw was refused
 };
 
-RolloutResult RunOne(const Model& nominal, WorkerPool::Worker& w, const RolloutSpec& spec,
+RolloutResult RunOne(const Model& nominal, internal::WorkerPool::Worker& w, const RolloutSpec& spec,
                      long index, bool energy, const StopToken& stop) {
   return OneRollout(nominal, w, spec, index, stop).Run(energy);
 }
@@ -409,7 +409,7 @@ struct RolloutPool::Impl {
   const Model& model;
   const RolloutSpec& spec;
   bool energy;
-  WorkerPool pool;
+  internal::WorkerPool pool;
   Impl(const Model& m, const RolloutSpec& s)
       : model(m), spec(s), energy(NeedsEnergy(s)), pool(m, s.threads) {}
 };
@@ -460,8 +460,8 @@ void RolloutPool::Stream(long total,
                          const StopToken& stop) {
   Impl& p = *impl_;
   std::atomic<long> done{0};
-  WorkerPool::Job<RolloutResult> job = [&](WorkerPool::Worker& w, long index,
-                                           RolloutResult* result) {
+  internal::WorkerPool::Job<RolloutResult> job = [&](internal::WorkerPool::Worker& w, long index,
+                                                     RolloutResult* result) {
     try {
       *result = RunOne(p.model, w, p.spec, index, p.energy, stop);
     } catch (const Interrupted&) {
@@ -478,7 +478,7 @@ void RolloutPool::Stream(long total,
   };
   // on a stop every finished rollout is emitted (each names its index), so a store keeps it
   p.pool.Stream<RolloutResult>(chunk, next_chunk, job, emit, stop, interrupted,
-                               WorkerPool::OnStop::kEveryFinished);
+                               internal::WorkerPool::OnStop::kEveryFinished);
 }
 
 void RolloutCases(const Model& model, const RolloutSpec& spec, const std::vector<long>& indices,

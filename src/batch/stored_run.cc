@@ -18,7 +18,7 @@ namespace {
 // The parts of two configs that differ: "stored X" for what only the stored run has, "now Y"
 // for what only this one has.
 std::vector<std::string> ConfigDifferences(const std::string& now, const std::string& stored) {
-  std::vector<std::string> mine = Split(now, ' '), theirs = Split(stored, ' ');
+  std::vector<std::string> mine = internal::Split(now, ' '), theirs = internal::Split(stored, ' ');
   std::vector<std::string> differences;
   for (const std::string& t : theirs) {
     if (std::find(mine.begin(), mine.end(), t) == mine.end()) differences.push_back("stored " + t);
@@ -53,8 +53,8 @@ RunInfo NewRunInfo(const std::string& kind, const std::string& config,
   info.kind = kind;
   info.config = config;
   std::vector<std::string> quoted;
-  for (const std::string& a : command) quoted.push_back(ShellQuote(a));
-  info.command = Join(quoted, " ");
+  for (const std::string& a : command) quoted.push_back(internal::ShellQuote(a));
+  info.command = internal::Join(quoted, " ");
   info.model_file = model_file;
   info.model_hash = model_hash;
   info.plumb_version = PLUMB_VERSION;
@@ -95,7 +95,8 @@ StoredRun OpenStoredRun(const std::string& path, bool resume, const RunInfo& inf
                         "would not be comparable: {}. Repeat the stored command ({}) or use a "
                         "new store file.",
                         info.kind, last->id,
-                        Join(ConfigDifferences(info.config, last->config), ", "), last->command));
+                        internal::Join(ConfigDifferences(info.config, last->config), ", "),
+                        last->command));
       }
       out.fresh_start = true;  // nothing to resume: a resumable job's first attempt
     }

@@ -47,10 +47,11 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
                             " elements; vary one, e.g. " + axis.path.text + "[0].");
   }
   std::string values(values_view);
-  std::vector<std::string> range = Split(values, ':');
+  std::vector<std::string> range = internal::Split(values, ':');
   if (range.size() == 3) {
-    std::optional<double> start = ParseNumber(range[0]), stop = ParseNumber(range[1]);
-    std::optional<long> count = ParseIndex(range[2]);
+    std::optional<double> start = internal::ParseNumber(range[0]),
+                          stop = internal::ParseNumber(range[1]);
+    std::optional<long> count = internal::ParseIndex(range[2]);
     if (!start || !stop || !count || *count < 1 || !std::isfinite(*start) ||
         !std::isfinite(*stop)) {
       throw ArgumentError("vary", Quoted(axis.text),
@@ -76,7 +77,7 @@ SweepAxis ParseSweepAxis(const Model& model, std::string_view text) {
   }
   if (range.size() != 1)
     throw ArgumentError("vary", Quoted(axis.text), "a range is START:STOP:COUNT.");
-  for (const std::string& label : Split(values, ',')) {
+  for (const std::string& label : internal::Split(values, ',')) {
     try {
       axis.listed.push_back(ParseAssignment(model, path_text + "=" + label));
       axis.listed_labels.push_back(label);
@@ -207,7 +208,8 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
 
   std::atomic<long> done{0};
   // one case: false when a stop request abandoned it
-  WorkerPool::Job<SweepCase> run_case = [&](WorkerPool::Worker& worker, long index, SweepCase* c) {
+  internal::WorkerPool::Job<SweepCase> run_case = [&](internal::WorkerPool::Worker& worker,
+                                                      long index, SweepCase* c) {
     c->index = index;
     c->choice = CaseChoice(spec.axes, index);
     std::vector<Assignment> sets = spec.sets;
@@ -253,10 +255,10 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
     return Interrupted("interrupted after " + std::to_string(done.load()) + " of " +
                        std::to_string(total - static_cast<long>(skip.size())) + " cases");
   };
-  WorkerPool pool(model, spec.threads);
+  internal::WorkerPool pool(model, spec.threads);
   // on a stop every finished case is emitted (each names its index), so a store keeps it
   pool.Stream<SweepCase>(static_cast<std::size_t>(chunk_size), next_chunk, run_case, emit, stop,
-                         interrupted, WorkerPool::OnStop::kEveryFinished);
+                         interrupted, internal::WorkerPool::OnStop::kEveryFinished);
 }
 
 std::vector<SweepCase> Sweep(const Model& model, const SweepSpec& spec) {

@@ -19,7 +19,7 @@ Band::Band(const mjModel* m, const mjData* d, const BridgeBand& config,
   body_ = mj_name2id(m, mjOBJ_BODY, config.body.c_str());
   if (body_ <= 0) {
     throw ValueError(fmt::format("{}[band] body = '{}': the model has no such body{}",
-                                 Place(positions, "band.body"), Echo(config.body),
+                                 Place(positions, "band.body"), internal::Echo(config.body),
                                  body_ == 0 ? " (the world body cannot hang on a band)" : ""));
   }
   const mjtNum* com = d->xipos + 3 * body_;

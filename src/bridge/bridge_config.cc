@@ -81,7 +81,7 @@ class Reader {
       if (known.count(std::string(key.str())) == 0) {
         std::string listed;
         for (const std::string& k : known) listed += (listed.empty() ? "" : ", ") + k;
-        Fail(&node, prefix + Echo(key.str()), "unknown key (known: " + listed + ")");
+        Fail(&node, prefix + internal::Echo(key.str()), "unknown key (known: " + listed + ")");
       }
     }
   }
@@ -275,9 +275,9 @@ BridgeBand ReadBand(Reader& r, const toml::table& t) {
     std::string names;
     for (const char* n : bridge::kButtonNames)
       names += (names.empty() ? "" : ", ") + std::string(n);
-    r.Fail(
-        t.get("release_button"), p + "release_button",
-        fmt::format("'{}' is not a gamepad button (buttons: {})", Echo(b.release_button), names));
+    r.Fail(t.get("release_button"), p + "release_button",
+           fmt::format("'{}' is not a gamepad button (buttons: {})",
+                       internal::Echo(b.release_button), names));
   }
   return b;
 }
@@ -307,7 +307,7 @@ void CheckMotorsOnce(const Reader& r, const toml::table& table,
       r.Fail(nodes->get(j), "motors",
              fmt::format("'{}' is named twice, as motor {} (at {}) and motor {}: name each "
                          "motor once",
-                         Echo(motors[j]), i, r.At(nodes->get(i)), j));
+                         internal::Echo(motors[j]), i, r.At(nodes->get(i)), j));
     }
   }
 }
@@ -316,7 +316,7 @@ void CheckMotorsOnce(const Reader& r, const toml::table& table,
 
 BridgeConfig LoadBridgeConfig(const std::string& path) {
   // a FIFO, a directory or /dev/zero is refused, not read: the user meant a file
-  std::string text = ReadInputFile(path, InputKind::kBridgeConfig);
+  std::string text = internal::ReadInputFile(path, internal::InputKind::kBridgeConfig);
   toml::table table;
   try {
     table = toml::parse(text, path);

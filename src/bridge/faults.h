@@ -24,9 +24,7 @@
 
 #include "plumb/bridge.h"
 
-namespace plumb {
-
-namespace bridge {
+namespace plumb::bridge {
 
 class Faults {
  public:
@@ -58,7 +56,6 @@ class Faults {
   std::uint64_t seed_;
 };
 
-}  // namespace bridge
-}  // namespace plumb
+}  // namespace plumb::bridge
 
 #endif  // PLUMB_SRC_BRIDGE_FAULTS_H_

@@ -14,6 +14,8 @@
 #include "plumb/sample_writer.h"
 
 namespace plumb::bridge {
+using internal::AtomicFile;
+
 namespace {
 
 constexpr const char* kCommandFields[] = {"mode", "q", "dq", "kp", "kd", "tau"};

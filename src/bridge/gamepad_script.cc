@@ -17,6 +17,13 @@
 #include "plumb/error.h"
 
 namespace plumb::bridge {
+using internal::Echo;
+using internal::EqualsIgnoreCase;
+using internal::InputKind;
+using internal::ParseNumber;
+using internal::ReadInputFile;
+using internal::Split;
+using internal::Trim;
 
 const std::array<const char*, 16> kButtonNames = {"R1", "L1",    "start", "select", "R2", "L2",
                                                   "F1", "F2",    "A",     "B",      "X",  "Y",

@@ -14,6 +14,9 @@
 #include "plumb/error.h"
 
 namespace plumb::bridge {
+using internal::Echo;
+using internal::FirstFreeBody;
+
 namespace {
 
 // The sensordata address of the sensor called `name` (of `type`); when `name` is empty, of the

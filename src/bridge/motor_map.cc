@@ -13,6 +13,8 @@
 #include "plumb/error.h"
 
 namespace plumb::bridge {
+using internal::Echo;
+
 namespace {
 
 // The first sensor of `type` on joint `joint`, as its sensordata address, or -1.

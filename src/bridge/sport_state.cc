@@ -12,6 +12,9 @@
 #include "plumb/error.h"
 
 namespace plumb::bridge {
+using internal::Echo;
+using internal::FirstFreeBody;
+
 namespace {
 
 // A world-frame vector in the frame whose rotation matrix (row-major, to world) is `R`.

@@ -6,7 +6,7 @@
 
 #include <mujoco/mujoco.h>
 
-namespace plumb {
+namespace plumb::internal {
 
 // Completes what mj_forward computed for the state in `d`: energy (mj_energyPos and
 // mj_energyVel, which mj_forward runs only with <flag energy="enable"/>),
@@ -17,6 +17,6 @@ namespace plumb {
 // follows is bit-identical.
 void CompleteDerived(const mjModel* m, mjData* d);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_DERIVED_H_

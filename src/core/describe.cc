@@ -9,6 +9,8 @@
 #include "core/mujoco_compat.h"
 
 namespace plumb {
+using internal::JointDofSize;
+using internal::JointQposSize;
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <string_view>
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 using compat::ElemType;
@@ -292,4 +292,4 @@ bool WriteElement(ElemType type, void* at, double value) {
   return false;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -12,7 +12,7 @@
 
 #include "core/mujoco_compat.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 enum class FieldSource {
   kModelArray,  // pointer field of mjModel
@@ -55,6 +55,6 @@ double ReadElement(compat::ElemType type, const void* at);
 // the value fits: see WriteValues). Returns false, writing nothing, for kChar and kOther.
 bool WriteElement(compat::ElemType type, void* at, double value);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_FIELDS_H_

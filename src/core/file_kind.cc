@@ -6,7 +6,7 @@
 #include "plumb/error.h"
 #include "plumb/model.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 FileKind SniffFileKind(const std::string& text) {
   // a NUL byte near the start marks a binary file, as git decides
@@ -83,4 +83,4 @@ void CheckModelText(const std::string& path, const std::string& text) {
   }
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

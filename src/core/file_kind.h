@@ -10,7 +10,7 @@
 
 #include <string>
 
-namespace plumb {
+namespace plumb::internal {
 
 enum class FileKind {
   kEmpty,     // nothing but blanks
@@ -34,6 +34,6 @@ std::string FileKindName(FileKind kind);
 // @throws LoadError saying what the file is and what to give or run instead.
 void CheckModelText(const std::string& path, const std::string& text);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_FILE_KIND_H_

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-namespace plumb {
+namespace plumb::internal {
 
 // Volume in m^3 of a primitive geom of `type` with compiled `size` (geom_size: radius,
 // half-lengths); NaN for planes, meshes, height fields and SDFs, whose volume the
@@ -52,6 +52,6 @@ inline double RotationAngle(const double* a, const double* b) {
   return 2 * std::atan2(std::sqrt(x * x + y * y + z * z), std::abs(w));
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_GEOMETRY_H_

@@ -10,7 +10,7 @@
 
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 constexpr std::size_t kMiB = std::size_t{1} << 20;
@@ -141,4 +141,4 @@ std::string ReadInputFile(const std::string& path, InputKind kind) {
   return text;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

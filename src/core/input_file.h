@@ -19,7 +19,7 @@
 #include <cstddef>
 #include <string>
 
-namespace plumb {
+namespace plumb::internal {
 
 enum class InputKind {
   kModel,          // MJCF (XML) or a compiled model (.mjb)
@@ -53,6 +53,6 @@ std::size_t InputCap(InputKind kind);
 // gamepad script may be at most 4194304 (4 MiB) ...", or a read error.
 std::string ReadInputFile(const std::string& path, InputKind kind);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_INPUT_FILE_H_

@@ -6,7 +6,7 @@
 
 #include <mujoco/mujoco.h>
 
-namespace plumb {
+namespace plumb::internal {
 
 // 7 and 6 for a free joint, 4 and 3 for a ball joint, 1 and 1 for a hinge or slide.
 inline int JointQposSize(int type) { return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1; }
@@ -20,6 +20,6 @@ inline int FirstFreeBody(const mjModel* m) {
   return -1;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_JOINT_SIZE_H_

@@ -36,7 +36,7 @@ std::string QposLayout(const mjModel* m) {
     parts.push_back((count[t] == 1 ? "a " : std::to_string(count[t]) + " ") +
                     kinds[t][count[t] == 1 ? 0 : 1]);
   }
-  return Join(parts, ", ");
+  return internal::Join(parts, ", ");
 }
 
 // The numbers of `text`, separated by commas or white space.
@@ -120,10 +120,10 @@ int FindKeyframe(const Model& model, const std::string& name) {
             "' has no keyframes (MJCF <keyframe><key name=... qpos=.../></keyframe>). "
             "Set the start state with assignments (qpos[...]=...) instead.");
   }
-  std::string hint = DidYouMean(name, names);
+  std::string hint = internal::DidYouMean(name, names);
   throw ArgumentError("keyframe", Quoted(name),
                       "no such keyframe in '" + model.file() + "'. Its keyframes: " +
-                          Join(names, ", ") + "." + (hint.empty() ? "" : " " + hint));
+                          internal::Join(names, ", ") + "." + (hint.empty() ? "" : " " + hint));
 }
 
 std::vector<Assignment> KeyframeAssignments(const Model& model, const std::string& name) {
@@ -194,7 +194,8 @@ std::string DescribeStart(const ReferencePose& pose, const std::vector<Assignmen
     texts.push_back(a.text);
     length += a.text.size();
   }
-  if (texts.size() <= 3 && length <= 60) return pose.description + " with " + Join(texts, ", ");
+  if (texts.size() <= 3 && length <= 60)
+    return pose.description + " with " + internal::Join(texts, ", ");
   return fmt::format("{} with {} assignment{}", pose.description, texts.size(),
                      texts.size() == 1 ? "" : "s");
 }
@@ -222,14 +223,14 @@ Assignment QposAssignment(const Model& model, const std::string& values) {
                             " in qpos order, separated by commas or spaces.");
   }
   try {
-    return ParseAssignment(model, "qpos=" + Join(numbers, ","));
+    return ParseAssignment(model, "qpos=" + internal::Join(numbers, ","));
   } catch (const ArgumentError& e) {
     throw ArgumentError("qpos", Quoted(values), e.problem());
   }
 }
 
 std::vector<Assignment> PoseFileAssignments(const Model& model, const std::string& path) {
-  std::istringstream in(ReadInputFile(path, InputKind::kPoseFile));
+  std::istringstream in(internal::ReadInputFile(path, internal::InputKind::kPoseFile));
   std::vector<std::pair<int, std::string>> lines;  // line number, text
   bool assignments = false;
   std::string line;
@@ -362,7 +363,7 @@ std::string DescribeStartIssues(const std::vector<StartIssue>& issues, int liste
                                   1e3 * issue.value, 1e3 * issue.hi));
     }
   }
-  std::string text = Join(parts, "; ");
+  std::string text = internal::Join(parts, "; ");
   int more = static_cast<int>(issues.size()) - static_cast<int>(parts.size());
   if (more > 0) text += fmt::format("; {} more", more);
   return text;

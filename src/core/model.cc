@@ -20,6 +20,14 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::CheckModelText;
+using internal::CompleteDerived;
+using internal::FileKind;
+using internal::InputKind;
+using internal::Join;
+using internal::ReadInputFile;
+using internal::SniffFileKind;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -466,7 +474,7 @@ void Data::Forward() {
   CompleteDerived(m_, d_.get());
 }
 
-void CompleteDerived(const mjModel* m, mjData* d) {
+void internal::CompleteDerived(const mjModel* m, mjData* d) {
   // energy: without the flag mj_forward leaves it as it was (0 after a reset), and
   // mj_energyPos/Vel check the flag themselves: they get a shallow copy of the model
   // with it set (the arrays are shared, nothing is written to the model)

@@ -11,6 +11,10 @@
 #include "plumb/path.h"
 
 namespace plumb {
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FieldSource;
+
 namespace {
 
 // The path naming flat element `i` of `field`: the row's path from ExpandPath (names rows by

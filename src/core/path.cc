@@ -16,6 +16,18 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::DidYouMean;
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FieldSource;
+using internal::FindField;
+using internal::Join;
+using internal::JointDofSize;
+using internal::JointQposSize;
+using internal::Lowercase;
+using internal::ParseIndex;
+using internal::Plural;
+
 namespace {
 
 using compat::ElemType;
@@ -491,7 +503,7 @@ Path ResolveParsed(const Model& model, std::string_view text, const Parsed& pars
 
 }  // namespace
 
-bool IsCompilerConstant(const std::string& field) { return Contains(kConstants, field); }
+bool internal::IsCompilerConstant(const std::string& field) { return Contains(kConstants, field); }
 
 const char* RoleName(Role role) {
   switch (role) {

@@ -13,6 +13,15 @@
 #include "plumb/path.h"
 
 namespace plumb {
+using internal::ElemSize;
+using internal::FieldBase;
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FormatNumber;
+using internal::JointDofSize;
+using internal::JointQposSize;
+using internal::ReadElement;
+
 namespace {
 
 using compat::ElemType;

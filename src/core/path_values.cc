@@ -15,6 +15,21 @@
 #include "plumb/path.h"
 
 namespace plumb {
+using internal::ElemSize;
+using internal::EqualsIgnoreCase;
+using internal::FieldBase;
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FieldSource;
+using internal::FormatNumber;
+using internal::IsCompilerConstant;
+using internal::Join;
+using internal::JointDofSize;
+using internal::JointQposSize;
+using internal::ParseNumber;
+using internal::Split;
+using internal::WriteElement;
+
 namespace {
 
 using compat::ElemType;

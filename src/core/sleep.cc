@@ -8,6 +8,7 @@
 #include "core/strings.h"
 
 namespace plumb {
+using internal::Join;
 
 std::string SleepingStart::Describe() const {
   if (bodies.empty()) return "";

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-namespace plumb {
+namespace plumb::internal {
 
 std::string Plural(std::string_view noun) {
   std::string out(noun);
@@ -221,4 +221,4 @@ std::string Echo(std::string_view text, std::size_t limit) {
   return out;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace plumb {
+namespace plumb::internal {
 
 // Joins `parts` with `separator` between them.
 std::string Join(const std::vector<std::string>& parts, std::string_view separator);
@@ -65,6 +65,6 @@ std::string ShellQuote(const std::string& arg);
 // read from a file goes through it, so that binary garbage or a 100 KB line stays readable.
 std::string Echo(std::string_view text, std::size_t limit = 60);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_STRINGS_H_

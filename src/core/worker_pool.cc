@@ -12,7 +12,7 @@
 
 #include "core/demand.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 int ThreadsOrAllCores(int threads) {
   return threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -125,4 +125,4 @@ void WorkerPool::RunChunk(std::size_t n, const std::function<bool(Worker&, std::
 
 #endif
 
-}  // namespace plumb
+}  // namespace plumb::internal

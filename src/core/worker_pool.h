@@ -18,7 +18,7 @@
 #include "plumb/model.h"
 #include "plumb/stop.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // The threads a call asked for, or one per core when it asked for 0 (at least 1): what an
 // options struct's `threads = 0` means everywhere.
@@ -123,6 +123,6 @@ class WorkerPool {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CORE_WORKER_POOL_H_

@@ -19,6 +19,19 @@
 #include "plumb/timing.h"
 
 namespace plumb {
+using internal::CapacityRow;
+using internal::CompareStages;
+using internal::CpuStages;
+using internal::EngineSession;
+using internal::GeomPairs;
+using internal::RefusalRow;
+using internal::RequireKnownEngine;
+using internal::StageValues;
+using internal::StatisticsCheck;
+using internal::SupportRows;
+using internal::ThreadsOrAllCores;
+using internal::TrajectoryCheck;
+
 namespace {
 
 bool Wants(const CrosscheckOptions& o, const char* check) {

@@ -31,7 +31,7 @@
 
 extern char** environ;
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 constexpr std::size_t kTailLines = 40;        // stderr lines kept
@@ -574,4 +574,4 @@ EngineReply EngineProcess::Request(const nlohmann::json& header,
   return EngineReply{std::move(reply), std::move(reader.arrays)};
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -31,7 +31,7 @@
 
 #include "plumb/stop.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // One named array of a message: row-major values of the given shape (values.size() is the
 // product of shape; an empty shape holds one value).
@@ -118,6 +118,6 @@ class EngineProcess {
   std::string stderr_partial_;
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_ENGINE_PROCESS_H_

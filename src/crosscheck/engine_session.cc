@@ -14,7 +14,7 @@
 #include "plumb/error.h"
 #include "plumb/version.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 constexpr int kProtocol = 1;
@@ -313,4 +313,4 @@ std::pair<double, double> EngineSession::Throughput(const Model& model, const mj
   return {rate, r.header.value("compile_seconds", 0.0)};
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

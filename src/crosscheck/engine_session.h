@@ -13,7 +13,7 @@
 #include "plumb/crosscheck.h"
 #include "plumb/model.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // The command that makes `engine`'s environment ahead of a run ("plumb crosscheck --setup
 // --engine warp"), which the messages about a missing environment tell the user to run.
@@ -113,6 +113,6 @@ std::vector<double> FieldValues(const Model& model, const std::string& field);
 // Writes edits made by ModelEdits into `model` (of the same structure).
 void ApplyEdits(const nlohmann::json& edits, Model& model);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_ENGINE_SESSION_H_

@@ -19,6 +19,10 @@
 extern char** environ;
 
 namespace plumb {
+using internal::EngineSetupCommand;
+using internal::HashFile;
+using internal::RequireKnownEngine;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -122,7 +126,7 @@ std::string ReadyVenvRoot() {
 
 }  // namespace
 
-void RequireKnownEngine(const std::string& engine) {
+void internal::RequireKnownEngine(const std::string& engine) {
   const auto& engines = CrosscheckEngines();
   if (std::find(engines.begin(), engines.end(), engine) == engines.end()) {
     throw ArgumentError("engine", Quoted(engine), "plumb knows the engines warp and mjx");
@@ -185,7 +189,7 @@ EngineSetup ReadyEngineSetup(const std::string& engine) {
   return setup;
 }
 
-std::string EngineSetupCommand(const std::string& engine) {
+std::string internal::EngineSetupCommand(const std::string& engine) {
   return "plumb crosscheck --setup --engine " + engine;  // command
 }
 

@@ -11,7 +11,7 @@
 #include "core/geometry.h"
 #include "core/joint_size.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 constexpr double kEps = FLT_EPSILON;  // float32's epsilon, 2^-23
@@ -587,4 +587,4 @@ std::vector<CheckRow> CompareStages(const Model& model, const StageValues& cpu,
   return out;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

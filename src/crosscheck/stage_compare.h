@@ -13,7 +13,7 @@
 #include "plumb/check.h"
 #include "plumb/model.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // The stages in order: "kinematics", "mass_matrix", "contacts", "constraint_rows",
 // "constraint_forces", "accelerations", "sensors", "next_state".
@@ -28,6 +28,6 @@ double StageFactor(const char* stage);
 std::vector<CheckRow> CompareStages(const Model& model, const StageValues& cpu,
                                     const StageValues& engine, const std::vector<double>& times);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_STAGE_COMPARE_H_

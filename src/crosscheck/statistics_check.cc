@@ -13,7 +13,7 @@
 #include "plumb/timing.h"
 #include "scenario/metric_probe.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 // What CPU MuJoCo's rollout of each world started from and was driven with.
@@ -226,4 +226,4 @@ std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
   return rows;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

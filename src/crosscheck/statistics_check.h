@@ -10,7 +10,7 @@
 #include "crosscheck/engine_session.h"
 #include "plumb/crosscheck.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // The metrics measured when none are given: the final position of the first free joint (x, y,
 // z), else the final coordinate of up to four hinge or slide joints.
@@ -21,6 +21,6 @@ std::vector<Metric> DefaultCrosscheckMetrics(const Model& model, double until);
 std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
                                       EngineSession& engine, const CrosscheckOptions& options);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_STATISTICS_CHECK_H_

@@ -6,7 +6,7 @@
 
 #include "core/mujoco_compat.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 using Detect = std::function<std::vector<CheckElement>(const Model&, const GeomPairs&)>;
@@ -271,4 +271,4 @@ CheckRow CapacityRow(long contacts, long constraints) {
   return row;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -14,7 +14,7 @@
 #include "plumb/crosscheck.h"
 #include "plumb/model.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // Geom pairs (smaller id first) that touch in CPU MuJoCo's run: what collision entries judge,
 // so that boxes that never meet raise nothing.
@@ -32,6 +32,6 @@ CheckRow RefusalRow(const Model& model, const std::string& engine, const std::st
 // an empty id when it had room.
 CheckRow CapacityRow(long contacts, long constraints);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_SUPPORT_CHECK_H_

@@ -10,7 +10,7 @@
 #include "plumb/error.h"
 #include "plumb/timing.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 // A joint's signal: its coordinate (hinge, slide), or its position or rotation (free, ball).
@@ -221,4 +221,4 @@ std::vector<CheckRow> TrajectoryCheck(const Model& model, const std::vector<cons
   return {Verdict(*tracks, options, horizon, worlds)};
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

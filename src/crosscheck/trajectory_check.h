@@ -11,13 +11,13 @@
 #include "crosscheck/engine_session.h"
 #include "plumb/crosscheck.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // One row (FAIL names the signal that parts first), and the per-signal times in `tracks`.
 std::vector<CheckRow> TrajectoryCheck(const Model& model, const std::vector<const mjData*>& starts,
                                       EngineSession& engine, const CrosscheckOptions& options,
                                       std::vector<DivergenceTrack>* tracks);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_CROSSCHECK_TRAJECTORY_CHECK_H_

@@ -408,7 +408,7 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
 IdentifyResult Identify(const Model& model, const std::vector<RobotLog>& logs,
                         const IdentifyOptions& options) {
   std::vector<FitParameter> params = ResolveFitParameters(model, options.fit, options.bounds);
-  const int threads = ThreadsOrAllCores(options.threads);
+  const int threads = internal::ThreadsOrAllCores(options.threads);
   Residuals f(model, logs, params, options.replay, threads, options.stop);
   std::size_t n = params.size();
   RequireEnoughData(f, logs, options);
@@ -538,7 +538,7 @@ void SaveFittedModel(const Model& nominal, const Model& fitted, const IdentifyRe
   if (!source.empty()) return SaveFittedXml(source, fitted, result, out);
   if (nominal.from_xml_file()) return SaveFittedXml(nominal.file(), fitted, result, out);
   // no MJCF of its own (a mujoco.MjModel): the XML MuJoCo parsed last, when it is this model's
-  TempFolder dir("plumb-fitted", "the fitted model " + out);
+  internal::TempFolder dir("plumb-fitted", "the fitted model " + out);
   std::string last = dir.File("last.xml"), why;
   bool saved = nominal.SaveLastXml(last, &why);
   if (saved) why = SourceMismatch(last, nominal);

@@ -30,8 +30,9 @@ class HeldInput {
  public:
   HeldInput(const LogSignal& signal, const mjModel* m, mjData* d, double tolerance)
       : signal_(signal), tolerance_(tolerance) {
-    const FieldInfo& field = Fields()[signal.path.field_index];
-    target_ = static_cast<mjtNum*>(const_cast<void*>(FieldBase(field, m, d))) + signal.path.first;
+    const internal::FieldInfo& field = internal::Fields()[signal.path.field_index];
+    target_ = static_cast<mjtNum*>(const_cast<void*>(internal::FieldBase(field, m, d))) +
+              signal.path.first;
   }
   // Writes the value logged last at or before `t` (the first value before the first sample).
   void Apply(double t) {

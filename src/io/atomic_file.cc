@@ -14,7 +14,7 @@
 #include "io/temp_file.h"
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 namespace fs = std::filesystem;
 
@@ -189,4 +189,4 @@ void AtomicFile::Finish(int* kept) {
   lock_fd_ = -1;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

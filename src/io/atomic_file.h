@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-namespace plumb {
+namespace plumb::internal {
 
 // The output file of a command's -o: a file that appears under its final name only
 // when complete. It is written to a hidden temporary file in the same directory and
@@ -71,6 +71,6 @@ class AtomicFile {
   int lock_fd_ = -1;  // holds the temporary's lock until the rename (temp_file.h)
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IO_ATOMIC_FILE_H_

@@ -7,7 +7,7 @@
 
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 namespace {
 
@@ -52,4 +52,4 @@ std::string HashModel(const Model& model) {
   return hash.Hex();
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -15,7 +15,7 @@
 
 #include "plumb/model.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // Hash of a file's bytes. @throws IoError when it cannot be read.
 std::string HashFile(const std::string& path);
@@ -24,6 +24,6 @@ std::string HashFile(const std::string& path);
 // changes, not when only comments or formatting do.
 std::string HashModel(const Model& model);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IO_HASH_H_

@@ -13,6 +13,8 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::AtomicFile;
+
 namespace {
 
 void AppendBytes(png_structp png, png_bytep data, png_size_t length) {

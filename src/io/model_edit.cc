@@ -15,6 +15,9 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::AtomicFile;
+using internal::FieldInfo;
+using internal::Fields;
 
 #if PLUMB_MUJOCO_HAS_SPEC
 

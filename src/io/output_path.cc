@@ -5,7 +5,7 @@
 
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 namespace fs = std::filesystem;
 
@@ -49,4 +49,4 @@ void RefuseOutputsOntoInputs(const std::vector<NamedPath>& outputs,
   }
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace plumb {
+namespace plumb::internal {
 
 // A file a command or call is given, and how its caller names it in a message: the option or
 // argument for an output ("-o", "output"), a phrase for an input ("the model", "the log").
@@ -28,6 +28,6 @@ bool SameFile(const std::string& a, const std::string& b);
 void RefuseOutputsOntoInputs(const std::vector<NamedPath>& outputs,
                              const std::vector<NamedPath>& inputs);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IO_OUTPUT_PATH_H_

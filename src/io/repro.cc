@@ -15,6 +15,7 @@
 #include "plumb/version.h"
 
 namespace plumb {
+using internal::ShellQuote;
 
 namespace fs = std::filesystem;
 

@@ -15,6 +15,9 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::InputKind;
+using internal::ReadInputFile;
+
 namespace {
 
 // The cells of one CSV line (RFC 4180: quoted cells may hold commas and doubled quotes).

@@ -16,7 +16,7 @@
 
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 namespace fs = std::filesystem;
 
@@ -130,4 +130,4 @@ TempFolder::~TempFolder() {
   fs::remove_all(path_, ec);
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -13,7 +13,7 @@
 
 #include <string>
 
-namespace plumb {
+namespace plumb::internal {
 
 // Removes the temporary files of `target` (as above) that no live writer holds, and returns how
 // many it removed. Files it cannot open, lock or remove are left alone. Never throws.
@@ -44,6 +44,6 @@ class TempFolder {
   std::string path_;
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IO_TEMP_FILE_H_

@@ -28,6 +28,9 @@
 extern char** environ;
 
 namespace plumb {
+using internal::CreateLockedTemporary;
+using internal::RemoveStaleTemporaries;
+
 namespace {
 
 // Why `path` is not a program plumb can start ("" when it is one): a folder passes access(X_OK).

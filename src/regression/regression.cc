@@ -16,6 +16,13 @@
 #include "regression/regression_internal.h"
 
 namespace plumb {
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FieldSource;
+using internal::JointDofSize;
+using internal::SnapshotElementName;
+using internal::SnapshotJson;
+using nlohmann::ordered_json;
 
 namespace {
 
@@ -215,8 +222,8 @@ ordered_json Trajectory(const Model& model, const std::vector<Assignment>& sets,
 
 }  // namespace
 
-ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& sets,
-                          std::string* diverged) {
+ordered_json internal::SnapshotJson(const Model& model, const std::vector<Assignment>& sets,
+                                    std::string* diverged) {
   Model nominal = model.Clone();
   Data data(nominal);
   ApplyAssignments(nominal, data, sets);
@@ -241,7 +248,7 @@ ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& set
   return j;
 }
 
-std::string SnapshotElementName(const Model& model, int obj, int id) {
+std::string internal::SnapshotElementName(const Model& model, int obj, int id) {
   if (id < 0) return "(none)";
   std::string name = model.Name(obj, id);
   if (obj == mjOBJ_BODY && id == 0) return "world";

@@ -15,6 +15,11 @@
 #include "regression/regression_internal.h"
 
 namespace plumb {
+using internal::kSnapshotFormat;
+using internal::SnapshotElementName;
+using internal::SnapshotJson;
+using nlohmann::ordered_json;
+
 namespace {
 
 // Parameters differ when |a - b| > tol * max(|a|, |b|): relative, so a damping of 1e-8

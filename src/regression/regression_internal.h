@@ -11,7 +11,7 @@
 #include "plumb/model.h"
 #include "plumb/path.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 using nlohmann::ordered_json;
 
@@ -28,6 +28,6 @@ ordered_json SnapshotJson(const Model& model, const std::vector<Assignment>& set
 // unnamed, "(none)" for -1.
 std::string SnapshotElementName(const Model& model, int obj, int id);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_REGRESSION_REGRESSION_INTERNAL_H_

@@ -15,6 +15,8 @@
 #include "render/gl_context.h"
 
 namespace plumb {
+using internal::FirstFreeBody;
+
 namespace {
 
 constexpr int kMaxSide = 8192;

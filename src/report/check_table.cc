@@ -12,6 +12,9 @@
 #include "plumb/model.h"
 
 namespace plumb {
+using internal::Join;
+using internal::Plural;
+
 namespace {
 
 constexpr std::size_t kWidth = 94;

@@ -22,6 +22,10 @@
 #include "plumb/version.h"
 
 namespace plumb::report {
+using internal::AtomicFile;
+using internal::HashModel;
+using internal::ShellQuote;
+
 namespace {
 
 constexpr int kPictureWidth = 480, kPictureHeight = 360;

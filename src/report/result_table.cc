@@ -12,6 +12,8 @@
 #include "plumb/model.h"
 
 namespace plumb {
+using internal::Join;
+
 namespace {
 
 // `v` with `spec`, or "-" when it is not finite.

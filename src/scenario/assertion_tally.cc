@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace plumb {
+namespace plumb::internal {
 
 AssertionTally::AssertionTally(const std::vector<Assertion>& assertions)
     : assertions_(assertions), tallies_(assertions.size()) {
@@ -82,4 +82,4 @@ AssertionTally::Verdict AssertionTally::Judge(std::size_t a) const {
   return verdict;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

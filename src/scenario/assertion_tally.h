@@ -11,7 +11,7 @@
 #include "plumb/model.h"
 #include "plumb/scenario.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 class AssertionTally {
  public:
@@ -43,6 +43,6 @@ class AssertionTally {
   std::vector<std::vector<Tally>> tallies_;  // [assertion][path]
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_SCENARIO_ASSERTION_TALLY_H_

@@ -12,6 +12,10 @@
 #include "scenario/metric_probe.h"
 
 namespace plumb {
+using internal::MetricProbe;
+using internal::ParseNumber;
+using internal::Trim;
+
 namespace {
 
 // Extracts X from "name(X)", or returns false.

@@ -7,7 +7,7 @@
 #include "core/strings.h"
 #include "plumb/analytic.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -157,4 +157,4 @@ Measurement MetricProbe::Result(std::size_t k, double until) const {
   return out;
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -12,7 +12,7 @@
 #include "plumb/model.h"
 #include "plumb/run.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 class MetricProbe {
  public:
@@ -52,6 +52,6 @@ class MetricProbe {
   DerivedRefresher refresh_;
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_SCENARIO_METRIC_PROBE_H_

@@ -12,6 +12,9 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::ParseNumber;
+using internal::Split;
+using internal::Trim;
 
 // The names, in the order of each enum's values.
 const char* ControlShapeName(ControlShape shape) {

@@ -21,6 +21,11 @@
 #include "plumb/scenario.h"
 
 namespace plumb {
+using internal::DidYouMean;
+using internal::InputKind;
+using internal::Join;
+using internal::ReadInputFile;
+
 namespace {
 
 using nlohmann::json;

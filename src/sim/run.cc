@@ -106,8 +106,8 @@ const char* IntegrationStateLayout() { return compat::kIntegrationStateName; }
 std::string FatalRunProblem(const Model& model, const std::string& what) {
   // MuJoCo's message spans lines: one line here
   std::string flat;
-  for (const std::string& line : Split(what, '\n')) {
-    std::string part(Trim(line));
+  for (const std::string& line : internal::Split(what, '\n')) {
+    std::string part(internal::Trim(line));
     if (!part.empty()) flat += (flat.empty() ? "" : "; ") + part;
   }
   std::string out = "MuJoCo stopped the run with a fatal error: " + flat;
@@ -274,7 +274,7 @@ void DerivedRefresher::operator()(Data& data) {
   std::copy(d->qpos, d->qpos + m_->nq, qpos_.begin());
   std::copy(d->qacc_warmstart, d->qacc_warmstart + m_->nv, warmstart_.begin());
   mj_forward(m_, d);
-  CompleteDerived(m_, d);
+  internal::CompleteDerived(m_, d);
   std::copy(qpos_.begin(), qpos_.end(), d->qpos);
   std::copy(warmstart_.begin(), warmstart_.end(), d->qacc_warmstart);
   std::copy(warnings, warnings + mjNWARNING, d->warning);

@@ -13,7 +13,7 @@
 #include "plumb/run.h"
 #include "plumb/sleep.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 // An assignment that takes the model out of the equilibrium `data` holds, found by trying
@@ -121,4 +121,4 @@ void AddStartHints(const Model& model, const Data& data, const std::string& argu
   }
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -19,7 +19,7 @@
 #include "plumb/model.h"
 #include "plumb/notice.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // One problem with a start state, and what to do about it.
 struct StartHint {
@@ -45,6 +45,6 @@ std::vector<StartHint> StartHints(const Model& model, const Data& data);
 void AddStartHints(const Model& model, const Data& data, const std::string& argument,
                    Notices* notices);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_SIM_START_HINTS_H_

@@ -14,6 +14,7 @@
 #include "plumb/timing.h"
 
 namespace plumb {
+using internal::Join;
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

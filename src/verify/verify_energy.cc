@@ -16,6 +16,7 @@
 #include "verify/verify_protocol.h"
 
 namespace plumb::verify {
+using internal::Join;
 
 namespace {
 

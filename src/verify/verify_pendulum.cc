@@ -16,6 +16,8 @@
 #include "verify/verify_protocol.h"
 
 namespace plumb::verify {
+using internal::PrimitiveVolume;
+
 namespace {
 
 // ---- analytic references for a pendulum --------------------------------------------------

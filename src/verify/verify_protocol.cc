@@ -19,6 +19,8 @@
 #include "plumb/timing.h"
 
 namespace plumb::verify {
+using internal::Join;
+
 namespace {
 
 class TraceSink : public SampleSink {

@@ -19,6 +19,9 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::HashFile;
+using internal::HashModel;
+
 namespace {
 
 using testing::TempDir;

@@ -7,6 +7,9 @@
 #include "plumb/model.h"
 
 namespace plumb {
+using internal::FileKind;
+using internal::SniffFileKind;
+
 namespace {
 
 using testing::TempDir;

@@ -5,6 +5,8 @@
 #include <cmath>
 
 namespace plumb {
+using internal::PrimitiveVolume;
+
 namespace {
 
 // audit's inertia checks and verify's density exercise had a volume function each

@@ -19,6 +19,11 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::InputCap;
+using internal::InputKind;
+using internal::InputKindName;
+using internal::ReadInputFile;
+
 namespace {
 
 using ::testing::HasSubstr;

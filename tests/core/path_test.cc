@@ -10,6 +10,10 @@
 #include "plumb/error.h"
 
 namespace plumb {
+using internal::FieldInfo;
+using internal::Fields;
+using internal::FieldSource;
+
 namespace {
 
 using testing::kHumanoid;

@@ -18,6 +18,9 @@
 #include "sim/start_hints.h"
 
 namespace plumb {
+using internal::StartHint;
+using internal::StartHints;
+
 namespace {
 
 constexpr char kArmAndBox[] = R"(<mujoco>

@@ -5,6 +5,16 @@
 #include <cmath>
 
 namespace plumb {
+using internal::Closest;
+using internal::DidYouMean;
+using internal::Echo;
+using internal::Nearest;
+using internal::ParseIndex;
+using internal::ParseNumber;
+using internal::Plural;
+using internal::Split;
+using internal::Trim;
+
 namespace {
 
 TEST(StringsTest, ParseNumberIsStrict) {

@@ -14,6 +14,8 @@
 #include "plumb/stop.h"
 
 namespace plumb {
+using internal::WorkerPool;
+
 namespace {
 
 using WorkerPoolTest = testing::MujocoTest;

@@ -24,6 +24,10 @@
 #include "plumb/stop.h"
 
 namespace plumb {
+using internal::EngineArray;
+using internal::EngineProcess;
+using internal::EngineReply;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -15,6 +15,15 @@
 #include "plumb/path.h"
 
 namespace plumb {
+using internal::ApplyEdits;
+using internal::CompareStages;
+using internal::CpuStages;
+using internal::FieldValues;
+using internal::ModelEdits;
+using internal::StageContact;
+using internal::StageNames;
+using internal::StageValues;
+
 namespace {
 
 using testing::kSourceDir;

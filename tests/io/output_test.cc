@@ -22,6 +22,12 @@
 #include "plumb/sample_writer.h"
 
 namespace plumb {
+using internal::AtomicFile;
+using internal::NamedPath;
+using internal::RefuseOutputsOntoInputs;
+using internal::SameFile;
+using internal::ShellQuote;
+
 namespace {
 
 namespace fs = std::filesystem;

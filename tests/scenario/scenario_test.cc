@@ -11,6 +11,8 @@
 #include "scenario/assertion_tally.h"
 
 namespace plumb {
+using internal::AssertionTally;
+
 namespace {
 
 using ScenarioTest = testing::MujocoTest;

@@ -10,6 +10,9 @@
 #include "sim/start_hints.h"
 
 namespace plumb {
+using internal::StartHint;
+using internal::StartHints;
+
 namespace {
 
 using testing::kChapterDq;

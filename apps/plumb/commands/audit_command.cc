@@ -31,7 +31,7 @@ struct AuditCommandOptions {
 };
 
 int RunAudit(const AuditCommandOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs(
+  internal::RefuseOutputsOntoInputs(
       {{"--report", o.report}, {"--repro", o.repro}},
       ModelInputs(o.model, o.pose,
                   {{"the --scenario file", o.scenario}, {"the --accept list", o.accept}}));

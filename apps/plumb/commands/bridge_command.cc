@@ -65,10 +65,11 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
   if (o.until) config.until = *o.until;
   if (!o.log.empty()) config.log = o.log;
   if (!o.gamepad.empty()) config.gamepad.events = o.gamepad;
-  RefuseOutputsOntoInputs({{o.log.empty() ? "--config's log" : "--log", config.log}},
-                          ModelInputs(o.model, o.pose,
-                                      {{"the --config file", o.config},
-                                       {"the gamepad events file", config.gamepad.events}}));
+  internal::RefuseOutputsOntoInputs(
+      {{o.log.empty() ? "--config's log" : "--log", config.log}},
+      ModelInputs(
+          o.model, o.pose,
+          {{"the --config file", o.config}, {"the gamepad events file", config.gamepad.events}}));
   std::fprintf(stderr,
                "plumb: bridge on DDS domain %u (loopback), %s, rt/lowcmd -> %s -> rt/lowstate; "
                "Ctrl-C stops it\n",

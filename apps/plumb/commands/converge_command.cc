@@ -31,7 +31,7 @@ struct ConvergeCommandOptions {
 };
 
 int RunConverge(const ConvergeCommandOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
+  internal::RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   Metric metric = ParseMetric(model, o.metric);
   ConvergeOptions options;

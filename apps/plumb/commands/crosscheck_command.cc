@@ -28,7 +28,7 @@ struct CrosscheckCommandOptions {
 };
 
 int RunCrosscheck(CrosscheckCommandOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
+  internal::RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
   if (o.setup && o.model.empty()) {
     EngineSetup setup = ReadyEngineSetup(o.spec.engine);  // made on first use
     std::printf("%s\n", setup.python.c_str());

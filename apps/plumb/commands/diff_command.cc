@@ -34,7 +34,7 @@ struct DiffOptions {
 // waited on), or "" and `readable` false when it cannot be.
 std::string ReadWhole(const std::string& path, bool* readable) {
   try {
-    std::string text = ReadInputFile(path, InputKind::kSnapshot);
+    std::string text = internal::ReadInputFile(path, internal::InputKind::kSnapshot);
     *readable = true;
     return text;
   } catch (const IoError&) {
@@ -46,13 +46,16 @@ std::string ReadWhole(const std::string& path, bool* readable) {
 // Refuses a snapshot argument that is no snapshot (a model, swapped arguments, an empty
 // or binary file), saying what it is and what to run instead. @throws ValueError.
 void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
-  FileKind kind = SniffFileKind(text);
-  if (kind == FileKind::kSnapshot || kind == FileKind::kJson || kind == FileKind::kText) return;
-  std::string what = "'" + o.snapshot + "' is " + FileKindName(kind) + ", not a plumb snapshot";
-  if (kind == FileKind::kMjcf || kind == FileKind::kXml) {
+  internal::FileKind kind = internal::SniffFileKind(text);
+  if (kind == internal::FileKind::kSnapshot || kind == internal::FileKind::kJson ||
+      kind == internal::FileKind::kText)
+    return;
+  std::string what =
+      "'" + o.snapshot + "' is " + internal::FileKindName(kind) + ", not a plumb snapshot";
+  if (kind == internal::FileKind::kMjcf || kind == internal::FileKind::kXml) {
     bool readable = false;
     std::string second = ReadWhole(o.model, &readable);
-    if (readable && SniffFileKind(second) == FileKind::kSnapshot) {
+    if (readable && internal::SniffFileKind(second) == internal::FileKind::kSnapshot) {
       throw ValueError("the arguments are swapped: " + what + ", and '" + o.model +
                        "' is the snapshot. plumb diff takes the snapshot first: plumb diff " +
                        o.model + " " + o.snapshot);
@@ -66,9 +69,9 @@ void CheckSnapshotArgument(const DiffOptions& o, const std::string& text) {
 }
 
 int RunDiff(const DiffOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--report", o.report}},
-                          ModelInputs(o.model, {}, {{"the snapshot", o.snapshot}}));
-  std::string text = ReadInputFile(o.snapshot, InputKind::kSnapshot);
+  internal::RefuseOutputsOntoInputs({{"--report", o.report}},
+                                    ModelInputs(o.model, {}, {{"the snapshot", o.snapshot}}));
+  std::string text = internal::ReadInputFile(o.snapshot, internal::InputKind::kSnapshot);
   CheckSnapshotArgument(o, text);
   Model model = LoadModel(o.model);
   std::vector<Assignment> sets = ParseAssignments(model, o.sets);

@@ -29,9 +29,10 @@ struct IdentifyCommandOptions {
 };
 
 int RunIdentify(IdentifyCommandOptions o, const Context& ctx) {
-  std::vector<NamedPath> inputs = ModelInputs(o.model, {}, {{"the --validate log", o.validate}});
+  std::vector<internal::NamedPath> inputs =
+      ModelInputs(o.model, {}, {{"the --validate log", o.validate}});
   for (const std::string& log : o.logs) inputs.push_back({"the --log file", log});
-  RefuseOutputsOntoInputs({{"-o", o.output}, {"--report", o.report}}, inputs);
+  internal::RefuseOutputsOntoInputs({{"-o", o.output}, {"--report", o.report}}, inputs);
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
   o.identify.delay = ParseDelayKind(o.delay);

@@ -9,6 +9,8 @@
 #include "plumb/store.h"
 
 namespace plumb::cli {
+using internal::NamedPath;
+using internal::RefuseOutputsOntoInputs;
 
 void SetupMergeCommand(CLI::App& app, Context& ctx) {
   auto inputs = std::make_shared<std::vector<std::string>>();

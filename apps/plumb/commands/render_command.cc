@@ -14,6 +14,8 @@
 #include "plumb/video.h"
 
 namespace plumb::cli {
+using internal::RefuseOutputsOntoInputs;
+
 namespace {
 
 struct RenderCommandOptions {

@@ -27,8 +27,8 @@ struct ReplayCommandOptions {
 };
 
 int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--report", o.report}},
-                          ModelInputs(o.model, {}, {{"the --log file", o.log}}));
+  internal::RefuseOutputsOntoInputs({{"--report", o.report}},
+                                    ModelInputs(o.model, {}, {{"the --log file", o.log}}));
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
   CheckReplayOptions(o.replay);

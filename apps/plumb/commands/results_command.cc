@@ -16,6 +16,8 @@
 #include "plumb/store.h"
 
 namespace plumb::cli {
+using internal::Join;
+
 namespace {
 
 struct ResultsOptions {

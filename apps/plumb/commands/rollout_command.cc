@@ -58,7 +58,7 @@ void ShardFromSlurm(RolloutSpec* spec) {
   const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
   const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
   if (!id || !count) return;
-  std::optional<long> i = ParseIndex(id), lowest = ParseIndex(min ? min : "0");
+  std::optional<long> i = internal::ParseIndex(id), lowest = internal::ParseIndex(min ? min : "0");
   if (!i || !lowest || *i < *lowest) {
     throw ValueError(fmt::format(
         "Slurm: SLURM_ARRAY_TASK_ID={} with SLURM_ARRAY_TASK_MIN={} is not a task of the "
@@ -219,7 +219,8 @@ void RunShard(const Model& model, const RolloutSpec& spec, long total, ProgressB
 }
 
 int RunRollout(const RolloutOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}}, ModelInputs(o.model, o.pose));
+  internal::RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}},
+                                    ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   RolloutSpec spec = MakeSpec(o, model);
   std::vector<std::string> params = ParameterNames(spec);

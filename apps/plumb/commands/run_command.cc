@@ -23,6 +23,9 @@
 
 namespace plumb::cli {
 namespace {
+using internal::AtomicFile;
+using internal::RefuseOutputsOntoInputs;
+
 
 struct RunOptions {
   std::string model;
@@ -157,7 +160,7 @@ int RunRun(const RunOptions& o, const Context& ctx) {
   std::optional<AtomicFile> file;
   if (!o.output.empty()) file.emplace(o.output);
   std::unique_ptr<SampleSink> writer = MakeSampleWriter(format, file ? file->stream() : stdout);
-  AddStartHints(model, data, "--set", &CommandNotices());
+  internal::AddStartHints(model, data, "--set", &CommandNotices());
   // a bar only where it cannot interleave with the rows: output to a file or a pipe
   bool bar = estimate.seconds > 2 && (to_file || isatty(fileno(stdout)) == 0);
   BudgetedRun budgeted(*writer, o.budget, estimate.steps, bar);

@@ -17,6 +17,9 @@
 #include "plumb/result_table.h"
 
 namespace plumb::cli {
+using internal::AtomicFile;
+using internal::RefuseOutputsOntoInputs;
+
 namespace {
 
 struct SnapshotOptions {

@@ -158,7 +158,8 @@ SweepSpec MakeSweepSpec(const SweepOptions& o, const Model& model, Notices& noti
 }
 
 int RunSweep(const SweepOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}}, ModelInputs(o.model, o.pose));
+  internal::RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}},
+                                    ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   BatchNotices notices;
   SweepSpec spec = MakeSweepSpec(o, model, notices);

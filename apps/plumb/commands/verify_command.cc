@@ -28,7 +28,7 @@ struct VerifyCommandOptions {
 };
 
 int RunVerify(const VerifyCommandOptions& o, const Context& ctx) {
-  RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
+  internal::RefuseOutputsOntoInputs({{"--report", o.report}}, ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
   VerifyOptions options;
   // the library starts at the reference pose (--keyframe names another), these on top
