@@ -23,6 +23,7 @@
 #include "plumb/timing.h"
 #include "plumb/trajectory.h"
 #include "plumb/video.h"
+#include "sim/run_notices.h"
 #include "sim/start_hints.h"
 #include "trajectory.h"
 
@@ -194,7 +195,7 @@ void BindRunCall(nb::module_& m) {
             RunResult result = Run(*t->ran, data, spec, sink);
             t->rows = sink.rows();
             samples = sink.Take();
-            TakeMujocoWarnings();
+            internal::AddRunWarnings(result, TakeMujocoWarnings(), notices.sink());
             return result;
           });
         }

@@ -141,3 +141,18 @@ def test_a_wrapped_mjmodel_says_only_what_mujoco_did_without_a_word(arm, late):
         pytest.skip("delays came with MuJoCo 3.5")
     with pytest.warns(plumb.CompileWarning, match="delay 0.5 s is longer than its buffer"):
         plumb.load(mujoco.MjModel.from_xml_path(late))
+
+
+def test_mujocos_warnings_of_a_run_are_plumb_warnings(tmp_path):
+    # ten boxes on a floor in too little memory for their contacts: MuJoCo warns, the run goes on
+    boxes = "".join(f'<body pos="{0.3 * i} 0 0.05"><freejoint/><geom type="box" '
+                    'size="0.1 0.1 0.05"/></body>' for i in range(10))
+    path = tmp_path / "crowded.xml"
+    path.write_text('<mujoco><size memory="48K"/><worldbody><geom type="plane" size="5 5 0.1"/>'
+                    + boxes + "</worldbody></mujoco>")
+    with pytest.warns(plumb.PlumbWarning, match="MuJoCo CNSTRFULL raised") as record:
+        t = plumb.run(str(path), until=0.1)
+    [kind] = t.warnings
+    said = [n for n in t.notices if "raised" in n.text]
+    assert len(said) == 1 and said[0].text.startswith(f"MuJoCo {kind['kind']} raised")
+    assert all(issubclass(w.category, plumb.PlumbWarning) for w in record)

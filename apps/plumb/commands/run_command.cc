@@ -19,6 +19,7 @@
 #include "plumb/sample_writer.h"
 #include "plumb/timing.h"
 #include "plumb/trajectory.h"
+#include "sim/run_notices.h"
 #include "sim/start_hints.h"
 
 namespace plumb::cli {
@@ -63,24 +64,7 @@ RunSpec MakeRunSpec(const RunOptions& o, const Model& model, double dt) {
 
 // Every warning reaches the user: the per-kind summary, then any other message.
 void ReportWarnings(const RunResult& result) {
-  std::vector<std::string> summarised;
-  for (const WarningSummary& w : result.warnings) {
-    std::fprintf(stderr,
-                 "plumb: warning: MuJoCo %s raised %d time(s), first in step %ld (t = %g s): %s\n",
-                 w.kind.c_str(), w.count, w.first_step, w.first_time, w.message.c_str());
-    summarised.push_back(w.message);
-  }
-  // MuJoCo's own text of a summarised warning differs only by its " Time = ..." suffix
-  auto summarised_already = [&](const std::string& message) {
-    return std::any_of(summarised.begin(), summarised.end(), [&](const std::string& text) {
-      return message.compare(0, text.size(), text) == 0;
-    });
-  };
-  for (const std::string& message : TakeMujocoWarnings()) {
-    if (!summarised_already(message)) {
-      std::fprintf(stderr, "plumb: warning: MuJoCo: %s\n", message.c_str());
-    }
-  }
+  internal::AddRunWarnings(result, TakeMujocoWarnings(), &CommandNotices());
 }
 
 // The divergence is the news: say it first, then where the repro went and what became of
