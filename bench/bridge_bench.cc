@@ -67,15 +67,15 @@ int Lockstep(const plumb::Model& model, plumb::BridgeConfig config, double secon
   auto& commands = link.commands;
   auto& states = link.states;
   plumb::StopSource stop;
-  auto run =
-      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
+  auto run = std::async(std::launch::async,
+                        [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
   State s;
   long answered = 0;
   Clock::time_point first;
   while (states.Wait(DDS_SECS(5))) {
     if (!states.Take(&s)) continue;
     if (answered == 0) first = Clock::now();
-    if (s.tick >= std::lround(seconds * 1000)) break;
+    if (s.tick - config.start_tick >= std::lround(seconds * 1000)) break;
     commands.Write(Torque(0.0f));
     ++answered;
   }
@@ -109,8 +109,8 @@ int Realtime(const plumb::Model& model, plumb::BridgeConfig config, double secon
   auto& commands = link.commands;
   auto& states = link.states;
   plumb::StopSource stop;
-  auto run =
-      std::async(std::launch::async, [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
+  auto run = std::async(std::launch::async,
+                        [&] { return plumb::RunBridge(model, {}, config, stop.token()); });
   std::vector<double> gaps, latencies;
   std::map<float, Clock::time_point> sent;  // torque -> when its command was written
   Clock::time_point last;
@@ -128,7 +128,7 @@ int Realtime(const plumb::Model& model, plumb::BridgeConfig config, double secon
         latencies.push_back(std::chrono::duration<double, std::micro>(now - it->second).count());
         sent.erase(sent.begin(), std::next(it));
       }
-      if (s.tick >= std::lround(seconds * 1000) - 10) goto done;
+      if (s.tick - config.start_tick >= std::lround(seconds * 1000) - 10) goto done;
       // a new command every 10 states: each with its own small torque
       if (++k % 10 == 0) {
         float tau = 0.001f * float(k / 10 % 500 + 1);

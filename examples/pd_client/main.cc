@@ -10,8 +10,8 @@
 //       motor 0 driven by torque alone (kp = kd = 0): a chirp of 2 N m from 0.2 to 3 Hz over
 //       --seconds, computed at each state's time; for identification from the flight log
 // It answers every state with one command (so a lockstep simulator advances in step) and
-// stops after --seconds of the robot's time (the state's tick). Exit 0, or 1 when no state
-// came within 5 s.
+// stops after --seconds of the robot's time (its tick less the first state's). Exit 0, or 1 when no
+// state came within 5 s.
 
 #include <dds/dds.h>
 
@@ -107,6 +107,7 @@ int main(int argc, char** argv) {
   float start[12] = {0};
   bool have_start = false;
   long answered = 0;
+  std::uint32_t first_tick = 0;  // the first state's tick: a robot's counts from its boot
   for (;;) {
     if (dds_waitset_wait(waitset, nullptr, 0, DDS_SECS(5)) <= 0) {
       std::fprintf(stderr, "pd_client: no state for 5 s (after %ld)\n", answered);
@@ -118,7 +119,9 @@ int main(int argc, char** argv) {
     bool got = false;
     while (dds_take(reader, samples, &info, 1, 1) > 0) got = got || info.valid_data;
     if (!got) continue;
-    double t = state.tick / 1000.0;
+    // a robot's tick counts from its boot (ms): the time is the tick less the first one's
+    if (first_tick == 0) first_tick = state.tick;
+    double t = (state.tick - first_tick) / 1000.0;
     if (t >= seconds) break;
     Cmd cmd;
     std::memset(&cmd, 0, sizeof cmd);

@@ -103,6 +103,15 @@ struct BridgeBand {
   double length = NAN;
   double release_at = INFINITY;  // s of simulated time
   std::string release_button;    // a gamepad button (R1, L1, start, ..., A, B, X, Y, ...)
+  // A hoist holds a robot upright, not only up: a rotational spring-damper keeps the body at
+  // its start orientation. N*m/rad; NaN: ten times the robot's weight times 1 m, at most what
+  // one explicit step of the body alone takes (I / (2 dt)^2, I its least principal inertia);
+  // 0: no hold (the robot hangs as a pendulum, tilted until its centre of mass is under the
+  // band's line).
+  double hold_stiffness = NAN;
+  // N*m*s/rad; NaN: critical for hold_stiffness and the robot's inertia about the body, at
+  // most I / (2 dt).
+  double hold_damping = NAN;
 };
 
 // The wireless gamepad ([gamepad] table, --gamepad): rt/wirelesscontroller and
@@ -128,15 +137,28 @@ struct BridgeConfig {
   BridgeMode mode = BridgeMode::kLockstep;
   std::uint32_t domain = 1;       // DDS domain id (0..232)
   double control_period = 0.002;  // s: simulated time per command (lockstep), per state (realtime)
+  // The tick of the first state, ms; later states add their simulated time. A real robot's
+  // tick counts from its boot and is never 0 (scripts wait for a nonzero one).
+  std::uint32_t start_tick = 1000;
+  // hg: the robot type LowState_ reports (scripts echo it in LowCmd_). -1: from the motor
+  // count, as Unitree's G1 rev 1.0 reports it: 5 for 29 motors, 4 for 23; else 0, said at start.
+  int mode_machine = -1;
   // The motors in motor order: actuator or joint names; empty: every actuator in order.
   std::vector<std::string> motors;
-  bool check_crc = true;          // drop (and count) commands whose CRC is wrong
-  double watchdog_timeout = 0.1;  // s of wall time without a command before damping
-  double watchdog_kd = 1.0;       // N*m*s/rad of damping while the watchdog holds
-  std::string log;                // the flight recorder's CSV file; empty: none
-  double until = INFINITY;        // stop after this much simulated time, s
-  std::string source;             // where the configuration came from, for messages
-  BridgeImuSource imu;            // [imu] table
+  bool check_crc = true;  // drop (and count) commands whose CRC is wrong
+  // s without a good command before damping: of wall time in realtime; of simulated time in
+  // lockstep (periods answered by lost, bad or paused commands), where a controller that is
+  // merely late stops simulated time instead (watchdog_patience)
+  double watchdog_timeout = 0.1;
+  double watchdog_kd = 1.0;  // N*m*s/rad of damping while the watchdog holds
+  // lockstep: s of wall time a late controller may take for a command (a policy's first call
+  // loading its weights) while simulated time waits; past it the controller counts as gone:
+  // the watchdog damps and time runs on at wall-clock pace until a command comes
+  double watchdog_patience = 10;
+  std::string log;          // the flight recorder's CSV file; empty: none
+  double until = INFINITY;  // stop after this much simulated time, s
+  std::string source;       // where the configuration came from, for messages
+  BridgeImuSource imu;      // [imu] table
   // [secondary_imu] table: rt/secondary_imu (the family's IMUState_), where the robot has a
   // second IMU (the G1's torso). Published when the table is present or the model has sensors
   // named secondary_imu_quat / _gyro / _acc (unitree_mujoco's names).
@@ -153,10 +175,11 @@ struct BridgeConfig {
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
-// "realtime", domain, control_period, motors = [names], check_crc, log, until, seed,
-// command_queue, a [watchdog] table with timeout_ms and kd, [imu] and [secondary_imu] tables
-// with quaternion, gyroscope, accelerometer (sensor names) and body, a [sport_state] table with
-// publish, base and feet, a [band] table with body, anchor = [x, y, z], stiffness, damping,
+// "realtime", domain, control_period, start_tick, mode_machine (hg only), motors = [names],
+// check_crc, log, until, seed,
+// command_queue, a [watchdog] table with timeout_ms, kd and patience_s, [imu] and [secondary_imu]
+// tables with quaternion, gyroscope, accelerometer (sensor names) and body, a [sport_state] table
+// with publish, base and feet, a [band] table with body, anchor = [x, y, z], stiffness, damping,
 // length, release_at and release_button, a [gamepad] table with events (a file, relative to
 // the configuration's folder; RunBridge reads it), rate and topics, and [[faults]] tables.
 // The file is read as ReadInputFile reads it (src/core/input_file.h): a FIFO, a directory or a
@@ -187,12 +210,16 @@ struct BridgeStats {
   // Simulated time over wall-clock time from the first period (lockstep: the first command)
   // to the end: 1 keeps up with the wall clock; NaN when no period ran.
   double realtime_factor = NAN;
-  // Paced periods (realtime, and lockstep while the watchdog damps) that started more than
+  // Paced periods (realtime, and lockstep while its controller is gone) that started more than
   // one period after they were due: the simulation fell behind the wall clock by that much.
   long late_periods = 0;
   double worst_lateness = 0;  // s after it was due, of the latest period (0: none late)
-  bool diverged = false;      // the run stopped because the state went bad
-  std::string problem;        // what went bad, when it did
+  // lockstep: waits for a command longer than watchdog_timeout of wall time (simulated time
+  // stopped meanwhile), and the longest wait for one after the first command, s
+  long late_commands = 0;
+  double longest_wait = 0;
+  bool diverged = false;  // the run stopped because the state went bad
+  std::string problem;    // what went bad, when it did
 };
 
 // A sentence for the user while the bridge runs, such as "lockstep: waiting for the first

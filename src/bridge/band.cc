@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bridge/gamepad_script.h"
@@ -36,6 +37,7 @@ Band::Band(const mjModel* m, const mjData* d, const BridgeBand& config,
   if (std::isnan(length_)) {
     length_ = stiffness_ > 0 ? std::max(0.0, distance - mass * g / stiffness_) : distance;
   }
+  SetHold(m, d, config);
   release_at_ = config.release_at;
   if (!config.release_button.empty()) {
     button_ = ButtonBit(config.release_button);
@@ -49,10 +51,54 @@ Band::Band(const mjModel* m, const mjData* d, const BridgeBand& config,
   description_ = fmt::format(
       "band: {} hangs from ({:.3g}, {:.3g}, {:.3g}), {:.3g} m above its centre of mass, on "
       "k = {:g} N/m, c = {:g} N*s/m, rest length {:.3g} m (a pull of {:.1f} N now, for {:.1f} kg "
-      "of robot); released {}",
+      "of robot), {}; released {}",
       config.body, anchor_[0], anchor_[1], anchor_[2], distance, stiffness_, damping_, length_,
       stiffness_ * std::max(0.0, distance - length_), mass,
+      hold_stiffness_ > 0 ? fmt::format("held upright at its start orientation (k = {:.4g} "
+                                        "N*m/rad, c = {:.4g} N*m*s/rad)",
+                                        hold_stiffness_, hold_damping_)
+                          : std::string("free to turn (hold_stiffness = 0)"),
       release.empty() ? "never (no release_at or release_button)" : release);
+}
+
+namespace {
+
+// The robot's rotational inertia about the body's centre of mass (a scalar: the largest it
+// can be, each body's mass at its distance plus the trace of its own inertia), kg*m^2.
+double TreeInertia(const mjModel* m, const mjData* d, int body) {
+  int root = m->body_rootid[body];
+  const mjtNum* c = d->xipos + 3 * body;
+  double inertia = 0;
+  for (int b = 1; b < m->nbody; ++b) {
+    if (m->body_rootid[b] != root) continue;
+    double r2 = 0;
+    for (int k = 0; k < 3; ++k) r2 += (d->xipos[3 * b + k] - c[k]) * (d->xipos[3 * b + k] - c[k]);
+    const mjtNum* i = m->body_inertia + 3 * b;
+    inertia += m->body_mass[b] * r2 + 0.5 * (i[0] + i[1] + i[2]);
+  }
+  return inertia;
+}
+
+}  // namespace
+
+// The hold pulls through xfrc_applied, which MuJoCo integrates explicitly: its defaults stay
+// within what one step of the body alone can take (its smallest principal inertia I: a
+// stiffness of at most I / (2 dt)^2 and a damping of at most I / (2 dt), a quarter and a half
+// of the explicit limits), as the joints that tie it to the robot may be soft.
+void Band::SetHold(const mjModel* m, const mjData* d, const BridgeBand& config) {
+  double mass = m->body_subtreemass[m->body_rootid[body_]];
+  double weight = mass * mju_norm3(m->opt.gravity);
+  const mjtNum* own = m->body_inertia + 3 * body_;
+  double least = std::min({own[0], own[1], own[2]});
+  double dt = m->opt.timestep;
+  hold_stiffness_ = std::isnan(config.hold_stiffness)
+                        ? std::min(10 * weight * 1.0, least / (4 * dt * dt))
+                        : config.hold_stiffness;
+  hold_damping_ =
+      std::isnan(config.hold_damping)
+          ? std::min(2 * std::sqrt(hold_stiffness_ * TreeInertia(m, d, body_)), least / (2 * dt))
+          : config.hold_damping;
+  mju_copy4(start_quat_, d->xquat + 4 * body_);
 }
 
 void Band::Apply(const mjModel* m, mjData* d) const {
@@ -69,7 +115,13 @@ void Band::Apply(const mjModel* m, mjData* d) const {
   double pull = stretch > 0 ? std::max(0.0, stiffness_ * stretch + damping_ * -speed) : 0.0;
   mjtNum* f = d->xfrc_applied + 6 * body_;
   for (int k = 0; k < 3; ++k) f[k] = pull * line[k];
-  f[3] = f[4] = f[5] = 0;
+  // the hold: a torque toward the start orientation, against the turning (world frame)
+  mjtNum back[4], turn[3];
+  mju_negQuat(back, d->xquat + 4 * body_);
+  mjtNum error[4];
+  mju_mulQuat(error, start_quat_, back);  // from now to the start, in the world frame
+  mju_quat2Vel(turn, error, 1);           // its axis times its angle, rad
+  for (int k = 0; k < 3; ++k) f[3 + k] = hold_stiffness_ * turn[k] - hold_damping_ * v[k];
 }
 
 std::string Band::Release(mjData* d, std::uint16_t keys) {

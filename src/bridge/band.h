@@ -1,7 +1,9 @@
 // The elastic band (plumb/bridge.h, BridgeBand): a spring-damper from a fixed anchor to a
-// body's centre of mass that holds a robot up, as robots are started on a gantry, until it is
-// released at a time or by a gamepad button. It pulls through the body's xfrc_applied, which
-// the bridge owns while the band is on (and zeroes when it lets go).
+// body's centre of mass that holds a robot up, as robots are started on a gantry, and a
+// rotational one that holds the body at its start orientation, as a hoist keeps a robot
+// upright, until it is released at a time or by a gamepad button. It pulls and turns through
+// the body's xfrc_applied, which the bridge owns while the band is on (and zeroes when it lets
+// go).
 
 #ifndef PLUMB_SRC_BRIDGE_BAND_H_
 #define PLUMB_SRC_BRIDGE_BAND_H_
@@ -23,8 +25,8 @@ class Band {
   Band(const mjModel* m, const mjData* d, const BridgeBand& config,
        const BridgePositions& positions = {});
   bool on() const { return body_ >= 0 && !released_; }
-  // Sets the band's pull on the body in d->xfrc_applied; `d`'s positions and velocities
-  // must be computed (after mj_step1 or a forward pass).
+  // Sets the band's pull and hold on the body in d->xfrc_applied; `d`'s positions and
+  // velocities must be computed (after mj_step1 or a forward pass).
   void Apply(const mjModel* m, mjData* d) const;
   // Lets go when the time or the button has come: returns what to log ("band: released at
   // t = 3 s (release_at)"), or "" while it holds. `keys`: the gamepad's buttons now.
@@ -33,11 +35,16 @@ class Band {
   const std::string& description() const { return description_; }
 
  private:
+  // The hold's gains (BridgeBand's, or their defaults for this robot) and its orientation.
+  void SetHold(const mjModel* m, const mjData* d, const BridgeBand& config);
+
   int body_ = -1;
   double anchor_[3] = {0, 0, 0};
   double stiffness_ = 0, damping_ = 0, length_ = 0;
   double release_at_ = 0;
-  int button_ = -1;  // the release button's bit, or -1
+  double hold_stiffness_ = 0, hold_damping_ = 0;  // N*m/rad, N*m*s/rad
+  double start_quat_[4] = {1, 0, 0, 0};           // the body's orientation at the start
+  int button_ = -1;                               // the release button's bit, or -1
   std::string button_name_;
   bool released_ = false;
   std::string description_;

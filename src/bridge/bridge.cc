@@ -97,6 +97,7 @@ class Loop {
       pad_on_ = true;
     }
     if (!config.log.empty()) recorder_.emplace(config.log, work_, map_);
+    mode_machine_ = ModeMachine();
     if (band_.on()) Event(band_.description());
   }
 
@@ -117,14 +118,15 @@ class Loop {
       // lockstep: one period per command, when a state has gone out since the last command
       // (a state lost or still held back by an injected fault cannot be answered: time goes
       // on until a late one is released, then waits for its answer)
+      // (a late controller stops simulated time; one gone past watchdog_patience does not)
       bool fresh = Drain(commands).fresh;
-      bool wait = lockstep && !damping_ && awaiting_reply_ && queue_.empty();
+      bool wait = lockstep && !gone_ && awaiting_reply_ && queue_.empty();
       if (wait) fresh = AwaitCommand(link, stop) || fresh;
       bool took = TakeQueued();
       if (took) awaiting_reply_ = false;
       Watchdog(fresh);
-      if (wait && !took && !damping_) continue;
-      Pace(!lockstep || damping_);
+      if (wait && !took && !gone_) continue;
+      Pace(!lockstep || gone_);
       if (!StepPeriod()) break;
       Transitions();
       ReleaseHeldStates(link);
@@ -147,6 +149,20 @@ class Loop {
     Outgoing state;
   };
 
+  // The robot type an hg state reports: the configured one, else Unitree's G1 rev 1.0 value
+  // for its motor count (unitree_ros' g1_description: 29 motors 5, 23 motors 4), else 0, said.
+  int ModeMachine() {
+    if (F != BridgeFamily::kHg || config_.mode_machine >= 0) return config_.mode_machine;
+    if (map_.size() == 29) return 5;
+    if (map_.size() == 23) return 4;
+    Notice(
+        fmt::format("mode_machine: 0 in every state ({} motors is no G1 rev 1.0 that plumb "
+                    "knows); set mode_machine in the configuration to the robot's type if "
+                    "the client checks it",
+                    map_.size()));
+    return 0;
+  }
+
   static Clock::duration Seconds(double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
   }
@@ -163,6 +179,7 @@ class Loop {
       if (Foreign(writer)) continue;
       if (faults_.ControllerPaused(t)) {
         ++stats_.paused_commands;
+        Enqueue({});  // lockstep: the period passes without it, as for a lost command
         continue;
       }
       std::uint32_t n = command_count_++;
@@ -193,6 +210,7 @@ class Loop {
     }
     if (a.fresh) {
       last_command_ = Clock::now();
+      last_good_time_ = t;
       heard_ = true;
     }
     return a;
@@ -228,28 +246,61 @@ class Loop {
     return took;
   }
 
-  // Lockstep: waits for a command, as long as the watchdog allows (before the first command
-  // there is no limit: a lockstep run starts when its controller does, as Run says); the
-  // state goes out again every 50 ms meanwhile, for a controller that joined late. Returns
-  // whether a good command came.
+  // Lockstep: waits for a command while simulated time stands still, for watchdog_patience
+  // of wall time after the last one (before the first command there is no limit: a lockstep
+  // run starts when its controller does, as Run says); past it the controller is gone. Before
+  // the first command, and once the controller in charge has been silent for the watchdog's
+  // timeout, the state goes out again every 50 ms, for a controller that joined late or takes
+  // over. Returns whether a good command came.
   bool AwaitCommand(Link& link, const StopToken& stop) {
     bridge::DdsReader<Cmd>& commands = link.commands;
+    auto began = Clock::now();
     auto deadline =
-        heard_ ? last_command_ + Seconds(config_.watchdog_timeout) : Clock::time_point::max();
-    auto republish = Clock::now() + std::chrono::milliseconds(50);
+        heard_ ? last_command_ + Seconds(config_.watchdog_patience) : Clock::time_point::max();
+    auto republish = began + std::chrono::milliseconds(50);
     bool fresh = false;
-    while (queue_.empty() && Clock::now() < deadline && !stop.stop_requested()) {
+    bool late = false;
+    while (queue_.empty() && !stop.stop_requested()) {
+      if (Clock::now() >= deadline) {
+        Gone();
+        break;
+      }
+      if (heard_ && !late && Clock::now() - began > Seconds(config_.watchdog_timeout)) {
+        late = true;  // said on stderr, not logged: a lockstep log repeats bit for bit
+        ++stats_.late_commands;
+        Notice(fmt::format("lockstep: the controller is late (no command for {:g} ms of wall "
+                           "time at t = {:.3f} s): simulated time waits for it, up to {:g} s",
+                           config_.watchdog_timeout * 1000, data_->time, config_.watchdog_patience),
+               false);
+      }
       auto until = std::min(deadline, republish);
       auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(until - Clock::now());
       commands.Wait(
           std::max<dds_duration_t>(0, std::min<dds_duration_t>(left.count(), DDS_MSECS(50))));
       fresh = Drain(commands).fresh || fresh;
-      if (queue_.empty() && Clock::now() >= republish) {
+      // before the first command, and while the controller in charge is silent (for another
+      // to take over): not before, as a controller that answers every state would answer a
+      // copy too, and its extra command would take a period of its own
+      if ((!heard_ || OwnerSilent()) && queue_.empty() && Clock::now() >= republish) {
         link.Write(last_state_);
         republish = Clock::now() + std::chrono::milliseconds(50);
       }
     }
+    if (heard_) {
+      stats_.longest_wait = std::max(stats_.longest_wait,
+                                     std::chrono::duration<double>(Clock::now() - began).count());
+    }
     return fresh;
+  }
+
+  // Lockstep: the controller has not answered for watchdog_patience of wall time. The watchdog
+  // damps, and time runs on at wall-clock pace until a command comes.
+  void Gone() {
+    gone_ = true;
+    Event(
+        fmt::format("lockstep: no command for {:g} s of wall time: the controller is gone; "
+                    "simulated time runs on at wall-clock pace",
+                    config_.watchdog_patience));
   }
 
   // Paces the coming period to the wall clock (when `paced`), counting late periods and
@@ -366,9 +417,13 @@ class Loop {
 
   // Damps when the controller falls silent (a watchdog trip) and, in realtime, before the
   // first command (not a trip: nothing was in control yet); resumes on a good command.
+  // Silence is of wall time in realtime; in lockstep, of simulated time (periods answered by
+  // lost, bad or paused commands), or a controller gone.
   void Watchdog(bool fresh) {
     bool realtime = config_.mode == BridgeMode::kRealtime;
-    bool silent = Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
+    bool silent = realtime ? Clock::now() - last_command_ > Seconds(config_.watchdog_timeout)
+                           : gone_ || data_->time - last_good_time_ >
+                                          config_.watchdog_timeout + 0.5 * work_->opt.timestep;
     if (!damping_ && !fresh && silent && (heard_ || realtime)) {
       damping_ = true;
       tripped_ = heard_;
@@ -382,6 +437,7 @@ class Loop {
       }
     } else if (damping_ && fresh) {
       damping_ = false;
+      gone_ = false;
       if (tripped_) Event("watchdog: commands are back: resuming");
     }
   }
@@ -442,7 +498,7 @@ class Loop {
     Outgoing out;
     State& s = out.low;
     std::memset(&out, 0, sizeof out);
-    Family<F>::Header(&s);
+    Family<F>::Header(&s, mode_machine_);
     mjData* d = data_.get();
     double t = d->time;
     std::uint32_t n = state_count_++;
@@ -467,7 +523,7 @@ class Loop {
     }
     bridge::FillImu(imu_reading_, &s.imu_state);
     if (pad_on_) bridge::PackWirelessRemote(pad_.At(t), s.wireless_remote);
-    s.tick = static_cast<std::uint32_t>(std::llround(t * 1000));
+    s.tick = config_.start_tick + static_cast<std::uint32_t>(std::llround(t * 1000));
     s.crc = bridge::UnitreeCrc(s);
     ++stats_.states;
     if (link.sport) {
@@ -549,14 +605,17 @@ class Loop {
   std::optional<bridge::FlightRecorder> recorder_;
   Clock::time_point last_command_;
   bool damping_ = false;
+  int mode_machine_ = 0;        // hg: the robot type every state reports
   bool tripped_ = false;        // the damping is a watchdog trip (not the wait for a controller)
   bridge::CommandQueue queue_;  // commands waiting for their period
   bridge::Pacer pacer_;
   bool started_ = false;  // a period has run: wall_start_ and sim_start_ are set
   Clock::time_point wall_start_, last_warning_;
   double sim_start_ = 0;
-  bool heard_ = false;                              // a command has arrived since the start
-  dds_instance_handle_t owner_ = 0;                 // the controller in charge (0: none yet)
+  double last_good_time_ = 0;        // simulated time of the last good command, s
+  bool gone_ = false;                // lockstep: no command for watchdog_patience: paced, damping
+  bool heard_ = false;               // a command has arrived since the start
+  dds_instance_handle_t owner_ = 0;  // the controller in charge (0: none yet)
   std::set<dds_instance_handle_t> foreign_logged_;  // other writers already logged
   std::map<dds_instance_handle_t, std::size_t> controller_numbers_;
   bool awaiting_reply_ = false;  // a state went out since the last command: lockstep waits

@@ -252,8 +252,10 @@ BridgeSportState ReadSportState(Reader& r, const toml::table& t) {
 
 BridgeBand ReadBand(Reader& r, const toml::table& t) {
   const std::string p = "band.";
-  r.OnlyKeys(
-      t, {"body", "anchor", "stiffness", "damping", "length", "release_at", "release_button"}, p);
+  r.OnlyKeys(t,
+             {"body", "anchor", "stiffness", "damping", "length", "release_at", "release_button",
+              "hold_stiffness", "hold_damping"},
+             p);
   BridgeBand b;
   b.body = r.Text(t, "body", "a body's name", p);
   if (b.body.empty()) r.Fail(&t, p + "body", "is missing: the body the band holds");
@@ -269,6 +271,8 @@ BridgeBand ReadBand(Reader& r, const toml::table& t) {
   b.stiffness = r.Number(t, "stiffness", b.stiffness, 0, 1e9, p);
   b.damping = r.Number(t, "damping", b.damping, 0, 1e9, p);
   b.length = r.Number(t, "length", NAN, 0, 1e3, p);
+  b.hold_stiffness = r.Number(t, "hold_stiffness", NAN, 0, 1e9, p);
+  b.hold_damping = r.Number(t, "hold_damping", NAN, 0, 1e9, p);
   b.release_at = r.Number(t, "release_at", INFINITY, 0, INFINITY, p);
   b.release_button = r.Text(t, "release_button", "a gamepad button's name", p);
   if (!b.release_button.empty() && bridge::ButtonBit(b.release_button) < 0) {
@@ -327,9 +331,9 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   BridgeConfig c;
   Reader r(path, &c.positions);
   r.OnlyKeys(table,
-             {"family", "mode", "domain", "control_period", "motors", "check_crc", "log", "until",
-              "watchdog", "imu", "secondary_imu", "sport_state", "band", "gamepad", "faults",
-              "seed", "command_queue"},
+             {"family", "mode", "domain", "control_period", "start_tick", "mode_machine", "motors",
+              "check_crc", "log", "until", "watchdog", "imu", "secondary_imu", "sport_state",
+              "band", "gamepad", "faults", "seed", "command_queue"},
              "");
   c.source = path;
   c.family =
@@ -340,15 +344,23 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   c.domain = static_cast<std::uint32_t>(r.Whole(table, "domain", 1, 0, 232));
   c.command_queue = static_cast<std::size_t>(r.Whole(table, "command_queue", 64, 1, 1e6));
   c.control_period = r.Number(table, "control_period", 0.002, 1e-5, 1);
+  // at most 4e9: days of ticks are left before the 32-bit tick wraps
+  c.start_tick = static_cast<std::uint32_t>(r.Whole(table, "start_tick", 1000, 1, 4e9));
+  if (const toml::node* node = table.get("mode_machine"); node && c.family == BridgeFamily::kGo) {
+    r.Fail(node, "mode_machine",
+           "is a unitree_hg field (family = \"hg\"): unitree_go's LowState_ has none");
+  }
+  c.mode_machine = static_cast<int>(r.Whole(table, "mode_machine", -1, 0, 255));
   c.until = r.Number(table, "until", INFINITY, 0, INFINITY);
   c.check_crc = r.Flag(table, "check_crc", true);
   c.log = r.Text(table, "log", "a file name");
   c.motors = r.Names(table, "motors", "actuator or joint names", "");
   CheckMotorsOnce(r, table, c.motors);
   if (const toml::table* w = r.Table(table, "watchdog")) {
-    r.OnlyKeys(*w, {"timeout_ms", "kd"}, "watchdog.");
+    r.OnlyKeys(*w, {"timeout_ms", "kd", "patience_s"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;
     c.watchdog_kd = r.Number(*w, "kd", 1, 0, 1e6, "watchdog.");
+    c.watchdog_patience = r.Number(*w, "patience_s", 10, 0.001, 86400, "watchdog.");
   }
   if (const toml::table* imu = r.Table(table, "imu")) c.imu = ReadImu(r, *imu, "imu");
   if (const toml::table* imu = r.Table(table, "secondary_imu")) {

@@ -36,7 +36,8 @@ struct Family<BridgeFamily::kGo> {
   static const dds_topic_descriptor_t* CmdType() { return &unitree_go_msg_dds__LowCmd__desc; }
   static const dds_topic_descriptor_t* StateType() { return &unitree_go_msg_dds__LowState__desc; }
   static const dds_topic_descriptor_t* ImuType() { return &unitree_go_msg_dds__IMUState__desc; }
-  static void Header(State* s) {
+  // unitree_go's LowState_ has no robot type: `mode_machine` is for the hg family only
+  static void Header(State* s, int /*mode_machine*/) {
     s->head[0] = 0xFE;
     s->head[1] = 0xEF;
     s->level_flag = 0xFF;
@@ -51,7 +52,9 @@ struct Family<BridgeFamily::kHg> {
   static const dds_topic_descriptor_t* CmdType() { return &unitree_hg_msg_dds__LowCmd__desc; }
   static const dds_topic_descriptor_t* StateType() { return &unitree_hg_msg_dds__LowState__desc; }
   static const dds_topic_descriptor_t* ImuType() { return &unitree_hg_msg_dds__IMUState__desc; }
-  static void Header(State*) {}
+  static void Header(State* s, int mode_machine) {
+    s->mode_machine = static_cast<std::uint8_t>(mode_machine);
+  }
 };
 
 // Both families' messages share these; the G1 publishes unitree_go's too.

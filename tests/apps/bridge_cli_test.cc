@@ -80,7 +80,8 @@ testing::CommandResult BridgeAndClient(const std::string& dir, const std::string
 
 std::string PendulumConfig(std::uint32_t domain) {
   return "family = \"go\"\nmode = \"lockstep\"\ndomain = " + std::to_string(domain) +
-         "\nmotors = [\"hinge\"]\nuntil = 3.0\nlog = \"log.csv\"\n[watchdog]\ntimeout_ms = 1000\n";
+         "\nmotors = [\"hinge\"]\nuntil = 3.0\nlog = \"log.csv\"\n[watchdog]\ntimeout_ms = 1000\n"
+         "patience_s = 1.5\n";
 }
 
 TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
@@ -99,12 +100,13 @@ TEST(CliBridgeTest, AClientHoldsThePendulumInLockstep) {
   EXPECT_EQ(log.commands, 1495);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "qpos[hinge]"), 0.5, 0.01);
   EXPECT_NEAR(log.At(log.rows.size() - 1, "state.q[hinge]"), 0.5, 0.01);  // as published
-  // it waited for the client, and said so once; the client stopped at 2.99 s: the watchdog
-  // damped the last periods, and said so
-  ASSERT_EQ(log.events.size(), 3u);
+  // it waited for the client, and said so once; the client stopped at 2.99 s: simulated time
+  // waited for it (patience_s), then it was gone and the watchdog damped the last periods
+  ASSERT_EQ(log.events.size(), 4u);
   EXPECT_NE(log.events[0].find("waiting for the first command"), std::string::npos);
   EXPECT_EQ(log.events[1], "controller 1 is in charge");
-  EXPECT_NE(log.events[2].find("watchdog"), std::string::npos);
+  EXPECT_NE(log.events[2].find("the controller is gone"), std::string::npos) << log.events[2];
+  EXPECT_NE(log.events[3].find("watchdog"), std::string::npos);
   std::string err = testing::ReadFile(dir.File("bridge.err"));
   EXPECT_EQ(testing::Occurrences(err, "waiting for the first command"), 1) << err;
   EXPECT_NE(testing::ReadFile(dir.File("bridge.out")).find("realtime factor"), std::string::npos);

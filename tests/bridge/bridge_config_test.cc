@@ -38,6 +38,8 @@ TEST(BridgeConfigTest, DefaultsAndKeys) {
 mode = "realtime"
 domain = 7
 control_period = 0.004
+start_tick = 77
+mode_machine = 3
 motors = ["a", "b"]
 check_crc = false
 log = "f.csv"
@@ -57,6 +59,8 @@ body = "pelvis"
   EXPECT_EQ(c.mode, BridgeMode::kRealtime);
   EXPECT_EQ(c.domain, 7u);
   EXPECT_EQ(c.control_period, 0.004);
+  EXPECT_EQ(c.start_tick, 77u);
+  EXPECT_EQ(c.mode_machine, 3);
   EXPECT_EQ(c.motors, (std::vector<std::string>{"a", "b"}));
   EXPECT_FALSE(c.check_crc);
   EXPECT_EQ(c.log, "f.csv");
@@ -75,6 +79,8 @@ body = "pelvis"
   EXPECT_TRUE(d.imu.quaternion.empty() && d.imu.body.empty());
   EXPECT_TRUE(d.check_crc);
   EXPECT_EQ(d.command_queue, 64u);
+  EXPECT_EQ(d.start_tick, 1000u);  // a real robot's tick counts from its boot: never 0
+  EXPECT_EQ(d.mode_machine, -1);   // hg: from the motor count
 }
 
 TEST(BridgeConfigTest, MistakesNameTheFileLineAndKey) {
@@ -89,6 +95,14 @@ TEST(BridgeConfigTest, MistakesNameTheFileLineAndKey) {
   EXPECT_NE(Complaint("command_queue = 0\n").find("command_queue: must be in [1, 1e+06]"),
             std::string::npos)
       << Complaint("command_queue = 0\n");
+  EXPECT_NE(Complaint("start_tick = 0\n").find("start_tick: must be in [1, 4e+09]"),
+            std::string::npos)
+      << Complaint("start_tick = 0\n");
+  EXPECT_NE(Complaint("mode_machine = 5\n").find("mode_machine: is a unitree_hg field"),
+            std::string::npos)
+      << Complaint("mode_machine = 5\n");
+  EXPECT_NE(Complaint("family = \"hg\"\nmode_machine = 256\n").find("mode_machine: must be in"),
+            std::string::npos);
   EXPECT_NE(Complaint("mode = \"fast\"\n").find("b.toml:1:8: mode: must be one of"),
             std::string::npos)
       << Complaint("mode = \"fast\"\n");
@@ -140,6 +154,8 @@ damping = 50
 length = 0.5
 release_at = 2
 release_button = "A"
+hold_stiffness = 0
+hold_damping = 7
 [gamepad]
 events = "pad.txt"
 rate = 50
@@ -156,6 +172,8 @@ topics = ["rt/wirelesscontroller"]
   EXPECT_EQ(c.band.stiffness, 500);
   EXPECT_EQ(c.band.damping, 50);
   EXPECT_EQ(c.band.length, 0.5);
+  EXPECT_EQ(c.band.hold_stiffness, 0);
+  EXPECT_EQ(c.band.hold_damping, 7);
   EXPECT_EQ(c.band.release_at, 2);
   EXPECT_EQ(c.band.release_button, "A");
   EXPECT_EQ(c.gamepad.events, dir.File("pad.txt"));

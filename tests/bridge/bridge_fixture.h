@@ -22,6 +22,18 @@ namespace plumb {
 using Cmd = unitree_go_msg_dds__LowCmd_;
 using State = unitree_go_msg_dds__LowState_;
 
+// The first state's tick (BridgeConfig::start_tick's default).
+inline long StartTick() {
+  static const long tick = BridgeConfig().start_tick;
+  return tick;
+}
+
+// A state's simulated time in ms: its tick less the first state's.
+template <typename Message>
+long SimMs(const Message& s) {
+  return static_cast<long>(s.tick) - StartTick();
+}
+
 // A controller: its own participant in the bridge's domain.
 class Controller {
  public:

@@ -20,18 +20,19 @@ TEST(BridgeTest, RealtimeKeepsItsPublishRate) {
   Controller controller(config.domain);
   plumb::StopSource stop;
   auto start = std::chrono::steady_clock::now();
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   long received = 0;
-  std::uint32_t first = 0, last = 0;
+  long first = 0, last = 0;
   auto first_at = std::chrono::steady_clock::now(), last_at = first_at;
-  while (controller.Next(&s, 2) && s.tick < 4990) {
+  while (controller.Next(&s, 2) && SimMs(s) < 4990) {
     if (received++ == 0) {
-      first = s.tick;
+      first = SimMs(s);
       first_at = std::chrono::steady_clock::now();
     }
-    last = s.tick;
+    last = SimMs(s);
     last_at = std::chrono::steady_clock::now();
     controller.Send(Hold(0.3));
   }
@@ -40,9 +41,9 @@ TEST(BridgeTest, RealtimeKeepsItsPublishRate) {
   double span = std::chrono::duration<double>(last_at - first_at).count();
   double simulated = (last - first) / 1000.0;
   EXPECT_NEAR(stats.time, 5.0, 1e-9);
-  EXPECT_NEAR(wall, 5.0, 0.5);               // paced to the wall clock
-  EXPECT_NEAR(simulated / span, 1.0, 0.03);  // simulated time keeps pace within 3 %
-  EXPECT_NEAR(received / span, 500, 25);     // and so does the publish rate
+  EXPECT_NEAR(wall, 5.0, 0.5);                   // paced to the wall clock
+  EXPECT_NEAR(simulated / span, 1.0, 0.03);      // simulated time keeps pace within 3 %
+  EXPECT_NEAR(received / span, 500, 25);         // and so does the publish rate
   EXPECT_NEAR(stats.realtime_factor, 1.0, 0.1);  // as the bridge measured it
   EXPECT_LE(stats.late_periods, stats.steps);
 }
@@ -58,20 +59,21 @@ TEST(BridgeTest, AFloodOfHostileCommandsNeitherSlowsItNorGoesUnrecorded) {
   config.log = dir.File("flight.csv");
   Controller controller(config.domain), intruder(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   ASSERT_TRUE(intruder.Matched());
   State s;
   long received = 0, bad = 0, nan = 0, good = 0;
-  std::uint32_t first = 0, last = 0;
+  long first = 0, last = 0;
   auto first_at = std::chrono::steady_clock::now(), last_at = first_at;
   controller.Send(Hold(0.3));  // in charge from the start
-  while (controller.Next(&s, 2) && s.tick < 2990) {
+  while (controller.Next(&s, 2) && SimMs(s) < 2990) {
     if (received++ == 0) {
-      first = s.tick;
+      first = SimMs(s);
       first_at = std::chrono::steady_clock::now();
     }
-    last = s.tick;
+    last = SimMs(s);
     last_at = std::chrono::steady_clock::now();
     for (int k = 0; k < 8; ++k, ++good) controller.Send(Hold(0.3));
     controller.Send(Hold(0.3), /*good_crc=*/false);

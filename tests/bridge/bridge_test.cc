@@ -12,6 +12,7 @@
 #include <cstring>
 #include <future>
 #include <thread>
+#include <vector>
 
 #include "bridge/bridge_fixture.h"
 #include "bridge/dds_link.h"
@@ -27,17 +28,18 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 3.0);
   Controller controller(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   long states = 0;
   double q = NAN;
-  std::uint32_t tick = 0;
-  while (controller.Next(&s) && s.tick < 3000) {
+  long tick = 0;
+  while (controller.Next(&s) && SimMs(s) < 3000) {
     ++states;
     EXPECT_EQ(s.crc, bridge::UnitreeCrc(s));
-    EXPECT_GE(s.tick, tick);
-    tick = s.tick;
+    EXPECT_GE(SimMs(s), tick);
+    tick = SimMs(s);
     q = s.motor_state[0].q;
     controller.Send(Hold(0.5));
   }
@@ -50,16 +52,46 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
   EXPECT_EQ(stats.bad_crc, 0);
 }
 
+// A vendor's script waits for the robot by waiting for a nonzero tick before it sends anything
+// (a real robot's tick counts from its boot). Lockstep publishes its first state, then waits
+// for the first command: with a first tick of 0 neither side would ever start.
+TEST(BridgeTest, TheFirstStateHasANonzeroTickSoAScriptWaitingForOneStarts) {
+  Model model = Model::Load(testing::kPendulum);
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.2);
+  Controller controller(config.domain);
+  plumb::StopSource stop;
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  ASSERT_TRUE(controller.Matched());
+  State s;
+  ASSERT_TRUE(controller.Next(&s));
+  EXPECT_EQ(s.tick, config.start_tick) << "the first state";
+  std::uint32_t last = 0;
+  long states = 0;
+  do {
+    if (s.tick == 0) continue;  // the script's wait for the robot
+    EXPECT_GT(s.tick, last);
+    last = s.tick;
+    ++states;
+    controller.Send(Hold(0.1));
+  } while (controller.Next(&s, 2) && SimMs(s) < 190);
+  stop.RequestStop();
+  BridgeStats stats = bridge.get();
+  EXPECT_GE(stats.commands, 90) << states << " states";
+  EXPECT_EQ(last, config.start_tick + 188u);
+}
+
 TEST(BridgeTest, BadCrcAndNanCommandsAreDroppedAndCounted) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.02);  // ten periods
   Controller controller(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   int sent = 0;
-  while (controller.Next(&s, 10) && s.tick < 20) {
+  while (controller.Next(&s, 10) && SimMs(s) < 20) {
     controller.Send(Hold(0.2), /*good_crc=*/false);  // dropped: the period waits on
     Cmd nan = Hold(0.2);
     nan.motor_cmd[0].kp = NAN;
@@ -82,19 +114,68 @@ TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
   config.watchdog_timeout = 0.05;
   config.watchdog_kd = 5;
+  config.watchdog_patience = 0.3;  // then the controller is gone
   Controller controller(config.domain);
   plumb::StopSource stop;
   auto bridge = std::async(std::launch::async, [&] {
     return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, stop.token());
   });
   ASSERT_TRUE(controller.Matched());
-  // ten commands, then silence: the bridge damps and goes on in real time to the end
+  // ten commands, then silence: simulated time waits for the controller (patience), then the
+  // bridge damps and goes on in real time to the end
   State s;
   for (int i = 0; i < 10 && controller.Next(&s); ++i) controller.Send(Hold(0.7));
   BridgeStats stats = bridge.get();
   EXPECT_EQ(stats.watchdog_trips, 1);
   EXPECT_EQ(stats.commands, 10);
   EXPECT_NEAR(stats.time, 1.0, 1e-9);
+  EXPECT_EQ(stats.late_commands, 1);
+}
+
+// The published q of every state a holding controller answers in lockstep to `until`; it
+// sleeps `late` s of wall time before answering the state at `late_at` ms, as a policy whose
+// call is slow (loading its weights).
+std::vector<float> HoldWithALateAnswer(BridgeConfig config, double late, long late_at,
+                                       BridgeStats* stats) {
+  Model model = Model::Load(testing::kPendulum);
+  Controller controller(config.domain);
+  plumb::StopSource stop;
+  auto bridge = std::async(std::launch::async, [&] {
+    return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, stop.token());
+  });
+  std::vector<float> q;
+  State s;
+  if (!controller.Matched()) return q;
+  std::uint32_t answered = 0;
+  while (controller.Next(&s) && SimMs(s) < std::lround(config.until * 1000) - 2) {
+    if (s.tick == answered) continue;  // a state sent again while it was late: answered
+    answered = s.tick;
+    q.push_back(s.motor_state[0].q);
+    if (SimMs(s) == late_at) std::this_thread::sleep_for(std::chrono::duration<double>(late));
+    controller.Send(Hold(0.2));
+  }
+  stop.RequestStop();
+  *stats = bridge.get();
+  return q;
+}
+
+// A controller slower than the watchdog's timeout is late, not gone: lockstep stops simulated
+// time while it thinks, so the run is the one it would have been, bit for bit, and the
+// watchdog does not trip (before, the robot sagged under damping at wall-clock pace).
+TEST(BridgeTest, ALateControllerInLockstepStopsSimulatedTime) {
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.4);
+  config.watchdog_timeout = 0.05;
+  BridgeStats prompt, late;
+  std::vector<float> expected = HoldWithALateAnswer(config, 0, -1, &prompt);
+  config.domain = testing::FreeDomain();
+  std::vector<float> got = HoldWithALateAnswer(config, 0.4, 100, &late);
+  ASSERT_EQ(got.size(), expected.size());
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(late.watchdog_trips, 0);
+  EXPECT_EQ(late.late_commands, 1);
+  EXPECT_GE(late.longest_wait, 0.4);
+  EXPECT_EQ(prompt.late_commands, 0);
+  EXPECT_EQ(late.commands, prompt.commands);
 }
 
 TEST(BridgeTest, LockstepWaitsForALateController) {
@@ -110,7 +191,7 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // longer than the watchdog
   Controller controller(config.domain);
   State s;
-  while (controller.Next(&s) && s.tick < 10) controller.Send(Hold(0.1));
+  while (controller.Next(&s) && SimMs(s) < 10) controller.Send(Hold(0.1));
   BridgeStats stats = bridge.get();
   EXPECT_EQ(stats.watchdog_trips, 0);  // no command had come yet: nothing to watch
   EXPECT_EQ(stats.commands, 5);
@@ -128,7 +209,8 @@ TEST(BridgeTest, LockstepAppliesABurstOfCommandsInOrder) {
   config.log = dir.File("flight.csv");
   Controller controller(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(controller.Matched());
   State s;
   ASSERT_TRUE(controller.Next(&s));
@@ -189,19 +271,22 @@ TEST(BridgeTest, TheHgFamilySpeaksG1Messages) {
   Model model = Model::Load(testing::kPendulum);
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
   config.family = BridgeFamily::kHg;
+  config.mode_machine = 5;  // the pendulum's one motor makes no G1: the robot type is set
   bridge::DdsDomain domain(config.domain);
   bridge::DdsWriter<HgCmd> commands(domain, "rt/lowcmd", &unitree_hg_msg_dds__LowCmd__desc);
   bridge::DdsReader<HgState> states(domain, "rt/lowstate", &unitree_hg_msg_dds__LowState__desc);
   plumb::StopSource stop;
-  auto run = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto run =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   HgState s;
   float q = NAN;
   for (;;) {
     ASSERT_TRUE(states.Wait(DDS_SECS(5)));
     if (!states.Take(&s)) continue;
     EXPECT_EQ(s.crc, bridge::UnitreeCrc(s));
+    EXPECT_EQ(s.mode_machine, 5);
     q = s.motor_state[0].q;
-    if (s.tick >= 990) break;
+    if (SimMs(s) >= 990) break;
     HgCmd cmd;
     std::memset(&cmd, 0, sizeof cmd);
     cmd.motor_cmd[0].mode = 1;
@@ -235,8 +320,8 @@ HoldRun RunHold(BridgeConfig config, double target,
   HoldRun run;
   if (!controller.Matched()) return run;
   State s;
-  while (controller.Next(&s) && s.tick < std::lround(config.until * 1000) - 10) {
-    run.t.push_back(s.tick / 1000.0);
+  while (controller.Next(&s) && SimMs(s) < std::lround(config.until * 1000) - 10) {
+    run.t.push_back(SimMs(s) / 1000.0);
     run.q.push_back(s.motor_state[0].q);
     controller.Send(Hold(target));
   }
@@ -388,7 +473,7 @@ TEST(BridgeFaultsTest, LostAndLateStatesDoNotStallLockstep) {
 
 TEST(BridgeFaultsTest, APausedControllerTripsTheWatchdogAndAFrozenImuRepeats) {
   BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
-  config.watchdog_timeout = 0.2;
+  config.watchdog_timeout = 0.1;  // of simulated time in lockstep: the pause lasts 0.2 s
   FaultSpec pause = Fault(FaultSpec::Kind::kControllerPause);
   pause.start = 0.4;
   pause.stop = 0.6;
@@ -396,13 +481,14 @@ TEST(BridgeFaultsTest, APausedControllerTripsTheWatchdogAndAFrozenImuRepeats) {
   config.faults = {pause, freeze};
   HoldRun run = RunHold(config, 0.5);
   EXPECT_GE(run.stats.paused_commands, 1);
-  EXPECT_GE(run.stats.watchdog_trips, 1);  // the pause (a loaded machine may add a late one)
+  EXPECT_EQ(run.stats.watchdog_trips, 1);  // the pause, in simulated time: no other
   EXPECT_GT(run.stats.time, 0.9);
 }
 
 // Two controllers at once: the first with a good command is in charge; the other's commands
 // are dropped, counted and logged once, and do not advance lockstep; when the first falls
-// silent for the watchdog timeout, the other takes over.
+// silent for the watchdog timeout (of wall time, while lockstep's simulated time waits), the
+// other takes over.
 TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
   Model model = Model::Load(testing::kPendulum);
   testing::TempDir dir;
@@ -411,16 +497,17 @@ TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
   config.log = dir.File("flight.csv");
   Controller first(config.domain), second(config.domain);
   plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  auto bridge =
+      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
   ASSERT_TRUE(first.Matched());
   ASSERT_TRUE(second.Matched());
   State s;
   long both = 0;
   double q = NAN;
   // the first sends before the second for every state up to t = 0.5 s, then goes quiet
-  while (second.Next(&s) && s.tick < 1500) {
+  while (second.Next(&s) && SimMs(s) < 1500) {
     q = s.motor_state[0].q;
-    if (s.tick < 500) {
+    if (SimMs(s) < 500) {
       first.Send(Hold(0.5));
       ++both;
     }
@@ -431,7 +518,9 @@ TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
   EXPECT_NEAR(q, -0.3, 0.02) << "the second controller took over";
   EXPECT_GE(stats.foreign_commands, both - 2);    // every one while the first was in charge
   EXPECT_LE(stats.foreign_commands, both + 150);  // and no more than 0.3 s of waiting
-  EXPECT_EQ(stats.watchdog_trips, 1);
+  // lockstep: simulated time waited while the first was silent, so nothing tripped
+  EXPECT_EQ(stats.watchdog_trips, 0);
+  EXPECT_EQ(stats.late_commands, 1);
   std::string log = testing::ReadFile(config.log);
   EXPECT_NE(log.find("controller 1 is in charge"), std::string::npos);
   auto count = [&](const std::string& text) { return Occurrences(log, text); };

@@ -6,7 +6,7 @@ it is talking to a simulator. Used by the test UnitreeSdk2ClientDrivesTheBridge.
 
 Holds motor 0 (the chapter's pendulum hinge) at the target with kp 20, kd 2 and gravity
 feed-forward m g d sin(q), answering every state with one command (a lockstep bridge advances
-one period per command). Stops when the state's tick passes --seconds. Prints the number of
+one period per command). Stops when the tick is --seconds past the first one. Prints the number of
 states answered and the last q. With --extras it also listens, through the SDK's own classes,
 to rt/sportmodestate, rt/secondary_imu (the family's IMUState_) and both wireless-controller
 topics, and prints one line "extras {json}": how many of each arrived and the last of each, and
@@ -83,6 +83,7 @@ def main():
 
     answered = 0
     q = float("nan")
+    first_tick = None
     while True:
         with arrived:
             if not arrived.wait_for(lambda: "state" in latest, timeout=5.0):
@@ -91,7 +92,10 @@ def main():
             state = latest.pop("state")
         q = state.motor_state[0].q
         remote_keys = state.wireless_remote[2] | state.wireless_remote[3] << 8
-        if state.tick / 1000.0 >= args.seconds:
+        # a robot's tick counts from its boot (ms): time is the tick less the first one's
+        if first_tick is None:
+            first_tick = state.tick
+        if (state.tick - first_tick) / 1000.0 >= args.seconds:
             break
         if go:
             cmd = sdk_default.unitree_go_msg_dds__LowCmd_()

@@ -27,7 +27,8 @@ struct BridgeCommandOptions {
   std::string gamepad;
 };
 
-// "realtime factor 0.983, 12 late periods (the worst 33.1 ms late)".
+// "realtime factor 0.983, 12 late periods (the worst 33.1 ms late)", and lockstep's waits
+// for a late controller.
 std::string Pacing(const BridgeStats& stats) {
   std::string text = std::isnan(stats.realtime_factor)
                          ? "no period ran"
@@ -35,6 +36,10 @@ std::string Pacing(const BridgeStats& stats) {
   text += fmt::format(", {} late periods", stats.late_periods);
   if (stats.late_periods > 0) {
     text += fmt::format(" (the worst {:.1f} ms late)", stats.worst_lateness * 1000);
+  }
+  if (stats.late_commands > 0) {  // lockstep: simulated time waited for them
+    text += fmt::format(", {} late commands waited for (the longest {:.2f} s)",
+                        stats.late_commands, stats.longest_wait);
   }
   return text;
 }
