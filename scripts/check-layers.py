@@ -9,12 +9,18 @@ cannot leave a stale guard: src/core/worker_pool.h is guarded by PLUMB_SRC_CORE_
 include/plumb/version.h.in by PLUMB_INCLUDE_PLUMB_VERSION_H_ (the generated header's path), in
 the #ifndef, the #define after it, and the comment of the last #endif.
 
+Private headers (every .h under src/) declare nothing directly in the public namespace plumb:
+they open plumb::internal, or their folder's namespace (plumb::audit, plumb::bridge, ...), so
+that what is internal reads as internal where it is used (internal::Trim, or a using-declaration
+in a .cc file).
+
 And every public header has its line in docs/layout.md ("  NAME.h  what it is"), when ROOT
 has docs/.
 
     scripts/check-layers.py [ROOT]      (ROOT: the checkout; default: this script's parent's)
 
-Prints every upward or sideways include and every wrong guard as FILE:LINE: ... and exits 1
+Prints every upward or sideways include, every wrong guard and every private header's
+`namespace plumb {` as FILE:LINE: ... and exits 1
 when there is one; exits 0 with a one-line summary otherwise; 2 when ROOT has no src/ or a
 public header has no home.
 """
@@ -73,6 +79,29 @@ def guard_problems(path, rel):
         problems.append(((last if last is not None else len(lines) - 1) + 1,
                          f"the last #endif must read \"#endif  // {want}\""))
     return problems
+
+
+PUBLIC_NAMESPACE = re.compile(r"^\s*namespace\s+plumb\s*\{")
+
+
+def check_private_namespaces(root):
+    """Prints every `namespace plumb {` in a private header (src/**/*.h); returns how many."""
+    bad = 0
+    for dirpath, dirs, names in os.walk(os.path.join(root, "src")):
+        dirs.sort()
+        for name in sorted(n for n in names if n.endswith(".h")):
+            path = os.path.join(dirpath, name)
+            rel = os.path.relpath(path, root).replace(os.sep, "/")
+            folder = rel.split("/")[1]
+            with open(path, encoding="utf-8", errors="replace") as f:
+                for number, line in enumerate(f, 1):
+                    if PUBLIC_NAMESPACE.match(line):
+                        print(f"{rel}:{number}: a private header declares into the public "
+                              f"namespace plumb: open plumb::internal (or plumb::{folder}) "
+                              f"instead, and qualify its users (internal::Name, or a "
+                              f"using-declaration in a .cc file)")
+                        bad += 1
+    return bad
 
 
 def check_layout_doc(root):
@@ -182,12 +211,17 @@ def main():
     if wrong_guards:
         print(f"check-layers: {wrong_guards} include guard line(s) that do not match their "
               f"header's path", file=sys.stderr)
+    public_namespace = check_private_namespaces(root)
+    if public_namespace:
+        print(f"check-layers: {public_namespace} private header(s) declare into namespace "
+              f"plumb", file=sys.stderr)
     undocumented = check_layout_doc(root)
-    if bad or wrong_guards or undocumented:
+    if bad or wrong_guards or public_namespace or undocumented:
         return 1
     print(f"check-layers: {checked} includes across folders, all downward "
           f"({len(files)} files in {len(folders)} folders); {headers} include guards match "
-          f"their paths; docs/layout.md names every public header")
+          f"their paths; docs/layout.md names every public header; no private header declares "
+          f"into namespace plumb")
     return 0
 
 

@@ -20,6 +20,7 @@
 #include "plumb/version.h"
 
 namespace plumb {
+using internal::CheckStorePath;
 
 using nlohmann::json;
 

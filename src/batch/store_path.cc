@@ -12,7 +12,7 @@
 #include "core/input_file.h"
 #include "plumb/error.h"
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 namespace fs = std::filesystem;
@@ -36,7 +36,7 @@ void CheckStorePath(const std::string& path, bool write) {
     throw IoError(
         fmt::format("{} is not a regular file ({}): give the path of a store file, "
                     "new or one plumb wrote, e.g. results.db.",
-                    store, internal::FileTypeName(st.st_mode)));
+                    store, FileTypeName(st.st_mode)));
   }
   if (!exists && errno != ENOENT && errno != ENOTDIR) {  // a missing folder is told below
     throw IoError(fmt::format("{} cannot be reached ({}); give another store path.", store,
@@ -57,7 +57,7 @@ void CheckStorePath(const std::string& path, bool write) {
   }
   if (!S_ISDIR(dir.st_mode)) {
     throw IoError(fmt::format("{}: '{}' is not a folder ({}); give a store path in a folder.",
-                              store, shown, internal::FileTypeName(dir.st_mode)));
+                              store, shown, FileTypeName(dir.st_mode)));
   }
   if (exists && ::access(path.c_str(), W_OK) != 0) throw IoError(Unwritable(store, errno) + ".");
   if (!exists) {
@@ -76,4 +76,4 @@ void CheckStorePath(const std::string& path, bool write) {
   }
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

@@ -8,7 +8,7 @@
 
 #include <string>
 
-namespace plumb {
+namespace plumb::internal {
 
 // Checks that a results store can be opened at `path`: an existing path must be a regular file;
 // to write (`write`), the file, or the folder that is to hold it, must be writable, and so must
@@ -17,6 +17,6 @@ namespace plumb {
 // @throws IoError naming the store, the cause and what to do.
 void CheckStorePath(const std::string& path, bool write);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_BATCH_STORE_PATH_H_

@@ -8,14 +8,14 @@
 #include "plumb/error.h"
 #include "plumb/path.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 ParameterWriter::ParameterWriter(const Model& nominal, const std::vector<FitParameter>& params)
     : params_(params), inertia_(nominal->body_inertia, nominal->body_inertia + 3 * nominal->nbody) {
   for (const FitParameter& p : params) arrays_ = arrays_ || ChangesModelArrays(p.path);
 }
 
-void ParameterWriter::Write(internal::WorkerPool::Worker& w, const double* x) const {
+void ParameterWriter::Write(WorkerPool::Worker& w, const double* x) const {
   mjModel* m = w.work.get_mutable();
   for (const FitParameter& p : params_) WriteValues(w.work, w.data, p.path, {p.nominal});
   std::copy(inertia_.begin(), inertia_.end(), m->body_inertia);
@@ -85,7 +85,7 @@ std::vector<std::vector<double>> Residuals::At(const std::vector<std::vector<dou
       [&](std::vector<long>* chunk) {
         for (; next < todo.size(); ++next) chunk->push_back(todo[next]);
       },
-      [&](internal::WorkerPool::Worker& w, long index, std::vector<double>* e) {
+      [&](WorkerPool::Worker& w, long index, std::vector<double>* e) {
         writer_.Write(w, points[index].data());
         *e = AllErrors(w, points[index]);
         return true;
@@ -102,7 +102,7 @@ std::vector<std::vector<double>> Residuals::At(const std::vector<std::vector<dou
   return out;
 }
 
-std::vector<std::vector<double>> Residuals::Errors(internal::WorkerPool::Worker& w, std::size_t log,
+std::vector<std::vector<double>> Residuals::Errors(WorkerPool::Worker& w, std::size_t log,
                                                    const std::vector<double>& x) const {
   std::vector<double> offsets(x.begin() + starts_[log], x.begin() + starts_[log + 1]);
   Simulated s = Simulate(w.work, w.data, logs_[log], replay_, fit_starts_ ? &offsets : nullptr);
@@ -114,7 +114,7 @@ std::vector<std::vector<double>> Residuals::Errors(internal::WorkerPool::Worker&
   return e;
 }
 
-std::vector<double> Residuals::AllErrors(internal::WorkerPool::Worker& w,
+std::vector<double> Residuals::AllErrors(WorkerPool::Worker& w,
                                          const std::vector<double>& x) const {
   std::vector<double> all;
   all.reserve(m_);
@@ -159,4 +159,4 @@ void Residuals::Remember(const std::vector<double>& point,
   while (remembered_.size() > most) remembered_.pop_back();
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

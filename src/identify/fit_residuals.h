@@ -18,7 +18,7 @@
 #include "plumb/identify.h"
 #include "plumb/replay.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // Start states are fitted while they add at most this many unknowns (windows x logged state
 // elements); beyond, the dense Jacobian grows too large and the logged starts are used.
@@ -33,7 +33,7 @@ class ParameterWriter {
   ParameterWriter(const Model& nominal, const std::vector<FitParameter>& params);
 
   // Writes parameter values `x` (in scaled units) into the worker's model.
-  void Write(internal::WorkerPool::Worker& w, const double* x) const;
+  void Write(WorkerPool::Worker& w, const double* x) const;
 
  private:
   const std::vector<FitParameter>& params_;
@@ -85,13 +85,12 @@ class Residuals {
   std::vector<std::vector<double>> At(const std::vector<std::vector<double>>& points);
 
   // Simulated minus logged, per signal of `log`, with the start offsets of x.
-  std::vector<std::vector<double>> Errors(internal::WorkerPool::Worker& w, std::size_t log,
+  std::vector<std::vector<double>> Errors(WorkerPool::Worker& w, std::size_t log,
                                           const std::vector<double>& x) const;
 
  private:
   // Simulated minus logged, every measured sample of every log in order, as they are.
-  std::vector<double> AllErrors(internal::WorkerPool::Worker& w,
-                                const std::vector<double>& x) const;
+  std::vector<double> AllErrors(WorkerPool::Worker& w, const std::vector<double>& x) const;
 
   // `errors` over each signal's weight; a divergence (NaN) gives large, finite residuals.
   std::vector<double> Weighted(const std::vector<double>& errors) const;
@@ -103,7 +102,7 @@ class Residuals {
   static constexpr double kDiverged = 1e6;
   const std::vector<RobotLog>& logs_;
   ParameterWriter writer_;
-  mutable internal::WorkerPool pool_;
+  mutable WorkerPool pool_;
   std::size_t physical_, n_;
   std::vector<std::size_t> starts_;  // where each log's start offsets begin in x
   bool fit_starts_ = true;
@@ -118,6 +117,6 @@ class Residuals {
   long runs_ = 0;
 };
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IDENTIFY_FIT_RESIDUALS_H_

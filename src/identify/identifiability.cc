@@ -7,7 +7,7 @@
 #include <cmath>
 #include <set>
 
-namespace plumb {
+namespace plumb::internal {
 
 std::string LogThatSettles(const Path& p) {
   const std::string& f = p.field;
@@ -103,4 +103,4 @@ void AddIdentifiabilityWarnings(const std::vector<FitParameter>& params, const E
   }
 }
 
-}  // namespace plumb
+}  // namespace plumb::internal

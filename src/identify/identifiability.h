@@ -10,7 +10,7 @@
 
 #include "plumb/identify.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // What log would pin down a parameter of this field ("a log at several speeds ...").
 std::string LogThatSettles(const Path& p);
@@ -26,6 +26,6 @@ std::string PairAdvice(const Path& a, const Path& b);
 void AddIdentifiabilityWarnings(const std::vector<FitParameter>& params, const Eigen::MatrixXd& J,
                                 bool singular, IdentifyResult* result);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IDENTIFY_IDENTIFIABILITY_H_

@@ -27,6 +27,14 @@
 #include "plumb/timing.h"
 
 namespace plumb {
+using internal::AddIdentifiabilityWarnings;
+using internal::InvertNormal;
+using internal::JudgeFit;
+using internal::kMostJacobianEntries;
+using internal::kMostStartUnknowns;
+using internal::NormalInverse;
+using internal::Residuals;
+
 namespace {
 
 // Whether MuJoCo refuses a negative value of `path` (a mass, a damping, ...).

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace plumb {
+namespace plumb::internal {
 namespace {
 
 // The longest Newey–West bandwidth, as a fraction of a series' samples, from which its long-run
@@ -338,6 +338,11 @@ void JudgeFit(const std::vector<RobotLog>& logs, const std::vector<FitParameter>
         std::isfinite(e.classical_std_error) ? std::max(robust, e.classical_std_error) : robust;
   }
 }
+
+}  // namespace plumb::internal
+
+// the public part (plumb/identify.h)
+namespace plumb {
 
 std::string DescribeResidualVariance(const IdentifyResult& r) {
   if (!r.misspecification.detected) {

@@ -10,7 +10,7 @@
 
 #include "plumb/identify.h"
 
-namespace plumb {
+namespace plumb::internal {
 
 // The lag-1 autocorrelation of `e` about its mean: sum (e_k - m)(e_k+1 - m) / sum (e_k - m)^2.
 // About N(0, 1/n) for n samples of white noise. NaN for fewer than 3 samples or a constant.
@@ -97,6 +97,6 @@ void JudgeFit(const std::vector<RobotLog>& logs, const std::vector<FitParameter>
               const Eigen::MatrixXd& jacobian, const std::vector<double>& residuals,
               const std::vector<std::vector<double>>& weights, IdentifyResult* result);
 
-}  // namespace plumb
+}  // namespace plumb::internal
 
 #endif  // PLUMB_SRC_IDENTIFY_IDENTIFY_RESIDUALS_H_

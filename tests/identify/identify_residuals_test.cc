@@ -8,6 +8,17 @@
 #include <random>
 
 namespace plumb {
+using internal::AndrewsBandwidth;
+using internal::DiagnoseResiduals;
+using internal::JudgeMisspecification;
+using internal::LagOneAutocorrelation;
+using internal::NeweyWestBandwidth;
+using internal::NeweyWestCovariance;
+using internal::NeweyWestLongRun;
+using internal::NormalUpperQuantile;
+using internal::RunsTestZ;
+using internal::StructureThreshold;
+
 namespace {
 
 // `n` draws of an AR(1), x_k = rho x_k-1 + e_k with unit normal e, from seed `seed`.
