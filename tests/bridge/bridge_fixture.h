@@ -9,7 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bridge/dds_link.h"
 #include "bridge/test_domain.h"
@@ -101,6 +104,41 @@ inline BridgeConfig PendulumConfig(std::uint32_t domain, double until) {
   config.watchdog_timeout = 3.0;  // generous: a loaded CI machine
   return config;
 }
+
+// The pendulum behind a bridge of `config` that runs on a thread of its own from `start`
+// ("PATH=VALUE" texts), and a controller in its domain. Finish() stops it and gives its stats.
+class PendulumBridge {
+ public:
+  explicit PendulumBridge(BridgeConfig config, const std::vector<std::string>& start = {})
+      : config_(std::move(config)),
+        model_(Model::Load(testing::kPendulum)),
+        controller(config_.domain) {
+    for (const std::string& text : start) start_.push_back(ParseAssignment(model_, text));
+    run_ = std::async(std::launch::async,
+                      [this] { return RunBridge(model_, start_, config_, stop_.token()); });
+  }
+  ~PendulumBridge() {
+    if (run_.valid()) Finish();
+  }
+
+  BridgeStats Finish() {
+    stop_.RequestStop();
+    return run_.get();
+  }
+  const BridgeConfig& config() const { return config_; }
+
+ private:
+  BridgeConfig config_;  // (declared before the controller, which is made from it)
+  Model model_;
+
+ public:
+  Controller controller;
+
+ private:
+  std::vector<Assignment> start_;
+  StopSource stop_;
+  std::future<BridgeStats> run_;
+};
 
 }  // namespace plumb
 

@@ -56,12 +56,9 @@ TEST(BridgeTest, LockstepControllerHoldsThePendulum) {
 // (a real robot's tick counts from its boot). Lockstep publishes its first state, then waits
 // for the first command: with a first tick of 0 neither side would ever start.
 TEST(BridgeTest, TheFirstStateHasANonzeroTickSoAScriptWaitingForOneStarts) {
-  Model model = Model::Load(testing::kPendulum);
-  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 0.2);
-  Controller controller(config.domain);
-  plumb::StopSource stop;
-  auto bridge =
-      std::async(std::launch::async, [&] { return RunBridge(model, {}, config, stop.token()); });
+  PendulumBridge bridge(PendulumConfig(testing::FreeDomain(), 0.2));
+  const BridgeConfig& config = bridge.config();
+  Controller& controller = bridge.controller;
   ASSERT_TRUE(controller.Matched());
   State s;
   ASSERT_TRUE(controller.Next(&s));
@@ -75,8 +72,7 @@ TEST(BridgeTest, TheFirstStateHasANonzeroTickSoAScriptWaitingForOneStarts) {
     ++states;
     controller.Send(Hold(0.1));
   } while (controller.Next(&s, 2) && SimMs(s) < 190);
-  stop.RequestStop();
-  BridgeStats stats = bridge.get();
+  BridgeStats stats = bridge.Finish();
   EXPECT_GE(stats.commands, 90) << states << " states";
   EXPECT_EQ(last, config.start_tick + 188u);
 }
@@ -137,12 +133,8 @@ TEST(BridgeTest, TheWatchdogDampsAControllerThatFallsSilent) {
 // call is slow (loading its weights).
 std::vector<float> HoldWithALateAnswer(BridgeConfig config, double late, long late_at,
                                        BridgeStats* stats) {
-  Model model = Model::Load(testing::kPendulum);
-  Controller controller(config.domain);
-  plumb::StopSource stop;
-  auto bridge = std::async(std::launch::async, [&] {
-    return RunBridge(model, {ParseAssignment(model, "qpos[hinge]=0.7")}, config, stop.token());
-  });
+  PendulumBridge bridge(config, {"qpos[hinge]=0.7"});
+  Controller& controller = bridge.controller;
   std::vector<float> q;
   State s;
   if (!controller.Matched()) return q;
@@ -154,8 +146,7 @@ std::vector<float> HoldWithALateAnswer(BridgeConfig config, double late, long la
     if (SimMs(s) == late_at) std::this_thread::sleep_for(std::chrono::duration<double>(late));
     controller.Send(Hold(0.2));
   }
-  stop.RequestStop();
-  *stats = bridge.get();
+  *stats = bridge.Finish();
   return q;
 }
 
