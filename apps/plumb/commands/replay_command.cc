@@ -6,12 +6,12 @@
 #include <cstdio>
 
 #include "cli_common.h"
-#include "log_options.h"
 #include "plumb/error.h"
 #include "plumb/replay.h"
 #include "plumb/report.h"
 #include "plumb/result_json.h"
 #include "plumb/result_table.h"
+#include "plumb/robot_log.h"
 
 namespace plumb::cli {
 namespace {
@@ -32,7 +32,7 @@ int RunReplay(const ReplayCommandOptions& o, const Context& ctx) {
   Model model = LoadModel(o.model);
   ApplyParameterAssignments(model, o.sets);
   CheckReplayOptions(o.replay);
-  RobotLog log = std::move(LoadLogs(model, {o.log}, o.columns).front());
+  RobotLog log = std::move(LoadRobotLogs(model, {o.log}, o.columns, &CommandNotices()).front());
   ReplayOptions replay = o.replay;
   replay.stop = CommandStop().token();
   ReplayResult r = Replay(model, log, replay);
