@@ -9,15 +9,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <thread>
 
 #include "bridge/band.h"
 #include "bridge/command_check.h"
 #include "bridge/command_queue.h"
+#include "bridge/controllers.h"
 #include "bridge/dds_link.h"
 #include "bridge/faults.h"
 #include "bridge/flight_recorder.h"
@@ -107,7 +106,7 @@ class Loop {
     Transitions();
     PublishPad(link);
     Publish(link);
-    last_command_ = Clock::now();
+    controllers_.Start();
     bool lockstep = config_.mode == BridgeMode::kLockstep;
     // said once, at the start, whether or not a command is already there: the same words
     // every run, as a lockstep log repeats bit for bit
@@ -176,7 +175,7 @@ class Loop {
     double t = data_->time;
     dds_instance_handle_t writer = 0;
     while (reader.Take(&cmd, &writer)) {
-      if (Foreign(writer)) continue;
+      if (controllers_.Foreign(writer, &stats_.foreign_commands)) continue;
       if (faults_.ControllerPaused(t)) {
         ++stats_.paused_commands;
         Enqueue({});  // lockstep: the period passes without it, as for a lost command
@@ -205,14 +204,10 @@ class Loop {
         continue;
       }
       a.fresh = true;
-      TakeCharge(writer);
+      controllers_.Good(writer);
       Enqueue({std::move(next), faults_.CommandLatency(t, n)});
     }
-    if (a.fresh) {
-      last_command_ = Clock::now();
-      last_good_time_ = t;
-      heard_ = true;
-    }
+    if (a.fresh) last_good_time_ = t;
     return a;
   }
 
@@ -255,8 +250,9 @@ class Loop {
   bool AwaitCommand(Link& link, const StopToken& stop) {
     bridge::DdsReader<Cmd>& commands = link.commands;
     auto began = Clock::now();
-    auto deadline =
-        heard_ ? last_command_ + Seconds(config_.watchdog_patience) : Clock::time_point::max();
+    auto deadline = controllers_.heard()
+                        ? controllers_.last_good() + Seconds(config_.watchdog_patience)
+                        : Clock::time_point::max();
     auto republish = began + std::chrono::milliseconds(50);
     bool fresh = false;
     bool late = false;
@@ -265,7 +261,8 @@ class Loop {
         Gone();
         break;
       }
-      if (heard_ && !late && Clock::now() - began > Seconds(config_.watchdog_timeout)) {
+      if (controllers_.heard() && !late &&
+          Clock::now() - began > Seconds(config_.watchdog_timeout)) {
         late = true;  // said on stderr, not logged: a lockstep log repeats bit for bit
         ++stats_.late_commands;
         Notice(fmt::format("lockstep: the controller is late (no command for {:g} ms of wall "
@@ -281,12 +278,13 @@ class Loop {
       // before the first command, and while the controller in charge is silent (for another
       // to take over): not before, as a controller that answers every state would answer a
       // copy too, and its extra command would take a period of its own
-      if ((!heard_ || OwnerSilent()) && queue_.empty() && Clock::now() >= republish) {
+      if ((!controllers_.heard() || controllers_.OwnerSilent()) && queue_.empty() &&
+          Clock::now() >= republish) {
         link.Write(last_state_);
         republish = Clock::now() + std::chrono::milliseconds(50);
       }
     }
-    if (heard_) {
+    if (controllers_.heard()) {
       stats_.longest_wait = std::max(stats_.longest_wait,
                                      std::chrono::duration<double>(Clock::now() - began).count());
     }
@@ -351,47 +349,6 @@ class Loop {
     if (log) Event(what);
   }
 
-  // Whether a command from `writer` comes from a controller other than the one in charge,
-  // while that one is alive: such commands are dropped and counted, and logged once a writer.
-  bool Foreign(dds_instance_handle_t writer) {
-    if (owner_ == 0 || writer == owner_ || OwnerSilent()) return false;
-    ++stats_.foreign_commands;
-    if (foreign_logged_.insert(writer).second) {
-      Event(fmt::format(
-          "a second controller ({}) publishes on rt/lowcmd while {} is in charge: "
-          "its commands are dropped until that one falls silent for {:g} ms",
-          ControllerName(writer), ControllerName(owner_), config_.watchdog_timeout * 1000));
-    }
-    return true;
-  }
-
-  bool OwnerSilent() const {
-    return Clock::now() - last_command_ > Seconds(config_.watchdog_timeout);
-  }
-
-  // Controllers are named in the order they were first heard ("controller 1"): a DDS
-  // writer's handle differs from run to run, and a lockstep log must repeat bit for bit.
-  std::string ControllerName(dds_instance_handle_t writer) {
-    auto [at, fresh] = controller_numbers_.emplace(writer, controller_numbers_.size() + 1);
-    return fmt::format("controller {}", at->second);
-  }
-
-  // The writer of a good command is in charge from now on (it already was, or it is the
-  // first, or the one in charge fell silent).
-  void TakeCharge(dds_instance_handle_t writer) {
-    if (writer == owner_) return;
-    if (owner_ == 0) {
-      Event(ControllerName(writer) + " is in charge");
-    } else {
-      Event(fmt::format(
-          "{} takes over from {}, silent for {:.0f} ms", ControllerName(writer),
-          ControllerName(owner_),
-          std::chrono::duration<double, std::milli>(Clock::now() - last_command_).count()));
-    }
-    owner_ = writer;
-    foreign_logged_.erase(writer);
-  }
-
   // Commands held back by latency whose time has come, in the order they arrived.
   void ApplyHeldCommands() {
     double t = data_->time;
@@ -421,12 +378,12 @@ class Loop {
   // lost, bad or paused commands), or a controller gone.
   void Watchdog(bool fresh) {
     bool realtime = config_.mode == BridgeMode::kRealtime;
-    bool silent = realtime ? Clock::now() - last_command_ > Seconds(config_.watchdog_timeout)
+    bool silent = realtime ? controllers_.OwnerSilent()
                            : gone_ || data_->time - last_good_time_ >
                                           config_.watchdog_timeout + 0.5 * work_->opt.timestep;
-    if (!damping_ && !fresh && silent && (heard_ || realtime)) {
+    if (!damping_ && !fresh && silent && (controllers_.heard() || realtime)) {
       damping_ = true;
-      tripped_ = heard_;
+      tripped_ = controllers_.heard();
       if (tripped_) {
         ++stats_.watchdog_trips;
         Event(fmt::format("watchdog: no command for {:g} ms: damping (kp = 0, kd = {:g})",
@@ -603,7 +560,6 @@ class Loop {
   long steps_per_period_ = 1;
   std::vector<bridge::MotorCommand> commands_;
   std::optional<bridge::FlightRecorder> recorder_;
-  Clock::time_point last_command_;
   bool damping_ = false;
   int mode_machine_ = 0;        // hg: the robot type every state reports
   bool tripped_ = false;        // the damping is a watchdog trip (not the wait for a controller)
@@ -612,12 +568,10 @@ class Loop {
   bool started_ = false;  // a period has run: wall_start_ and sim_start_ are set
   Clock::time_point wall_start_, last_warning_;
   double sim_start_ = 0;
-  double last_good_time_ = 0;        // simulated time of the last good command, s
-  bool gone_ = false;                // lockstep: no command for watchdog_patience: paced, damping
-  bool heard_ = false;               // a command has arrived since the start
-  dds_instance_handle_t owner_ = 0;  // the controller in charge (0: none yet)
-  std::set<dds_instance_handle_t> foreign_logged_;  // other writers already logged
-  std::map<dds_instance_handle_t, std::size_t> controller_numbers_;
+  double last_good_time_ = 0;  // simulated time of the last good command, s
+  bool gone_ = false;          // lockstep: no command for watchdog_patience: paced, damping
+  bridge::Controllers controllers_{config_.watchdog_timeout,
+                                   [this](const std::string& what) { Event(what); }};
   bool awaiting_reply_ = false;  // a state went out since the last command: lockstep waits
   bridge::Faults faults_;
   std::uint32_t command_count_ = 0, state_count_ = 0;  // the faults' message numbers
