@@ -261,8 +261,7 @@ class Loop {
         Gone();
         break;
       }
-      if (controllers_.heard() && !late &&
-          Clock::now() - began > Seconds(config_.watchdog_timeout)) {
+      if (controllers_.heard() && !late && controllers_.OwnerSilent()) {
         late = true;  // said on stderr, not logged: a lockstep log repeats bit for bit
         ++stats_.late_commands;
         Notice(fmt::format("lockstep: the controller is late (no command for {:g} ms of wall "

@@ -509,9 +509,10 @@ TEST(BridgeTest, ASecondControllerIsIgnoredUntilTheFirstFallsSilent) {
   EXPECT_NEAR(q, -0.3, 0.02) << "the second controller took over";
   EXPECT_GE(stats.foreign_commands, both - 2);    // every one while the first was in charge
   EXPECT_LE(stats.foreign_commands, both + 150);  // and no more than 0.3 s of waiting
-  // lockstep: simulated time waited while the first was silent, so nothing tripped
+  // lockstep: simulated time waited while the first was silent, so nothing tripped (whether
+  // the wait was said to be late before the takeover is a race of wall-clock moments)
   EXPECT_EQ(stats.watchdog_trips, 0);
-  EXPECT_EQ(stats.late_commands, 1);
+  EXPECT_LE(stats.late_commands, 1);
   std::string log = testing::ReadFile(config.log);
   EXPECT_NE(log.find("controller 1 is in charge"), std::string::npos);
   auto count = [&](const std::string& text) { return Occurrences(log, text); };
