@@ -36,6 +36,7 @@ LAYERS = [
     ["scenario"],
     ["verify", "audit", "batch", "identify", "regression"],
     ["render", "bridge", "mpi", "crosscheck"],
+    ["rehearse"],
     ["report"],
     ["apps"],  # the umbrella header plumb/plumb.h stands with the users of the library
 ]

@@ -222,6 +222,52 @@ struct BridgeStats {
   std::string problem;    // what went bad, when it did
 };
 
+// One motor slot of a command as the client sent it (rt/lowcmd's motor_cmd[i]), before the
+// bridge maps it onto the model: slots beyond the model's motors included.
+struct BridgeCommandSlot {
+  int mode = 0;
+  double q = 0, dq = 0, tau = 0, kp = 0, kd = 0;
+};
+
+// A motor of the model as the bridge drives it: its name (actuator or joint), the joint it
+// moves, and the torque it can give, N*m (from forcerange and ctrlrange x gain x gear).
+struct BridgeMotorInfo {
+  std::string name;
+  int joint = -1;
+  int actuator = -1;  // -1: a joint driven through qfrc_applied
+  double torque_lo = -INFINITY, torque_hi = INFINITY;
+};
+
+// One motor at a published state: what it measured, the command in force, and the torque the
+// law asked for before the limits clipped it (what it applied is clipped to torque_lo/hi).
+struct BridgeMotorSample {
+  double q = 0, dq = 0;
+  BridgeCommandSlot command;  // in force (mode 0 before the first command)
+  double torque = 0;          // kp (q_des - q) + kd (dq_des - dq) + tau, unclipped, N*m
+  bool damping = false;       // the watchdog (or the wait for a controller) damps instead
+};
+
+// What a caller watches while the bridge runs (a rehearsal: plumb/rehearse.h). Called on
+// RunBridge's thread; a slow observer slows the bridge.
+class BridgeObserver {
+ public:
+  virtual ~BridgeObserver() = default;
+  // The link is up and the first state has gone out: a client may start now. `model` is the
+  // bridge's copy; `motors` in motor order.
+  virtual void Started(const Model& /*model*/, const std::vector<BridgeMotorInfo>& /*motors*/) {}
+  // A good command (CRC and values checked) from the controller in charge arrived, at
+  // simulated time `t` and `wall` s of the steady clock: every slot of the message.
+  virtual void Commanded(double /*t*/, double /*wall*/,
+                         const std::vector<BridgeCommandSlot>& /*slots*/) {}
+  // A state at simulated time data->time went out (or was lost to a fault), its derived
+  // quantities computed: the model's data and each motor.
+  virtual void Published(const Model& /*model*/, const Data& /*data*/,
+                         const std::vector<BridgeMotorSample>& /*motors*/) {}
+  // Something the flight log records (a fault beginning, the watchdog, a gamepad event, the
+  // band's release), at simulated time `t`.
+  virtual void Happened(double /*t*/, const std::string& /*what*/) {}
+};
+
 // A sentence for the user while the bridge runs, such as "lockstep: waiting for the first
 // command on rt/lowcmd" (once) or a warning that realtime pacing falls behind the wall clock
 // (at most one every 5 s). Called on RunBridge's thread; the flight recorder logs them too.
@@ -242,9 +288,10 @@ using BridgeNotice = std::function<void(const std::string&)>;
 // model refuses `start`;
 // UnavailableError when DDS cannot start or fails; IoError when config.log cannot be written;
 // MujocoError.
+// `observer` (may be null) watches the run.
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
                       const BridgeConfig& config, const StopToken& stop,
-                      const BridgeNotice& notice = {});
+                      const BridgeNotice& notice = {}, BridgeObserver* observer = nullptr);
 
 }  // namespace plumb
 

@@ -52,9 +52,10 @@ class Loop {
   using Link = bridge::Link<F>;
 
   Loop(const Model& model, const std::vector<Assignment>& start, const BridgeConfig& config,
-       const BridgeNotice& notice)
+       const BridgeNotice& notice, BridgeObserver* observer)
       : config_(config),
         notice_(notice),
+        observer_(observer),
         work_(model.Clone()),
         data_(work_),
         // realtime takes the whole queue every period: only lockstep's is bounded
@@ -106,6 +107,7 @@ class Loop {
     Transitions();
     PublishPad(link);
     Publish(link);
+    if (observer_) observer_->Started(work_, MotorInfo());
     controllers_.Start();
     bool lockstep = config_.mode == BridgeMode::kLockstep;
     // said once, at the start, whether or not a command is already there: the same words
@@ -205,6 +207,10 @@ class Loop {
       }
       a.fresh = true;
       controllers_.Good(writer);
+      if (observer_) {
+        observer_->Commanded(t, std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
+                             bridge::CommandSlots(cmd));
+      }
       Enqueue({std::move(next), faults_.CommandLatency(t, n)});
     }
     if (a.fresh) last_good_time_ = t;
@@ -498,6 +504,7 @@ class Loop {
       bridge::FillImu(secondary_.Read(work_.get(), d), &out.imu);
       ++stats_.secondary_imu_states;
     }
+    if (observer_) Observe();
     if (faults_.DropState(t, n)) {
       ++stats_.dropped_states;
       if (recorder_) recorder_->State(d, published, "dropped (fault)");
@@ -547,10 +554,37 @@ class Loop {
 
   void Event(const std::string& what) {
     if (recorder_) recorder_->Event(data_->time, what);
+    if (observer_) observer_->Happened(data_->time, what);
+  }
+
+  std::vector<BridgeMotorInfo> MotorInfo() const {
+    std::vector<BridgeMotorInfo> info;
+    for (const bridge::Motor& m : map_.motors()) {
+      info.push_back({m.name, m.joint, m.actuator, m.torque_lo, m.torque_hi});
+    }
+    return info;
+  }
+
+  // The state going out, for the observer: each motor, the command in force and the torque
+  // the law asks for.
+  void Observe() {
+    const mjData* d = data_.get();
+    std::vector<BridgeMotorSample> motors(map_.size());
+    for (std::size_t i = 0; i < map_.size(); ++i) {
+      const bridge::MotorCommand& c = commands_[i];
+      BridgeMotorSample& s = motors[i];
+      s.q = map_.Q(d, i);
+      s.dq = map_.Dq(d, i);
+      s.command = {c.mode, c.q, c.dq, c.tau, c.kp, c.kd};
+      s.torque = bridge::PdTorque(c, s.q, s.dq);
+      s.damping = damping_;
+    }
+    observer_->Published(work_, data_, motors);
   }
 
   const BridgeConfig& config_;
   const BridgeNotice& notice_;
+  BridgeObserver* observer_;
   Model work_;
   Data data_;
   bridge::MotorMap map_;
@@ -592,7 +626,7 @@ class Loop {
 
 BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
                       const BridgeConfig& config, const StopToken& stop,
-                      const BridgeNotice& notice) {
+                      const BridgeNotice& notice, BridgeObserver* observer) {
   // the rule LoadBridgeConfig applies to the file's until, for one set in code (--until)
   if (!(config.until >= 0)) {
     throw ArgumentError("until", fmt::format("{:g}", config.until),
@@ -600,9 +634,9 @@ BridgeStats RunBridge(const Model& model, const std::vector<Assignment>& start,
                         "out to run until stopped)");
   }
   if (config.family == BridgeFamily::kGo) {
-    return Loop<BridgeFamily::kGo>(model, start, config, notice).Run(stop);
+    return Loop<BridgeFamily::kGo>(model, start, config, notice, observer).Run(stop);
   }
-  return Loop<BridgeFamily::kHg>(model, start, config, notice).Run(stop);
+  return Loop<BridgeFamily::kHg>(model, start, config, notice, observer).Run(stop);
 }
 
 }  // namespace plumb

@@ -6,7 +6,7 @@
 namespace plumb {
 
 BridgeStats RunBridge(const Model&, const std::vector<Assignment>&, const BridgeConfig&,
-                      const StopToken&, const BridgeNotice&) {
+                      const StopToken&, const BridgeNotice&, BridgeObserver*) {
   throw UnavailableError(
       "this plumb was built without the DDS bridge: CycloneDDS was not found when it was "
       "configured. Install it (Debian: apt-get install cyclonedds-dev cyclonedds-tools; "

@@ -10,6 +10,7 @@
 
 #include "bridge/pd_law.h"
 #include "bridge/unitree_crc.h"
+#include "plumb/bridge.h"
 
 namespace plumb::bridge {
 
@@ -30,6 +31,18 @@ CommandVerdict CheckCommand(const Cmd& cmd, bool check_crc, std::size_t motors,
     if (!(*out)[i].finite()) return CommandVerdict::kNonFinite;
   }
   return CommandVerdict::kGood;
+}
+
+// Every motor slot of `cmd` as sent, for a BridgeObserver.
+template <typename Cmd>
+std::vector<BridgeCommandSlot> CommandSlots(const Cmd& cmd) {
+  constexpr std::size_t kSlots = sizeof(cmd.motor_cmd) / sizeof(cmd.motor_cmd[0]);
+  std::vector<BridgeCommandSlot> slots(kSlots);
+  for (std::size_t i = 0; i < kSlots; ++i) {
+    const auto& m = cmd.motor_cmd[i];
+    slots[i] = {m.mode, m.q, m.dq, m.tau, m.kp, m.kd};
+  }
+  return slots;
 }
 
 }  // namespace plumb::bridge
