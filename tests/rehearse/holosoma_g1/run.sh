@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Rehearsal: Amazon FAR's holosoma G1 locomotion policy, driven by holosoma_inference's own
+# deploy script (python -m holosoma_inference.run_policy inference:g1-29dof-loco
+# --task.use-joystick, unmodified, from PyPI), against `plumb bridge` running holosoma's own G1
+# model (PyPI's holosoma 0.0.3) as the robot. The policy talks Unitree SDK2 over CycloneDDS on
+# the loopback interface (far-unitree-sdk: Unitree's C++ SDK2 bound with pybind11); the
+# gamepad script presses A (start the policy), then start (walk) and pushes the left stick.
+#
+# Usage: run.sh [--mode lockstep|realtime] [--until S] [--out DIR] [--venv DIR] [--plumb EXE]
+#   --until   simulated seconds (default 20: A at 4 s, band released at 6 s, walk 9-17 s)
+#   --out     folder for flight.csv, bridge.txt, policy.txt, verdict.json (default: a new one
+#             under ${TMPDIR:-/tmp})
+#   --venv    the environment scripts/rehearse-venv.sh makes (default build/rehearse-venv)
+# Exit codes: 0 it stood and walked, 1 it did not, 2 bad use or set-up (no venv, no plumb).
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+repo="$(cd "$here/../../.." && pwd)"
+mode=lockstep until=20 out="" venv="$repo/build/rehearse-venv" plumb="$repo/build/plumb"
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --mode) mode="$2"; shift 2 ;;
+    --until) until="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --venv) venv="$2"; shift 2 ;;
+    --plumb) plumb="$2"; shift 2 ;;
+    *) echo "run.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
+  esac
+done
+python="$venv/bin/python"
+[[ -x "$python" ]] || { echo "run.sh: no environment at $venv: make it with scripts/rehearse-venv.sh $venv" >&2; exit 2; }
+[[ -x "$plumb" ]] || { echo "run.sh: no plumb at $plumb: build the plumb_cli target" >&2; exit 2; }
+site="$("$python" -c 'import holosoma, os; print(os.path.dirname(holosoma.__file__))' 2>/dev/null)" ||
+  { echo "run.sh: holosoma (the model's package) is not in $venv" >&2; exit 2; }
+model="$site/data/robots/g1/scenes/scene_g1_29dof_wbt_plane.xml"
+[[ -n "$out" ]] || out="$(mktemp -d "${TMPDIR:-/tmp}/rehearse-holosoma-g1.XXXXXX")"
+mkdir -p "$out"
+
+"$plumb" bridge "$model" --config "$here/bridge.toml" --pose "$here/pose.txt" \
+  --gamepad "$here/gamepad.txt" --mode "$mode" --until "$until" --log "$out/flight.csv" \
+  >"$out/bridge.txt" 2>&1 &
+bridge=$!
+# the vendor's deploy script, as its README runs it, with the SDK's wireless controller as input
+LOGURU_LEVEL=INFO "$python" -m holosoma_inference.run_policy inference:g1-29dof-loco \
+  --task.use-joystick --task.interface lo >"$out/policy.txt" 2>&1 &
+policy=$!
+status=0
+wait "$bridge" || status=$?
+# the policy runs until stopped: Ctrl-C is how its README stops it
+kill -INT "$policy" 2>/dev/null || true
+for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 "$policy" 2>/dev/null || break; sleep 0.5; done
+kill -KILL "$policy" 2>/dev/null || true
+wait "$policy" 2>/dev/null || true
+tail -n 1 "$out/bridge.txt"
+if [[ $status -ne 0 ]]; then
+  echo "run.sh: plumb bridge exited $status (see $out/bridge.txt)" >&2
+  exit 2
+fi
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$until" --json \
+  | tee "$out/verdict.json"
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$until" >/dev/null
