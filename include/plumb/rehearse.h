@@ -147,7 +147,6 @@ struct RehearsalResult {
   // bridge.crc, bridge.watchdog, bridge.diverged).
   std::vector<CheckRow> rows;
   RehearsalTrace trace;
-  Notices notices;
   bool passed() const;  // no FAIL row, and the bridge did not diverge
 };
 
@@ -162,13 +161,14 @@ RehearsalAssertion ParseRehearsalAssertion(const Model& model, const BridgeConfi
 
 // Runs the rehearsal: the bridge from `start` until spec.config.until (or `stop`, or the
 // client ending early or never commanding), the client started once the bridge is up and
-// stopped at the end. `notice` hears the bridge's sentences while it runs.
+// stopped at the end. `notice` hears the bridge's sentences while it runs; `notices` (may be
+// null) what the rehearsal has to say about itself (stopped before its end).
 // @throws as RunBridge does; ArgumentError for an empty command or an infinite until;
 // ValueError naming the directory when the client's working directory is not one; IoError
 // when the client cannot be started or its output file cannot be written.
 RehearsalResult Rehearse(const Model& model, const std::vector<Assignment>& start,
                          const RehearsalSpec& spec, const StopToken& stop,
-                         const BridgeNotice& notice = {});
+                         const BridgeNotice& notice = {}, Notices* notices = nullptr);
 
 }  // namespace plumb
 

@@ -2,19 +2,12 @@
 
 #include "bridge/dds_link.h"
 
+#include "plumb/bridge.h"
 #include "plumb/error.h"
 
 namespace plumb::bridge {
 
-std::string LoopbackConfig() {
-  return "<CycloneDDS><Domain Id=\"any\"><General>"
-         "<Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
-         "<AllowMulticast>false</AllowMulticast></General>"
-         "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
-         "<MaxAutoParticipantIndex>50</MaxAutoParticipantIndex>"
-         "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
-         "</Domain></CycloneDDS>";
-}
+std::string LoopbackConfig() { return BridgeLoopbackConfig(); }
 
 void CheckDds(dds_return_t rc, const std::string& what) {
   if (rc < 0) {

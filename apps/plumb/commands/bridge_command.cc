@@ -27,40 +27,6 @@ struct BridgeCommandOptions {
   std::string gamepad;
 };
 
-// "realtime factor 0.983, 12 late periods (the worst 33.1 ms late)", and lockstep's waits
-// for a late controller.
-std::string Pacing(const BridgeStats& stats) {
-  std::string text = std::isnan(stats.realtime_factor)
-                         ? "no period ran"
-                         : fmt::format("realtime factor {:.3f}", stats.realtime_factor);
-  text += fmt::format(", {} late periods", stats.late_periods);
-  if (stats.late_periods > 0) {
-    text += fmt::format(" (the worst {:.1f} ms late)", stats.worst_lateness * 1000);
-  }
-  if (stats.late_commands > 0) {  // lockstep: simulated time waited for them
-    text += fmt::format(", {} late commands waited for (the longest {:.2f} s)",
-                        stats.late_commands, stats.longest_wait);
-  }
-  return text;
-}
-
-// ", 1500 sport-mode states, 300 gamepad messages, the band released at 2 s": what went out
-// beside rt/lowstate.
-std::string Extras(const BridgeStats& stats) {
-  std::string text;
-  if (stats.sport_states > 0) text += fmt::format(", {} sport-mode states", stats.sport_states);
-  if (stats.secondary_imu_states > 0) {
-    text += fmt::format(", {} secondary IMU states", stats.secondary_imu_states);
-  }
-  if (stats.gamepad_messages > 0) {
-    text += fmt::format(", {} gamepad messages", stats.gamepad_messages);
-  }
-  if (!std::isnan(stats.band_released)) {
-    text += fmt::format(", the band released at {:g} s", stats.band_released);
-  }
-  return text;
-}
-
 int RunBridgeCommand(const BridgeCommandOptions& o) {
   Model model = LoadModel(o.model);
   BridgeConfig config = o.config.empty() ? BridgeConfig{} : LoadBridgeConfig(o.config);
@@ -83,14 +49,7 @@ int RunBridgeCommand(const BridgeCommandOptions& o) {
   BridgeStats stats = RunBridge(
       model, StartAssignments(model, o.keyframe, o.pose, o.sets), config, CommandStop().token(),
       [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); });
-  std::printf(
-      "plumb bridge: %.6g s simulated in %ld steps; %ld commands applied, %ld dropped for a bad "
-      "CRC, %ld for NaN values, %ld from a second controller, %ld from a full lockstep queue; "
-      "%ld states published%s; watchdog tripped %ld times; %s%s%s\n",
-      stats.time, stats.steps, stats.commands, stats.bad_crc, stats.non_finite,
-      stats.foreign_commands, stats.queue_drops, stats.states, Extras(stats).c_str(),
-      stats.watchdog_trips, Pacing(stats).c_str(), config.log.empty() ? "" : "; log ",
-      config.log.c_str());
+  std::printf("plumb bridge: %s\n", BridgeSummary(stats, config).c_str());
   if (stats.diverged) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
     return kExitDiverged;
