@@ -1,5 +1,6 @@
 // The scenario language of plumb audit: a start state, control schedules and assertions on
-// paths over time windows, read from a JSON or TOML file (see docs/audit.md, "Scenarios are JSON or TOML").
+// paths over time windows, read from a JSON or TOML file (see docs/audit.md, "Scenarios are JSON or
+// TOML").
 //
 // Example:
 //   plumb::Scenario sc = plumb::LoadScenario(model, "stand.toml");
@@ -38,10 +39,11 @@ struct ControlSchedule {
   double At(double t) const;
 };
 
-// How an assertion reduces its samples over the window: kEach tests every sample.
-enum class Reduction { kEach, kMaxAbs, kMax, kMin, kFinal };
+// How an assertion reduces its samples over the window: kEach tests every sample; kMean is
+// the samples' average (of a 0/1 signal: the fraction of samples where it is 1).
+enum class Reduction { kEach, kMaxAbs, kMax, kMin, kFinal, kMean };
 
-// "" for kEach, else "maxabs", "max", "min", "final".
+// "" for kEach, else "maxabs", "max", "min", "final", "mean".
 const char* ReductionName(Reduction reduce);
 
 enum class Comparison { kLess, kLessEqual, kGreater, kGreaterEqual };
@@ -53,7 +55,7 @@ const char* ComparisonName(Comparison op);
 bool Holds(Comparison op, double value, double bound);
 
 // An assertion on paths over a time window, e.g. "xpos[torso][2] > 0.8 during [0, 2]"
-// or "maxabs(qvel[*]) < 50".
+// or "maxabs(qvel[*]) < 50", "mean(qvel[0]) > 0.3 during [7, 11]".
 struct Assertion {
   std::string text;
   Reduction reduce = Reduction::kEach;

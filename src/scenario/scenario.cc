@@ -10,6 +10,7 @@
 
 #include "core/strings.h"
 #include "plumb/error.h"
+#include "scenario/assertion_form.h"
 
 namespace plumb {
 using internal::ParseNumber;
@@ -23,7 +24,7 @@ const char* ControlShapeName(ControlShape shape) {
 }
 
 const char* ReductionName(Reduction reduce) {
-  static constexpr const char* kNames[] = {"", "maxabs", "max", "min", "final"};
+  static constexpr const char* kNames[] = {"", "maxabs", "max", "min", "final", "mean"};
   return kNames[static_cast<int>(reduce)];
 }
 
@@ -62,7 +63,9 @@ double ControlSchedule::At(double t) const {
   return value + amplitude * std::sin(2 * M_PI * frequency * t + phase);
 }
 
-Assertion ParseAssertion(const Model& model, const std::string& text) {
+namespace internal {
+
+Assertion ParseAssertionForm(const std::string& text, const AssertionResolver& resolve) {
   Assertion a;
   a.text = text;
   auto bad = [&](const std::string& why) {
@@ -106,21 +109,35 @@ Assertion ParseAssertion(const Model& model, const std::string& text) {
   if (!bound || !std::isfinite(*bound)) throw bad("the right-hand side must be a number");
   a.bound = *bound;
   std::string_view lhs = Trim(s.substr(0, op_at));
-  for (Reduction reduce :
-       {Reduction::kMaxAbs, Reduction::kMax, Reduction::kMin, Reduction::kFinal}) {
+  // NAME( ... ): a name is a whole word before its parenthesis, so "max" never takes
+  // "maxabs(...)" (nor a path that starts with a reduction's name)
+  for (Reduction reduce : {Reduction::kMaxAbs, Reduction::kMax, Reduction::kMin, Reduction::kFinal,
+                           Reduction::kMean}) {
     std::string_view name(ReductionName(reduce));
-    if (lhs.substr(0, name.size()) == name && lhs.size() > name.size() + 1 &&
-        Trim(lhs.substr(name.size())).front() == '(' && lhs.back() == ')') {
-      std::string_view inner = Trim(lhs.substr(name.size()));
+    if (lhs.substr(0, name.size()) != name || lhs.size() <= name.size() + 1) continue;
+    std::string_view inner = Trim(lhs.substr(name.size()));
+    if (inner.front() == '(' && inner.back() == ')') {
       a.reduce = reduce;
       lhs = Trim(inner.substr(1, inner.size() - 2));
       break;
     }
   }
-  for (const Path& p : ExpandPath(model, lhs)) {
-    for (Path& one : ScalarPaths(p)) a.paths.push_back(std::move(one));
-  }
+  if (lhs.empty()) throw bad("nothing to compare before the comparison");
+  resolve(lhs, &a);
   return a;
+}
+
+void ResolvePaths(const Model& model, std::string_view lhs, Assertion* a) {
+  for (const Path& p : ExpandPath(model, lhs)) {
+    for (Path& one : ScalarPaths(p)) a->paths.push_back(std::move(one));
+  }
+}
+
+}  // namespace internal
+
+Assertion ParseAssertion(const Model& model, const std::string& text) {
+  return internal::ParseAssertionForm(
+      text, [&](std::string_view lhs, Assertion* a) { internal::ResolvePaths(model, lhs, a); });
 }
 
 }  // namespace plumb

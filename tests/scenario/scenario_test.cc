@@ -82,5 +82,59 @@ TEST_F(ScenarioTest, TheTallyJudgesEachReductionOverItsWindow) {
   EXPECT_TRUE(tally.Judge(3).ok);
 }
 
+TEST_F(ScenarioTest, EachReductionParsesByItsWholeName) {
+  Model model = Model::Load(testing::kPendulum);
+  EXPECT_EQ(ParseAssertion(model, "maxabs(qpos[hinge]) < 1").reduce, Reduction::kMaxAbs);
+  EXPECT_EQ(ParseAssertion(model, "max(qpos[hinge]) < 1").reduce, Reduction::kMax);
+  EXPECT_EQ(ParseAssertion(model, "min (qpos[hinge]) < 1").reduce, Reduction::kMin);
+  Assertion mean = ParseAssertion(model, "mean(qvel[hinge]) > 0.3 during [7, 11]");
+  EXPECT_EQ(mean.reduce, Reduction::kMean);
+  EXPECT_EQ(mean.from, 7);
+  EXPECT_EQ(mean.to, 11);
+  ASSERT_EQ(mean.paths.size(), 1u);
+  EXPECT_EQ(mean.paths[0].text, "qvel[hinge]");
+  EXPECT_STREQ(ReductionName(Reduction::kMean), "mean");
+  EXPECT_THROW(ParseAssertion(model, "mean() < 1"), ValueError);
+}
+
+TEST_F(ScenarioTest, TheMeanAveragesTheSamplesInItsWindow) {
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  std::vector<Assertion> assertions = {
+      ParseAssertion(model, "mean(qpos[hinge]) < 0.35 during [0.1, 0.5]"),  // (0.6 + 0.2) / 2
+      ParseAssertion(model, "mean(qpos[hinge]) < 0.35"),                    // 0.9 / 4 = 0.225
+      ParseAssertion(model, "mean(qpos[hinge]) > 0.45 during [0.1, 0.5]"),
+  };
+  AssertionTally tally(assertions);
+  for (auto [t, q] : {std::pair{0.0, 0.1}, {0.2, 0.6}, {0.4, 0.2}, {0.6, 0.0}}) {
+    data->qpos[0] = q;
+    tally.Sample(model, data, t);
+  }
+  AssertionTally::Verdict windowed = tally.Judge(0);
+  EXPECT_FALSE(windowed.ok);
+  EXPECT_EQ(windowed.measured, "mean(qpos[hinge]) = 0.4");
+  EXPECT_NEAR(windowed.value, 0.4, 1e-12);
+  EXPECT_TRUE(tally.Judge(1).ok) << tally.Judge(1).measured;
+  EXPECT_NEAR(tally.Judge(1).value, 0.225, 1e-12);
+  EXPECT_FALSE(tally.Judge(2).ok);
+}
+
+TEST_F(ScenarioTest, TheTallyTakesValuesOfSignalsWithoutPaths) {
+  Model model = Model::Load(testing::kPendulum);
+  Assertion a = ParseAssertion(model, "max(qpos[hinge]) < 1 during [0, 1]");
+  a.paths.clear();
+  std::vector<Assertion> assertions = {a};
+  AssertionTally tally(assertions, {{"left", "right"}});
+  tally.SampleValue(0, 0, 0.5, 0.1);
+  tally.SampleValue(0, 0, 5, 2);  // outside the window: not counted
+  EXPECT_FALSE(tally.Judge(0).ok);
+  EXPECT_EQ(tally.Judge(0).measured, "no sample of right in the window");
+  tally.SampleValue(0, 1, 0.9, 0.2);
+  AssertionTally::Verdict v = tally.Judge(0);
+  EXPECT_TRUE(v.ok);
+  EXPECT_EQ(v.measured, "max(right) = 0.9 (closest of 2 signals)");
+  EXPECT_EQ(v.value, 0.9);
+}
+
 }  // namespace
 }  // namespace plumb
