@@ -1,4 +1,5 @@
-// The tables of `plumb verify` and `plumb audit`: findings first, the rest counted.
+// The tables of `plumb verify`, `plumb audit`, `plumb crosscheck` and a rehearsal (`plumb
+// bridge` with a client): findings first, the rest counted.
 //
 // Example:
 //   std::string text = plumb::AuditTable(plumb::Audit(model, {}), plumb::TableDetail::kFindings);
@@ -14,6 +15,7 @@
 #include "plumb/audit.h"
 #include "plumb/check.h"
 #include "plumb/crosscheck.h"
+#include "plumb/rehearse.h"
 #include "plumb/verify.h"
 
 namespace plumb {
@@ -54,6 +56,23 @@ std::string AuditTable(const AuditReport& report, TableDetail detail,
 // the engine and how the model was sent.
 std::string CrosscheckTable(const CrosscheckReport& report, TableDetail detail,
                             const std::string& how_to_see_all = "");
+
+// A rehearsal's table (plumb/rehearse.h): the rows under their sections (assert, client,
+// bridge), as verify's, each naming what it is about (an assertion's text); then how the client
+// ended, with its output's last lines when it did not run to the end or the rehearsal failed
+// (every line with kAll), each cut at 200 characters with bytes that would not print written
+// \xNN; and the verdict line (RehearsalVerdict). kQuiet: the count line and the verdict line.
+std::string RehearsalTable(const std::string& model, const RehearsalResult& result,
+                           TableDetail detail, const std::string& how_to_see_all = "");
+
+// How the client ended, in one clause: "exited early: exited with status 1 at t = 0.42 s
+// (3.1 s of wall time)", "stopped: ended on SIGINT at t = 10.00 s (10.4 s of wall time)".
+std::string DescribeClientEnding(const ClientEnding& client);
+
+// The rehearsal's verdict in one line: "rehearsal PASS: 3 assertions hold; client stopped:
+// ended on SIGINT at t = 10.00 s (10.4 s of wall time)"; a FAIL names how many assertions
+// broke, the other rows that failed, the warnings, and a divergence.
+std::string RehearsalVerdict(const RehearsalResult& result);
 
 // Wraps `text` at `width` columns, each line prefixed with `indent` and ending in a newline.
 std::string Wrap(const std::string& text, std::size_t width, const std::string& indent);

@@ -34,6 +34,7 @@
 #include "plumb/model.h"
 #include "plumb/path.h"
 #include "plumb/regression.h"
+#include "plumb/rehearse.h"
 #include "plumb/replay.h"
 #include "plumb/robot_log.h"
 #include "plumb/run.h"
@@ -159,6 +160,18 @@ void WriteCrosscheckReport(const std::string& path, const Model& model,
 void WriteIdentifyReport(const std::string& path, const Model& model,
                          const std::vector<RobotLog>& logs, const IdentifyResult& result,
                          const ReportInfo& info, const HeldOutLog* validation = nullptr);
+
+// A rehearsal (plumb/rehearse.h, plumb bridge with a client): the verdict and its rows; the
+// asserted signals over simulated time, each with its bound when the assertion's row carries
+// one (a dashed line) and the events (faults, watchdog, gamepad, band) marked on it; each
+// motor's commanded position against its measured one, four motors to a chart; the events
+// with their times; how the client ended and its output's last lines (shown as text, never as
+// markup); what plumb saw of its commands (period, per motor: targets outside the range,
+// saturation, tracking error); and the bridge's counts. `start` is the rehearsal's start (for
+// the pictures). @throws as WriteVerifyReport does.
+void WriteRehearsalReport(const std::string& path, const Model& model,
+                          const std::vector<Assignment>& start, const RehearsalResult& result,
+                          const ReportInfo& info);
 
 // The pages of results the command-line tool prints as text only (plumb inspect, run and
 // render), for a library user's notebook. They draw no pictures of their own (`info.pictures`

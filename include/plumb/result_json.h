@@ -29,6 +29,7 @@
 #include "plumb/crosscheck.h"
 #include "plumb/identify.h"
 #include "plumb/regression.h"
+#include "plumb/rehearse.h"
 #include "plumb/replay.h"
 #include "plumb/report.h"
 #include "plumb/robot_log.h"
@@ -72,6 +73,17 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
 std::string IdentifyToJson(const std::string& model, const IdentifyResult& result,
                            const std::vector<RobotLog>& logs, DelayKind delay,
                            const HeldOutLog* validation);
+
+// plumb bridge --client: {"command": "rehearse", "model", "mujoco_version", "passed",
+//  "rows": [row...], "summary", "client": {kind (ClientEndingName), exit_code (null when it did
+//  not exit), signal (0: none), time, wall, last_lines, text}, "view": {commands,
+//  first_command, first_command_time, period_median, period_p95, period_worst,
+//  commands_per_period, motors: [{name, commands, outside_range, worst_outside, saturated,
+//  saturated_fraction, worst_torque, tracking_rms, tracking_worst}], unknown_motors, own_pd},
+//  "bridge": {every BridgeStats field}, "events": [{time, what}]}; a front end adds the
+// call's "notices" (JsonWithNotices). The client's output is not trusted to be UTF-8: bytes
+// that are not are replaced (U+FFFD), not refused.
+std::string RehearsalToJson(const std::string& model, const RehearsalResult& result);
 
 }  // namespace plumb
 

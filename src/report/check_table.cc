@@ -1,9 +1,10 @@
-// The check tables of verify and audit (include/plumb/check_table.h).
+// The check tables of verify, audit, crosscheck and a rehearsal (include/plumb/check_table.h).
 
 #include "plumb/check_table.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -12,6 +13,7 @@
 #include "plumb/model.h"
 
 namespace plumb {
+using internal::Echo;
 using internal::Join;
 using internal::Plural;
 
@@ -228,6 +230,77 @@ std::string AuditTable(const AuditReport& report, TableDetail detail,
   std::string from = report.start.empty() ? "" : ", from " + report.start;
   return CheckTable(fmt::format("plumb audit {} (MuJoCo {}{})", report.model, MujocoVersion(), from),
                     report.findings, texts, detail, how_to_see_all);
+}
+
+namespace {
+
+// "1 assertion holds", "3 assertions hold", "1 of 3 assertions broken", "no assertions".
+std::string AssertionsClause(const std::vector<CheckRow>& rows) {
+  long total = 0, broken = 0;
+  for (const CheckRow& row : rows) {
+    if (row.section != "assert") continue;
+    ++total;
+    if (row.status == CheckStatus::kFail && row.accepted.empty()) ++broken;
+  }
+  if (total == 0) return "no assertions";
+  if (broken > 0) {
+    return fmt::format("{} of {} assertion{} broken", broken, total, total == 1 ? "" : "s");
+  }
+  return total == 1 ? "1 assertion holds" : fmt::format("{} assertions hold", total);
+}
+
+}  // namespace
+
+std::string DescribeClientEnding(const ClientEnding& c) {
+  std::string name = ClientEndingName(c.kind);
+  std::string text = c.text.empty()               ? name
+                     : c.text.rfind(name, 0) == 0 ? c.text
+                                                  : name + ": " + c.text;
+  if (std::isfinite(c.time)) text += fmt::format(" at t = {:.2f} s", c.time);
+  if (std::isfinite(c.wall)) text += fmt::format(" ({:.1f} s of wall time)", c.wall);
+  return text;
+}
+
+std::string RehearsalVerdict(const RehearsalResult& r) {
+  std::vector<std::string> parts = {AssertionsClause(r.rows)};
+  std::vector<std::string> failed;
+  long warned = 0;
+  bool diverged_row = false;
+  for (const CheckRow& row : r.rows) {
+    if (!row.accepted.empty()) continue;
+    if (row.status == CheckStatus::kWarn) ++warned;
+    if (row.status != CheckStatus::kFail) continue;
+    diverged_row = diverged_row || row.id == "bridge.diverged";
+    if (row.section != "assert" &&
+        std::find(failed.begin(), failed.end(), row.id) == failed.end()) {
+      failed.push_back(row.id);
+    }
+  }
+  if (!failed.empty()) parts.push_back(Join(failed, ", ") + " failed");
+  if (r.bridge.diverged && !diverged_row) parts.push_back("the simulation diverged");
+  if (warned > 0) parts.push_back(fmt::format("{} warning{}", warned, warned == 1 ? "" : "s"));
+  parts.push_back("client " + DescribeClientEnding(r.client));
+  return fmt::format("rehearsal {}: {}", r.passed() ? "PASS" : "FAIL", Join(parts, "; "));
+}
+
+std::string RehearsalTable(const std::string& model, const RehearsalResult& r, TableDetail detail,
+                           const std::string& how_to_see_all) {
+  const std::vector<CheckRow>& rows = r.rows;  // assert, client, bridge (plumb/rehearse.h)
+  std::vector<std::string> texts;
+  for (const CheckRow& c : rows) texts.push_back(MeasuredRowText(c, 24, true));
+  std::string table = CheckTable(fmt::format("rehearsal of {} over {:g} s simulated (MuJoCo {})",
+                                             model, r.bridge.time, MujocoVersion()),
+                                 rows, texts, detail, how_to_see_all);
+  std::string verdict = RehearsalVerdict(r) + "\n";
+  if (detail == TableDetail::kQuiet) return table + verdict;
+  const ClientEnding& c = r.client;
+  bool lines = !c.last_lines.empty() && (detail == TableDetail::kAll ||
+                                         c.kind != ClientEnding::Kind::kStopped || !r.passed());
+  table += "\nclient: " + DescribeClientEnding(c) + (lines ? "; its last lines:\n" : "\n");
+  if (lines) {
+    for (const std::string& line : c.last_lines) table += kIndent + Echo(line, 200) + "\n";
+  }
+  return table + verdict;
 }
 
 }  // namespace plumb

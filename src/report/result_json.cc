@@ -313,3 +313,92 @@ std::string IdentifyToJson(const std::string& model, const IdentifyResult& r,
 }
 
 }  // namespace plumb
+
+namespace plumb {
+namespace {
+
+Json ClientJson(const ClientEnding& c) {
+  return {{"kind", ClientEndingName(c.kind)},
+          {"exit_code", c.exit_code >= 0 ? Json(c.exit_code) : Json(nullptr)},
+          {"signal", c.signal},
+          {"time", Number(c.time)},
+          {"wall", Number(c.wall)},
+          {"last_lines", c.last_lines},
+          {"text", c.text}};
+}
+
+Json ViewJson(const ClientView& v) {
+  Json motors = Json::array();
+  for (const ClientMotorView& m : v.motors) {
+    motors.push_back({{"name", m.name},
+                      {"commands", m.commands},
+                      {"outside_range", m.outside_range},
+                      {"worst_outside", Number(m.worst_outside)},
+                      {"saturated", m.saturated},
+                      {"saturated_fraction", Number(m.saturated_fraction)},
+                      {"worst_torque", Number(m.worst_torque)},
+                      {"tracking_rms", Number(m.tracking_rms)},
+                      {"tracking_worst", Number(m.tracking_worst)}});
+  }
+  return {{"commands", v.commands},
+          {"first_command", Number(v.first_command)},
+          {"first_command_time", Number(v.first_command_time)},
+          {"period_median", Number(v.period_median)},
+          {"period_p95", Number(v.period_p95)},
+          {"period_worst", Number(v.period_worst)},
+          {"commands_per_period", Number(v.commands_per_period)},
+          {"motors", motors},
+          {"unknown_motors", v.unknown_motors},
+          {"own_pd", v.own_pd}};
+}
+
+Json BridgeJson(const BridgeStats& b) {
+  return {{"commands", b.commands},
+          {"bad_crc", b.bad_crc},
+          {"non_finite", b.non_finite},
+          {"states", b.states},
+          {"watchdog_trips", b.watchdog_trips},
+          {"dropped_commands", b.dropped_commands},
+          {"dropped_states", b.dropped_states},
+          {"paused_commands", b.paused_commands},
+          {"foreign_commands", b.foreign_commands},
+          {"queue_drops", b.queue_drops},
+          {"steps", b.steps},
+          {"sport_states", b.sport_states},
+          {"secondary_imu_states", b.secondary_imu_states},
+          {"gamepad_messages", b.gamepad_messages},
+          {"band_released", Number(b.band_released)},
+          {"time", Number(b.time)},
+          {"realtime_factor", Number(b.realtime_factor)},
+          {"late_periods", b.late_periods},
+          {"worst_lateness", Number(b.worst_lateness)},
+          {"late_commands", b.late_commands},
+          {"longest_wait", Number(b.longest_wait)},
+          {"diverged", b.diverged},
+          {"problem", b.problem}};
+}
+
+}  // namespace
+
+std::string RehearsalToJson(const std::string& model, const RehearsalResult& r) {
+  Json j;
+  j["command"] = "rehearse";
+  j["model"] = model;
+  j["mujoco_version"] = MujocoVersion();
+  j["passed"] = r.passed();
+  Json rows = Json::array();
+  for (const CheckRow& row : r.rows) rows.push_back(RowJson(row));
+  j["rows"] = rows;
+  j["summary"] = Summary(r.rows);
+  j["client"] = ClientJson(r.client);
+  j["view"] = ViewJson(r.view);
+  j["bridge"] = BridgeJson(r.bridge);
+  Json events = Json::array();
+  for (const auto& [t, what] : r.trace.events)
+    events.push_back({{"time", Number(t)}, {"what", what}});
+  j["events"] = events;
+  // the client's output is whatever it printed: bytes that are not UTF-8 are replaced
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace plumb

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Writes each kind of report with the plumb binary and opens them all in Debian's Chromium
-# (browser_check.py). Screenshots stay in OUT as test artifacts.
+# (browser_check.py). Screenshots stay in OUT as test artifacts. A rehearsal's page (it needs
+# DDS and a client to run) is written from a result made by hand by REHEARSAL_TEST, the
+# rehearsal_output_test binary, when given.
 #
-# Usage: browser_test.sh PLUMB OUT
+# Usage: browser_test.sh PLUMB OUT [REHEARSAL_TEST]
 set -euo pipefail
 plumb="$1"
 out="$2"
@@ -34,6 +36,12 @@ set -x
   --until 2 --every 0.01 -o "$out/held-out.csv"
 "$plumb" identify "$m" --log "$out/decay.csv" --fit 'dof_damping[hinge]' \
   --validate "$out/held-out.csv" --report "$out/identify.html" >/dev/null
+more=()
+if [[ -n "${3:-}" ]]; then
+  PLUMB_REHEARSAL_REPORT="$out/rehearse.html" "$3" \
+    --gtest_filter='*ReportHasTheRowsChartsEventsAndTheClientsOutputAsText' >/dev/null
+  more+=("$out/rehearse.html")
+fi
 set +x
 PLUMB_EXPECT_THUMBNAILS=audit.html "$python" "$here/browser_check.py" "$out"/verify.html "$out"/audit.html "$out"/converge.html \
-  "$out"/sweep.html "$out"/rollout.html "$out"/replay.html "$out"/identify.html
+  "$out"/sweep.html "$out"/rollout.html "$out"/replay.html "$out"/identify.html "${more[@]}"
