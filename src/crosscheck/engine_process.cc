@@ -13,7 +13,6 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,10 +25,9 @@
 #include <cstring>
 #include <limits>
 
+#include "core/child_process.h"
 #include "core/demand.h"
 #include "plumb/error.h"
-
-extern char** environ;
 
 namespace plumb::internal {
 namespace {
@@ -79,77 +77,6 @@ std::string ShapeText(const std::vector<long>& shape) {
 
 std::string Shortened(const std::string& text, std::size_t most) {
   return text.size() <= most ? text : text.substr(0, most) + "...";
-}
-
-// `fd` moved above the standard streams (so the child's dup2 onto 0, 1, 2 cannot clobber it),
-// close-on-exec; -1 on failure (errno set).
-int AboveStdio(int fd) {
-  if (fd > 2) return fd;
-  int moved = fcntl(fd, F_DUPFD_CLOEXEC, 3);
-  int saved = errno;
-  close(fd);
-  errno = saved;
-  return moved;
-}
-
-void CloseFd(int& fd) {
-  if (fd >= 0) close(fd);
-  fd = -1;
-}
-
-// plumb's environment with `extra` set on top of it.
-std::vector<std::string> ChildEnvironment(
-    const std::vector<std::pair<std::string, std::string>>& extra) {
-  std::vector<std::string> env;
-  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
-    std::string entry = *e;
-    std::string name = entry.substr(0, entry.find('='));
-    bool replaced =
-        std::any_of(extra.begin(), extra.end(), [&](const auto& kv) { return kv.first == name; });
-    if (!replaced) env.push_back(std::move(entry));
-  }
-  for (const auto& [name, value] : extra) env.push_back(name + "=" + value);
-  return env;
-}
-
-std::vector<char*> CStrings(std::vector<std::string>& strings) {
-  std::vector<char*> pointers;
-  for (std::string& s : strings) pointers.push_back(s.data());
-  pointers.push_back(nullptr);
-  return pointers;
-}
-
-// The child's standard streams and signals: a process group of its own, no blocked signal, and
-// SIGPIPE, SIGINT and SIGTERM as a fresh process has them (an ignored signal stays ignored
-// across exec, and plumb's command ignores SIGPIPE).
-pid_t Spawn(const std::string& program, std::vector<std::string>& argv,
-            std::vector<std::string>& env, const int child_fds[3]) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  for (int stream = 0; stream < 3; ++stream) {
-    posix_spawn_file_actions_adddup2(&actions, child_fds[stream], stream);
-  }
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t none, defaults;
-  sigemptyset(&none);
-  sigemptyset(&defaults);
-  for (int sig : {SIGPIPE, SIGINT, SIGTERM}) sigaddset(&defaults, sig);
-  posix_spawnattr_setsigmask(&attr, &none);
-  posix_spawnattr_setsigdefault(&attr, &defaults);
-  posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr,
-                           POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-  std::vector<char*> args = CStrings(argv);
-  std::vector<char*> envp = CStrings(env);
-  pid_t pid = -1;
-  int error = posix_spawnp(&pid, program.c_str(), &actions, &attr, args.data(), envp.data());
-  posix_spawnattr_destroy(&attr);
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) {
-    throw EngineError("cannot start the engine adapter '" + program + "': " + std::strerror(error));
-  }
-  return pid;
 }
 
 }  // namespace
@@ -321,7 +248,8 @@ class EngineProcess::ReplyReader {
 // ---- the process ----------------------------------------------------------------------------
 
 EngineProcess::EngineProcess(std::vector<std::string> argv,
-                             std::vector<std::pair<std::string, std::string>> extra_env) {
+                             std::vector<std::pair<std::string, std::string>> extra_env)
+    : stderr_tail_(kTailLines, kTailLineChars) {
   PLUMB_DEMAND(!argv.empty());
   program_ = argv[0];
   for (const std::string& arg : argv) command_ += (command_.empty() ? "" : " ") + arg;
@@ -338,11 +266,11 @@ EngineProcess::EngineProcess(std::vector<std::string> argv,
   }
   std::vector<std::string> env = ChildEnvironment(extra_env);
   const int child_fds[3] = {in[1], out[1], err[1]};
-  try {
-    pid_ = Spawn(program_, argv, env, child_fds);
-  } catch (...) {
+  if (int error = SpawnChild(program_, argv, env, child_fds, "", &pid_); error != 0) {
+    pid_ = -1;
     close_all();
-    throw;
+    throw EngineError("cannot start the engine adapter '" + program_ +
+                      "': " + std::strerror(error));
   }
   CloseFd(in[1]);
   CloseFd(out[1]);
@@ -376,35 +304,14 @@ EngineProcess::~EngineProcess() {
 
 std::string EngineProcess::StderrTail() const {
   std::string text;
-  for (const std::string& line : stderr_lines_) text += line + "\n";
-  if (!stderr_partial_.empty()) text += stderr_partial_ + "\n";
+  for (const std::string& line : stderr_tail_.lines()) text += line + "\n";
+  if (!stderr_tail_.partial().empty()) text += stderr_tail_.partial() + "\n";
   return text;
 }
 
-void EngineProcess::AddStderr(const char* data, std::size_t size) {
-  for (std::size_t i = 0; i < size; ++i) {
-    if (data[i] != '\n') {
-      if (stderr_partial_.size() < kTailLineChars) stderr_partial_ += data[i];
-      continue;
-    }
-    stderr_lines_.push_back(std::move(stderr_partial_));
-    stderr_partial_.clear();
-    if (stderr_lines_.size() > kTailLines) stderr_lines_.pop_front();
-  }
-}
-
 void EngineProcess::ReadStderr() {
-  char buffer[1 << 16];
-  for (int round = 0; round < 16 && err_fd_ >= 0; ++round) {
-    ssize_t got = read(err_fd_, buffer, sizeof buffer);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
-    if (got <= 0) {
-      CloseFd(err_fd_);  // its end, or an error that reading again will not mend
-      return;
-    }
-    AddStderr(buffer, std::size_t(got));
-  }
+  ReadAvailable(err_fd_,
+                [this](const char* data, std::size_t size) { stderr_tail_.Add(data, size); });
 }
 
 std::string EngineProcess::PumpOnce(Outgoing* out, ReplyReader* reader, int wait_ms) {
@@ -498,24 +405,17 @@ void EngineProcess::Kill() {
 
 std::string EngineProcess::HowItEnded() const {
   if (!status_known_) return "its exit status is unknown (another part of the program reaped it)";
-  if (WIFEXITED(status_)) return "it exited with status " + std::to_string(WEXITSTATUS(status_));
-  if (WIFSIGNALED(status_)) {
-    int sig = WTERMSIG(status_);
-    if (killed_ && sig == SIGKILL) return "plumb killed it";
-    const char* name = strsignal(sig);
-    return "it was killed by signal " + std::to_string(sig) +
-           (name ? std::string(" (") + name + ")" : "");
-  }
-  return "it ended";
+  return WaitStatusText(status_, killed_);
 }
 
 void EngineProcess::Fail(const std::string& what, double grace_s) {
   if (grace_s > 0) WaitForExit(grace_s);  // it may be on its way out: let it end, and say how
   Kill();
   std::string quoted;
-  std::size_t first = stderr_lines_.size() > kQuotedLines ? stderr_lines_.size() - kQuotedLines : 0;
-  for (std::size_t i = first; i < stderr_lines_.size(); ++i) quoted += "\n  " + stderr_lines_[i];
-  if (!stderr_partial_.empty()) quoted += "\n  " + stderr_partial_;
+  const std::deque<std::string>& lines = stderr_tail_.lines();
+  std::size_t first = lines.size() > kQuotedLines ? lines.size() - kQuotedLines : 0;
+  for (std::size_t i = first; i < lines.size(); ++i) quoted += "\n  " + lines[i];
+  if (!stderr_tail_.partial().empty()) quoted += "\n  " + stderr_tail_.partial();
   failure_ =
       "the engine adapter (" + command_ + ") " + what + "; " + HowItEnded() + ". " +
       (quoted.empty() ? "It wrote nothing on stderr." : "Its last lines on stderr:" + quoted);

@@ -22,13 +22,13 @@
 
 #include <chrono>
 #include <cstddef>
-#include <deque>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "core/child_process.h"
 #include "plumb/stop.h"
 
 namespace plumb::internal {
@@ -91,7 +91,6 @@ class EngineProcess {
   // the tail. Returns what went wrong ("closed its output", "broke the protocol: ..."), or "".
   std::string PumpOnce(Outgoing* out, ReplyReader* reader, int wait_ms);
   void ReadStderr();
-  void AddStderr(const char* data, std::size_t size);
   // Kills the adapter's process group and reaps it (when it runs); closes the pipes.
   void Kill();
   // Waits up to `seconds` for the adapter to exit by itself, draining its output; reaps it and
@@ -114,8 +113,7 @@ class EngineProcess {
   int err_fd_ = -1;            // its stderr
   std::string failure_;        // why the adapter is gone, once it is
   std::vector<char> read_buffer_;
-  std::deque<std::string> stderr_lines_;
-  std::string stderr_partial_;
+  LineTail stderr_tail_;  // its last lines on stderr
 };
 
 }  // namespace plumb::internal
