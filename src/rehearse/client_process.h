@@ -13,11 +13,11 @@
 #include <sys/types.h>
 
 #include <cstddef>
-#include <cstdio>
-#include <deque>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "core/child_process.h"
 
 namespace plumb::internal {
 
@@ -39,34 +39,49 @@ class ClientProcess {
   bool Poll(double seconds);
   bool running() const { return pid_ > 0; }
 
-  // Ends it: `signal` to its process group, then SIGKILL after `grace` s if it still runs.
-  // Returns whether SIGKILL was needed. Nothing when it has ended already.
+  // Ends it: `signal` to its process group, then SIGKILL to the group after `grace` s if it
+  // still runs; it is reaped and its output read. What it started that outlives it (still in
+  // its group) gets the same: the signal, the rest of `grace`, then SIGKILL. Returns whether
+  // SIGKILL was needed for the client itself. When it has ended already only what lingers of
+  // its group is stopped, and it returns false.
   bool Stop(int signal, double grace);
 
-  // Once it has ended: its exit status (-1 when a signal ended it) and the signal (0 when it
-  // exited).
+  // Once it has ended: its exit status (-1 when a signal ended it, or while it runs) and the
+  // signal (0 when it exited, or while it runs).
   int exit_code() const;
   int signal() const;
-  // "exited with status 1", "ended on SIGINT", "killed by SIGKILL"
+  // "exited with status 1", "ended on SIGINT", "killed by SIGKILL after the grace period"
+  // (Stop had to kill it); "is still running" before it ended.
   std::string HowItEnded() const;
 
-  // Its output's last lines (a last line without its newline included).
+  // Its output's last lines (a last line without its newline included), each cut at 1000
+  // characters.
   std::vector<std::string> Tail() const;
   double wall() const;  // s since it started (until it ended, once it has)
+  // Why writing its output to the file stopped ("" when every line was written).
+  const std::string& output_error() const { return output_error_; }
 
  private:
   void Read();
   void AddOutput(const char* data, std::size_t size);
+  // Reaps it when it has ended (waiting for it when `block`), then reads what is left of its
+  // output. Returns whether it has ended.
+  bool Reap(bool block);
+  // Whether anything of its process group still runs (zombies do not count).
+  bool GroupRunning();
 
-  pid_t pid_ = -1;
-  pid_t group_ = -1;  // kept after it is reaped: what it started may outlive it
-  int fd_ = -1;
+  std::string command_;  // for messages
+  std::string output_path_;
+  pid_t pid_ = -1;    // -1 once reaped
+  pid_t group_ = -1;  // kept after it is reaped: what it started may outlive it; -1 once empty
+  int fd_ = -1;       // the read end of its output's pipe
   int status_ = 0;
+  bool status_known_ = false;  // false: another part of plumb reaped it
   bool ended_ = false;
-  std::size_t tail_lines_;
-  std::deque<std::string> lines_;
-  std::string partial_;
-  std::FILE* output_ = nullptr;
+  bool killed_ = false;  // Stop had to SIGKILL it
+  LineTail tail_;
+  int output_fd_ = -1;
+  std::string output_error_;
   double started_ = 0, ended_at_ = 0;  // steady clock, s
 };
 
