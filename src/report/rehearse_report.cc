@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
 
 #include "core/strings.h"
 #include "plumb/check_table.h"
@@ -42,12 +45,9 @@ std::string KeyValueTable(const std::vector<std::pair<std::string, std::string>>
   return html + "</table>\n";
 }
 
-// Whether an assertion's text begins with `signal`: its first word (up to a space or a
-// comparison) is the signal, a "[*]" in it standing for any index ("tracking_error[*] < 0.3"
-// asserts "tracking_error[FR_hip]").
-bool Asserts(const std::string& text, const std::string& signal) {
-  std::size_t end = text.find_first_of(" <>=!");
-  std::string word = text.substr(0, end);
+// Whether `word`, a path or signal of an assertion, names `signal`: "[*]" in it stands for any
+// index ("tracking_error[*]" names "tracking_error[FR_hip]").
+bool Names(const std::string& word, const std::string& signal) {
   std::size_t i = 0, k = 0;
   while (i < word.size() && k < signal.size()) {
     if (word.compare(i, 3, "[*]") == 0 && signal[k] == '[') {
@@ -62,6 +62,47 @@ bool Asserts(const std::string& text, const std::string& signal) {
     }
   }
   return i == word.size() && k == signal.size();
+}
+
+// An assertion's bound as a line on one of its signals, over its window.
+struct BoundLine {
+  std::vector<double> levels;  // maxabs: the bound and its negative
+  double from, to;
+};
+
+// The bound of an assertion row on `signal`, when the row carries one (its reference) and its
+// text (plumb's scenario language) holds each sample to it: "PATH > b", min, max, final or
+// maxabs of it; a mean holds no sample to its bound. Its window is "during [a, b]" when the
+// text has one, else [t0, t1].
+std::optional<BoundLine> BoundOf(const CheckRow& row, const std::string& signal, double t0,
+                                 double t1) {
+  if (row.section != "assert" || !row.reference.known()) return std::nullopt;
+  const std::string& text = row.subject;
+  std::string word = text.substr(0, text.find_first_of(" <>=!"));
+  bool both = false;
+  for (const char* reduce : {"min(", "max(", "final(", "maxabs("}) {
+    std::size_t n = std::strlen(reduce);
+    if (text.compare(0, n, reduce) != 0) continue;
+    std::size_t close = text.find(')', n);
+    if (close == std::string::npos) return std::nullopt;
+    word = text.substr(n, close - n);
+    both = std::strcmp(reduce, "maxabs(") == 0;
+  }
+  if (!Names(word, signal)) return std::nullopt;
+  BoundLine line{{row.reference.value}, t0, t1};
+  if (both) line.levels.push_back(-row.reference.value);
+  std::size_t during = text.find(" during [");
+  if (during != std::string::npos) {
+    const char* at = text.c_str() + during + 9;
+    char* end = nullptr;
+    double from = std::strtod(at, &end);
+    if (end != at && *end == ',') {
+      double to = std::strtod(end + 1, nullptr);
+      line.from = std::max(t0, from);
+      line.to = to > from ? std::min(t1, to) : t1;  // to < 0: the end of the run
+    }
+  }
+  return line;
 }
 
 // Which of a trace's signals were asserted, and each motor's commanded and measured position
@@ -120,20 +161,20 @@ void AssertedCharts(report::Page* page, const RehearsalResult& r, const TracePar
     report::Chart chart(name, {"t (s)"}, {name});
     chart.series.emplace_back(name, trace.time, trace.values[i]);
     for (const CheckRow& row : r.rows) {
-      if (row.section != "assert" || !row.reference.known() || !Asserts(row.subject, name)) {
-        continue;
+      std::optional<BoundLine> bound = BoundOf(row, name, t0, t1);
+      if (!bound || !(bound->to >= bound->from)) continue;
+      for (double level : bound->levels) {
+        chart.series.emplace_back(
+            "bound: " + row.subject, std::vector<double>{bound->from, bound->to},
+            std::vector<double>{level, level}, report::Series::kLine, kBoundColour, true);
       }
-      double bound = row.reference.value;
-      chart.series.emplace_back("bound: " + row.subject, std::vector<double>{t0, t1},
-                                std::vector<double>{bound, bound}, report::Series::kLine,
-                                kBoundColour, true);
     }
     report::Series events = EventPoints(trace, trace.values[i]);
     if (!events.x.empty()) chart.series.push_back(events);
     chart.how_to_read =
         "The signal at each state the bridge published, over simulated time; a dashed red line "
-        "is an assertion's bound, grey triangles the events (faults, watchdog trips, gamepad "
-        "presses, the band's release). Healthy: the signal stays on its side of the bound "
+        "is an assertion's bound over its window, grey triangles the events (faults, watchdog "
+        "trips, gamepad presses, the band's release). Healthy: the signal stays on its side of the bound "
         "through the assertion's window. Sick: it crosses the bound, often just after an event "
         "(the client did not cope with it).";
     page->Add(chart);

@@ -330,6 +330,61 @@ TEST(RehearsalOutputTest, ReportHasTheRowsChartsEventsAndTheClientsOutputAsText)
   EXPECT_NE(html.find("<th>gamepad messages</th><td>4</td>"), std::string::npos);
 }
 
+// The charts' data the page carries (the JSON in its plumb-charts script).
+nlohmann::json ChartsOf(const std::string& html) {
+  const std::string open = "<script id=\"plumb-charts\" type=\"application/json\">";
+  std::size_t from = html.find(open) + open.size();
+  std::string json = html.substr(from, html.find("</script>", from) - from);
+  for (std::size_t at = json.find("<\\/"); at != std::string::npos; at = json.find("<\\/")) {
+    json.replace(at, 3, "</");
+  }
+  return nlohmann::json::parse(json);
+}
+
+TEST(RehearsalOutputTest, ReportDrawsEachBoundThatHoldsEverySampleOverItsWindow) {
+  RehearsalResult r;
+  auto row = [](const std::string& text, double bound) {
+    CheckRow c = Row("assert", "assert", CheckStatus::kPass, text, "");
+    c.reference = {bound, ""};
+    c.threshold = true;
+    return c;
+  };
+  r.rows = {row("min(xpos[base][2]) > 0.2 during [0.1, 0.3]", 0.2),
+            row("mean(xpos[base][2]) > 0.25", 0.25), row("maxabs(xpos[base][2]) < 0.5", 0.5),
+            row("xpos[*][2] > 0.1 during [0.2, -1]", 0.1), row("qpos[other] > 0", 0)};
+  r.trace.signals = {"xpos[base][2]"};
+  r.trace.values.resize(1);
+  for (int k = 0; k <= 100; ++k) {
+    r.trace.time.push_back(0.005 * k);
+    r.trace.values[0].push_back(0.3);
+  }
+  Model model = Model::Load(testing::kPendulum);
+  testing::TempDir dir;
+  ReportInfo info;
+  info.pictures = false;
+  WriteRehearsalReport(dir.File("r.html"), model, {}, r, info);
+  nlohmann::json charts = ChartsOf(testing::ReadFile(dir.File("r.html")));
+  ASSERT_EQ(charts.size(), 1u);
+  std::vector<std::string> labels;
+  std::vector<std::vector<double>> lines;  // x0, x1, y of each bound
+  for (const nlohmann::json& s : charts[0]["series"]) {
+    labels.push_back(s["label"]);
+    if (labels.back().rfind("bound: ", 0) != 0) continue;
+    ASSERT_EQ(s["points"].size(), 2u);
+    lines.push_back({s["points"][0]["x"], s["points"][1]["x"], s["points"][0]["y"]});
+  }
+  // the signal, then min (its window), maxabs (both signs), the wildcard (to the end)
+  ASSERT_EQ(labels.size(), 5u) << charts.dump();
+  EXPECT_EQ(labels[0], "xpos[base][2]");
+  EXPECT_EQ(labels[1], "bound: min(xpos[base][2]) > 0.2 during [0.1, 0.3]");
+  EXPECT_EQ(lines[0], (std::vector<double>{0.1, 0.3, 0.2}));
+  EXPECT_EQ(labels[2], "bound: maxabs(xpos[base][2]) < 0.5");
+  EXPECT_EQ(lines[1], (std::vector<double>{0, 0.5, 0.5}));
+  EXPECT_EQ(lines[2], (std::vector<double>{0, 0.5, -0.5}));
+  EXPECT_EQ(labels[4], "bound: xpos[*][2] > 0.1 during [0.2, -1]");
+  EXPECT_EQ(lines[3], (std::vector<double>{0.2, 0.5, 0.1}));
+}
+
 TEST(RehearsalOutputTest, ReportOfARehearsalWithNoStateSaysSo) {
   RehearsalResult r;
   r.client.text = "not started: the bridge stopped before it was up";
