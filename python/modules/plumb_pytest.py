@@ -14,7 +14,9 @@ too), verifies it, and compares it with its golden snapshot; any failure fails t
 plumb's rows as the message. ``pytest --plumb-update`` rewrites the golden snapshots from the
 current models instead of comparing (review the change, then commit the files). The
 ``plumb_check`` fixture does the same for a model given at run time (parametrized tests).
-Relative paths are taken from the test file's folder.
+The ``plumb_rehearse`` fixture keeps a deployment rehearsal as a test ("the policy still
+walks"): it runs plumb.rehearse and fails the test with the verdict's table when it does not
+pass. Relative paths are taken from the test file's folder.
 
 The plugin imports plumb (and with it mujoco) only when a test uses it, so that installing
 plumb-mujoco costs other test suites nothing.
@@ -206,6 +208,52 @@ def plumb_check(request: pytest.FixtureRequest) -> Callable[..., ModelChecks]:
         return found
 
     return check
+
+
+# plumb_rehearse's keywords that name files, taken from the test file's folder
+_REHEARSE_PATHS = ("config", "gamepad", "output", "log", "report", "cwd")
+
+
+def rehearse(model: Any, client: str, *, base: pathlib.Path, where: str, **kwargs: Any) -> Any:
+    """Runs plumb.rehearse with relative paths (the model's, config, cwd, ...) taken from
+    `base`, the client run there unless cwd says otherwise. Fails the test with the verdict's
+    table when the rehearsal does not pass, or naming the argument for bad input; otherwise
+    returns the plumb.RehearsalResult."""
+    import plumb
+
+    if "strict" in kwargs:
+        pytest.fail(f"{where}: strict is plumb.rehearse's; plumb_rehearse always fails the test "
+                    "when the rehearsal does not pass", pytrace=False)
+    problem = _not_a_model(model)
+    if problem:
+        pytest.fail(f"{where}: {problem}", pytrace=False)
+    kwargs.setdefault("cwd", ".")
+    for name in _REHEARSE_PATHS:
+        if kwargs.get(name) is not None:
+            kwargs[name] = _path(base, kwargs[name])
+    model = _path(base, model)
+    try:
+        result = plumb.rehearse(model, client, **kwargs)
+    except (plumb.Error, TypeError) as error:  # bad input: the message names the argument
+        pytest.fail(f"{where}: {type(error).__name__}: {error}", pytrace=False)
+    if not result.passed:
+        pytest.fail(f"plumb: the rehearsal of {_shown(model)} with {client!r} failed\n\n"
+                    f"{result!r}", pytrace=False)
+    return result
+
+
+@pytest.fixture
+def plumb_rehearse(request: pytest.FixtureRequest) -> Callable[..., Any]:
+    """plumb_rehearse(model, client, until=..., assertions=[...], config=..., ...): a
+    deployment rehearsal (plumb.rehearse's keywords) that fails the test with the verdict's
+    table when it does not pass; else returns the plumb.RehearsalResult. Relative paths, and
+    the client's working directory, are the test file's folder."""
+
+    def run(model: Any, client: str, **kwargs: Any) -> Any:
+        return rehearse(model, client, base=request.path.parent,
+                        where=f"{request.node.nodeid}: plumb_rehearse", **kwargs)
+
+    return run
 
 
 def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:

@@ -2,8 +2,8 @@
 // vocabulary for keyword arguments, plumb's errors as Python exceptions, long calls that
 // release the GIL and stop on Ctrl-C, and the JSON and HTML every result offers.
 //
-// Each binding file (checks.cc, run.cc, batch.cc, identify.cc) registers its functions and
-// result types with one Bind* function that module.cc calls.
+// Each binding file (checks.cc, run.cc, batch.cc, identify.cc, rehearse.cc) registers its
+// functions and result types with one Bind* function that module.cc calls.
 
 #ifndef PLUMB_PYTHON_SRC_COMMON_H_
 #define PLUMB_PYTHON_SRC_COMMON_H_
@@ -379,6 +379,8 @@ void BindRender(nb::module_& m);
 void BindBatch(nb::module_& m);
 // replay, identify (identify.cc).
 void BindIdentify(nb::module_& m);
+// rehearse (rehearse.cc). After BindErrors: its RehearsalFailed is a plumb.Error.
+void BindRehearse(nb::module_& m);
 
 }  // namespace plumb::python
 

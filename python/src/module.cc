@@ -18,4 +18,5 @@ NB_MODULE(_plumb, m) {
   BindRender(m);
   BindBatch(m);
   BindIdentify(m);
+  BindRehearse(m);
 }

@@ -73,12 +73,14 @@ DIFFERENT = {
 # Commands without a Python function, and Python functions without a command.
 NO_BINDING = {
     "crosscheck": "runs a Python engine (MuJoCo Warp, MJX) in a process of its own",
-    "bridge": "a long-running DDS process",
+    "bridge": "a long-running DDS process; its rehearsal (--client) is plumb.rehearse",
     "results": "a results store is read in Python with sqlite3 or plumb.Batch",
     "merge": "joins results stores, files on disk",
     "help": "the manual",
 }
-NO_COMMAND = {"load", "mujoco_version", "compiled_mujoco_version", "mujoco_library"}
+# (rehearse is `plumb bridge --client`; its first_command_timeout and grace are the library's
+# RehearsalClient defaults)
+NO_COMMAND = {"load", "mujoco_version", "compiled_mujoco_version", "mujoco_library", "rehearse"}
 
 
 def cli_defaults(help_text: str) -> dict:
