@@ -299,6 +299,10 @@ void BindRehearse(nb::module_& m) {
           "bridge", [](const PyRehearsal& r) { return r.result.bridge; },
           "the bridge's counts: plumb.BridgeStats")
       .def_prop_ro(
+          "summary",
+          [](const PyRehearsal& r) { return BridgeSummary(r.result.bridge, r.spec.config); },
+          "the bridge's counts in one paragraph, the line the command prints after the table")
+      .def_prop_ro(
           "trace", [](const PyRehearsal& r) { return Trace(r.result.trace); },
           "the time axis: {'time': s simulated, 'signals': {name: values} (the asserted paths, "
           "q_des[m] and q[m]), 'events': [(t, what)]}, numpy arrays");

@@ -11,6 +11,7 @@ import threading
 import time
 import warnings
 
+import mujoco
 import pytest
 
 import plumb
@@ -76,6 +77,7 @@ def test_a_client_that_holds_the_pendulum_passes(pendulum, config, pd_client, tm
     assert r.client.kind == "stopped", r.client.text
     assert r.view.commands > 100 and r.view.motors[0].name == "hinge"
     assert r.bridge.commands > 100 and abs(r.bridge.time - 1.0) < 0.01
+    assert f"{r.bridge.commands} commands applied" in r.summary
     rows = {row.id: row for row in r.rows}
     asserted = [row for row in r.rows if row.section == "assert"]
     assert len(asserted) == 1 and asserted[0].status == "PASS"
@@ -108,7 +110,8 @@ def test_an_assertion_that_does_not_hold_fails_and_its_row_says_which(pendulum, 
 
 
 def test_a_client_that_exits_early_is_reported_with_its_status(pendulum, config):
-    r = plumb.rehearse(pendulum, "sh -c 'echo bye; exit 3'", config=config, until=5.0)
+    model = mujoco.MjModel.from_xml_path(pendulum)  # as every call, a wrapped MjModel too
+    r = plumb.rehearse(model, "sh -c 'echo bye; exit 3'", config=config, until=5.0)
     assert not r.passed
     assert r.client.kind == "exited early"
     assert r.client.exit_code == 3 and r.client.signal == 0
