@@ -9,11 +9,23 @@
 namespace plumb::internal {
 namespace {
 
+// The rows' titles: what each tests, one line.
+const char* Title(const std::string& id) {
+  if (id == "client.process") return "the client runs to the end and stops when asked";
+  if (id == "bridge.crc") return "commands carry Unitree's CRC";
+  if (id == "bridge.values") return "commands are finite";
+  if (id == "bridge.watchdog") return "the client never falls silent";
+  if (id == "bridge.controllers") return "one controller on the domain";
+  if (id == "bridge.pacing") return "the simulation keeps the wall clock's pace";
+  return "the simulation stays sound";
+}
+
 CheckRow Row(const char* id, CheckStatus status, std::string measured, std::string explanation,
              std::string fix = "") {
   CheckRow row;
   row.section = id[0] == 'c' ? "client" : "bridge";
   row.id = id;
+  row.title = Title(id);
   row.status = status;
   row.measured_text = std::move(measured);
   row.explanation = std::move(explanation);
@@ -84,15 +96,18 @@ std::vector<CheckRow> BridgeRows(const BridgeStats& s, const BridgeConfig& confi
       s.non_finite > 0 ? "Find where the policy's output or the script's arithmetic makes NaN "
                          "(an observation out of its range, a division by zero)."
                        : ""));
-  rows.push_back(Counted(
+  CheckRow watchdog = Counted(
       "bridge.watchdog", s.watchdog_trips > 0 ? CheckStatus::kFail : CheckStatus::kPass,
-      s.watchdog_trips, s.commands, "commands, the watchdog tripped",
+      s.watchdog_trips, s.commands, "",
       fmt::format("The watchdog damps the motors when no command comes for {:g} ms{}.",
                   config.watchdog_timeout * 1000,
                   config.mode == BridgeMode::kLockstep ? " of simulated time" : ""),
       s.watchdog_trips > 0 ? "The client fell silent: see its command period (client.period) "
                              "and its last lines."
-                           : ""));
+                           : "");
+  watchdog.measured_text =
+      fmt::format("tripped {} times over {} commands", s.watchdog_trips, s.commands);
+  rows.push_back(watchdog);
   if (s.foreign_commands > 0) {
     rows.push_back(Counted("bridge.controllers", CheckStatus::kWarn, s.foreign_commands,
                            s.foreign_commands + s.commands, "commands from a second controller",

@@ -127,11 +127,13 @@ class Rehearsal : public BridgeObserver {
     if (watch_) {
       r.view = watch_->View(client_ ? client_start_ : NAN);
       r.rows = tally_->Rows();
+      r.rows.push_back(internal::ClientProcessRow(r.client, spec_.config));
       std::vector<CheckRow> client_rows = watch_->Rows(r.view, stats);
       r.rows.insert(r.rows.end(), client_rows.begin(), client_rows.end());
       r.trace = tally_->TakeTrace();
+    } else {
+      r.rows.push_back(internal::ClientProcessRow(r.client, spec_.config));
     }
-    r.rows.insert(r.rows.begin(), internal::ClientProcessRow(r.client, spec_.config));
     for (CheckRow& row : internal::BridgeRows(stats, spec_.config)) r.rows.push_back(row);
     return r;
   }

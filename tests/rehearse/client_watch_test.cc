@@ -270,7 +270,19 @@ TEST_F(ClientWatchGo2Test, ASlotBeyondTheModelsMotorsFails) {
   EXPECT_NE(motors->measured_text.find("slot 15"), std::string::npos);
 }
 
+TEST_F(ClientWatchGo2Test, AJitteryLoopInLockstepIsTheClientsSpeedNotItsPeriod) {
+  ClientWatch watch = Watch();  // lockstep: simulated time waits for each command
+  Feed(watch, *model_, stream_, 200, [](int i) { return i * kPeriod + (i % 10 == 9 ? 6e-3 : 0); });
+  ClientView view = watch.View(NAN);
+  std::vector<CheckRow> rows = watch.Rows(view, BridgeStats{});
+  const CheckRow* period = Find(rows, "client.period");
+  ASSERT_NE(period, nullptr);
+  EXPECT_EQ(period->status, CheckStatus::kPass);
+  EXPECT_NE(period->explanation.find("rehearse in realtime"), std::string::npos);
+}
+
 TEST_F(ClientWatchGo2Test, AJitteryLoopWarns) {
+  config_.mode = BridgeMode::kRealtime;
   ClientWatch watch = Watch();
   // every tenth command 6 ms late: p95 is the median, the worst 4 x it
   Feed(watch, *model_, stream_, 200, [](int i) { return i * kPeriod + (i % 10 == 9 ? 6e-3 : 0); });
