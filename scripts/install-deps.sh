@@ -31,7 +31,7 @@ if [[ -z "$mujoco" ]]; then
 fi
 
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git ccache
   libmujoco-dev libmujoco-samples
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
