@@ -7,7 +7,7 @@
 # gamepad script presses A (start the policy), then start (walk) and pushes the left stick.
 #
 # Usage: run.sh [--mode lockstep|realtime] [--until S] [--out DIR] [--venv DIR] [--plumb EXE]
-#   --until   simulated seconds (default 20: A at 4 s, band released at 6 s, walk 9-17 s)
+#   --until   simulated seconds (default 20: A at 4 s, band let go at 6 s, walk from 8 s, stick 9-17 s)
 #   --out     folder for flight.csv, bridge.txt, policy.txt, verdict.json (default: a new one
 #             under ${TMPDIR:-/tmp})
 #   --venv    the environment scripts/rehearse-venv.sh makes (default build/rehearse-venv)
@@ -35,26 +35,44 @@ model="$site/data/robots/g1/scenes/scene_g1_29dof_wbt_plane.xml"
 [[ -n "$out" ]] || out="$(mktemp -d "${TMPDIR:-/tmp}/rehearse-holosoma-g1.XXXXXX")"
 mkdir -p "$out"
 
-"$plumb" bridge "$model" --config "$here/bridge.toml" --pose "$here/pose.txt" \
-  --gamepad "$here/gamepad.txt" --mode "$mode" --until "$until" --log "$out/flight.csv" \
-  >"$out/bridge.txt" 2>&1 &
-bridge=$!
-# the vendor's deploy script, as its README runs it, with the SDK's wireless controller as input
-LOGURU_LEVEL=INFO "$python" -m holosoma_inference.run_policy inference:g1-29dof-loco \
-  --task.use-joystick --task.interface lo >"$out/policy.txt" 2>&1 &
-policy=$!
-status=0
-wait "$bridge" || status=$?
-# the policy runs until stopped: Ctrl-C is how its README stops it
-kill -INT "$policy" 2>/dev/null || true
-for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 "$policy" 2>/dev/null || break; sleep 0.5; done
-kill -KILL "$policy" 2>/dev/null || true
-wait "$policy" 2>/dev/null || true
-tail -n 1 "$out/bridge.txt"
-if [[ $status -ne 0 ]]; then
-  echo "run.sh: plumb bridge exited $status (see $out/bridge.txt)" >&2
-  exit 2
+client="$python -m holosoma_inference.run_policy inference:g1-29dof-loco --task.use-joystick --task.interface lo"
+bridge=("$plumb" bridge "$model" --config "$here/bridge.toml" --pose "$here/pose.txt"
+  --gamepad "$here/gamepad.txt" --mode "$mode" --until "$until" --log "$out/flight.csv")
+if "$plumb" bridge --help 2>/dev/null | grep -q -- '--client '; then
+  # plumb starts the vendor's deploy script once the bridge is up, stops it (SIGINT, as its README
+  # stops it) at --until and judges: the band lets go at 6 s, A started the policy at 4 s, the
+  # stick asks for 0.5 m/s from 9 s
+  status=0
+  "${bridge[@]}" --client "$client" --client-env LOGURU_LEVEL=INFO \
+    --client-output "$out/policy.txt" --first-command-timeout 60 \
+    --assert "min(qpos[floating_base_joint][2]) > 0.5 during [6, $until]" \
+    --assert "mean(qvel[floating_base_joint][0]) > 0.15 during [10, 17]" \
+    >"$out/bridge.txt" 2>&1 || status=$?
+  if [[ $status -ne 0 && $status -ne 1 ]]; then
+    echo "run.sh: plumb bridge --client exited $status (see $out/bridge.txt)" >&2
+    exit 2
+  fi
+  grep -E 'plumb bridge:|PASS|FAIL|passed|failed' "$out/bridge.txt" | tail -n 3 || true
+else
+  # a plumb without --client: the bridge and the deploy script as two processes
+  "${bridge[@]}" >"$out/bridge.txt" 2>&1 &
+  bridge_pid=$!
+  # shellcheck disable=SC2086  # the command's words
+  LOGURU_LEVEL=INFO $client >"$out/policy.txt" 2>&1 &
+  policy=$!
+  status=0
+  wait "$bridge_pid" || status=$?
+  # the policy runs until stopped: Ctrl-C is how its README stops it
+  kill -INT "$policy" 2>/dev/null || true
+  for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 "$policy" 2>/dev/null || break; sleep 0.5; done
+  kill -KILL "$policy" 2>/dev/null || true
+  wait "$policy" 2>/dev/null || true
+  tail -n 1 "$out/bridge.txt"
+  if [[ $status -ne 0 ]]; then
+    echo "run.sh: plumb bridge exited $status (see $out/bridge.txt)" >&2
+    exit 2
+  fi
 fi
-python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$until" --json \
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 17 --json \
   | tee "$out/verdict.json"
-python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$until" >/dev/null
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 17 >/dev/null
