@@ -4,7 +4,8 @@
 # the vendor's own simulator, the numbers side by side. See tests/rehearse/README.md.
 #
 # Pairs: holosoma_g1 (Amazon FAR holosoma's G1 29-DoF locomotion policy, run_policy.py,
-# far-unitree-sdk, holosoma's G1 model).
+# far-unitree-sdk, holosoma's G1 model, all from PyPI); unitree_rl_gym_g1 (Unitree's G1 12-DoF
+# policy, deploy_real.py, unitree_sdk2py, the repository's G1; GitHub only: with --rl-gym).
 #
 # Usage: bench/rehearse_policies.sh [--until S] [--runs N] [--sim-venv DIR] [--out DIR]
 #   --until     simulated seconds a run (default 30; the gamepad script walks 9-17 s)
@@ -12,6 +13,8 @@
 #   --sim-venv  holosoma's simulator environment (tests/rehearse/holosoma_g1/vendor_sim.sh's
 #               header says how to make it; about 6 GB): adds the vendor-simulator runs
 #   --out       folder for every run's logs (default: a new one under ${TMPDIR:-/tmp})
+#   --rl-gym DIR --rl-gym-python PY   a checkout of unitree_rl_gym and a python with
+#               unitree_sdk2py, torch, mujoco, pyyaml (and xvfb-run): adds its runs
 # Needs build/plumb (target plumb_cli), the rehearsal environment (scripts/rehearse-venv.sh
 # build/rehearse-venv, made here when missing) and, for the vendor simulator, the SDK2 one
 # (scripts/sdk2-venv.sh build/tests/sdk2-venv).
@@ -19,13 +22,15 @@
 # forward metres and mean speed in the walk window, the bridge's realtime factor.
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
-until=30 runs=2 simvenv="" out=""
+until=30 runs=2 simvenv="" out="" gym="" gympy=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --until) until="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --sim-venv) simvenv="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
+    --rl-gym) gym="$2"; shift 2 ;;
+    --rl-gym-python) gympy="$2"; shift 2 ;;
     *) echo "rehearse_policies.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -65,6 +70,18 @@ for n in $(seq 1 "$runs"); do
     "$repo/tests/rehearse/holosoma_g1/vendor_sim.sh" --sim-venv "$simvenv" --until "$until" \
       --out "$d" --venv "$venv" >/dev/null 2>&1 || true
     row "holosoma_g1 vendor sim" "$d"
+  fi
+  if [[ -n "$gym" ]]; then
+    for mode in lockstep realtime; do
+      d="$out/rl_gym_g1-$mode-$n"
+      "$repo/tests/rehearse/unitree_rl_gym_g1/run.sh" --rl-gym "$gym" --python "$gympy" \
+        --mode "$mode" --until "$until" --out "$d" >/dev/null 2>&1 || true
+      row "rl_gym_g1 $mode" "$d"
+    done
+    d="$out/rl_gym_g1-vendor-$n"
+    "$repo/tests/rehearse/unitree_rl_gym_g1/vendor_sim.sh" --rl-gym "$gym" --python "$gympy" \
+      --out "$d" >/dev/null 2>&1 || true
+    row "rl_gym_g1 vendor sim" "$d"
   fi
 done
 echo "logs: $out"
