@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 #include "plumb/stop.h"
 
@@ -278,10 +279,11 @@ std::string BridgeLoopbackConfig();
 // late)", and the log's file when there is one.
 std::string BridgeSummary(const BridgeStats& stats, const BridgeConfig& config);
 
-// A sentence for the user while the bridge runs, such as "lockstep: waiting for the first
-// command on rt/lowcmd" (once) or a warning that realtime pacing falls behind the wall clock
-// (at most one every 5 s). Called on RunBridge's thread; the flight recorder logs them too.
-using BridgeNotice = std::function<void(const std::string&)>;
+// What the user should hear while the bridge runs: a note such as "lockstep: waiting for the
+// first command on rt/lowcmd" (once), or a warning that a lockstep controller is late or that
+// realtime pacing falls behind the wall clock (at most one every 5 s). Subject "bridge", topic
+// kOther. Called on RunBridge's thread; the flight recorder logs them too.
+using BridgeNotice = std::function<void(const Notice&)>;
 
 // Runs the bridge until config.until, `stop` asking (it returns then, without throwing), or
 // the state going bad (stats.diverged). Starts from `start`. `notice` (may be empty) hears

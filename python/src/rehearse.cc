@@ -151,7 +151,7 @@ std::shared_ptr<PyRehearsal> CallRehearse(ModelArg model, const RehearseArgs& ar
   out->result = RunLong([&](StopToken stop) {
     return Rehearse(
         work, out->start, out->spec, stop,
-        [sink](const std::string& text) { sink->Note(NoticeTopic::kOther, "", text); }, sink);
+        [sink](const Notice& notice) { sink->Add(notice); }, sink);
   });
   notices.Issue();
   out->notices = notices.all();

@@ -113,7 +113,8 @@ class Loop {
     // said once, at the start, whether or not a command is already there: the same words
     // every run, as a lockstep log repeats bit for bit
     if (lockstep) {
-      Notice("lockstep: waiting for the first command on rt/lowcmd; simulated time starts with it");
+      Notice(NoticeLevel::kNote,
+             "lockstep: waiting for the first command on rt/lowcmd; simulated time starts with it");
     }
     while (data_->time < config_.until - 0.5 * work_->opt.timestep && !stop.stop_requested()) {
       // lockstep: one period per command, when a state has gone out since the last command
@@ -157,6 +158,7 @@ class Loop {
     if (map_.size() == 29) return 5;
     if (map_.size() == 23) return 4;
     Notice(
+        NoticeLevel::kWarning,
         fmt::format("mode_machine: 0 in every state ({} motors is no G1 rev 1.0 that plumb "
                     "knows); set mode_machine in the configuration to the robot's type if "
                     "the client checks it",
@@ -270,7 +272,8 @@ class Loop {
       if (controllers_.heard() && !late && controllers_.OwnerSilent()) {
         late = true;  // said on stderr, not logged: a lockstep log repeats bit for bit
         ++stats_.late_commands;
-        Notice(fmt::format("lockstep: the controller is late (no command for {:g} ms of wall "
+        Notice(NoticeLevel::kWarning,
+               fmt::format("lockstep: the controller is late (no command for {:g} ms of wall "
                            "time at t = {:.3f} s): simulated time waits for it, up to {:g} s",
                            config_.watchdog_timeout * 1000, data_->time, config_.watchdog_patience),
                false);
@@ -325,7 +328,8 @@ class Loop {
     if (pacer_.Late(lateness) && now - last_warning_ >= std::chrono::seconds(5)) {
       last_warning_ = now;
       // (not logged in lockstep, whose log repeats bit for bit)
-      Notice(fmt::format("realtime: behind the wall clock: the period at t = {:.3f} s started "
+      Notice(NoticeLevel::kWarning,
+             fmt::format("realtime: behind the wall clock: the period at t = {:.3f} s started "
                          "{:.1f} ms late ({} late so far; a loaded machine?)",
                          data_->time, lateness * 1000, pacer_.late_periods()),
              config_.mode == BridgeMode::kRealtime);
@@ -349,8 +353,8 @@ class Loop {
   }
 
   // Tells the user (and the log, when `log`).
-  void Notice(const std::string& what, bool log = true) {
-    if (notice_) notice_(what);
+  void Notice(NoticeLevel level, const std::string& what, bool log = true) {
+    if (notice_) notice_({level, NoticeTopic::kOther, "bridge", what});
     if (log) Event(what);
   }
 

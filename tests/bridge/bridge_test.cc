@@ -177,7 +177,7 @@ TEST(BridgeTest, LockstepWaitsForALateController) {
   std::vector<std::string> notices;  // on the bridge's thread, read after it ends
   auto bridge = std::async(std::launch::async, [&] {
     return RunBridge(model, {}, config, stop.token(),
-                     [&](const std::string& text) { notices.push_back(text); });
+                     [&](const Notice& notice) { notices.push_back(notice.text); });
   });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // longer than the watchdog
   Controller controller(config.domain);

@@ -68,7 +68,7 @@ int RunRehearsalCommand(const BridgeCommandOptions& o, const Model& model,
   std::vector<Assignment> start = StartAssignments(model, o.keyframe, o.pose, o.sets);
   RehearsalResult result = Rehearse(
       model, start, spec, CommandStop().token(),
-      [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); },
+      PrintNotice,
       &CommandNotices());
   if (!o.report.empty()) {
     WriteRehearsalReport(o.report, model, start, result, ReportInfo{argv});
@@ -114,7 +114,7 @@ int RunBridgeCommand(const BridgeCommandOptions& o, const std::vector<std::strin
                model.file().c_str());
   BridgeStats stats = RunBridge(
       model, StartAssignments(model, o.keyframe, o.pose, o.sets), config, CommandStop().token(),
-      [](const std::string& text) { std::fprintf(stderr, "plumb: %s\n", text.c_str()); });
+      PrintNotice);
   std::printf("plumb bridge: %s\n", BridgeSummary(stats, config).c_str());
   if (stats.diverged) {
     std::fprintf(stderr, "plumb: %s\n", stats.problem.c_str());
