@@ -34,45 +34,35 @@ site="$("$python" -c 'import holosoma, os; print(os.path.dirname(holosoma.__file
 model="$site/data/robots/g1/scenes/scene_g1_29dof_wbt_plane.xml"
 [[ -n "$out" ]] || out="$(mktemp -d "${TMPDIR:-/tmp}/rehearse-holosoma-g1.XXXXXX")"
 mkdir -p "$out"
+# the walk is judged from 10 s until the stick lets go (17 s) or the rehearsal ends
+walk_end=$(python3 -c 'import sys; print(min(17.0, float(sys.argv[1])))' "$until")
 
 client="$python -m holosoma_inference.run_policy inference:g1-29dof-loco --task.use-joystick --task.interface lo"
 bridge=("$plumb" bridge "$model" --config "$here/bridge.toml" --pose "$here/pose.txt"
   --gamepad "$here/gamepad.txt" --mode "$mode" --until "$until" --log "$out/flight.csv")
-if "$plumb" bridge --help 2>/dev/null | grep -q -- '--client '; then
-  # plumb starts the vendor's deploy script once the bridge is up, stops it (SIGINT, as its README
-  # stops it) at --until and judges: the band lets go at 6 s, A started the policy at 4 s, the
-  # stick asks for 0.5 m/s from 9 s
-  status=0
-  "${bridge[@]}" --client "$client" --client-env LOGURU_LEVEL=INFO \
-    --client-output "$out/policy.txt" --first-command-timeout 60 \
-    --assert "min(qpos[floating_base_joint][2]) > 0.5 during [6, $until]" \
-    --assert "mean(qvel[floating_base_joint][0]) > 0.15 during [10, 17]" \
-    >"$out/bridge.txt" 2>&1 || status=$?
-  if [[ $status -ne 0 && $status -ne 1 ]]; then
-    echo "run.sh: plumb bridge --client exited $status (see $out/bridge.txt)" >&2
-    exit 2
-  fi
-  grep -E 'plumb bridge:|PASS|FAIL|passed|failed' "$out/bridge.txt" | tail -n 3 || true
-else
-  # a plumb without --client: the bridge and the deploy script as two processes
-  "${bridge[@]}" >"$out/bridge.txt" 2>&1 &
-  bridge_pid=$!
-  # shellcheck disable=SC2086  # the command's words
-  LOGURU_LEVEL=INFO $client >"$out/policy.txt" 2>&1 &
-  policy=$!
-  status=0
-  wait "$bridge_pid" || status=$?
-  # the policy runs until stopped: Ctrl-C is how its README stops it
-  kill -INT "$policy" 2>/dev/null || true
-  for _ in 1 2 3 4 5 6 7 8 9 10; do kill -0 "$policy" 2>/dev/null || break; sleep 0.5; done
-  kill -KILL "$policy" 2>/dev/null || true
-  wait "$policy" 2>/dev/null || true
-  tail -n 1 "$out/bridge.txt"
-  if [[ $status -ne 0 ]]; then
-    echo "run.sh: plumb bridge exited $status (see $out/bridge.txt)" >&2
-    exit 2
-  fi
+# plumb starts the vendor's deploy script once the bridge is up, stops it (SIGINT, as its README
+# stops it) at --until and judges: the band lets go at 6 s, A started the policy at 4 s, the
+# stick asks for 0.5 m/s from 9 s
+verdict=0
+"${bridge[@]}" --client "$client" --client-env LOGURU_LEVEL=INFO \
+  --client-output "$out/policy.txt" --first-command-timeout 60 \
+  --assert "min(qpos[floating_base_joint][2]) > 0.5 during [6, $until]" \
+  --assert "mean(qvel[floating_base_joint][0]) > 0.15 during [10, $walk_end]" \
+  --format json >"$out/rehearsal.json" 2>"$out/bridge.txt" || verdict=$?
+if [[ $verdict -ne 0 && $verdict -ne 1 ]]; then
+  echo "run.sh: plumb bridge --client exited $verdict (see $out/bridge.txt)" >&2
+  exit 2
 fi
-python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 17 --json \
+# the verdict in a line, and every row that did not pass
+python3 - "$out/rehearsal.json" <<'PY' || true
+import json, sys
+r = json.load(open(sys.argv[1]))
+print("rehearsal", "PASS" if r["passed"] else "FAIL", r["summary"])
+for row in r["rows"]:
+    if row["status"] != "PASS":
+        print(" ", row["status"], row["id"], row["element"], row["measured_text"])
+PY
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$walk_end" --json \
   | tee "$out/verdict.json"
-python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 17 >/dev/null
+python3 "$here/../measure.py" "$out/flight.csv" --after 6 --walk 10 "$walk_end" >/dev/null
+exit "$verdict"
