@@ -39,6 +39,45 @@ inline std::string MenagerieAllegro(const std::string& dir) {
                          dir);
 }
 
+// The corpus G1 as mjlab drives it: a floor, the motors' armature, each joint's torque bounded
+// by actuatorfrcrange (+-88 N*m), feet of geom priority 1 (friction 0.6), a position servo per
+// joint (ctrlrange the joint's range; kp 500 legs and waist, 40 arms) and a keyframe 'stand'
+// (knees a little bent, ctrl the same angles) it stands in at 0.78 m. A copy in `dir`; "" without
+// the corpus.
+inline std::string G1Servos(const std::string& dir) {
+  std::string g1 = RequireCorpusModel(kG1);
+  if (g1.empty()) return "";
+  const char* joints[] = {
+      "left_hip_pitch",      "left_hip_roll",      "left_hip_yaw",       "left_knee",
+      "left_ankle_pitch",    "left_ankle_roll",    "right_hip_pitch",    "right_hip_roll",
+      "right_hip_yaw",       "right_knee",         "right_ankle_pitch",  "right_ankle_roll",
+      "waist_yaw",           "waist_roll",         "waist_pitch",        "left_shoulder_pitch",
+      "left_shoulder_roll",  "left_shoulder_yaw",  "left_elbow",         "left_wrist_roll",
+      "left_wrist_pitch",    "left_wrist_yaw",     "right_shoulder_pitch", "right_shoulder_roll",
+      "right_shoulder_yaw",  "right_elbow",        "right_wrist_roll",   "right_wrist_pitch",
+      "right_wrist_yaw"};
+  std::string actuators, angles;
+  for (int i = 0; i < 29; ++i) {
+    bool leg = i < 12;
+    double angle = !leg ? 0 : i % 6 == 0 ? -0.1 : i % 6 == 3 ? 0.3 : i % 6 == 4 ? -0.2 : 0;
+    angles += (i ? " " : "") + std::to_string(angle);
+    actuators += std::string("<position name=\"") + joints[i] + "\" joint=\"" + joints[i] +
+                 "_joint\" " + (i < 15 ? "kp=\"500\" kv=\"10\"" : "kp=\"40\" kv=\"2\"") +
+                 " inheritrange=\"1\"/>";
+  }
+  return EditedModelCopy(
+      g1,
+      {{"<worldbody>", R"(<worldbody><geom name="floor" type="plane" size="0 0 0.05"/>)"},
+       {R"(<default class="g1">)",
+        R"(<default class="g1"><joint armature="0.02" actuatorfrcrange="-88 88"/>)"},
+       {R"(<geom type="capsule" size="0.01"/>)",
+        R"(<geom type="capsule" size="0.01" priority="1" friction="0.6"/>)"},
+       {"</mujoco>", "<actuator>" + actuators +
+                         "</actuator><keyframe><key name=\"stand\" qpos=\"0 0 0.793 1 0 0 0 " +
+                         angles + "\" ctrl=\"" + angles + "\"/></keyframe></mujoco>"}},
+      dir);
+}
+
 }  // namespace plumb::testing::robots
 
 #endif  // PLUMB_TESTS_CORPUS_ROBOTS_H_

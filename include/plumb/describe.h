@@ -57,15 +57,18 @@ struct ActuatorDescription {
   std::array<double, 2> ctrlrange{};
   bool forcelimited = false;
   std::array<double, 2> forcerange{};  // in force_unit
-  std::string kind;  // motor, position, velocity, muscle or general (from gain/bias)
+  // motor, position, velocity, intvelocity (a position servo behind an integrator: ctrl is a
+  // velocity), muscle or general (from gain, bias and dynamics)
+  std::string kind;
   // What ctrl means: "N*m" (motor on a hinge), "rad" (position servo), ... With a gear
   // other than 1 the actuator works in geared units: a motor's ctrl is "N*m/gear" (the
   // joint feels gear x ctrl) and a servo's "gear*rad" (it targets gear x the angle).
   std::string ctrl_unit;
   std::string force_unit;  // of the actuator force and forcerange: "N*m", "N", "N/gear", ...
   // The force or torque the joint (tendon) receives, gear x actuator force, bounded by a
-  // motor's ctrlrange (times its gain) and by forcerange; `joint_force_limited` is false
-  // when neither bounds it. In joint_force_unit: "N*m" on a hinge, "N" on a slide or a
+  // motor's ctrlrange (times its gain), by forcerange and by its joint's actuatorfrcrange
+  // (MuJoCo 3+; the bound of all the joint's actuators together); `joint_force_limited` is
+  // false when none bounds it. In joint_force_unit: "N*m" on a hinge, "N" on a slide or a
   // tendon, "N, N*m" for site and body transmissions.
   bool joint_force_limited = false;
   std::array<double, 2> joint_force_range{};

@@ -27,7 +27,9 @@ std::string ActuatorKind(const mjModel* m, int u) {
   const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
   if (m->actuator_biastype[u] == mjBIAS_NONE) return "motor";
   if (m->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0) {
-    if (bias[1] < 0 && bias[2] == 0) return "position";
+    // an integrator in front of a position servo: ctrl is the velocity its target moves at
+    if (bias[1] < 0 && m->actuator_dyntype[u] == mjDYN_INTEGRATOR) return "intvelocity";
+    if (bias[1] < 0 && bias[2] <= 0) return "position";  // kv: a damped position servo
     if (bias[1] == 0 && bias[2] < 0) return "velocity";
   }
   return "general";
@@ -154,7 +156,7 @@ ActuatorDescription DescribeActuator(const Model& model, int u) {
   act.kind = ActuatorKind(m, u);
   act.ctrl_unit = act.kind == "motor"      ? act.force_unit
                   : act.kind == "position" ? position
-                  : act.kind == "velocity" ? position + "/s"
+                  : act.kind == "velocity" || act.kind == "intvelocity" ? position + "/s"
                   : act.kind == "muscle"   ? "activation 0..1"
                   : act.kind == "pid"      ? position + " (then a velocity setpoint)"
                                            : "set by gainprm";
@@ -170,6 +172,16 @@ ActuatorDescription DescribeActuator(const Model& model, int u) {
     lo = std::max(lo, act.forcerange[0]);
     hi = std::min(hi, act.forcerange[1]);
     act.joint_force_limited = true;
+  }
+  // the joint's actuatorfrcrange bounds the force of all its actuators together: in joint
+  // units, so brought to the actuator's by the gear
+  if ((trn == mjTRN_JOINT || trn == mjTRN_JOINTINPARENT) && act.gear != 0) {
+    if (auto joint = compat::JointActuatorForceRange(m, m->actuator_trnid[2 * u])) {
+      double a = joint->first / act.gear, b = joint->second / act.gear;
+      lo = std::max(lo, std::min(a, b));
+      hi = std::min(hi, std::max(a, b));
+      act.joint_force_limited = true;
+    }
   }
   if (act.joint_force_limited) {
     act.joint_force_range = {std::min(act.gear * lo, act.gear * hi),

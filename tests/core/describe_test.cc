@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/mujoco_compat.h"
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/load.h"
 
@@ -219,6 +220,47 @@ TEST_F(DescribeTest, LoadingAddsWhatMujocoSaidToTheCallsNotices) {
   EXPECT_EQ(wrapped.all()[0].subject, "<MjModel 'arm'>");
   LoadModel(late, nullptr);  // no channel: nothing said, nothing left behind
   EXPECT_TRUE(TakeMujocoWarnings().empty());
+}
+
+// An intvelocity actuator is a position servo behind an integrator: its ctrl is a velocity, so
+// it is not shown as "position" (issue 49). A joint's actuatorfrcrange bounds its actuators'
+// force, shown in the joint force column instead of "unlimited" (MuJoCo 3+).
+TEST_F(DescribeTest, IntvelocityAndAJointsActuatorForceRangeAreShownAsTheyAre) {
+  testing::TempDir dir;
+  std::string arm = dir.File("arm.xml");
+  testing::WriteFile(arm, testing::TwoHingeArm(R"(<intvelocity name="iv" joint="a" kp="10"
+      actrange="-1 1"/><position name="p" joint="b" kp="10" kv="1"/>)"));
+  ModelDescription d = Describe(Model::Load(arm));
+  ASSERT_EQ(d.actuators.size(), 2u);
+  EXPECT_EQ(d.actuators[0].kind, "intvelocity");
+  EXPECT_EQ(d.actuators[0].ctrl_unit, "rad/s");
+  EXPECT_EQ(d.actuators[1].kind, "position");  // a position servo with damping kv
+  if (!(mjVERSION_HEADER >= 300)) GTEST_SKIP() << "actuatorfrcrange came with MuJoCo 3";
+  std::string bounded = dir.File("bounded.xml");
+  std::string xml = testing::TwoHingeArm(R"(<motor name="m" joint="a" gear="2"/>)");
+  xml.replace(xml.find(R"(<joint name="a" axis="0 1 0"/>)"), 30,
+              R"(<joint name="a" axis="0 1 0" actuatorfrcrange="-88 88"/>)");
+  testing::WriteFile(bounded, xml);
+  ModelDescription b = Describe(Model::Load(bounded));
+  ASSERT_TRUE(b.actuators[0].joint_force_limited);
+  EXPECT_EQ(b.actuators[0].joint_force_range[0], -88);
+  EXPECT_EQ(b.actuators[0].joint_force_range[1], 88);
+}
+
+// The corpus G1 with its joints bounded at +-88 N*m, as mjlab writes them: inspect's table
+// shows the bound, not "unlimited".
+TEST_F(DescribeTest, TheG1sActuatorForceRangeIsItsJointForce) {
+  testing::TempDir dir;
+  std::string g1 = testing::robots::G1Servos(dir.path());
+  if (g1.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  ModelDescription d = Describe(Model::Load(g1));
+  ASSERT_EQ(d.actuators.size(), 29u);
+  for (const ActuatorDescription& a : d.actuators) {
+    EXPECT_EQ(a.kind, "position") << a.name;
+    ASSERT_TRUE(a.joint_force_limited) << a.name;
+    EXPECT_EQ(a.joint_force_range[0], -88) << a.name;
+    EXPECT_EQ(a.joint_force_range[1], 88) << a.name;
+  }
 }
 
 }  // namespace
