@@ -55,10 +55,19 @@ struct BatchText {
 };
 
 // `spec` (its start, count, until, threads, seed, ctrl_noise, shard as given) with the
-// randomizations, metrics and shard parsed from `text`, validated (ValidateRolloutSpec).
+// randomizations, metrics and shard parsed from `text`, validated (ValidateRolloutSpec). With
+// control noise, SayCtrlNoiseCentre says to `notices` where the noise's centre is not what the
+// user's start gives.
 // @throws ArgumentError naming the argument ("randomize", "metric", "shard") and the text for a
 // bad one; PathError for a path the model does not have.
-RolloutSpec ParseRolloutSpec(const Model& model, RolloutSpec spec, const BatchText& text);
+RolloutSpec ParseRolloutSpec(const Model& model, RolloutSpec spec, const BatchText& text,
+                             Notices* notices = nullptr);
+
+// Control noise is centred on the start's ctrl (CtrlNoiseCentre). A note (topic kStart) when
+// the centre is not the user's: a start that sets no ctrl while position servos read ctrl 0 as
+// a target (no keyframe, no ctrl set), or a start ctrl outside its ctrlrange (clamped).
+// Nothing without control noise.
+void SayCtrlNoiseCentre(const Model& model, const RolloutSpec& spec, Notices* notices);
 // `spec` (its start, threads, until) with the axes and metrics parsed from `text`, validated
 // (ValidateSweepSpec). An axis's assignment warnings (a ctrl outside its range) go to `notices`
 // (topic kStart), named "WORDS.vary 'TEXT'". @throws as ParseRolloutSpec ("vary", "metric").

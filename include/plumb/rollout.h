@@ -62,9 +62,11 @@ struct RolloutSpec {
   int threads = 1;
   std::vector<Assignment> sets;  // the nominal scenario
   std::vector<Randomization> randomize;
-  // Control noise as MuJoCo's testspeed, a fraction of each ctrlrange: before every step,
-  // ctrl = centre + noise*radius*(2u-1), u uniform and keyed by (seed, rollout, actuator,
-  // step), so each rollout has its own noise, the same for any thread count or shard.
+  // Control noise, a fraction of each ctrlrange: before every step ctrl = centre +
+  // noise*radius*(2u-1), the centre the start's ctrl (CtrlNoiseCentre: a servo holds the
+  // start's pose), radius half the ctrlrange (1 when unlimited), u uniform and keyed by
+  // (seed, rollout, actuator, step), so each rollout has its own noise, the same for any
+  // thread count or shard.
   double ctrl_noise = 0;
   std::vector<Metric> metrics;  // all measured in the one run of each rollout
   // Which indices to run: those i with i % shard_count == shard_index.
@@ -144,6 +146,10 @@ class RolloutPool {
 // listed (a count of 2^53 takes no time).
 long ShardSize(const RolloutSpec& spec);
 long ShardToRun(const RolloutSpec& spec);
+
+// The ctrl control noise is centred on: the start's ctrl, as `d` holds it once the start is
+// written, each clamped to its ctrlrange (MuJoCo clamps a ctrl outside it).
+std::vector<double> CtrlNoiseCentre(const mjModel* m, const mjData* d);
 
 // Checks control noise as RolloutSpec::ctrl_noise takes it (rollout and crosscheck).
 // @throws ArgumentError (argument "ctrl_noise") unless 0 <= ctrl_noise <= 1 (NaN is refused).

@@ -382,7 +382,7 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
       given.threads = a.threads;
       given.seed = seed;
       given.ctrl_noise = ctrl_noise;
-      spec = ParseRolloutSpec(model, given, {randomize, {}, a.metrics, shard});
+      spec = ParseRolloutSpec(model, given, {randomize, {}, a.metrics, shard}, notices);
       RequireRowsFit(ShardSize(spec), ParameterNames(spec).size(), spec.metrics.size(), "count",
                      std::to_string(count));
     });

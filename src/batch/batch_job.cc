@@ -4,11 +4,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
 
+#include "core/mujoco_compat.h"
 #include "plumb/error.h"
+#include "plumb/path.h"
+#include "plumb/rollout.h"
 
 namespace plumb {
 namespace {
@@ -46,13 +50,62 @@ void WarnAboutAxis(const std::string& subject, const std::vector<std::string>& w
 
 }  // namespace
 
-RolloutSpec ParseRolloutSpec(const Model& model, RolloutSpec spec, const BatchText& text) {
+void SayCtrlNoiseCentre(const Model& model, const RolloutSpec& spec, Notices* notices) {
+  const mjModel* m = model.get();
+  if (!(spec.ctrl_noise > 0) || m->nu == 0 || !notices) return;
+  bool sets_ctrl = std::any_of(spec.sets.begin(), spec.sets.end(),
+                               [](const Assignment& a) { return a.path.field == "ctrl"; });
+  std::vector<std::string> servos, clamped;
+  Model work = model.Clone();  // WriteState takes a model it may write
+  Data data(work);
+  WriteState(work, data, spec.sets);
+  std::vector<double> centre = CtrlNoiseCentre(m, data.get());
+  for (int j = 0; j < m->nu; ++j) {
+    std::string name = model.Name(mjOBJ_ACTUATOR, j);
+    std::string label = name.empty() ? "#" + std::to_string(j) : "'" + name + "'";
+    // a position servo (or pid) reads ctrl as the position it drives towards
+    bool servo = m->actuator_gaintype[j] == compat::kGainPid ||
+                 (m->actuator_biastype[j] == mjBIAS_AFFINE &&
+                  m->actuator_biasprm[mjNBIAS * j + 1] != 0);
+    if (servo) servos.push_back(label);
+    if (centre[j] != data->ctrl[j]) {
+      clamped.push_back(fmt::format("{} (ctrl {:g}: centred on {:g})", label, data->ctrl[j],
+                                    centre[j]));
+    }
+  }
+  auto list = [](const std::vector<std::string>& names) {
+    std::string out;
+    for (std::size_t i = 0; i < names.size() && i < 3; ++i) out += (i ? ", " : "") + names[i];
+    if (names.size() > 3) out += fmt::format(" and {} more", names.size() - 3);
+    return out;
+  };
+  if (!sets_ctrl && !servos.empty()) {
+    AddTo(notices,
+          {NoticeLevel::kNote, NoticeTopic::kStart, "ctrl noise",
+           fmt::format("the start sets no ctrl (no keyframe, no ctrl set), so the control noise "
+                       "is centred on ctrl 0, which {} position servo{} ({}) read as a target "
+                       "position of 0, not as the start's pose; start from a keyframe with a "
+                       "ctrl, or set ctrl, to centre the noise on the pose to hold.",
+                       servos.size(), servos.size() == 1 ? "" : "s", list(servos))});
+  }
+  if (!clamped.empty()) {
+    AddTo(notices, {NoticeLevel::kNote, NoticeTopic::kStart, "ctrl noise",
+                    fmt::format("the start's ctrl lies outside the ctrlrange of {} actuator{} "
+                                "({}): MuJoCo clamps it, and the control noise is centred on "
+                                "the nearest end of the range.",
+                                clamped.size(), clamped.size() == 1 ? "" : "s", list(clamped))});
+  }
+}
+
+RolloutSpec ParseRolloutSpec(const Model& model, RolloutSpec spec, const BatchText& text,
+                             Notices* notices) {
   for (const std::string& r : text.randomize) {
     spec.randomize.push_back(NamedArgument("randomize", r, [&] { return ParseRandomization(model, r); }));
   }
   spec.metrics = ParseMetrics(model, text.metrics);
   if (!text.shard.empty()) ParseShard(text.shard, &spec);
   ValidateRolloutSpec(model, spec);
+  SayCtrlNoiseCentre(model, spec, notices);
   return spec;
 }
 

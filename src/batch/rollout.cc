@@ -250,18 +250,18 @@ class OneRollout {
 
   // Control noise keyed by (seed, rollout, actuator, step): every rollout has noise of its
   // own, the same for any thread count, shard or resume.
+  // The noise is centred on the start's ctrl (centre_, CtrlNoiseCentre).
   void CtrlNoise(mjData* d, long step) const {
     const mjModel* m = w_.work.get();
     for (int j = 0; j < m->nu; ++j) {
-      double centre = 0, radius = 1;
+      double radius = 1;
       if (m->actuator_ctrllimited[j]) {
-        centre = 0.5 * (m->actuator_ctrlrange[2 * j + 1] + m->actuator_ctrlrange[2 * j]);
         radius = 0.5 * (m->actuator_ctrlrange[2 * j + 1] - m->actuator_ctrlrange[2 * j]);
       }
       double u = Uniform01(spec_.seed, static_cast<std::uint64_t>(index_),
                            kCtrlNoiseKey + static_cast<std::uint32_t>(j),
                            static_cast<std::uint32_t>(step));
-      d->ctrl[j] = centre + spec_.ctrl_noise * radius * (2 * u - 1);
+      d->ctrl[j] = centre_[j] + spec_.ctrl_noise * radius * (2 * u - 1);
     }
   }
 
@@ -274,6 +274,7 @@ class OneRollout {
     run.stop = stop_;
     // one sample at the end: the probe reads every step
     run.every = static_cast<double>(std::max(1L, StepsToReach(spec_.until, dt))) * dt;
+    if (spec_.ctrl_noise > 0) centre_ = CtrlNoiseCentre(w_.work.get(), w_.data.get());
     if (spec_.ctrl_noise > 0 || spec_.observe) {
       run.before_step = [&](mjData* d, long step) {
         if (spec_.ctrl_noise > 0) CtrlNoise(d, step);
@@ -308,6 +309,7 @@ class OneRollout {
   long index_;
   const StopToken& stop_;
   std::vector<mjtNum> inertia_;
+  std::vector<double> centre_;  // the control noise's centre: the start's ctrl
   RolloutResult out_;
   std::string refusal_;  // why the last draw was refused
 };
@@ -339,6 +341,16 @@ long ShardToRun(const RolloutSpec& spec) {
     if (i >= 0 && i < spec.count && i % spec.shard_count == spec.shard_index) --total;
   }
   return total;
+}
+
+std::vector<double> CtrlNoiseCentre(const mjModel* m, const mjData* d) {
+  std::vector<double> centre(d->ctrl, d->ctrl + m->nu);
+  for (int j = 0; j < m->nu; ++j) {
+    if (!m->actuator_ctrllimited[j]) continue;
+    double lo = m->actuator_ctrlrange[2 * j], hi = m->actuator_ctrlrange[2 * j + 1];
+    if (lo <= hi) centre[j] = std::clamp(centre[j], lo, hi);
+  }
+  return centre;
 }
 
 void RequireCtrlNoise(double ctrl_noise) {

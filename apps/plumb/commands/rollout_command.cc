@@ -77,7 +77,7 @@ void ShardFromSlurm(RolloutSpec* spec) {
   }
 }
 
-RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
+RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model, Notices* notices) {
   RolloutSpec spec;
   spec.sets = StartAssignments(model, o.keyframe, o.pose, o.sets);
   spec.count = o.count;
@@ -86,7 +86,7 @@ RolloutSpec MakeSpec(const RolloutOptions& o, const Model& model) {
   spec.seed = o.seed;
   spec.ctrl_noise = o.ctrl_noise;
   if (o.shard.empty()) ShardFromSlurm(&spec);
-  return ParseRolloutSpec(model, spec, {o.randomize, {}, o.metrics, o.shard});
+  return ParseRolloutSpec(model, spec, {o.randomize, {}, o.metrics, o.shard}, notices);
 }
 
 // The batch in its results store: a new run, or the same run continued with --resume. Under
@@ -222,7 +222,8 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
   internal::RefuseOutputsOntoInputs({{"--db", o.db}, {"--report", o.report}},
                                     ModelInputs(o.model, o.pose));
   Model model = LoadModel(o.model);
-  RolloutSpec spec = MakeSpec(o, model);
+  BatchNotices notices;
+  RolloutSpec spec = MakeSpec(o, model, MpiActive() && MpiRank() != 0 ? nullptr : &notices);
   std::vector<std::string> params = ParameterNames(spec);
   // under MPI, ranks other than 0 only compute what rank 0 hands them
   if (MpiActive() && MpiRank() != 0) {
@@ -230,7 +231,6 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     MpiRollout(model, spec, {}, nullptr, CommandStop().token());
     return kExitOk;
   }
-  BatchNotices notices;
   BatchJob job = OpenRolloutJob(o, ctx, model, spec, notices);
   spec.skip = job.done();
   // from here on an error on rank 0 stops every rank (see main)
