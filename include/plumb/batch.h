@@ -32,6 +32,7 @@
 
 #include "plumb/keyframe.h"
 #include "plumb/model.h"
+#include "plumb/notice.h"
 #include "plumb/path.h"
 #include "plumb/rollout.h"
 #include "plumb/statistics.h"
@@ -123,7 +124,9 @@ class SweepJson {
 // outlive the watch.
 class SweepEffects {
  public:
-  explicit SweepEffects(const SweepSpec& spec);
+  // With `model` (it must outlive the watch) the reason reads the model: a geom's friction
+  // judged against the priority of the geoms it may touch.
+  explicit SweepEffects(const SweepSpec& spec, const Model* model = nullptr);
 
   // Axes with more values than this are not watched: their line would cost memory that grows
   // with the sweep (a range of a million values is not a question of "no effect").
@@ -139,7 +142,30 @@ class SweepEffects {
 
  private:
   const SweepSpec& spec_;
+  const Model* model_;
   std::vector<std::map<std::size_t, std::vector<double>>> lines_;
+};
+
+// Watches whether a rollout batch's randomizations change anything: when every measured
+// rollout (at least two) gave bit-identical metrics, each randomization gets a note with the
+// likely reason (as SweepEffects's). `spec` and `model` (may be null) must outlive the watch.
+class RolloutEffects {
+ public:
+  explicit RolloutEffects(const RolloutSpec& spec, const Model* model = nullptr);
+  // One rollout's row (run now or stored), in any order.
+  void See(const RolloutResult& row);
+  // "randomize 'TEXT' changed no metric: ... REASON", one a randomization; none when the rows
+  // differ.
+  std::vector<std::string> Notes() const;
+  // Adds the notes to `notices` (topic kBatch) and returns them.
+  std::vector<std::string> Finish(Notices* notices) const;
+
+ private:
+  const RolloutSpec& spec_;
+  const Model* model_;
+  std::vector<double> first_;  // the first measured row's metrics
+  long measured_ = 0;
+  bool differ_ = false;
 };
 
 // The summary of a batch: how many rows were run now and how many were stored before a resume,

@@ -137,7 +137,8 @@ class BatchJob {
 // that changed nothing (SweepEffects). `spec` must outlive it.
 class SweepNotices {
  public:
-  SweepNotices(const SweepSpec& spec, Notices* notices);
+  // `model` (may be null; it must outlive this) gives the effects' notes their reasons.
+  SweepNotices(const SweepSpec& spec, Notices* notices, const Model* model = nullptr);
   // A case run now (its row: SweepCaseResult).
   void See(const SweepCase& c, const RolloutResult& row);
   // A case a resume found stored: for the effects only (its reasons were said when it ran).

@@ -139,7 +139,7 @@ struct Batch {
   BatchTable rows;
   BatchSummary summary{0};
   double seconds = 0;              // the cases run now took
-  std::vector<std::string> notes;  // a sweep's axes that changed nothing (SweepEffects)
+  std::vector<std::string> notes;  // what changed nothing (SweepEffects, RolloutEffects)
   std::vector<Notice> said;        // what the call said (.notices), each issued as a warning
   std::string html;                // the report, made on first _repr_html_
 
@@ -388,14 +388,25 @@ std::shared_ptr<Batch> RunRollout(const BatchArgs& a, long count,
     });
     batch->sets = spec.sets;
     batch->parameters = ParameterNames(spec);
+    RolloutEffects effects(spec, &model);  // a randomization that changed nothing gets a note
     RunBatch(
         *batch, a, RolloutRunInfo(model, spec, Origin(a), a.db), notices, ShardSize(spec),
-        InShard(spec), [](const RolloutResult&) { return Unmeasured{}; },
+        InShard(spec),
+        [&](const RolloutResult& r) {
+          effects.See(r);
+          return Unmeasured{};
+        },
         [&](const std::vector<long>& done, const Keep& keep) {
           spec.skip = done;
           Rollout(
-              model, spec, [&](const RolloutResult& r) { keep(r, {}); }, stop);
+              model, spec,
+              [&](const RolloutResult& r) {
+                effects.See(r);
+                keep(r, {});
+              },
+              stop);
         });
+    batch->notes = effects.Finish(notices);
     return 0;
   });
   return batch;
@@ -417,7 +428,7 @@ std::shared_ptr<Batch> RunSweep(const BatchArgs& a, const std::vector<std::strin
     });
     batch->sets = spec.sets;
     batch->parameters = AxisNames(spec);
-    SweepNotices said(spec, notices);
+    SweepNotices said(spec, notices, &model);
     RunBatch(
         *batch, a, SweepRunInfo(model, spec, Origin(a), a.db), notices, CaseCount(spec.axes),
         [](const RolloutResult&) { return true; },
@@ -496,8 +507,9 @@ void BindBatchType(nb::module_& m) {
               "what the call said besides its result, each also issued as a plumb.BatchWarning "
               "(or plumb.StartWarning): a list of plumb.Notice")
       .def_ro("notes", &Batch::notes,
-              "a sweep's notes: each axis along which every metric came out bit-identical, "
-              "with the likely reason (the CLI prints them on stderr)")
+              "a sweep's notes: each axis along which every metric came out bit-identical; a "
+              "rollout's: each randomization when every rollout came out bit-identical; with "
+              "the likely reason (the CLI prints them on stderr)")
       .def_prop_ro("summary", &SummaryDict,
                    "count, diverged, resumed (stored before), run_now, seconds, and per metric "
                    "n, missing, mean, std, min, q05, median, q95, max")

@@ -416,6 +416,31 @@ def test_a_sweep_over_a_parameter_with_no_effect_says_so(pendulum):
     assert plumb.sweep(pendulum, VARY, METRICS, set=START).notes == []
 
 
+# A box on a floor, the box of geom priority 1: its friction decides their contact.
+PRIORITY_BOX = """<mujoco><worldbody><geom name="floor" type="plane" size="1 1 0.1"/>
+  <body name="box" pos="0 0 0.1"><freejoint/><geom name="box" type="box" size="0.1 0.1 0.1" priority="1"/>
+  </body></worldbody></mujoco>"""
+
+
+def test_a_rollout_over_a_parameter_with_no_effect_says_so_with_geom_priority(tmp_path):
+    # the floor's friction has no say under a box of higher priority (issue 49): the note
+    # plumb rollout prints, its reason the one sweep gives
+    model = tmp_path / "box.xml"
+    model.write_text(PRIORITY_BOX)
+    with pytest.warns(plumb.BatchWarning) as said:
+        batch = plumb.rollout(str(model), count=3, randomize="geom_friction[floor][0]=U(0.1,0.5)",
+                              metrics="xpos[box][2]@0.2", until=0.2)
+    assert len(batch.notes) == 1
+    assert batch.notes[0].startswith(
+        "randomize 'geom_friction[floor][0]=U(0.1,0.5)' changed no metric: all 3 measured "
+        "rollouts gave bit-identical results. Geom 'floor' (priority 0) meets geoms of higher "
+        "priority (priority 1: 'box')"), batch.notes[0]
+    assert f"note: {batch.notes[0]}" in [str(w.message) for w in said]
+    swept = plumb.sweep(str(model), "geom_friction[floor][0]=0.1,0.5", "xpos[box][2]@0.2",
+                        until=0.2)
+    assert "Geom 'floor' (priority 0) meets geoms of higher priority" in swept.notes[0]
+
+
 def test_diverged_rollouts_are_rows_with_their_time_and_reason(pendulum, cli_json):
     # negative damping pumps energy in until MuJoCo's state check fires
     options = ["--count", "6", "--randomize", "dof_damping[hinge]=U(-20,-10)",

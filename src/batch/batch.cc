@@ -12,6 +12,7 @@
 #include <optional>
 #include <utility>
 
+#include "batch/no_effect.h"
 #include "core/strings.h"
 #include "io/hash.h"
 #include "plumb/error.h"
@@ -31,22 +32,6 @@ std::vector<std::string> MetricTexts(const std::vector<Metric>& metrics) {
   std::vector<std::string> out;
   for (const Metric& m : metrics) out.push_back(m.text);
   return out;
-}
-
-// What may keep an element of `field` from changing anything.
-std::string WhyNoEffect(const std::string& field) {
-  if (field == "geom_friction") {
-    return "A geom's friction acts only in its contacts, and MuJoCo gives a contact the "
-           "larger friction of its two geoms (unless geom priority says otherwise), so "
-           "lowering one geom's friction below its partner's changes nothing; vary the other "
-           "geom's friction too, or use geom priority.";
-  }
-  if (field == "geom_solref" || field == "geom_solimp" || field == "geom_solmix") {
-    return "A contact mixes both geoms' solref/solimp by their solmix weights; a geom whose "
-           "weight is 0, or that touches nothing in this run, has no say.";
-  }
-  return "The element may take no part in this run (a geom that touches nothing, a joint "
-         "that does not move, a disabled actuator), or the metrics do not depend on it.";
 }
 }  // namespace
 
@@ -193,7 +178,8 @@ std::string SweepJson::Row(long index, const std::vector<double>& values,
 
 std::string SweepJson::End() const { return std::string(rows_ ? "\n  " : "") + "]\n}\n"; }
 
-SweepEffects::SweepEffects(const SweepSpec& spec) : spec_(spec), lines_(spec.axes.size()) {}
+SweepEffects::SweepEffects(const SweepSpec& spec, const Model* model)
+    : spec_(spec), model_(model), lines_(spec.axes.size()) {}
 
 void SweepEffects::See(const RolloutResult& row) {
   std::vector<std::size_t> choice = CaseChoice(spec_.axes, row.index);
@@ -232,10 +218,44 @@ std::vector<std::string> SweepEffects::Notes() const {
             ? "changed no metric: every value gave bit-identical results"
             : "values that gave bit-identical results: " + fmt::format("{}", fmt::join(same, "; "));
     notes.push_back("vary '" + axis.text + "' " + what +
-                    " (the other axes at their first value). " + WhyNoEffect(axis.path.field));
+                    " (the other axes at their first value). " +
+                    internal::WhyNoEffect(model_, {axis.path}));
   }
   return notes;
 }
+RolloutEffects::RolloutEffects(const RolloutSpec& spec, const Model* model)
+    : spec_(spec), model_(model) {}
+
+void RolloutEffects::See(const RolloutResult& row) {
+  if (std::any_of(row.metrics.begin(), row.metrics.end(), [](double v) { return std::isnan(v); })) {
+    return;  // not measured: no evidence either way
+  }
+  if (measured_++ == 0) {
+    first_ = row.metrics;
+  } else if (row.metrics != first_) {
+    differ_ = true;
+  }
+}
+
+std::vector<std::string> RolloutEffects::Notes() const {
+  std::vector<std::string> notes;
+  if (differ_ || measured_ < 2 || first_.empty()) return notes;
+  for (const Randomization& r : spec_.randomize) {
+    notes.push_back(fmt::format("randomize '{}' changed no metric: all {} measured rollouts gave "
+                                "bit-identical results. {}",
+                                r.text, measured_, internal::WhyNoEffect(model_, r.paths)));
+  }
+  return notes;
+}
+
+std::vector<std::string> RolloutEffects::Finish(Notices* notices) const {
+  std::vector<std::string> notes = Notes();
+  for (const std::string& note : notes) {
+    AddTo(notices, {NoticeLevel::kNote, NoticeTopic::kBatch, "", note});
+  }
+  return notes;
+}
+
 void BatchSummary::Add(
 
     const RolloutResult& r) {

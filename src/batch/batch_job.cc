@@ -204,8 +204,8 @@ std::string BatchJob::StopMessage(const std::string& stopped, const std::string&
 
 void BatchJob::Complete(long total) { CompleteStoredRun(stored_, total); }
 
-SweepNotices::SweepNotices(const SweepSpec& spec, Notices* notices)
-    : spec_(spec), notices_(notices), effects_(spec) {}
+SweepNotices::SweepNotices(const SweepSpec& spec, Notices* notices, const Model* model)
+    : spec_(spec), notices_(notices), effects_(spec, model) {}
 
 void SweepNotices::See(const SweepCase& c, const RolloutResult& row) {
   ++cases_;

@@ -402,5 +402,37 @@ TEST(CliRolloutTest, CtrlNoiseIsCentredOnThePendulumsStartCtrl) {
   EXPECT_NE(far.err.find("'servo' (ctrl 5: centred on 3)"), std::string::npos) << far.err;
 }
 
+// A randomization that changes nothing gets the note plumb sweep prints (issue 49), and its
+// reason reads geom priority: the G1's feet (priority 1) decide its contacts with the floor, so
+// the floor's friction has no say there; it once guessed "below its partner's friction".
+TEST(CliRolloutTest, TheG1sFloorFrictionUnderFeetOfHigherPriorityGetsANote) {
+  TempDir dir;
+  std::string g1 = testing::robots::G1Servos(dir.path());
+  if (g1.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  const std::string common = " --keyframe stand --until 0.3 "
+                             "--metric 'qpos[floating_base_joint][2]@0.3' --format csv";
+  CommandResult r = RunPlumb("rollout " + g1 + common +
+                             " --count 3 --randomize 'geom_friction[floor][0]=U(0.3,1)'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("randomize 'geom_friction[floor][0]=U(0.3,1)' changed no metric: all 3 "
+                       "measured rollouts gave bit-identical results"),
+            std::string::npos)
+      << r.err;
+  const std::string priority =
+      "meets geoms of higher priority (priority 1: 'left_foot1_collision'";
+  EXPECT_NE(r.err.find(priority), std::string::npos) << r.err;
+  // sweep says the same reason
+  CommandResult s = RunPlumb("sweep " + g1 + common + " --vary 'geom_friction[floor][0]=0.3,1'");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_NE(s.err.find("changed no metric"), std::string::npos) << s.err;
+  EXPECT_NE(s.err.find(priority), std::string::npos) << s.err;
+  // the feet's own friction decides: no note
+  CommandResult feet =
+      RunPlumb("rollout " + g1 + common +
+               " --count 3 --randomize 'geom_friction[left_foot1_collision][0]=U(0.01,0.02)'");
+  ASSERT_EQ(feet.exit_code, 0) << feet.err;
+  EXPECT_EQ(feet.err.find("changed no metric"), std::string::npos) << feet.err;
+}
+
 }  // namespace
 }  // namespace plumb

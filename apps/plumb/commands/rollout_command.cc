@@ -246,12 +246,15 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
     info.ahead = StartPictures(model, spec.sets, info);  // drawn while the rollouts run
   }
   // the summary: every row of the shard, stored before a --resume or run now
+  RolloutEffects effects(spec, &model);  // a randomization that changed nothing gets a note
   job.Resume(ShardSize(spec), InShard(spec), [&](const RolloutResult& r) {
+    effects.See(r);
     if (batch) batch->Add(r.params, r.metrics, r.diverged);
   });
   EtaNote eta("rollouts", job.stored(), progress);
   auto emit = [&](const RolloutResult& r) {
     job.Add(r);
+    effects.See(r);
     eta.See(job.summary().run_now, total - job.summary().run_now);
     if (batch) batch->Add(r.params, r.metrics, r.diverged);
     writer.Row(r);
@@ -261,6 +264,7 @@ int RunRollout(const RolloutOptions& o, const Context& ctx) {
                      [&] { writer.Flush(); }, nullptr, budget);
   writer.Finish();
   progress.Finish();
+  effects.Finish(&notices);
   job.Complete(spec.count);
   if (batch) {
     WriteBatchReport(o.report, "rollout", model, spec.sets, *batch, info);

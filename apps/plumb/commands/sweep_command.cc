@@ -173,7 +173,7 @@ int RunSweep(const SweepOptions& o, const Context& ctx) {
   std::size_t row_bytes =
       o.format == "json" ? 60 + 30 * (spec.axes.size() + spec.metrics.size()) : header.size();
   std::fprintf(stderr, "plumb: %s\n", CostLine(model, o, spec, total, row_bytes).c_str());
-  SweepNotices said(spec, &notices);
+  SweepNotices said(spec, &notices, &model);
   job.Resume(total, [](const RolloutResult&) { return true; },
              [&](const RolloutResult& r) { said.SeeStored(r); });
   ProgressBar progress(total - static_cast<long>(job.done().size()), "cases");
