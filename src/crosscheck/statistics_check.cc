@@ -154,6 +154,23 @@ CheckRow MetricRow(const Metric& metric, const std::vector<double>& cpu,
 
 }  // namespace
 
+bool WorldsAreIdentical(const CrosscheckOptions& options) {
+  return options.randomize.empty() && !(options.ctrl_noise > 0);
+}
+
+void JudgeIdenticalWorlds(const CrosscheckOptions& options, CheckRow* row) {
+  if (!WorldsAreIdentical(options) || row->status == CheckStatus::kFail) return;
+  row->status = CheckStatus::kSkip;
+  row->explanation = fmt::format(
+      "the {} worlds are identical (nothing randomized, no control noise): the engine met CPU "
+      "MuJoCo on one world {} times, which the trajectory check already judges; the "
+      "distribution is not tested",
+      options.worlds, options.worlds);
+  row->fix =
+      "vary the worlds: randomize a field or the start per world (a distribution such as "
+      "body_mass[*]=*U(0.9,1.1)), or add noise to the controls";
+}
+
 std::vector<Metric> DefaultCrosscheckMetrics(const Model& model, double until) {
   std::vector<Metric> out;
   auto add = [&](const std::string& path) {
@@ -215,6 +232,7 @@ std::vector<CheckRow> StatisticsCheck(const Model& nominal, const Model& loaded,
       b.push_back(other[w][k]);
     }
     rows.push_back(MetricRow(metrics[k], a, b, options));
+    JudgeIdenticalWorlds(options, &rows.back());
     if (!run.unvaried.empty()) {
       rows.back().status = CheckStatus::kSkip;
       rows.back().fix.clear();

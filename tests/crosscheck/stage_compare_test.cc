@@ -3,6 +3,7 @@
 // disagrees), and the setup's errors.
 
 #include "crosscheck/stage_compare.h"
+#include "crosscheck/statistics_check.h"
 
 #include <gtest/gtest.h>
 
@@ -23,6 +24,8 @@ using internal::ModelEdits;
 using internal::StageContact;
 using internal::StageNames;
 using internal::StageValues;
+using internal::JudgeIdenticalWorlds;
+using internal::WorldsAreIdentical;
 
 namespace {
 
@@ -187,6 +190,42 @@ TEST(CrosscheckSetupTest, BadOptionsAndAMissingEnvironmentSayWhatToDo) {
   EngineSetup warp = FindEngineSetup("warp");
   EXPECT_NE(warp.python.find("/warp-"), std::string::npos) << warp.python;  // warp-HASH/bin/python
   EXPECT_TRUE(std::filesystem::exists(warp.adapter)) << warp.adapter;
+}
+
+// The statistics of identical worlds (nothing randomized, no control noise) are no test of the
+// distribution: their PASS is a SKIP that says so and how to vary them; a FAIL stays.
+TEST(StatisticsCheckTest, IdenticalWorldsSkipTheirPassAndSayHowToVaryThem) {
+  Model model = Model::Load(testing::kPendulum);
+  CrosscheckOptions o;
+  o.worlds = 32;
+  EXPECT_TRUE(WorldsAreIdentical(o));
+  CheckRow row;
+  row.id = "statistics";
+  row.status = CheckStatus::kPass;
+  JudgeIdenticalWorlds(o, &row);
+  EXPECT_EQ(row.status, CheckStatus::kSkip);
+  EXPECT_NE(row.explanation.find("the 32 worlds are identical"), std::string::npos)
+      << row.explanation;
+  EXPECT_NE(row.fix.find("randomize"), std::string::npos) << row.fix;
+  EXPECT_NE(row.fix.find("noise to the controls"), std::string::npos) << row.fix;
+  EXPECT_EQ(row.fix.find("--"), std::string::npos) << row.fix;  // the library's words, no flag
+
+  CheckRow failed;
+  failed.status = CheckStatus::kFail;
+  JudgeIdenticalWorlds(o, &failed);
+  EXPECT_EQ(failed.status, CheckStatus::kFail);  // one world's difference is a finding
+
+  CrosscheckOptions noisy = o;
+  noisy.ctrl_noise = 0.01;
+  CrosscheckOptions randomized = o;
+  randomized.randomize.push_back(ParseRandomization(model, "dof_damping[hinge]=U(0,0.5)"));
+  for (const CrosscheckOptions& varied : {noisy, randomized}) {
+    EXPECT_FALSE(WorldsAreIdentical(varied));
+    CheckRow pass;
+    pass.status = CheckStatus::kPass;
+    JudgeIdenticalWorlds(varied, &pass);
+    EXPECT_EQ(pass.status, CheckStatus::kPass);
+  }
 }
 
 }  // namespace
