@@ -241,6 +241,18 @@ std::string StateElement(const Model& model, const std::string& array, std::size
   return label;
 }
 
+// How a diff names element `key` of `section` in words: its name, or for an unnamed one ("#15")
+// its number and the body it hangs on, "geom #15 of body 'left_ankle_roll_link'".
+std::string ElementWords(const std::string& section, const std::string& key,
+                         const ordered_json& fields) {
+  if (key.empty() || key[0] != '#') return key;
+  const std::string body_field = section + "_bodyid";
+  if (section == "body" || !fields.contains(body_field) || !fields[body_field].is_string()) {
+    return section + " " + key;
+  }
+  return section + " " + key + " of body '" + fields[body_field].get<std::string>() + "'";
+}
+
 // Builds a SnapshotDiff step by step: `before` is the snapshot read back, `after` the current
 // model's.
 class Differ {
@@ -345,7 +357,7 @@ class Differ {
     for (const auto& [name, fields] : old.items()) {
       if (!elements.contains(name)) {
         Change("removed", section + "[" + name + "]", fields["id"], nullptr,
-               section + " removed: " + name);
+               section + " removed: " + ElementWords(section, name, fields));
       }
     }
     int renumbered = 0;
@@ -354,7 +366,8 @@ class Differ {
     for (const auto& [name, fields] : elements.items()) {
       if (!old.contains(name)) {
         Change("added", section + "[" + name + "]", nullptr, fields["id"],
-               section + " added: " + name + " (id " + Show(fields["id"]) + ")");
+               section + " added: " + ElementWords(section, name, fields) + " (id " +
+                   Show(fields["id"]) + ")");
         continue;
       }
       const ordered_json& was = old[name];
@@ -383,6 +396,9 @@ class Differ {
                         (field.size() > 5 && field.compare(field.size() - 5, 5, "_type") == 0);
       std::string path = field + "[" + name + "]";
       std::string what = path + ": " + Show(was[field]) + " → " + Show(value);
+      if (!name.empty() && name[0] == '#') {
+        what += " (" + ElementWords(section, name, fields) + ")";
+      }
       if (CompilerDerived(section, fields, field)) {
         // the same mesh, fitted by another release's compiler: not the user's change
         Change("compiler", path, was[field], value, what);

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "corpus_robots.h"
 #include "fixture.h"
 #include "keyed_model.h"
 #include "plumb/error.h"
@@ -301,6 +302,22 @@ TEST_F(RegressionTest, HumanoidMassChangeShowsInStructureAndTrajectory) {
   std::string all = Changes(d);
   EXPECT_NE(all.find("body_mass[torso]: 5.853834311 → 6"), std::string::npos) << all;
   EXPECT_NE(all.find("trajectory departs at step 2"), std::string::npos) << all;
+}
+
+// mjlab's G1 leaves most collision geoms unnamed: a change to one names the geom by its body,
+// not by "#12" alone (the machine path keeps the key).
+TEST_F(RegressionTest, AnUnnamedGeomIsNamedByItsBody) {
+  std::string g1 = testing::RequireCorpusModel(testing::robots::kG1);
+  if (g1.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  Model model = Model::Load(g1);
+  ASSERT_EQ(model.Name(mjOBJ_GEOM, 12), "");
+  std::string snapshot = MakeSnapshot(model, {});
+  SnapshotDiff d = DiffSnapshot(
+      snapshot, model, {ParseAssignment(model, "geom_friction[#12]=0.5,0.005,0.0001")}, 1e-6);
+  ASSERT_EQ(d.changes.size(), 1u) << Changes(d);
+  EXPECT_EQ(d.changes[0].path, "geom_friction[#12]");
+  EXPECT_NE(d.changes[0].what.find("(geom #12 of body 'left_ankle_roll_link')"), std::string::npos)
+      << d.changes[0].what;
 }
 
 }  // namespace
