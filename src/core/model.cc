@@ -16,6 +16,7 @@
 #include "core/file_kind.h"
 #include "core/input_file.h"
 #include "core/mujoco_compat.h"
+#include "core/schema_error.h"
 #include "core/strings.h"
 #include "plumb/error.h"
 
@@ -26,6 +27,7 @@ using internal::FileKind;
 using internal::InputKind;
 using internal::Join;
 using internal::ReadInputFile;
+using internal::SchemaErrorPlace;
 using internal::SniffFileKind;
 
 namespace {
@@ -350,6 +352,10 @@ Model Model::Load(const std::string& path) {
   if (!m) {
     std::string detail = Trimmed(error);
     if (detail.empty()) detail = "MuJoCo gave no further detail";
+    // an element of an included file comes as "line 0" of no file: name the file and line
+    if (std::string place = SchemaErrorPlace(detail, path); !place.empty()) {
+      detail += "\n" + place;
+    }
     fs::path dir = fs::path(path).parent_path();
     if (dir.empty()) dir = ".";
     throw LoadError("cannot load model '" + path + "':\n" + detail, LoadHint(detail, text, dir));

@@ -96,6 +96,39 @@ TEST_F(ModelTest, RangeWithoutLimitedExplainsAutolimits) {
   EXPECT_EQ(model->jnt_limited[0], 1);
 }
 
+// A misspelled attribute in a file the model includes: MuJoCo says "line 0" of no file; plumb
+// names the included file and the attribute's line, and the attribute meant.
+TEST_F(ModelTest, ASchemaErrorInAnIncludedFileNamesThatFileItsLineAndTheAttributeMeant) {
+  TempDir dir;
+  const std::string top = dir.path() + "/robot.xml", part = dir.path() + "/leg.xml";
+  WriteFile(top, "<mujoco>\n  <worldbody>\n    <include file=\"leg.xml\"/>\n  </worldbody>\n"
+                 "</mujoco>\n");
+  WriteFile(part, "<mujoco>\n  <body name=\"leg\">\n    <joint type=\"hinge\"/>\n"
+                  "    <geom type=\"sphere\" sise=\"0.1\"/>\n  </body>\n</mujoco>\n");
+  try {
+    Model::Load(top);
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'sise' stands on line 4 of '" + part + "' (included by '" + top + "')"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("did you mean: size?"), std::string::npos) << what;
+  }
+  // the model's own file: its line, and the same suggestion
+  WriteFile(top, "<mujoco>\n  <worldbody>\n    <geom type=\"sphere\" sise=\"0.1\"/>\n"
+                 "  </worldbody>\n</mujoco>\n");
+  try {
+    Model::Load(top);
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("'sise' stands on line 3 of '" + top +
+                                         "'; did you mean: size?"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // A flex model written for 3.x (MuJoCo 3.12's own samples set <contact internal>, which 4.0
 // removed): the error says what changed, which build loads it, and the advice works
 TEST_F(ModelTest, ASchemaRemovalBetweenReleasesIsExplained) {
