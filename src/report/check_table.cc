@@ -53,6 +53,30 @@ std::string GroupText(const std::vector<CheckRow>& rows, const std::vector<std::
   return text + kIndent + "e.g. " + label + ": " + body.substr(start);
 }
 
+// What the SKIPs of one reason (indices into `rows`) are about: each check id once, with the
+// elements (or subjects) it skipped: "actuator.stability: rh_A_FFJ0, rh_A_MFJ0; energy", or
+// "analytic.period, energy" when none is about an element.
+std::string SkippedList(const std::vector<CheckRow>& rows,
+                        const std::vector<std::size_t>& members) {
+  std::vector<std::string> ids;
+  std::map<std::string, std::vector<std::string>> about;  // each id's elements, in order
+  bool named = false;
+  for (std::size_t i : members) {
+    const CheckRow& row = rows[i];
+    if (std::find(ids.begin(), ids.end(), row.id) == ids.end()) ids.push_back(row.id);
+    std::string what = row.element.name.empty() ? row.About() : row.element.name;
+    if (what.empty()) continue;
+    about[row.id].push_back(what);
+    named = true;
+  }
+  std::vector<std::string> parts;
+  for (const std::string& id : ids) {
+    auto it = about.find(id);
+    parts.push_back(it == about.end() ? id : id + ": " + Join(it->second, ", "));
+  }
+  return Join(parts, named ? "; " : ", ");
+}
+
 // A row's first line up to its element: the status and the check id in a column `width` wide;
 // an accepted row says ACCEPT, its own status following on the line AcceptedLine adds.
 std::string Head(const CheckRow& row, int width) {
@@ -91,8 +115,8 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
                        const std::vector<std::string>& texts, TableDetail detail,
                        const std::string& how_to_see_all) {
   std::map<CheckStatus, long> count;
-  // the SKIPs of each reason: their ids and the row that shows them
-  std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> skipped;
+  // the SKIPs of each reason: the rows, the first of which shows them all
+  std::map<std::string, std::vector<std::size_t>> skipped;
   // the FAIL and WARN rows of each finding made about several elements
   using Finding = std::tuple<std::string, std::string, CheckStatus, std::string, std::string>;
   std::map<Finding, std::vector<std::size_t>> alike;
@@ -112,8 +136,7 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
       alike[finding_of[i]].push_back(i);
     }
     if (row.status != CheckStatus::kSkip) continue;
-    auto it = skipped.try_emplace(row.explanation, i, std::vector<std::string>()).first;
-    it->second.second.push_back(row.id);
+    skipped[row.explanation].push_back(i);
   }
   std::string counts =
       fmt::format("{} passed, {} warned, {} failed, {} skipped", count[CheckStatus::kPass],
@@ -130,11 +153,11 @@ std::string CheckTable(const std::string& title, const std::vector<CheckRow>& ro
     if (detail == TableDetail::kFindings) {
       if (row.status == CheckStatus::kPass) continue;
       if (row.status == CheckStatus::kSkip) {
-        const auto& [shown_at, ids] = skipped[row.explanation];
-        if (ids.size() > 1 && shown_at != i) continue;  // shown with the first
-        if (ids.size() > 1) {
-          text = fmt::format("SKIP  {} checks skipped: {}\n", ids.size(), row.explanation) +
-                 Wrap(Join(ids, ", "), kWidth, kIndent);
+        const std::vector<std::size_t>& members = skipped[row.explanation];
+        if (members.size() > 1 && members.front() != i) continue;  // shown with the first
+        if (members.size() > 1) {
+          text = fmt::format("SKIP  {} checks skipped: {}\n", members.size(), row.explanation) +
+                 Wrap(SkippedList(rows, members), kWidth, kIndent);
         }
       }
       auto group = alike.find(finding_of[i]);

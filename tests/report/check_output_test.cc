@@ -167,6 +167,26 @@ TEST(CheckTableTest, SkipsSharingAReasonAreOneRowListingTheirIds) {
   EXPECT_NE(table.find(", tol 0.01)\n"), std::string::npos) << table;
 }
 
+// The Shadow hand's four coupled actuators skip actuator.stability for one reason: the grouped
+// row names the actuators, not the check id four times.
+TEST(CheckTableTest, SkipsOfOneCheckSharingAReasonListTheirElements) {
+  AuditReport report;
+  report.model = "right_hand.xml";
+  int id = 9;
+  for (const char* name : {"rh_A_FFJ0", "rh_A_MFJ0", "rh_A_RFJ0", "rh_A_LFJ0"}) {
+    CheckRow row =
+        Check(CheckStatus::kSkip, "actuator.stability", "", "its transmission is coupled");
+    row.section = "actuator";
+    row.element = {"actuator", name, id++};
+    report.findings.push_back(row);
+  }
+  std::string table = AuditTable(report, TableDetail::kFindings);
+  EXPECT_NE(table.find("SKIP  4 checks skipped: its transmission is coupled\n"
+                       "      actuator.stability: rh_A_FFJ0, rh_A_MFJ0, rh_A_RFJ0, rh_A_LFJ0\n"),
+            std::string::npos)
+      << table;
+}
+
 TEST(ResultJsonTest, ARowKeepsItsNumbersAndUnitsAndNullWhereNothingWasMeasured) {
   VerifyReport report;
   report.model = "pendulum.xml";
