@@ -5,7 +5,11 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
 
+#include "core/mujoco_compat.h"
 #include "fixture.h"
 #include "plumb/model.h"
 #include "plumb/model_edit.h"
@@ -238,6 +242,53 @@ TEST_F(CliIdentifyTest, ACutLogIsNotedOnStderrAndInTheJson) {
   ASSERT_EQ(notices.size(), 1u) << r.out;
   EXPECT_EQ(notices[0]["topic"], "log");
   EXPECT_EQ(notices[0]["subject"], "cut.csv");
+}
+
+// The commands of a --help text's "Examples" block, each on one line (a line ending in " \\"
+// goes on with the next).
+std::vector<std::string> HelpExamples(const std::string& help) {
+  std::vector<std::string> out;
+  std::size_t at = help.find("\nExamples");
+  if (at == std::string::npos) return out;
+  std::istringstream lines(help.substr(help.find('\n', at + 1) + 1));
+  bool more = false;
+  for (std::string line; std::getline(lines, line) && line.rfind("  ", 0) == 0;) {
+    std::string text = line.substr(line.find_first_not_of(' '));
+    bool next = text.size() >= 2 && text.compare(text.size() - 2, 2, " \\") == 0;
+    if (next) text.erase(text.size() - 2);
+    if (more) {
+      out.back() += " " + text;
+    } else {
+      out.push_back(text);
+    }
+    more = next;
+  }
+  return out;
+}
+
+// Every example of plumb identify --help and plumb replay --help runs as written, in order, in
+// a folder that has the repository's models/ (the first example writes the log the others
+// read). Before, they named logs and a robot nobody has and a delay of inputs the pendulum's
+// log lacks.
+TEST(CliHelpExamplesTest, IdentifyAndReplayRunEachExampleOfTheirHelp) {
+  for (const std::string command : {"identify", "replay"}) {
+    testing::TempDir dir;
+    std::filesystem::create_directory_symlink(testing::kSourceDir + "/models",
+                                              dir.File("models"));
+    auto help = testing::RunPlumb(command + " --help", dir.path());
+    ASSERT_EQ(help.exit_code, 0) << help.err;
+    const std::vector<std::string> examples = HelpExamples(help.out);
+    ASSERT_GE(examples.size(), 3u) << help.out;
+    for (const std::string& example : examples) {
+      ASSERT_EQ(example.rfind("plumb ", 0), 0u) << example;
+      // -o writes MJCF, which needs MuJoCo 3.10 (exit 5 before, as the help says)
+      const bool writes_model = example.rfind("plumb identify", 0) == 0 &&
+                                example.find(" -o ") != std::string::npos;
+      const int expected = writes_model && !compat::CompiledAtLeast(3010000) ? 5 : 0;
+      auto r = testing::RunPlumb(example.substr(6), dir.path());
+      EXPECT_EQ(r.exit_code, expected) << example << "\n" << r.err;
+    }
+  }
 }
 
 }  // namespace

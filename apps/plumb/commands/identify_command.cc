@@ -62,16 +62,21 @@ void SetupIdentifyCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<IdentifyCommandOptions>();
   CLI::App* cmd = AddCommand(
       app, "identify", "Fit model parameters to logs: estimates, standard errors, warnings",
-      "Examples:\n"
+      "Examples (each runs as written, in order, from the source folder):\n"
+      "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --set 'dof_damping[hinge]=0.2' \\\n"
+      "      --format csv --until 3 -o decay.csv\n"
       "  plumb identify models/pendulum.xml --log decay.csv --fit 'dof_damping[hinge]'\n"
-      "  plumb identify arm.xml --log chirp.csv --log steps.csv --fit 'dof_damping[*]' \\\n"
-      "      --fit 'dof_frictionloss[*]' --bounds 'dof_damping[elbow]=0:5' --validate held-out.csv "
-      "\\\n"
-      "      -o arm-fitted.xml\n"
-      "  plumb identify models/pendulum.xml --log flight.csv --columns map.toml \\\n"
-      "      --fit 'dof_damping[hinge]' --delay ctrl\n"
-      "Each log is one experiment (see plumb replay for the format). The start state of each\n"
-      "log is fitted too (a logged start carries the measurement noise).\n"
+      "  plumb identify models/pendulum.xml --log decay.csv --fit 'dof_damping[hinge]' \\\n"
+      "      --bounds 'dof_damping[hinge]=0:5' -o pendulum-fitted.xml\n"
+      "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' \\\n"
+      "      --set 'qfrc_applied[hinge]=0.5' --format csv -o pushed.csv \\\n"
+      "      --columns 'time,qpos[hinge],qvel[hinge],qfrc_applied[hinge]'\n"
+      "  plumb identify models/pendulum.xml --log pushed.csv --fit 'dof_damping[hinge]' \\\n"
+      "      --delay ctrl\n"
+      "Each log is one experiment (repeat --log for several; see plumb replay for the format).\n"
+      "A log in the robot's own column names: --columns map.toml ([columns] \"angle\" =\n"
+      "\"qpos[hinge]\"). The start state of each log is fitted too (a logged start carries the\n"
+      "measurement noise).\n"
       "Exit codes: 0 fitted (warnings are printed), 2 bad input (file, row and column named),\n"
       "3 the fitted model diverges on a log, 5 -o needs MuJoCo 3.10 or later.");
   AddModelOptions(cmd, &o->model, &o->sets, "(model parameters only) before the fit");

@@ -51,10 +51,14 @@ void SetupReplayCommand(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<ReplayCommandOptions>();
   CLI::App* cmd = AddCommand(
       app, "replay", "Drive the model with a log's inputs from its start state; compare",
-      "Examples:\n"
+      "Examples (each runs as written, in order, from the source folder):\n"
+      "  plumb run models/pendulum.xml --set 'qpos[hinge]=0.7' --set 'dof_damping[hinge]=0.2' \\\n"
+      "      --format csv --until 3 -o decay.csv\n"
       "  plumb replay models/pendulum.xml --log decay.csv\n"
-      "  plumb replay models/pendulum.xml --log flight.csv --window 0.5 --format json\n"
-      "  plumb replay robot.xml --log robot.csv --columns robot-columns.toml\n"
+      "  plumb replay models/pendulum.xml --log decay.csv --window 0.5 --format json\n"
+      "  plumb replay models/pendulum.xml --log decay.csv --set 'dof_damping[hinge]=0.2'\n"
+      "A log in the robot's own column names: --columns map.toml, whose [columns] table names\n"
+      "a plumb path for each (\"angle\" = \"qpos[hinge]\").\n"
       "The log: CSV with a time column and plumb paths (plumb run --format csv, the bridge's\n"
       "flight recorder); inputs (ctrl, qfrc_applied, ...) are held between samples, measured\n"
       "columns (qpos, qvel, sensordata, ...) are compared at their times.\n"
