@@ -74,6 +74,14 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
                            const std::vector<Assignment>& sets, const Metric& metric,
                            double timestep, double until, const StopToken& stop = {});
 
+// Same for several metrics in one run `until` s long (each metric's own length: a value@T or
+// state@T's T is `until`), one Measurement per metric, so a sweep measures a case's metrics
+// of one length in one simulation; a divergence is every metric's. @throws as Measure does.
+std::vector<Measurement> MeasureInPlace(const Model& nominal, Model& work, Data& data,
+                                        const std::vector<Assignment>& sets,
+                                        const std::vector<Metric>& metrics, double timestep,
+                                        double until, const StopToken& stop = {});
+
 }  // namespace plumb
 
 #endif  // PLUMB_INCLUDE_PLUMB_METRIC_H_

@@ -65,7 +65,20 @@ struct SweepCase {
   long index = 0;
   std::vector<std::size_t> choice;   // index into each axis's values
   std::vector<Measurement> metrics;  // one per metric; check ok / problem
+  int runs = 0;  // simulations run: one per run length its metrics need (0 when refused)
 };
+
+// A simulation each case runs: `until` s long, measuring the metrics `metrics` (indices into
+// SweepSpec::metrics).
+struct SweepRun {
+  double until = 0;
+  std::vector<std::size_t> metrics;
+};
+
+// The runs of one case: one per run length its metrics need (a value@T's or state@T's T, else
+// `spec.until`, else the metric's default), in the order first met; metrics of one length
+// share a run (9 cases x 2 metrics of one length are 9 simulations).
+std::vector<SweepRun> SweepRuns(const SweepSpec& spec);
 
 // Number of cases: the product of the axes' sizes.
 // @throws ValueError when the product passes 2^53 (no sweep can run that many).

@@ -166,6 +166,20 @@ std::vector<std::size_t> CaseChoice(const std::vector<SweepAxis>& axes, long ind
   return choice;
 }
 
+std::vector<SweepRun> SweepRuns(const SweepSpec& spec) {
+  std::vector<SweepRun> runs;
+  for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+    const Metric& metric = spec.metrics[k];
+    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
+    double until = at_time ? metric.time : spec.until > 0 ? spec.until : DefaultDuration(metric);
+    auto same =
+        std::find_if(runs.begin(), runs.end(), [&](const SweepRun& r) { return r.until == until; });
+    if (same == runs.end()) same = runs.insert(runs.end(), SweepRun{until, {}});
+    same->metrics.push_back(k);
+  }
+  return runs;
+}
+
 void ValidateSweepSpec(const Model& model, const SweepSpec& spec) {
   if (spec.metrics.empty()) throw ArgumentError("metric", "", "a sweep needs at least one metric");
   if (spec.threads < 1) {
@@ -205,6 +219,7 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
            const std::function<void(const SweepCase&)>& emit, const StopToken& stop) {
   ValidateSweepSpec(model, spec);
   const long total = CaseCount(spec.axes);
+  const std::vector<SweepRun> runs = SweepRuns(spec);
 
   std::atomic<long> done{0};
   // one case: false when a stop request abandoned it
@@ -230,10 +245,17 @@ void Sweep(const Model& model, const SweepSpec& spec, const std::vector<long>& s
     }
     double case_dt = RunTimestep(model, sets);  // a varied timestep is the case's timestep
     try {
-      for (const Metric& metric : spec.metrics) {
-        double until = spec.until > 0 ? spec.until : DefaultDuration(metric);
-        c->metrics.push_back(
-            MeasureInPlace(model, worker.work, worker.data, sets, metric, case_dt, until, stop));
+      // one simulation per run length: the metrics of one length are measured together
+      c->metrics.assign(spec.metrics.size(), Measurement{});
+      for (const SweepRun& run : runs) {
+        std::vector<Metric> metrics;
+        for (std::size_t k : run.metrics) metrics.push_back(spec.metrics[k]);
+        std::vector<Measurement> measured = MeasureInPlace(model, worker.work, worker.data, sets,
+                                                           metrics, case_dt, run.until, stop);
+        for (std::size_t i = 0; i < run.metrics.size(); ++i) {
+          c->metrics[run.metrics[i]] = measured[i];
+        }
+        ++c->runs;
       }
     } catch (const Interrupted&) {
       return false;  // abandoned mid-run

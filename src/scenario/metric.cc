@@ -95,22 +95,33 @@ Measurement Measure(const Model& model, const std::vector<Assignment>& sets, con
 Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
                            const std::vector<Assignment>& sets, const Metric& metric,
                            double timestep, double until, const StopToken& stop) {
-  // start from the nominal model every time (a sweep's previous case may have edited it)
-  mj_copyModel(work.get_mutable(), nominal.get());
   if (metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt) {
     until = metric.time;
   }
-  RequireWholeSteps(until, timestep, "metric", Quoted(metric.text), "", 0);
+  return MeasureInPlace(nominal, work, data, sets, std::vector<Metric>{metric}, timestep, until,
+                        stop)[0];
+}
+
+std::vector<Measurement> MeasureInPlace(const Model& nominal, Model& work, Data& data,
+                                        const std::vector<Assignment>& sets,
+                                        const std::vector<Metric>& metrics, double timestep,
+                                        double until, const StopToken& stop) {
+  // start from the nominal model every time (a sweep's previous case may have edited it)
+  mj_copyModel(work.get_mutable(), nominal.get());
+  bool energy = false;
+  for (const Metric& metric : metrics) {
+    RequireWholeSteps(until, timestep, "metric", Quoted(metric.text), "", 0);
+    energy = energy || metric.kind == MetricKind::kEnergyDrift;
+  }
   std::vector<Assignment> all = sets;
   Assignment dt;
   dt.text = "opt.timestep";
   dt.path = ResolvePath(work, "opt.timestep");
   dt.values = {timestep};
   all.push_back(dt);
-  if (metric.kind == MetricKind::kEnergyDrift) work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
+  if (energy) work.get_mutable()->opt.enableflags |= mjENBL_ENERGY;
   ApplyAssignments(work, data, all);
 
-  std::vector<Metric> metrics = {metric};
   MetricProbe probe(work, metrics, /*scales=*/true);
   RunSpec spec;
   spec.until = until;
@@ -121,16 +132,19 @@ Measurement MeasureInPlace(const Model& nominal, Model& work, Data& data,
   NullSink sink;
   RunResult result = Run(work, data, spec, sink);
   TakeMujocoWarnings();
-  if (result.diverged) {
-    Measurement out;
-    out.steps = result.steps;
-    out.ok = false;
-    out.diverged = true;
-    out.problem = result.divergence->reason;
-    return out;
+  std::vector<Measurement> out;
+  for (std::size_t k = 0; k < metrics.size(); ++k) {
+    Measurement m;
+    if (result.diverged) {
+      m.ok = false;
+      m.diverged = true;
+      m.problem = result.divergence->reason;
+    } else {
+      m = probe.Result(k, until);
+    }
+    m.steps = result.steps;
+    out.push_back(m);
   }
-  Measurement out = probe.Result(0, until);
-  out.steps = result.steps;
   return out;
 }
 

@@ -52,6 +52,54 @@ TEST_F(SweepTest, CasesComeInOrderAndMatchSingleRuns) {
   EXPECT_EQ(cases[2].metrics[0].value, single.value);
 }
 
+// MuJoCo's control callback, called in every mj_step and mj_forward: what a run costs.
+std::atomic<long> g_calls{0};
+void CountCall(const mjModel*, mjData*) { ++g_calls; }
+
+template <typename F>
+long CallsOf(F&& run) {
+  g_calls = 0;
+  mjcb_control = &CountCall;
+  run();
+  mjcb_control = nullptr;
+  return g_calls.load();
+}
+
+// 9 cases x 2 metrics of one run length cost 9 simulations, not 18: a case's metrics are
+// measured in one run (as many MuJoCo calls as one metric's run), and each gives what its own
+// run gave.
+TEST_F(SweepTest, ACaseRunsOnceForAllItsMetricsOfOneLength) {
+  Model model = Model::Load(testing::kPendulum);
+  SweepSpec spec;
+  spec.sets = {ParseAssignment(model, "qpos[hinge]=0.7")};
+  spec.axes = {ParseSweepAxis(model, "dof_damping[hinge]=0:0.4:9")};
+  spec.metrics = {ParseMetric(model, "maxabs(qvel[hinge])"), ParseMetric(model, "energy_drift")};
+  spec.until = 1;  // 500 steps
+  std::vector<Measurement> single;
+  long one_run = 0;
+  const std::vector<Assignment> case4 = {spec.sets[0], spec.axes[0].Value(4)};
+  for (const Metric& metric : spec.metrics) {
+    long calls = CallsOf([&] { single.push_back(Measure(model, case4, metric, 0.002, 1)); });
+    one_run = std::max(one_run, calls);
+  }
+  std::vector<SweepCase> cases;
+  long sweep = CallsOf([&] { cases = Sweep(model, spec); });
+  ASSERT_EQ(cases.size(), 9u);
+  EXPECT_GE(one_run, 500);
+  EXPECT_EQ(sweep, 9 * one_run) << "one run per case costs " << one_run << " calls";
+  for (const SweepCase& c : cases) EXPECT_EQ(c.runs, 1);
+  for (std::size_t k = 0; k < spec.metrics.size(); ++k) {
+    EXPECT_EQ(cases[4].metrics[k].value, single[k].value) << spec.metrics[k].text;
+  }
+  // metrics of two lengths: two runs
+  spec.metrics.push_back(ParseMetric(model, "qpos[hinge]@0.5"));
+  cases = Sweep(model, spec);
+  EXPECT_EQ(cases[0].runs, 2);
+  EXPECT_EQ(cases[0].metrics[2].value,
+            Measure(model, {spec.sets[0], spec.axes[0].Value(0)}, spec.metrics[2], 0.002, 0.5)
+                .value);
+}
+
 TEST_F(SweepTest, OneAndTwoThreadsAreBitIdentical) {
   Model model = Model::Load(testing::kHumanoid);
   SweepSpec spec;

@@ -49,11 +49,8 @@ std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec&
     for (std::size_t v = 0; v < axis.size(); ++v) dt = std::min(dt, axis.Value(v).values[0]);
   }
   double steps = 0;
-  for (const Metric& metric : spec.metrics) {
-    bool at_time = metric.kind == MetricKind::kValueAt || metric.kind == MetricKind::kStateAt;
-    double until = at_time ? metric.time : o.until > 0 ? o.until : DefaultDuration(metric);
-    steps += static_cast<double>(StepsToReach(until, dt));
-  }
+  const std::vector<SweepRun> runs = SweepRuns(spec);  // a case's metrics of one length share one
+  for (const SweepRun& run : runs) steps += static_cast<double>(StepsToReach(run.until, dt));
   auto count = [](double x) {
     return x < 1e7 ? fmt::format("{:.0f}", x) : fmt::format("{:.3g}", x);
   };
@@ -62,7 +59,7 @@ std::string CostLine(const Model& model, const SweepOptions& o, const SweepSpec&
       "sweep of {} case{} x {} metric{}: {} run{}, up to {} steps a case, {} steps in all; about "
       "{} of {} output",
       cases, cases == 1 ? "" : "s", spec.metrics.size(), spec.metrics.size() == 1 ? "" : "s",
-      count(n * spec.metrics.size()), n * spec.metrics.size() == 1 ? "" : "s", count(steps),
+      count(n * runs.size()), n * runs.size() == 1 ? "" : "s", count(steps),
       count(steps * n), FormatBytes(n * static_cast<double>(row_bytes)), o.format);
   // a store row: the case's values and metrics as JSON text, plus SQLite's overhead
   if (!o.db.empty()) {
