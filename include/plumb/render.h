@@ -41,10 +41,12 @@ namespace plumb {
 struct RenderOptions {
   int width = 640;  // pixels; the offscreen buffer is made at least this large
   int height = 480;
-  // "auto": "track" for a model with a free-floating body, else "fixed"; "track": follow the
-  // centre of mass of the first free-floating body's subtree; "fixed": frame the whole model
-  // (its bounding sphere) from MuJoCo's default viewpoint; anything else: the name of a
-  // camera in the model.
+  // A camera of the model by its name, or by its id as "#2"; else plumb's own: "auto": "track"
+  // for a model with a free-floating body, else "fixed"; "track": follow the centre of mass of
+  // the first free-floating body's subtree; "fixed": frame the whole model (its bounding
+  // sphere) from MuJoCo's default viewpoint. The model's cameras come first (a camera named
+  // "track" is the model's); "plumb:auto", "plumb:track" and "plumb:fixed" always name
+  // plumb's own (ChooseRenderCamera).
   std::string camera = "auto";
   // Names of bodies, geoms or joints to colour so they stand out (a body's or joint's
   // geoms are coloured; everything else is drawn faded).
@@ -94,6 +96,20 @@ class Renderer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The camera RenderOptions::camera names in `model`: a camera of the model (`id` >= 0), else
+// plumb's own `builtin` ("auto", "track" or "fixed"). The model's cameras are looked up first,
+// by name, then by id ("#2"), so a model camera named "track" can be chosen; plumb's own are
+// also named "plumb:auto", "plumb:track", "plumb:fixed", which always mean them.
+// @throws ArgumentError naming `camera` for a name that is neither, listing the model's
+// cameras; for an id out of range.
+struct CameraChoice {
+  int id = -1;
+  std::string builtin;
+};
+CameraChoice ChooseRenderCamera(const Model& model, const std::string& camera);
+// How a person reads camera `id` of `model`: "'side'", or "#2" when it has no name.
+std::string CameraLabel(const Model& model, int id);
 
 // True when this build has the renderer (PLUMB_WITH_RENDER); a GL context may still be
 // impossible to make on the machine (then Renderer throws UnavailableError).

@@ -113,6 +113,12 @@ int FindKeyframe(const Model& model, const std::string& name) {
     names.push_back(KeyLabel(model, k));
     if (names.back() == name) return k;
   }
+  // a named keyframe by its id too ("#1"; Python's keyframe=1): names first, as cameras
+  if (name.size() > 1 && name[0] == '#' &&
+      name.find_first_not_of("0123456789", 1) == std::string::npos && name.size() < 10) {
+    int k = std::stoi(name.substr(1));
+    if (k < m->nkey) return k;
+  }
   if (names.empty()) {
     throw ArgumentError(
         "keyframe", Quoted(name),

@@ -99,35 +99,31 @@ struct Renderer::Impl {
 void Renderer::Impl::ChooseCamera() {
   const mjModel* m = model.get();
   mjv_defaultCamera(&camera);
-  std::string name = options.camera;
+  CameraChoice choice = ChooseRenderCamera(model, options.camera);
   int free_body = FirstFreeBody(m);
+  if (choice.id >= 0) {
+    camera.type = mjCAMERA_FIXED;
+    camera.fixedcamid = choice.id;
+    camera_text = "model camera " + CameraLabel(model, choice.id);
+    return;
+  }
+  std::string name = choice.builtin;
   if (name == "auto") name = free_body >= 0 ? "track" : "fixed";
   if (name == "fixed") {
     mjv_defaultFreeCamera(m, &camera);
     camera_text = "fixed: whole model";
-  } else if (name == "track") {
-    if (free_body < 0) {
-      throw ArgumentError("camera", "track",
-                          "follows a free-floating body, and '" + model.file() +
-                              "' has none: use the fixed camera or a camera of the model (" +
-                              Names(model, mjOBJ_CAMERA, m->ncam) + ")");
-    }
-    mjv_defaultFreeCamera(m, &camera);
-    camera.type = mjCAMERA_TRACKING;
-    camera.trackbodyid = free_body;
-    camera_text = "tracking body '" + model.Name(mjOBJ_BODY, free_body) + "'";
-  } else {
-    int id = mj_name2id(m, mjOBJ_CAMERA, name.c_str());
-    if (id < 0) {
-      throw ArgumentError("camera", Quoted(name),
-                          "is not auto, track, fixed or a camera of '" + model.file() +
-                              "' (its cameras: " +
-                              (m->ncam > 0 ? Names(model, mjOBJ_CAMERA, m->ncam) : "none") + ")");
-    }
-    camera.type = mjCAMERA_FIXED;
-    camera.fixedcamid = id;
-    camera_text = "model camera '" + name + "'";
+    return;
   }
+  if (free_body < 0) {
+    throw ArgumentError("camera", Quoted(options.camera),
+                        "follows a free-floating body, and '" + model.file() +
+                            "' has none: use the fixed camera or a camera of the model (" +
+                            (m->ncam > 0 ? Names(model, mjOBJ_CAMERA, m->ncam) : "none") + ")");
+  }
+  mjv_defaultFreeCamera(m, &camera);
+  camera.type = mjCAMERA_TRACKING;
+  camera.trackbodyid = free_body;
+  camera_text = "tracking body '" + model.Name(mjOBJ_BODY, free_body) + "'";
 }
 
 Renderer::Renderer(const Model& model, RenderOptions options) {

@@ -91,6 +91,20 @@ TEST_F(KeyframeTest, TheReferencePoseIsNamedThenHomeThenTestThenQpos0) {
   EXPECT_EQ(test->dof_damping[0], 3);
 }
 
+// Issue 49: a keyframe by its id (Python's keyframe=1, "#1"), named ones too; a keyframe
+// named "#0" keeps its name first.
+TEST_F(KeyframeTest, AKeyframeByItsId) {
+  const char* xml = R"(<mujoco><worldbody><body><joint name="s" type="slide"/>
+      <geom type="box" size="0.1 0.1 0.1"/></body></worldbody>
+      <keyframe><key name="other" qpos="2"/><key name="#0" qpos="1"/></keyframe></mujoco>)";
+  Model model = Model::FromXmlString(xml, "ids.xml");
+  EXPECT_EQ(FindKeyframe(model, "#1"), 1);
+  EXPECT_EQ(FindKeyframe(model, "#0"), 1);  // the name wins
+  EXPECT_EQ(FindKeyframe(model, "other"), 0);
+  EXPECT_THROW(FindKeyframe(model, "#2"), ArgumentError);
+  EXPECT_THROW(FindKeyframe(model, "#-1"), ArgumentError);
+}
+
 TEST_F(KeyframeTest, SetAppliesOnTop) {
   Model model = Model::FromXmlString(testing::kKeyed, "keyed.xml");
   Data data(model);

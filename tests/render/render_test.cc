@@ -153,6 +153,30 @@ TEST(RenderTest, UnknownNamesListWhatExists) {
   EXPECT_THROW(Renderer(model, options), ValueError);
 }
 
+// Issue 49: a model camera named "track" was out of reach behind plumb's tracking camera. The
+// model's cameras come first, by name or "#id"; plumb's own keep names that cannot clash.
+TEST(RenderTest, ModelCamerasComeFirstAndTakeIds) {
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+      <camera name="track" pos="0 -2 1"/><camera pos="0 2 1"/>
+      <body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>)");
+  EXPECT_EQ(ChooseRenderCamera(model, "track").id, 0);
+  EXPECT_EQ(ChooseRenderCamera(model, "#1").id, 1);
+  EXPECT_EQ(ChooseRenderCamera(model, "plumb:track").builtin, "track");
+  EXPECT_EQ(ChooseRenderCamera(model, "plumb:track").id, -1);
+  EXPECT_EQ(ChooseRenderCamera(model, "fixed").builtin, "fixed");
+  EXPECT_EQ(ChooseRenderCamera(model, "auto").builtin, "auto");
+  EXPECT_EQ(CameraLabel(model, 1), "#1");
+  for (const char* bad : {"#2", "#-1", "side", "plumb:side"}) {
+    try {
+      ChooseRenderCamera(model, bad);
+      FAIL() << bad << ": no error";
+    } catch (const ArgumentError& e) {
+      EXPECT_EQ(e.argument(), "camera");
+      EXPECT_NE(std::string(e.what()).find("'track', #1"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(RenderTest, TheCameraFitsTheModel) {
   Model humanoid = Model::Load(testing::kHumanoid);
   MAKE_RENDERER(tracking, humanoid, RenderOptions{});

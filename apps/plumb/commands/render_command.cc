@@ -127,8 +127,9 @@ void SetupRenderCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--fps", o->fps, "video frames per second (rounded to whole steps)")
       ->capture_default_str();
   cmd->add_option("--camera", o->camera,
-                  "auto, track (follow a free body's centre of mass), fixed (frame the whole "
-                  "model) or the name of a camera of the model")
+                  "a camera of the model (its name, or #ID), else auto, track (follow a free "
+                  "body's centre of mass) or fixed (frame the whole model); plumb:track etc. "
+                  "always mean plumb's own")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT in pixels")->capture_default_str();
   cmd->add_option("--highlight", o->highlight,
