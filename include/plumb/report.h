@@ -54,6 +54,9 @@ struct ReportInfo {
   // Frames of the nominal run's animation (0: the two stills only). Each costs about as
   // much as a check on a meshed robot drawn by a software rasteriser: 0.1-0.2 s for a Go2.
   int frames = 12;
+  // One picture only, the start state: no nominal run is drawn (a notebook's light view of a
+  // result; with frames 0, the page's pictures cost one render).
+  bool start_only = false;
   // The pictures, when StartPictures began them before the check; the report waits for them
   // instead of drawing them itself. Null: drawn when the report is written.
   std::shared_ptr<PicturesAhead> ahead = nullptr;

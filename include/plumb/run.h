@@ -55,6 +55,10 @@ struct RunSpec {
   double until = 2.0;         // final time in s (>= 0); steps = ceil(until / timestep)
   double every = 0.1;         // sampling interval in s; a whole multiple of the timestep
   std::vector<Path> columns;  // sampled paths, each a single element (see ScalarPaths)
+  // The time column: false, the sample's nominal time (start + step * timestep, rounded to
+  // their decimals: 0.1); true, the data's clock as MuJoCo accumulates it (mjData.time:
+  // 0.10000000000000007), what a Python user compares with their own MjData.
+  bool clock_time = false;
   // When its source asks to stop (e.g. from a signal handler), Run throws Interrupted before
   // the next step. Default: never.
   StopToken stop;

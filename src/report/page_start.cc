@@ -88,6 +88,10 @@ ModelPictures DrawModelPictures(Renderer& renderer, const Model& model, Data& da
   ModelPictures out;
   out.renderer = renderer.backend() + "; camera " + renderer.camera();
   std::string first = EncodePng(renderer.Render(data));
+  if (info.start_only) {
+    out.stills = {{first, "t = 0, the start state"}};
+    return out;
+  }
   double dt = model->opt.timestep;
   long steps = std::max(1L, std::lround(info.nominal_until / dt));
   long stride = std::max(1L, steps / std::max(1, info.frames));

@@ -476,7 +476,8 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   mjData* d = data.get();
   Schedule schedule = MakeSchedule(m->opt.timestep, spec.until, spec.every);
 
-  // the time column reports the exact sample time, not the accumulated d->time
+  // the time column reports the exact sample time, not the accumulated d->time, unless the
+  // spec asks for the clock
   std::vector<char> is_time(spec.columns.size());
   bool derived = false;
   for (std::size_t c = 0; c < spec.columns.size(); ++c) {
@@ -496,7 +497,7 @@ RunResult Run(const Model& model, Data& data, const RunSpec& spec, SampleSink& s
   auto sample = [&](long step) {
     // after mj_step, derived quantities still describe the state before the step
     if (derived) forward(data);
-    double t = sample_time(step);
+    double t = spec.clock_time ? d->time : sample_time(step);
     for (std::size_t c = 0; c < row.size(); ++c) {
       row[c] = is_time[c] ? t : ReadValue(model, data, spec.columns[c]);
     }
