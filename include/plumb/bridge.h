@@ -144,7 +144,10 @@ struct BridgeConfig {
   // hg: the robot type LowState_ reports (scripts echo it in LowCmd_). -1: from the motor
   // count, as Unitree's G1 rev 1.0 reports it: 5 for 29 motors, 4 for 23; else 0, said at start.
   int mode_machine = -1;
-  // The motors in motor order: actuator or joint names; empty: every actuator in order.
+  // The motors in slot order (motor_cmd[i], motor_state[i]): actuator or joint names; empty:
+  // every actuator in order. A "" entry is an empty slot: the robot has it, the model no motor
+  // for it (Unitree's H1 policy leaves the torso's slot 6 out); its state is all zero and its
+  // commands drive nothing.
   std::vector<std::string> motors;
   bool check_crc = true;  // drop (and count) commands whose CRC is wrong
   // s without a good command before damping: of wall time in realtime; of simulated time in
@@ -176,7 +179,7 @@ struct BridgeConfig {
 };
 
 // Reads a bridge configuration (TOML). Keys: family = "go" | "hg", mode = "lockstep" |
-// "realtime", domain, control_period, start_tick, mode_machine (hg only), motors = [names],
+// "realtime", domain, control_period, start_tick, mode_machine (hg only), motors = [names, ""],
 // check_crc, log, until, seed,
 // command_queue, a [watchdog] table with timeout_ms, kd and patience_s, [imu] and [secondary_imu]
 // tables with quaternion, gyroscope, accelerometer (sensor names) and body, a [sport_state] table
@@ -186,7 +189,8 @@ struct BridgeConfig {
 // The file is read as ReadInputFile reads it (src/core/input_file.h): a FIFO, a directory or a
 // device is refused, and so is a file over 1 MiB.
 // @throws ValueError naming the file, line and key for anything unknown or out of range, or a
-// motor named twice; IoError when the file is missing, not a regular file, or too large.
+// motor named twice, or motors = [...] of empty slots only; IoError when the file is missing, not
+// a regular file, or too large.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 
 struct BridgeStats {
@@ -231,12 +235,14 @@ struct BridgeCommandSlot {
 };
 
 // A motor of the model as the bridge drives it: its name (actuator or joint), the joint it
-// moves, and the torque it can give, N*m (from forcerange and ctrlrange x gain x gear).
+// moves, and the torque it can give, N*m (from forcerange and ctrlrange x gain x gear). An
+// empty slot ("" in motors = [...]) has no name and no joint.
 struct BridgeMotorInfo {
   std::string name;
   int joint = -1;
   int actuator = -1;  // -1: a joint driven through qfrc_applied
   double torque_lo = -INFINITY, torque_hi = INFINITY;
+  bool empty() const { return joint < 0; }
 };
 
 // One motor at a published state: what it measured, the command in force, and the torque the
@@ -254,7 +260,8 @@ class BridgeObserver {
  public:
   virtual ~BridgeObserver() = default;
   // The link is up and the first state has gone out: a client may start now. `model` is the
-  // bridge's copy; `motors` in motor order.
+  // bridge's copy; `motors` in slot order, empty slots included (BridgeMotorInfo::empty); the
+  // samples of Published are in the same order, an empty slot's all zero.
   virtual void Started(const Model& /*model*/, const std::vector<BridgeMotorInfo>& /*motors*/) {}
   // A good command (CRC and values checked) from the controller in charge arrived, at
   // simulated time `t` and `wall` s of the steady clock: every slot of the message.

@@ -118,9 +118,11 @@ struct ClientView {
   // wall time between successive commands, s (NaN with fewer than two)
   double period_median = NAN, period_p95 = NAN, period_worst = NAN;
   double commands_per_period = NAN;  // commands per control_period of simulated time
+  // the model's motors in slot order (a slot empty in motors = [...] left out)
   std::vector<ClientMotorView> motors;
-  // Slots beyond the model's motors that the client commanded (mode, gain, target or torque
-  // not zero): "slot 12 (mode 1, kp 20)".
+  // Slots beyond the model's motors, or empty in the bridge's motors = [...], that the client
+  // asked torque of (kp, kd or tau not zero): "slot 12 (mode 1, kp 20)", "slot 6 (empty in
+  // motors = [...]) (mode 1, kp 20)".
   std::vector<std::string> unknown_motors;
   // Actuators of the model that act on a motor's joint with a PD of their own (a position or
   // velocity servo, a bias) on top of the commanded one: "actuator 'FR_hip_pos' on joint
@@ -154,7 +156,9 @@ struct RehearsalResult {
 // "xpos[pelvis][2] > 0.5", "mean(qvel[0]) > 0.3 during [7, 11]") over the model's paths, and
 // the motors' signals: tracking_error[MOTOR] (q_des - q, rad), torque[MOTOR] (what the law
 // asks, N*m), saturated[MOTOR] (1 when that is beyond the motor's limit, else 0; mean(...) is
-// the fraction of states). MOTOR is a name of the bridge's motors, a motor number, or '*'.
+// the fraction of states). MOTOR is a name of the bridge's motors, a motor number (its slot:
+// motor_cmd[MOTOR], counting empty slots of motors = [...], which no assertion may name), or
+// '*' (every motor, empty slots left out).
 // @throws ValueError / PathError quoting it.
 RehearsalAssertion ParseRehearsalAssertion(const Model& model, const BridgeConfig& config,
                                            const std::string& text);

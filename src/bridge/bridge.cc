@@ -80,6 +80,7 @@ class Loop {
           config.control_period, dt));
     }
     commands_.resize(map_.size());
+    empty_slots_ = map_.EmptySlots();
     stuck_at_.assign(map_.size(), NAN);
     imu_ = bridge::Imu::Bind(work_, config.imu, bridge::kPrimaryImu, config.positions);
     secondary_ =
@@ -193,7 +194,7 @@ class Loop {
       }
       std::vector<bridge::MotorCommand> next;
       bridge::CommandVerdict verdict =
-          bridge::CheckCommand(cmd, config_.check_crc, map_.size(), &next);
+          bridge::CheckCommand(cmd, config_.check_crc, map_.size(), &next, empty_slots_);
       if (verdict == bridge::CommandVerdict::kBadCrc) {
         ++stats_.bad_crc;
         Event(fmt::format("dropped a command with a bad CRC ({:#010x}, expected {:#010x})", cmd.crc,
@@ -470,6 +471,7 @@ class Loop {
     std::uint32_t n = state_count_++;
     std::vector<bridge::PublishedMotor> published(map_.size());
     for (std::size_t i = 0; i < map_.size(); ++i) {
+      if (empty_slots_[i]) continue;  // all zero, as the memset left it
       auto& m = s.motor_state[i];
       int motor = static_cast<int>(i);
       m.mode = commands_[i].mode;
@@ -596,6 +598,7 @@ class Loop {
   DerivedRefresher refresh_{work_};
   long steps_per_period_ = 1;
   std::vector<bridge::MotorCommand> commands_;
+  std::vector<bool> empty_slots_;  // "" in motors = [...]: published as zeros, driving nothing
   std::optional<bridge::FlightRecorder> recorder_;
   bool damping_ = false;
   int mode_machine_ = 0;        // hg: the robot type every state reports

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -95,10 +96,10 @@ class Reader {
     return table;
   }
 
-  // A list of non-empty names, or `fallback` when the key is absent.
+  // A list of non-empty names ("" too with `empty_ok`), or `fallback` when the key is absent.
   std::vector<std::string> Names(const toml::table& t, const std::string& key,
                                  const std::string& what, const std::string& prefix,
-                                 std::vector<std::string> fallback = {}) {
+                                 std::vector<std::string> fallback = {}, bool empty_ok = false) {
     const toml::node* node = t.get(key);
     if (node == nullptr) return fallback;
     const toml::array* names = node->as_array();
@@ -106,7 +107,9 @@ class Reader {
     std::vector<std::string> out;
     for (const toml::node& name : *names) {
       std::optional<std::string> v = name.value<std::string>();
-      if (!v || v->empty()) Fail(&name, prefix + key, "every entry must be a name in quotes");
+      if (!v || (v->empty() && !empty_ok)) {
+        Fail(&name, prefix + key, "every entry must be a name in quotes");
+      }
       (*positions_)[fmt::format("{}{}[{}]", prefix, key, out.size())] = At(&name);
       out.push_back(*v);
     }
@@ -300,14 +303,21 @@ BridgeGamepad ReadGamepad(Reader& r, const toml::table& t) {
   return g;
 }
 
-// Refuses a motor named twice: the flight recorder names its columns by motor, and a log with
-// a column twice is one plumb replay refuses.
-void CheckMotorsOnce(const Reader& r, const toml::table& table,
-                     const std::vector<std::string>& motors) {
+// Refuses a motor named twice (the flight recorder names its columns by motor, and a log with
+// a column twice is one plumb replay refuses) and a list of empty slots only: a "" entry is a
+// slot of the robot's the model has no motor for, and some slot must drive the model.
+void CheckMotors(const Reader& r, const toml::table& table,
+                 const std::vector<std::string>& motors) {
   const toml::array* nodes = table.get_as<toml::array>("motors");
+  if (!motors.empty() &&
+      std::all_of(motors.begin(), motors.end(), [](const std::string& m) { return m.empty(); })) {
+    r.Fail(nodes, "motors",
+           "every slot is empty (\"\"): name at least one actuator or joint of the model; "
+           "\"\" marks only a slot of the robot's the model has no motor for");
+  }
   for (std::size_t j = 0; j < motors.size(); ++j) {
     for (std::size_t i = 0; i < j; ++i) {
-      if (motors[i] != motors[j]) continue;
+      if (motors[j].empty() || motors[i] != motors[j]) continue;
       r.Fail(nodes->get(j), "motors",
              fmt::format("'{}' is named twice, as motor {} (at {}) and motor {}: name each "
                          "motor once",
@@ -354,8 +364,9 @@ BridgeConfig LoadBridgeConfig(const std::string& path) {
   c.until = r.Number(table, "until", INFINITY, 0, INFINITY);
   c.check_crc = r.Flag(table, "check_crc", true);
   c.log = r.Text(table, "log", "a file name");
-  c.motors = r.Names(table, "motors", "actuator or joint names", "");
-  CheckMotorsOnce(r, table, c.motors);
+  // "": a slot of the robot's the model has no motor for
+  c.motors = r.Names(table, "motors", "actuator or joint names", "", {}, true);
+  CheckMotors(r, table, c.motors);
   if (const toml::table* w = r.Table(table, "watchdog")) {
     r.OnlyKeys(*w, {"timeout_ms", "kd", "patience_s"}, "watchdog.");
     c.watchdog_timeout = r.Number(*w, "timeout_ms", 100, 1, 60000, "watchdog.") / 1000;

@@ -17,15 +17,18 @@ namespace plumb::bridge {
 enum class CommandVerdict { kGood, kBadCrc, kNonFinite };
 
 // Checks `cmd` and, when it is good, writes the first `motors` motor commands to `out`
-// (`motors` is at most the family's motor count: the motor map checks that).
+// (`motors` is at most the family's motor count: the motor map checks that). A slot that
+// `empty` marks (MotorMap::EmptySlots) drives nothing: it is left mode 0 and not checked, as
+// slots beyond `motors` are not.
 template <typename Cmd>
 CommandVerdict CheckCommand(const Cmd& cmd, bool check_crc, std::size_t motors,
-                            std::vector<MotorCommand>* out) {
+                            std::vector<MotorCommand>* out, const std::vector<bool>& empty = {}) {
   if (check_crc && UnitreeCrc(cmd) != cmd.crc) return CommandVerdict::kBadCrc;
   constexpr std::size_t kSlots = sizeof(cmd.motor_cmd) / sizeof(cmd.motor_cmd[0]);
   if (motors > kSlots) motors = kSlots;
   out->assign(motors, {});
   for (std::size_t i = 0; i < motors; ++i) {
+    if (i < empty.size() && empty[i]) continue;
     const auto& m = cmd.motor_cmd[i];
     (*out)[i] = {m.mode, m.q, m.dq, m.tau, m.kp, m.kd};
     if (!(*out)[i].finite()) return CommandVerdict::kNonFinite;

@@ -40,7 +40,12 @@ std::string LinkColumn(const char* message, const char* field, const MotorMap& m
 }  // namespace
 
 FlightRecorder::FlightRecorder(const std::string& path, const Model& model, const MotorMap& motors)
-    : path_(path), m_(model.get()), motors_(motors.size()) {
+    : path_(path), m_(model.get()) {
+  // an empty slot ("" in motors = [...]) has no columns: the mapped motors' keep their names
+  for (std::size_t i = 0; i < motors.size(); ++i) {
+    if (!motors.motors()[i].empty()) slots_.push_back(i);
+  }
+  motors_ = slots_.size();
   // qpos, qvel and sensordata named as `plumb run` names them (by joint and sensor, one column
   // an element, in address order); what was applied and what crossed the link by motor
   std::vector<Path> named = DefaultColumns(model);
@@ -52,7 +57,8 @@ FlightRecorder::FlightRecorder(const std::string& path, const Model& model, cons
     return text;
   };
   std::string header = "time,kind,event" + columns("qpos") + columns("qvel");
-  for (const Motor& motor : motors.motors()) {
+  for (std::size_t i : slots_) {
+    const Motor& motor = motors.motors()[i];
     if (motor.actuator >= 0) {
       ctrl_.push_back(motor.ctrl);
       header += "," + CsvField(Label(model, "ctrl", mjOBJ_ACTUATOR, motor.actuator, motor.ctrl));
@@ -63,10 +69,10 @@ FlightRecorder::FlightRecorder(const std::string& path, const Model& model, cons
   }
   header += columns("sensordata");
   simulated_ = m_->nq + m_->nv + ctrl_.size() + applied_.size() + m_->nsensordata;
-  for (std::size_t i = 0; i < motors_; ++i) {
+  for (std::size_t i : slots_) {
     for (const char* f : kCommandFields) header += "," + CsvField(LinkColumn("cmd", f, motors, i));
   }
-  for (std::size_t i = 0; i < motors_; ++i) {
+  for (std::size_t i : slots_) {
     for (const char* f : kStateFields) header += "," + CsvField(LinkColumn("state", f, motors, i));
   }
   // the log appears with its header whole, then grows a line at a time
@@ -103,7 +109,8 @@ void FlightRecorder::State(const mjData* d, const std::vector<PublishedMotor>& p
   for (int v : applied_) row += "," + CsvNumber(d->qfrc_applied[v]);
   for (int i = 0; i < m_->nsensordata; ++i) row += "," + CsvNumber(d->sensordata[i]);
   row += Empty(6 * motors_);
-  for (const PublishedMotor& p : published) {
+  for (std::size_t i : slots_) {
+    const PublishedMotor& p = published[i];
     row += "," + CsvNumber(p.q) + "," + CsvNumber(p.dq) + "," + CsvNumber(p.tau_est);
   }
   Line(row);
@@ -111,7 +118,8 @@ void FlightRecorder::State(const mjData* d, const std::vector<PublishedMotor>& p
 
 void FlightRecorder::Command(double time, const std::vector<MotorCommand>& command) {
   std::string row = CsvNumber(time) + ",command," + Empty(simulated_);
-  for (const MotorCommand& c : command) {
+  for (std::size_t i : slots_) {
+    const MotorCommand& c = command[i];
     row += "," + std::to_string(int(c.mode));
     for (double v : {c.q, c.dq, c.kp, c.kd, c.tau}) row += "," + CsvNumber(v);
   }

@@ -10,7 +10,7 @@
 // motor order, named by its actuator or joint (its slot number when unnamed), what crossed
 // the link: cmd.mode[m], cmd.q[m], cmd.dq[m], cmd.kp[m], cmd.kd[m], cmd.tau[m] (command rows)
 // and state.q[m], state.dq[m], state.tau_est[m] (state rows, as published, noise included).
-// Cells a row does not concern are empty.
+// Cells a row does not concern are empty. An empty slot ("" in motors = [...]) has no columns.
 //
 // The log is append-only and survives the bridge being killed: it appears (through AtomicFile)
 // with its header whole, then each row goes to the file as it happens, one write() of the whole
@@ -62,8 +62,9 @@ class FlightRecorder {
   int fd_ = -1;  // the log, open for appending
   const mjModel* m_;
   std::vector<int> ctrl_, applied_;  // control rows, dof ids
-  std::size_t motors_ = 0;
-  std::size_t simulated_ = 0;  // columns of the simulated state and what was applied
+  std::vector<std::size_t> slots_;   // the slots with a motor (not empty), in slot order
+  std::size_t motors_ = 0;           // how many: slots_.size()
+  std::size_t simulated_ = 0;        // columns of the simulated state and what was applied
 };
 
 }  // namespace plumb::bridge

@@ -108,7 +108,17 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
       map.motors_.push_back(FromActuator(model, u, map.size()));
     }
   }
+  if (!names.empty() && std::all_of(names.begin(), names.end(),
+                                    [](const std::string& name) { return name.empty(); })) {
+    throw ValueError(fmt::format(
+        "{}every slot in motors = [...] is empty: name at least one actuator or joint of '{}'",
+        Place(positions, "motors[0]"), model.file()));
+  }
   for (const std::string& name : names) {
+    if (name.empty()) {  // a slot of the robot's the model has no motor for
+      map.motors_.emplace_back();
+      continue;
+    }
     std::string place = Place(positions, fmt::format("motors[{}]", map.size()));
     int u = mj_name2id(m, mjOBJ_ACTUATOR, name.c_str());
     int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
@@ -126,6 +136,7 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
     }
   }
   for (Motor& motor : map.motors_) {
+    if (motor.empty()) continue;
     motor.qpos = m->jnt_qposadr[motor.joint];
     motor.dof = m->jnt_dofadr[motor.joint];
     motor.sensor_q = SensorOn(m, mjSENS_JOINTPOS, mjOBJ_JOINT, motor.joint);
@@ -142,18 +153,27 @@ MotorMap MotorMap::Bind(const Model& model, const std::vector<std::string>& name
   return map;
 }
 
+std::vector<bool> MotorMap::EmptySlots() const {
+  std::vector<bool> empty;
+  for (const Motor& motor : motors_) empty.push_back(motor.empty());
+  return empty;
+}
+
 double MotorMap::Q(const mjData* d, std::size_t i) const {
   const Motor& motor = motors_[i];
+  if (motor.empty()) return 0;
   return motor.sensor_q >= 0 ? d->sensordata[motor.sensor_q] : d->qpos[motor.qpos];
 }
 
 double MotorMap::Dq(const mjData* d, std::size_t i) const {
   const Motor& motor = motors_[i];
+  if (motor.empty()) return 0;
   return motor.sensor_dq >= 0 ? d->sensordata[motor.sensor_dq] : d->qvel[motor.dof];
 }
 
 double MotorMap::TauEst(const mjData* d, std::size_t i) const {
   const Motor& motor = motors_[i];
+  if (motor.empty()) return 0;
   if (motor.actuator < 0) return d->qfrc_applied[motor.dof];
   if (motor.tau_at_joint) return d->sensordata[motor.sensor_tau];
   // actuatorfrc is the actuator's scalar force; the joint sees it times the gear
@@ -164,6 +184,7 @@ double MotorMap::TauEst(const mjData* d, std::size_t i) const {
 
 double MotorMap::Apply(mjData* d, std::size_t i, double tau) const {
   const Motor& motor = motors_[i];
+  if (motor.empty()) return 0;
   double applied = std::clamp(tau, motor.torque_lo, motor.torque_hi);
   if (motor.actuator >= 0) {
     d->ctrl[motor.ctrl] = applied / motor.torque_per_ctrl;

@@ -9,6 +9,9 @@
 // joint (the actuators' force measured at the joint, MuJoCo 3.x), else from an actuatorfrc
 // sensor of the actuator times its gear, else from the force it applies; a joint's is the
 // torque applied through qfrc_applied.
+//
+// A slot may be empty ("" in motors = [...]): the robot has the slot, the model no motor for
+// it. Its q, dq and tau_est read 0 and what is applied to it goes nowhere.
 
 #ifndef PLUMB_SRC_BRIDGE_MOTOR_MAP_H_
 #define PLUMB_SRC_BRIDGE_MOTOR_MAP_H_
@@ -33,27 +36,32 @@ struct Motor {
   double torque_lo = -1e300, torque_hi = 1e300;        // from forcerange and ctrlrange, N*m
   int sensor_q = -1, sensor_dq = -1, sensor_tau = -1;  // sensordata addresses, or -1
   bool tau_at_joint = false;  // sensor_tau is a jointactuatorfrc (joint torque, no gear)
+  // An empty slot ("" in motors = [...]): no joint, no actuator.
+  bool empty() const { return joint < 0; }
 };
 
 class MotorMap {
  public:
   // Binds `names` (actuator or joint names, one a motor, in motor order) or, when empty,
-  // every actuator in order (by actuator, not by control: a pid takes two controls). @throws
-  // ValueError naming the motor and the element when a name is unknown, an actuator is not a torque
-  // motor on a single joint, or a joint is not a hinge or slide; with `positions`
-  // (BridgeConfig::positions) the message starts at the name's file:line.
+  // every actuator in order (by actuator, not by control: a pid takes two controls); an empty
+  // name is an empty slot. @throws ValueError naming the motor and the element when a name is
+  // unknown, an actuator is not a torque motor on a single joint, or a joint is not a hinge or
+  // slide, or when every name is empty; with `positions` (BridgeConfig::positions) the message
+  // starts at the name's file:line.
   static MotorMap Bind(const Model& model, const std::vector<std::string>& names,
                        const BridgePositions& positions = {});
 
   const std::vector<Motor>& motors() const { return motors_; }
-  std::size_t size() const { return motors_.size(); }
+  std::size_t size() const { return motors_.size(); }  // slots, empty ones included
+  // Whether each slot is empty, in slot order.
+  std::vector<bool> EmptySlots() const;
 
   double Q(const mjData* d, std::size_t i) const;
   double Dq(const mjData* d, std::size_t i) const;
   double TauEst(const mjData* d, std::size_t i) const;
 
   // Applies `tau` (N*m, clipped to the motor's limits) to motor i: ctrl for an actuator,
-  // qfrc_applied for a joint. Returns the torque applied.
+  // qfrc_applied for a joint, nothing for an empty slot (returns 0). Returns the torque applied.
   double Apply(mjData* d, std::size_t i, double tau) const;
 
  private:

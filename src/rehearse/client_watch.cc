@@ -34,9 +34,11 @@ std::string Named(const Model& model, int type, int id, const char* noun) {
 // A slot the client asks torque of (kp, kd or tau not 0); see client_watch.h.
 bool AsksTorque(const BridgeCommandSlot& s) { return s.kp != 0 || s.kd != 0 || s.tau != 0; }
 
-// "slot 12 (mode 1, kp 20, kd 0.5, q 0.3)": the mode and what is not 0.
-std::string SlotText(std::size_t index, const BridgeCommandSlot& s) {
-  std::string text = "slot " + std::to_string(index) + " (mode " + std::to_string(s.mode);
+// "slot 12 (mode 1, kp 20, kd 0.5, q 0.3)": the mode and what is not 0; an empty slot of the
+// motor map says so: "slot 6 (empty in motors = [...]) (mode 1, kp 20)".
+std::string SlotText(std::size_t index, const BridgeCommandSlot& s, bool empty) {
+  std::string text = "slot " + std::to_string(index) + (empty ? " (empty in motors = [...])" : "") +
+                     " (mode " + std::to_string(s.mode);
   const std::pair<const char*, double> fields[] = {
       {"kp", s.kp}, {"kd", s.kd}, {"q", s.q}, {"dq", s.dq}, {"tau", s.tau}};
   for (const auto& [name, value] : fields) {
@@ -115,6 +117,11 @@ ClientWatch::ClientWatch(const Model& model, const std::vector<BridgeMotorInfo>&
   for (const BridgeMotorInfo& info : motors) {
     MotorFacts f;
     f.info = info;
+    if (info.empty()) {  // a slot the model has no motor for
+      motors_.push_back(f);
+      continue;
+    }
+    mapped_.push_back(motors_.size());
     f.element =
         info.actuator >= 0
             ? CheckElement{"actuator", model.Name(mjOBJ_ACTUATOR, info.actuator), info.actuator}
@@ -149,12 +156,13 @@ void ClientWatch::Commanded(double t, double wall, const std::vector<BridgeComma
   latest_time_ = std::isnan(latest_time_) ? t : std::max(latest_time_, t);
   for (std::size_t i = 0; i < slots.size(); ++i) {
     const BridgeCommandSlot& s = slots[i];
-    if (i >= motors_.size()) {
+    bool empty = i < motors_.size() && motors_[i].info.empty();
+    if (i >= motors_.size() || empty) {
       if (!AsksTorque(s)) continue;
       if (std::find(unknown_slots_.begin(), unknown_slots_.end(), int(i)) != unknown_slots_.end())
         continue;
       unknown_slots_.push_back(int(i));
-      unknown_.push_back(SlotText(i, s));
+      unknown_.push_back(SlotText(i, s, empty));
       continue;
     }
     if (s.mode == 0) continue;
@@ -177,7 +185,7 @@ void ClientWatch::Published(const Model& /*model*/, const Data& data,
   latest_time_ = std::max(latest_time_, data->time);
   for (std::size_t i = 0; i < motors.size() && i < motors_.size(); ++i) {
     const BridgeMotorSample& s = motors[i];
-    if (s.command.mode == 0 || s.damping) continue;
+    if (s.command.mode == 0 || s.damping || motors_[i].info.empty()) continue;
     MotorTally& tally = tally_[i];
     const BridgeMotorInfo& info = motors_[i].info;
     double size = std::fabs(s.torque);
@@ -210,7 +218,7 @@ ClientView ClientWatch::View(double client_start) const {
   if (commands_ > 0 && span > 0 && control_period_ > 0) {
     view.commands_per_period = commands_ / (span / control_period_);
   }
-  for (std::size_t i = 0; i < motors_.size(); ++i) {
+  for (std::size_t i : mapped_) {
     const MotorTally& t = tally_[i];
     ClientMotorView m;
     m.name = motors_[i].info.name;
@@ -339,8 +347,10 @@ CheckRow ClientWatch::RangeRow(const ClientMotorView& view, const MotorFacts& mo
 
 std::vector<CheckRow> ClientWatch::RangeRows(const ClientView& view) const {
   std::vector<CheckRow> rows;
-  for (std::size_t i = 0; i < view.motors.size() && i < motors_.size(); ++i) {
-    if (view.motors[i].outside_range > 0) rows.push_back(RangeRow(view.motors[i], motors_[i]));
+  for (std::size_t k = 0; k < view.motors.size() && k < mapped_.size(); ++k) {
+    if (view.motors[k].outside_range > 0) {
+      rows.push_back(RangeRow(view.motors[k], motors_[mapped_[k]]));
+    }
   }
   if (!rows.empty()) return rows;
   CheckRow row = ClientRow("client.range", "targets within the joints' range");
@@ -379,10 +389,11 @@ CheckRow ClientWatch::TorqueRow(const ClientMotorView& view, const MotorFacts& m
 std::vector<CheckRow> ClientWatch::TorqueRows(const ClientView& view) const {
   std::vector<CheckRow> rows;
   double most = 0;
-  for (std::size_t i = 0; i < view.motors.size() && i < motors_.size(); ++i) {
-    most = std::max(most, view.motors[i].saturated_fraction);
-    if (view.motors[i].saturated_fraction > kSaturated) {
-      rows.push_back(TorqueRow(view.motors[i], motors_[i], tally_[i]));
+  for (std::size_t k = 0; k < view.motors.size() && k < mapped_.size(); ++k) {
+    most = std::max(most, view.motors[k].saturated_fraction);
+    if (view.motors[k].saturated_fraction > kSaturated) {
+      std::size_t i = mapped_[k];
+      rows.push_back(TorqueRow(view.motors[k], motors_[i], tally_[i]));
     }
   }
   if (!rows.empty()) return rows;
@@ -402,11 +413,15 @@ CheckRow ClientWatch::MotorsRow(const ClientView& view) const {
   if (view.unknown_motors.empty()) {
     row.status = CheckStatus::kPass;
     row.measured_text =
-        "the client drives only the model's " + std::to_string(motors_.size()) + " motors";
+        "the client drives only the model's " + std::to_string(mapped_.size()) + " motors";
     return row;
   }
   row.status = CheckStatus::kFail;
-  row.subject = "slots beyond the model's " + std::to_string(motors_.size()) + " motors";
+  std::string slots = std::to_string(motors_.size());
+  row.subject = mapped_.size() == motors_.size()
+                    ? "slots beyond the model's " + slots + " motors"
+                    : "slots the model has no motor for (empty in motors = [...] or beyond its " +
+                          slots + " slots)";
   row.measured_text = Join(view.unknown_motors, "; ");
   row.explanation =
       "the client drives motors the model lacks: what it sends there drives "

@@ -6,7 +6,8 @@
 //
 // A slot "asks" for something when its mode is not 0: a target position counts against the
 // joint's range when its kp is above 0 (Unitree's clients write PosStopF, 2.146e9, with kp 0
-// to mean "no position control"); a slot beyond the model's motors counts as commanded when it
+// to mean "no position control"); a slot beyond the model's motors, or empty in the bridge's
+// motors = [...] ("": the robot's slot the model has no motor for), counts as commanded when it
 // asks for torque (kp, kd or tau not 0, whatever its mode: Unitree's InitLowCmd sets mode 1,
 // PosStopF and VelStopF with zero gains in every slot, which drives nothing).
 //
@@ -86,7 +87,8 @@ class ClientWatch {
   CheckRow OwnPdRow(const ClientView& view) const;
   CheckRow FloodRow(const ClientView& view, const BridgeStats& stats) const;
 
-  std::vector<MotorFacts> motors_;
+  std::vector<MotorFacts> motors_;   // in slot order, empty slots included
+  std::vector<std::size_t> mapped_;  // the slots with a motor; ClientView::motors follows them
   double control_period_ = 0;
   bool realtime_ = false;
   std::vector<std::string> own_pd_;  // found at construction

@@ -30,8 +30,9 @@ constexpr SignalName kSignals[] = {{"tracking_error", Signal::kTrackingError},
                                    {"torque", Signal::kTorque},
                                    {"saturated", Signal::kSaturated}};
 
-// The bridge's motors as MotorMap::Bind names them (src/bridge/motor_map.cc): the configured
-// actuators or joints, else every actuator in order; an unnamed actuator reads as its number.
+// The bridge's motors as MotorMap::Bind names them (src/bridge/motor_map.cc), in slot order:
+// the configured actuators or joints ("" for an empty slot), else every actuator in order; an
+// unnamed actuator reads as its number.
 std::vector<std::string> MotorNames(const Model& model, const BridgeConfig& config) {
   if (!config.motors.empty()) return config.motors;
   std::vector<std::string> names;
@@ -42,23 +43,33 @@ std::vector<std::string> MotorNames(const Model& model, const BridgeConfig& conf
   return names;
 }
 
-// The motors `which` names: a motor's name, its number, or '*'.
+// The motors `which` names: a motor's name, its number (its slot), or '*' (every motor, empty
+// slots left out).
 std::vector<int> Motors(const std::vector<std::string>& names, std::string_view which,
                         const std::string& text) {
   std::vector<int> motors;
-  if (which == "*") {
-    for (std::size_t i = 0; i < names.size(); ++i) motors.push_back(static_cast<int>(i));
-    return motors;
-  }
+  std::vector<std::string> named;  // the motors, for the message
   for (std::size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == which) return {static_cast<int>(i)};
+    if (names[i].empty()) continue;
+    motors.push_back(static_cast<int>(i));
+    named.push_back(names[i]);
+  }
+  if (which == "*") return motors;
+  for (int i : motors) {
+    if (names[i] == which) return {i};
   }
   std::optional<long> number = ParseIndex(which);
-  if (number && *number < static_cast<long>(names.size())) return {static_cast<int>(*number)};
+  if (number && *number < static_cast<long>(names.size())) {
+    if (!names[*number].empty()) return {static_cast<int>(*number)};
+    throw ValueError(fmt::format(
+        "assertion '{}': slot {} is empty in the bridge's motors = [...]: the model has no motor "
+        "there; name one of its motors ({}) or '*' for each.",
+        Echo(text), *number, Join(named, ", ")));
+  }
   throw ValueError(fmt::format(
       "assertion '{}': '{}' is not a motor of the bridge: name one of its {} motors ({}), a motor "
-      "number 0..{}, or '*' for each.",
-      Echo(text), Echo(which), names.size(), Join(names, ", "),
+      "number 0..{} (its slot), or '*' for each.",
+      Echo(text), Echo(which), named.size(), Join(named, ", "),
       static_cast<long>(names.size()) - 1));
 }
 

@@ -49,6 +49,8 @@ RehearsalTally::RehearsalTally(const std::vector<RehearsalAssertion>& assertions
       motors_(motors),
       trace_cap_(std::max<std::size_t>(trace_cap, 2)) {
   for (std::size_t i = 0; i < motors.size(); ++i) {
+    if (motors[i].empty()) continue;  // "" in motors = [...]: no motor, no trace
+    motor_slots_.push_back(i);
     motor_names_.push_back(motors[i].name.empty() ? std::to_string(i) : motors[i].name);
   }
   // the asserted signals, each once, then each motor's commanded and measured position
@@ -132,12 +134,13 @@ void RehearsalTally::Sample(const Model& model, const Data& data,
     }
   }
   if (!keep) return;
-  std::size_t n = std::min(motors.size(), motor_names_.size());
   std::size_t q_des = trace_.values.size() - 2 * motor_names_.size();
-  for (std::size_t m = 0; m < n; ++m) {
-    const BridgeCommandSlot& c = motors[m].command;
+  for (std::size_t m = 0; m < motor_slots_.size(); ++m) {
+    std::size_t slot = motor_slots_[m];
+    if (slot >= motors.size()) break;
+    const BridgeCommandSlot& c = motors[slot].command;
     trace_.values[q_des + m].back() = c.mode != 0 ? c.q : NAN;
-    trace_.values[q_des + motor_names_.size() + m].back() = motors[m].q;
+    trace_.values[q_des + motor_names_.size() + m].back() = motors[slot].q;
   }
 }
 

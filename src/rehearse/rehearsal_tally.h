@@ -51,7 +51,8 @@ class RehearsalTally {
   std::vector<Assertion> plain_;  // each one's Assertion, as tally_ reads them
   AssertionTally tally_;
   std::vector<BridgeMotorInfo> motors_;
-  std::vector<std::string> motor_names_;               // the motors' names, a number when unnamed
+  std::vector<std::size_t> motor_slots_;  // the slots with a motor (empty ones left out)
+  std::vector<std::string> motor_names_;  // the motors' names, a number when unnamed
   std::vector<std::vector<std::size_t>> trace_index_;  // [assertion][signal]: its trace row
   RehearsalTrace trace_;
   std::size_t trace_cap_;

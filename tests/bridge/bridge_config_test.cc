@@ -265,6 +265,22 @@ TEST(BridgeConfigTest, AMotorNamedTwiceIsRefused) {
   EXPECT_NE(why.find("b.toml:1:11) and motor 2"), std::string::npos) << why;
 }
 
+// Unitree's H1 deploy script commands slots 0-5, 7, 8, 10, 11 for its model's legs: "" in
+// motors = [...] is a slot of the robot's the model has no motor for (trailing ones too); a
+// list of empty slots only is refused at its line.
+TEST(BridgeConfigTest, AnEmptyMotorSlotIsRead) {
+  testing::TempDir dir;
+  testing::WriteFile(dir.File("b.toml"), "motors = [\"\", \"hinge\", \"\", \"\"]\n");
+  BridgeConfig c = LoadBridgeConfig(dir.File("b.toml"));
+  EXPECT_EQ(c.motors, (std::vector<std::string>{"", "hinge", "", ""}));
+  EXPECT_EQ(c.positions.at("motors[1]"), dir.File("b.toml") + ":1:15");
+  EXPECT_EQ(Complaint("motors = [\"hinge\", \"\", \"\"]\n"), "");  // not named twice
+  std::string why = Complaint("family = \"go\"\nmotors = [\"\", \"\"]\n");
+  EXPECT_NE(why.find("b.toml:2:10: motors: every slot is empty"), std::string::npos) << why;
+  EXPECT_NE(Complaint("motors = [\"hinge\", 3]\n").find("every entry must be a name in quotes"),
+            std::string::npos);
+}
+
 // Issue 46: a name the model lacks ([imu], [band], motors, [sport_state]) is reported at the
 // line that wrote it.
 TEST(BridgeConfigTest, NamesTheModelLacksAreReportedAtTheirLine) {

@@ -235,6 +235,43 @@ TEST(BridgeTest, LockstepAppliesABurstOfCommandsInOrder) {
   }
 }
 
+// "" in motors = [...] lays the slots out as the robot's (Unitree's H1 script leaves slot 6
+// out of its model): slot 1 drives the hinge; slot 0 publishes zeros, and what is sent there
+// (torque, even a NaN) drives nothing and drops no command. The log has no columns for it.
+TEST(BridgeTest, AnEmptySlotPublishesZerosAndDrivesNothing) {
+  testing::TempDir dir;
+  BridgeConfig config = PendulumConfig(testing::FreeDomain(), 1.0);
+  config.motors = {"", "hinge"};
+  config.log = dir.File("flight.csv");
+  PendulumBridge bridge(config);
+  ASSERT_TRUE(bridge.controller.Matched());
+  State s;
+  double q = NAN;
+  bool zeros = true;
+  while (bridge.controller.Next(&s) && SimMs(s) < 1000) {
+    const auto& empty = s.motor_state[0];
+    zeros = zeros && empty.mode == 0 && empty.q == 0 && empty.dq == 0 && empty.tau_est == 0;
+    q = s.motor_state[1].q;
+    Cmd cmd = Hold(0.5);
+    cmd.motor_cmd[1] = cmd.motor_cmd[0];
+    cmd.motor_cmd[0].kp = 50;
+    cmd.motor_cmd[0].tau = 5;
+    cmd.motor_cmd[0].dq = NAN;
+    bridge.controller.Send(cmd);
+  }
+  BridgeStats stats = bridge.Finish();
+  EXPECT_TRUE(zeros);
+  EXPECT_NEAR(q, 0.5, 0.01);
+  EXPECT_EQ(stats.non_finite, 0);
+  EXPECT_EQ(stats.commands, 500);
+  std::string log = testing::ReadFile(config.log);
+  std::string header = log.substr(0, log.find('\n'));
+  EXPECT_EQ(Occurrences(header, "cmd.mode["), 1) << header;
+  EXPECT_EQ(Occurrences(header, "state.q["), 1) << header;
+  EXPECT_EQ(Occurrences(header, "cmd.q[hinge]"), 1) << header;
+  EXPECT_EQ(Occurrences(header, "cmd.q[0]"), 0) << header;
+}
+
 // Realtime damps before any controller connects; that is not a watchdog trip.
 TEST(BridgeTest, DampingBeforeAControllerIsNoWatchdogTrip) {
   Model model = Model::Load(testing::kPendulum);

@@ -42,6 +42,33 @@ TEST(MotorMapTest, BindsActuatorsAndJointsByName) {
   EXPECT_EQ(map.motors()[2].actuator, -1);  // the joint itself, through qfrc_applied
 }
 
+// "" is a slot of the robot's the model has no motor for: it reads 0 and drives nothing.
+TEST(MotorMapTest, AnEmptySlotReadsZeroAndDrivesNothing) {
+  Model model = Model::FromXmlString(kArm, "arm.xml");
+  MotorMap map = MotorMap::Bind(model, {"", "elbow_motor", ""});
+  ASSERT_EQ(map.size(), 3u);
+  EXPECT_TRUE(map.motors()[0].empty());
+  EXPECT_FALSE(map.motors()[1].empty());
+  EXPECT_TRUE(map.motors()[2].empty());
+  EXPECT_EQ(map.EmptySlots(), (std::vector<bool>{true, false, true}));
+  Data data(model);
+  data->qpos[0] = 0.2;
+  data->qvel[0] = 0.4;
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 0, 4), 0);
+  EXPECT_DOUBLE_EQ(map.Apply(data.get(), 1, 4), 4);
+  data.Forward();
+  for (std::size_t slot : {0u, 2u}) {
+    EXPECT_EQ(map.Q(data.get(), slot), 0);
+    EXPECT_EQ(map.Dq(data.get(), slot), 0);
+    EXPECT_EQ(map.TauEst(data.get(), slot), 0);
+  }
+  for (int i = 0; i < model->nv; ++i) EXPECT_EQ(data->qfrc_applied[i], 0);
+  EXPECT_DOUBLE_EQ(data->ctrl[0], 2);  // the elbow's 4 N*m; nothing else
+  EXPECT_EQ(data->ctrl[1], 0);
+  std::string why = testing::ValueErrorOf([&] { MotorMap::Bind(model, {"", ""}); });
+  EXPECT_NE(why.find("every slot in motors = [...] is empty"), std::string::npos) << why;
+}
+
 TEST(MotorMapTest, ReadsAndAppliesTorque) {
   Model model = Model::FromXmlString(kArm, "arm.xml");
   MotorMap map = MotorMap::Bind(model, {"shoulder_motor", "elbow_motor", "elbow"});

@@ -378,6 +378,51 @@ TEST(ClientWatchTest, AJointSpringIsTheModelsNotAnActuator) {
       << view.own_pd[0];
 }
 
+// motors = ["", "hinge"]: slot 0 is the robot's, the model has no motor for it (as Unitree's
+// H1 script leaves slot 6 out). InitLowCmd's filler there drives nothing and passes; torque
+// asked of it fails client.motors as a slot beyond the model's motors does.
+TEST(ClientWatchTest, TorqueOnAnEmptySlotFailsAndTheFillerDoesNot) {
+  Model model = Model::Load(std::string(PLUMB_SOURCE_DIR) + "/models/pendulum.xml");
+  std::vector<BridgeMotorInfo> motors = {BridgeMotorInfo{}, HingeMotor()[0]};
+  ASSERT_TRUE(motors[0].empty());
+  BridgeConfig config;
+  auto feed = [&](ClientWatch& watch, const BridgeCommandSlot& slot0) {
+    Data data(model);
+    for (int i = 0; i < 50; ++i) {
+      std::vector<BridgeCommandSlot> command(20, {1, kPosStopF, kVelStopF, 0, 0, 0});
+      command[0] = slot0;
+      command[1] = {1, 0.3, 0, 0, 20, 0.5};
+      watch.Commanded(i * kPeriod, 100 + i * kPeriod, command);
+      data->time = (i + 1) * kPeriod;
+      watch.Published(model, data, {BridgeMotorSample{}, {0.29, 0, command[1], 0.2, false}});
+    }
+  };
+  ClientWatch filler(model, motors, config);
+  feed(filler, {1, kPosStopF, kVelStopF, 0, 0, 0});
+  ClientView view = filler.View(NAN);
+  ASSERT_EQ(view.motors.size(), 1u);  // the hinge: the empty slot is no motor
+  EXPECT_EQ(view.motors[0].name, "hinge");
+  EXPECT_EQ(view.motors[0].commands, 50);
+  EXPECT_NEAR(view.motors[0].tracking_rms, 0.01, 1e-9);
+  EXPECT_TRUE(view.unknown_motors.empty());
+  std::vector<CheckRow> rows = filler.Rows(view, BridgeStats{});
+  for (const char* id : kRowIds) EXPECT_EQ(StatusOf(rows, id), CheckStatus::kPass) << id;
+  EXPECT_EQ(Find(rows, "client.motors")->measured_text,
+            "the client drives only the model's 1 motors");
+
+  ClientWatch torque(model, motors, config);
+  feed(torque, {1, 0.5, 0, 0, 30, 0});
+  view = torque.View(NAN);
+  ASSERT_EQ(view.unknown_motors.size(), 1u);
+  EXPECT_EQ(view.unknown_motors[0], "slot 0 (empty in motors = [...]) (mode 1, kp 30, q 0.5)");
+  rows = torque.Rows(view, BridgeStats{});
+  const CheckRow* row = Find(rows, "client.motors");
+  ASSERT_NE(row, nullptr);
+  EXPECT_EQ(row->status, CheckStatus::kFail);
+  EXPECT_NE(row->subject.find("empty in motors = [...]"), std::string::npos) << row->subject;
+  EXPECT_NE(row->measured_text.find("slot 0 (empty in motors = [...])"), std::string::npos);
+}
+
 TEST(ClientWatchTest, TheMotorItselfIsNotItsOwnPd) {
   // a position actuator bound as the motor would be refused by the bridge; one that is the
   // motor is never listed

@@ -206,6 +206,44 @@ TEST_F(RehearsalTallyTest, EachSignalPassesOrFailsOverItsWindow) {
   EXPECT_EQ(trace.events[0].second, "watchdog: damping");
 }
 
+// motors = ["", "hinge"]: a motor number is its slot (motor_cmd[1] is the hinge); '*' and the
+// trace leave the empty slot out, and no assertion may name it.
+TEST_F(RehearsalTallyTest, AMotorNumberIsItsSlotAndAnEmptySlotIsNoMotor) {
+  Model model = Model::Load(testing::kPendulum);
+  Data data(model);
+  BridgeConfig config;
+  config.motors = {"", "hinge"};
+  RehearsalAssertion all = ParseRehearsalAssertion(model, config, "max(torque[*]) < 5");
+  EXPECT_EQ(all.motors, std::vector<int>{1});
+  EXPECT_EQ(all.names, std::vector<std::string>{"torque[hinge]"});
+  EXPECT_EQ(ParseRehearsalAssertion(model, config, "torque[1] < 5").motors, std::vector<int>{1});
+  EXPECT_EQ(ParseRehearsalAssertion(model, config, "torque[hinge] < 5").motors,
+            std::vector<int>{1});
+  std::string empty =
+      testing::ValueErrorOf([&] { ParseRehearsalAssertion(model, config, "torque[0] < 5"); });
+  EXPECT_NE(empty.find("slot 0 is empty in the bridge's motors = [...]"), std::string::npos)
+      << empty;
+  EXPECT_NE(empty.find("(hinge)"), std::string::npos) << empty;
+  EXPECT_NE(testing::ValueErrorOf([&] {
+              ParseRehearsalAssertion(model, config, "torque[] < 5");
+            }).find("is not a motor"),
+            std::string::npos);
+
+  RehearsalTally tally({all}, {BridgeMotorInfo{}, PendulumMotors()[0]});
+  BridgeMotorSample hinge;
+  hinge.q = 0.25;
+  hinge.command.mode = 1;
+  hinge.command.q = 0.3;
+  hinge.torque = 7;
+  tally.Sample(model, data, {BridgeMotorSample{}, hinge});
+  EXPECT_EQ(tally.Rows()[0].status, CheckStatus::kFail);
+  RehearsalTrace trace = tally.TakeTrace();
+  EXPECT_EQ(trace.signals,
+            (std::vector<std::string>{"torque[hinge]", "q_des[hinge]", "q[hinge]"}));
+  EXPECT_EQ(trace.values[SignalIndex(trace, "q_des[hinge]")][0], 0.3);
+  EXPECT_EQ(trace.values[SignalIndex(trace, "q[hinge]")][0], 0.25);
+}
+
 TEST_F(RehearsalTallyTest, TheTraceKeepsEvenlySpacedStatesUnderItsCap) {
   Model model = Model::Load(testing::kPendulum);
   Data data(model);
