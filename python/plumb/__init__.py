@@ -37,6 +37,15 @@ if _mujoco.__version__ != _build.MUJOCO_VERSION:
 
 from ._plumb import *  # noqa: E402,F401,F403  (the API: load, verify, ..., the result types)
 from ._plumb import __version__  # noqa: E402,F401
+from . import _plumb  # noqa: E402
+from ._arguments import name_wrong_arguments as _name_wrong_arguments  # noqa: E402
+
+# a wrong type of argument is named (verify(): model expects ..., not None) instead of
+# nanobind's list of every signature
+for _name, _function in vars(_plumb).items():
+    if type(_function).__name__ == "nb_func" and not _name.startswith("_"):
+        globals()[_name] = _name_wrong_arguments(_function)
+del _name, _function
 
 # one library on both sides: the mjModel pointers of mujoco.MjModel are plumb's too
 if _os.path.realpath(mujoco_library()) != _os.path.realpath(_mujoco_library()):  # noqa: F405

@@ -297,7 +297,7 @@ struct BatchArgs {
   std::string call;  // the call as the store records its command
 };
 
-BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<std::string> keyframe,
+BatchArgs ReadArgs(ModelArg model, SetArg set, std::optional<NameOrId> keyframe,
                    std::optional<FileArg> pose, QposArg qpos, StringsArg metrics, int threads,
                    std::optional<FileArg> db, bool resume) {
   BatchArgs a;
@@ -527,7 +527,7 @@ void BindBatch(nb::module_& m) {
   m.def(
       "rollout",
       [](ModelArg model, long count, StringsArg randomize, std::optional<double> ctrl_noise,
-         StringsArg metrics, SetArg set, std::optional<std::string> keyframe,
+         StringsArg metrics, SetArg set, std::optional<NameOrId> keyframe,
          std::optional<FileArg> pose, QposArg qpos, double until, int threads, std::uint64_t seed,
          std::optional<std::string> shard, std::optional<FileArg> db, bool resume) {
         BatchArgs a = ReadArgs(model, set, keyframe, pose, qpos, metrics, threads, db, resume);
@@ -564,7 +564,7 @@ void BindBatch(nb::module_& m) {
   m.def(
       "sweep",
       [](ModelArg model, StringsArg vary, StringsArg metrics, SetArg set,
-         std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos,
+         std::optional<NameOrId> keyframe, std::optional<FileArg> pose, QposArg qpos,
          std::optional<double> until, int threads, std::optional<FileArg> db, bool resume) {
         BatchArgs a = ReadArgs(model, set, keyframe, pose, qpos, metrics, threads, db, resume);
         a.until = until.value_or(0);

@@ -24,7 +24,7 @@
 #include "plumb/verify.h"
 #include "report/html.h"
 
-PLUMB_PYTHON_ARG(SnapshotArg, "Snapshot | str | os.PathLike")
+PLUMB_PYTHON_ARG(SnapshotArg, "Snapshot | str | os.PathLike[str]")
 
 namespace plumb::python {
 namespace {
@@ -48,14 +48,15 @@ struct VerifyResult {
   std::vector<Assignment> sets;
   VerifyReport report;
   std::vector<Notice> notices;  // what the call said (plumb.Notice)
-  std::string html;
+  std::string html, full_html;  // the light view, the whole report (each made once)
 
   std::string Json() const { return VerifyToJson(report); }
   std::string Table() const {
     return VerifyTable(report, TableDetail::kFindings, "result.rows holds every row");
   }
-  void WriteReport(const std::string& path) const {
-    WriteVerifyReport(path, model->model(), sets, report, PythonReportInfo("verify"));
+  void WriteReport(const std::string& path, ReportView view) const {
+    WriteVerifyReport(path, model->model(), sets, report,
+                      PythonReportInfo("verify", true, view));
   }
 };
 
@@ -99,18 +100,21 @@ void BindVerify(nb::module_& m) {
   m.def(
       "verify",
       [](ModelArg model, SetArg set, double tol, std::optional<double> until,
-         std::optional<std::string> keyframe) {
+         std::optional<NameOrId> keyframe, std::optional<FileArg> pose, QposArg qpos) {
         auto result = std::make_shared<VerifyResult>();
         CallNotices notices;
+        std::string pose_file = OptionalPathArg(pose, "pose");
+        std::string qpos_text = QposText(qpos);  // with the GIL, before RunLong releases it
         result->model = ToModel(model, notices.sink());
         std::vector<std::string> sets = SetTexts(set);
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
           VerifyOptions options;
           // the library starts at the reference pose; the load's and the call's sets on top
-          options.keyframe = keyframe.value_or(result->model->keyframe());
+          options.keyframe = (keyframe ? keyframe->text : result->model->keyframe());
           options.sets =
-              StartAssignments(work, result->model->Spec("", "", "", sets), notices.sink());
+              StartAssignments(work, result->model->Spec("", pose_file, qpos_text, sets),
+                               notices.sink());
           options.tol = tol;
           options.until = until;
           options.stop = stop;
@@ -123,11 +127,13 @@ void BindVerify(nb::module_& m) {
       },
       nb::arg("model"), nb::arg("set") = nb::none(), nb::arg("tol") = VerifyOptions{}.tol,
       nb::arg("until") = nb::none(), nb::arg("keyframe") = nb::none(),
+      nb::arg("pose") = nb::none(), nb::arg("qpos") = nb::none(),
       "Checks that a model's numbers are credible (plumb verify): the start, determinism, "
       "warnings, convergence as the timestep shrinks, energy, and for a single hinge pendulum "
       "the analytic references and the chapter's experiments. Every run starts at `keyframe` "
       "(else the model's, else keyframe 'home', else 'test', else qpos0; result.start says "
-      "which) with `set` on top, the CLI's --set assignments ({'qpos[hinge]': 0.7}); `tol` is "
+      "which; a name or an id), then `pose` (a pose file, as --pose) and `qpos` (nq numbers, as "
+      "--qpos), with `set` on top, the CLI's --set assignments ({'qpos[hinge]': 0.7}); `tol` is "
       "the relative tolerance, `until` the nominal run's length in s. Returns a VerifyResult; "
       "raises plumb.Error subclasses for bad input and KeyboardInterrupt on Ctrl-C.");
 }
@@ -140,14 +146,14 @@ struct AuditResult {
   AuditReport report;
   bool strict = false;
   std::vector<Notice> notices;  // what the call said (plumb.Notice)
-  std::string html;
+  std::string html, full_html;  // the light view, the whole report (each made once)
 
   std::string Json() const { return AuditToJson(report); }
   std::string Table() const {
     return AuditTable(report, TableDetail::kFindings, "result.rows holds every row");
   }
-  void WriteReport(const std::string& path) const {
-    WriteAuditReport(path, model->model(), start, report, PythonReportInfo("audit"));
+  void WriteReport(const std::string& path, ReportView view) const {
+    WriteAuditReport(path, model->model(), start, report, PythonReportInfo("audit", true, view));
   }
 };
 
@@ -188,7 +194,7 @@ void BindAudit(nb::module_& m) {
   m.def(
       "audit",
       [](ModelArg model, bool strict, std::optional<FileArg> accept, SetArg set,
-         std::optional<std::string> keyframe, std::optional<FileArg> scenario,
+         std::optional<NameOrId> keyframe, std::optional<FileArg> scenario,
          std::optional<FileArg> repro) {
         auto result = std::make_shared<AuditResult>();
         CallNotices notices;
@@ -202,7 +208,7 @@ void BindAudit(nb::module_& m) {
                                           {{"the model", result->model->name()},
                                            {"the accept list", accept_file},
                                            {"the scenario file", scenario_file}});
-        std::string key = keyframe.value_or(result->model->keyframe());
+        std::string key = (keyframe ? keyframe->text : result->model->keyframe());
         result->report = RunLong([&](StopToken stop) {
           const Model& work = result->model->model();
           AuditOptions options;
@@ -243,13 +249,13 @@ struct ConvergeResult {
   std::vector<Assignment> sets;
   ConvergenceResult result;
   std::vector<Notice> notices;  // what the call said (plumb.Notice)
-  std::string html;
+  std::string html, full_html;  // the light view, the whole report (each made once)
 
   std::string Json() const { return ConvergeToJson(result); }
   std::string Table() const { return ConvergeTable(result); }
-  void WriteReport(const std::string& path) const {
+  void WriteReport(const std::string& path, ReportView view) const {
     WriteConvergeReport(path, model->model(), sets, {result}, result.integrator,
-                        PythonReportInfo("converge"));
+                        PythonReportInfo("converge", true, view));
   }
 };
 

@@ -2,11 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include "io/atomic_file.h"
 #include "io/temp_file.h"
 #include "plumb/error.h"
 #include "plumb/keyframe.h"
@@ -267,10 +271,23 @@ std::string OptionalPathArg(const std::optional<FileArg>& path, const char* argu
   return path && !path->object.is_none() ? PathArg(path->object, argument) : std::string();
 }
 
-ReportInfo PythonReportInfo(const char* call, bool pictures) {
+ReportInfo PythonReportInfo(const char* call, bool pictures, ReportView view) {
   ReportInfo info{{"python", fmt::format("plumb.{}(...)", call)}};
   info.pictures = pictures;
+  if (view == ReportView::kLight) {
+    info.frames = 0;
+    info.start_only = true;
+  }
   return info;
+}
+
+void WriteHtml(const std::string& path, const std::string& html) {
+  internal::AtomicFile out(path);
+  if (std::fwrite(html.data(), 1, html.size(), out.stream()) != html.size()) {
+    throw IoError("cannot write the report to " + Quoted(path) + ": " + std::strerror(errno) +
+                  ". Check the disk space and the folder's permissions.");
+  }
+  out.Commit();
 }
 
 nb::object FromJson(const std::string& json) {
@@ -500,12 +517,12 @@ void BindCore(nb::module_& m) {
 
   m.def(
       "load",
-      [](ModelArg model, SetArg set, std::optional<std::string> keyframe) {
+      [](ModelArg model, SetArg set, std::optional<NameOrId> keyframe) {
         CallNotices notices;
         std::shared_ptr<PyModel> base = ToModel(model, notices.sink());
         std::vector<std::string> sets = base->SetTexts(SetTexts(set));
         auto out = std::make_shared<PyModel>(base->shared(), base->mjmodel(),
-                                             keyframe.value_or(base->keyframe()), sets);
+                                             (keyframe ? keyframe->text : base->keyframe()), sets);
         {
           MujocoCallScope scope;
           out->Start({}, notices.sink());  // validates the keyframe and every assignment now

@@ -61,15 +61,55 @@
   };                                                                                          \
   }
 
-PLUMB_PYTHON_ARG(ModelArg, "Model | mujoco.MjModel | str | os.PathLike")
+PLUMB_PYTHON_ARG(ModelArg, "Model | mujoco.MjModel | str | os.PathLike[str]")
 // {"PATH": value} | ["PATH=VALUE", ...] | "PATH=VALUE" (or None)
 PLUMB_PYTHON_ARG(SetArg,
                  "collections.abc.Mapping[str, float | str | collections.abc.Sequence["
                  "float]] | collections.abc.Sequence[str] | str")
 PLUMB_PYTHON_ARG(StringsArg, "str | collections.abc.Sequence[str]")  // "text" | ["text", ...]
-PLUMB_PYTHON_ARG(FileArg, "str | os.PathLike")
+PLUMB_PYTHON_ARG(FileArg, "str | os.PathLike[str]")
 PLUMB_PYTHON_ARG(QposArg,
                  "str | collections.abc.Sequence[float]")  // nq numbers: "0.1 0.2" | [0.1, 0.2]
+
+// A keyframe or camera by its name (str) or its id (int): `text` is what the library takes,
+// "#2" for id 2. Converts to std::string, so std::optional<NameOrId> passes as an optional name.
+namespace plumb::python {
+struct NameOrId {
+  std::string text;
+  operator const std::string&() const { return text; }  // NOLINT: converts on purpose
+};
+}  // namespace plumb::python
+namespace nanobind::detail {
+template <>
+struct type_caster<plumb::python::NameOrId> {
+  NB_TYPE_CASTER(plumb::python::NameOrId, const_name("str | int"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    if (PyUnicode_Check(src.ptr())) {
+      Py_ssize_t size = 0;
+      const char* text = PyUnicode_AsUTF8AndSize(src.ptr(), &size);
+      if (text == nullptr) {
+        PyErr_Clear();
+        return false;
+      }
+      value.text.assign(text, static_cast<std::size_t>(size));
+      return true;
+    }
+    if (PyLong_Check(src.ptr()) && !PyBool_Check(src.ptr())) {
+      long long id = PyLong_AsLongLong(src.ptr());
+      if (id == -1 && PyErr_Occurred()) {
+        PyErr_Clear();
+        return false;
+      }
+      value.text = "#" + std::to_string(id);
+      return true;
+    }
+    return false;
+  }
+  static handle from_cpp(const plumb::python::NameOrId& v, rv_policy, cleanup_list*) noexcept {
+    return PyUnicode_FromStringAndSize(v.text.data(), static_cast<Py_ssize_t>(v.text.size()));
+  }
+};
+}  // namespace nanobind::detail
 
 namespace plumb::python {
 
@@ -145,9 +185,14 @@ inline std::vector<std::string> StringList(StringsArg value, const char* argumen
   return StringList(value.object, argument);
 }
 
+// A result's HTML page: the whole report (save_report, html()), or the light view a notebook
+// shows by default (_repr_html_): the same page with one picture, the start, and no animation.
+enum class ReportView { kFull, kLight };
+
 // What a report from Python shows as its command line: "python plumb.CALL(...)". Pages that
 // draw no model pictures of their own (run, inspect, render) pass `pictures` false.
-ReportInfo PythonReportInfo(const char* call, bool pictures = true);
+ReportInfo PythonReportInfo(const char* call, bool pictures = true,
+                            ReportView view = ReportView::kFull);
 
 // The JSON text as Python objects (json.loads).
 nb::object FromJson(const std::string& json);
@@ -314,6 +359,43 @@ std::string ResultJson(const Result& r) {
   }
 }
 
+// Whether a result's report has a light view: `void WriteReport(path, ReportView) const` and
+// `std::string full_html` beside `html` (the light page).
+template <typename Result, typename = void>
+struct HasLightView : std::false_type {};
+template <typename Result>
+struct HasLightView<Result, std::void_t<decltype(std::declval<const Result&>().WriteReport(
+                                            std::string(), ReportView::kLight)),
+                                        decltype(std::declval<Result&>().full_html)>>
+    : std::true_type {};
+
+// The result's report page as text, made once and kept on the result: the whole report
+// (`full`) or, for a result with a light view, that view.
+template <typename Result>
+const std::string& ResultHtml(Result& r, bool full) {
+  if constexpr (HasLightView<Result>::value) {
+    std::string& page = full ? r.full_html : r.html;
+    if (page.empty()) {
+      ReportView view = full ? ReportView::kFull : ReportView::kLight;
+      page = RunLong([&](StopToken) {
+        return ReportHtml([&](const std::string& path) { r.WriteReport(path, view); });
+      });
+    }
+    return page;
+  } else {
+    (void)full;
+    if (r.html.empty()) {
+      r.html = RunLong([&](StopToken) {
+        return ReportHtml([&](const std::string& path) { r.WriteReport(path); });
+      });
+    }
+    return r.html;
+  }
+}
+
+// Writes `html` to `path` whole or not at all (io/atomic_file.h).
+void WriteHtml(const std::string& path, const std::string& html);
+
 // .notices of a result type that keeps them: a list of plumb.Notice.
 template <typename Result>
 void AddNoticesProperty(nb::class_<Result>& type) {
@@ -339,29 +421,37 @@ void AddResultMethods(nb::class_<Result>& type, const char* command) {
           "to_json() as Python objects (json.loads)")
       .def(
           "save_report",
-          [](const Result& r, nb::handle path) {
+          [](Result& r, nb::handle path) {
             std::string file = PathArg(path, "path");
             internal::RefuseOutputsOntoInputs({{"path", file}}, ResultInputs(r));
-            RunLong([&](StopToken) {
-              r.WriteReport(file);
-              return 0;
-            });
+            if constexpr (HasLightView<Result>::value) {
+              const std::string& page = ResultHtml(r, true);  // drawn once, kept
+              RunLong([&](StopToken) {
+                WriteHtml(file, page);
+                return 0;
+              });
+            } else {
+              RunLong([&](StopToken) {
+                r.WriteReport(file);
+                return 0;
+              });
+            }
           },
           nb::arg("path"),
           (std::string("writes the self-contained HTML report (`plumb ") + command +
-           " --report FILE.html`): whole or not at all")
+           " --report FILE.html`): whole or not at all; drawn once, then kept on the result")
               .c_str())
       .def(
-          "_repr_html_",
-          [](Result& r) {
-            if (r.html.empty()) {
-              r.html = RunLong([&](StopToken) {
-                return ReportHtml([&](const std::string& path) { r.WriteReport(path); });
-              });
-            }
-            return r.html;
-          },
-          "the HTML report, which a notebook shows inline")
+          "html", [](Result& r, bool full) { return ResultHtml(r, full); },
+          nb::arg("full") = true,
+          "the HTML report as text (full=False: the light view a notebook shows), drawn once "
+          "and kept on the result")
+      .def(
+          "_repr_html_", [](Result& r) { return ResultHtml(r, false); },
+          HasLightView<Result>::value
+              ? "the light view a notebook shows inline: the page with one picture, the start "
+                "(html() is the whole report, with the run's pictures and animation)"
+              : "the HTML report, which a notebook shows inline")
       .def("__repr__", &Result::Table);
 }
 

@@ -14,7 +14,7 @@
 #include "plumb/result_table.h"
 #include "plumb/robot_log.h"
 
-PLUMB_PYTHON_ARG(LogsArg, "str | os.PathLike | collections.abc.Sequence[str | os.PathLike]")
+PLUMB_PYTHON_ARG(LogsArg, "str | os.PathLike[str] | collections.abc.Sequence[str | os.PathLike[str]]")
 
 namespace plumb::python {
 namespace {

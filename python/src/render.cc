@@ -288,10 +288,51 @@ void Draw(const RenderRequest& r, Frames* f, std::vector<std::uint8_t>* pixels) 
   });
 }
 
-nb::object Render(ModelArg model, StateArg state, std::string camera, int width, int height,
-                  SetArg set, std::optional<std::string> keyframe, double at,
+// render(model, state, camera, width, height) as plumb 0.1 took them: camera, width and height
+// are keyword-only now (mujoco.Renderer takes height before width), and the old positional use
+// still works, with a FutureWarning.
+void ReadPositional(const nb::args& positional, NameOrId* camera, int* width, int* height) {
+  if (positional.size() == 0) return;
+  if (positional.size() > 3) {
+    throw nb::type_error(
+        fmt::format("render() takes model and state by position, and {} more were given: give "
+                    "the rest by keyword (camera=, width=, height=, ...)",
+                    positional.size())
+            .c_str());
+  }
+  const char* names[] = {"camera", "width", "height"};
+  if (PyErr_WarnEx(PyExc_FutureWarning,
+                   "render(): give camera, width and height by keyword (width=640, "
+                   "height=480): they are keyword-only, as mujoco.Renderer(model, height, "
+                   "width) takes the size the other way round",
+                   1) != 0) {
+    throw nb::python_error();
+  }
+  RenderOptions defaults;
+  for (std::size_t k = 0; k < positional.size(); ++k) {
+    bool twice = k == 0   ? camera->text != defaults.camera
+                 : k == 1 ? *width != defaults.width
+                          : *height != defaults.height;
+    if (twice) {
+      throw nb::type_error(
+          fmt::format("render(): {} given twice, by position and by keyword", names[k]).c_str());
+    }
+    bool ok = k == 0 ? nb::try_cast(positional[k], *camera)
+                     : nb::try_cast(positional[k], k == 1 ? *width : *height);
+    if (!ok) {
+      throw nb::type_error(fmt::format("render(): {} expects {}, not {}", names[k],
+                                       k == 0 ? "str | int" : "int",
+                                       nb::type_name(positional[k].type()).c_str())
+                               .c_str());
+    }
+  }
+}
+
+nb::object Render(ModelArg model, StateArg state, const nb::args& positional, NameOrId camera,
+                  int width, int height, SetArg set, std::optional<NameOrId> keyframe, double at,
                   std::optional<double> until, double fps, StringsArg highlight, bool msaa,
                   int shadow_size, std::string gl, std::optional<FileArg> output) {
+  ReadPositional(positional, &camera, &width, &height);
   RenderRequest r;
   CallNotices notices;
   r.model = ToModel(model, notices.sink());
@@ -332,8 +373,8 @@ nb::object Render(ModelArg model, StateArg state, std::string camera, int width,
 
 void BindRender(nb::module_& m) {
   BindFrames(m);
-  m.def("render", &Render, nb::arg("model"), nb::arg("state") = nb::none(),
-        nb::arg("camera") = RenderOptions{}.camera, nb::arg("width") = RenderOptions{}.width,
+  m.def("render", &Render, nb::arg("model"), nb::arg("state") = nb::none(), nb::arg("args"),
+        nb::arg("camera") = NameOrId{RenderOptions{}.camera}, nb::arg("width") = RenderOptions{}.width,
         nb::arg("height") = RenderOptions{}.height, nb::arg("set") = nb::none(),
         nb::arg("keyframe") = nb::none(), nb::arg("at") = kPictureTime,
         nb::arg("until") = nb::none(), nb::arg("fps") = kFilmFps, nb::arg("highlight") = nb::none(),
@@ -344,8 +385,10 @@ void BindRender(nb::module_& m) {
         "uint8 numpy array: of the start (`set`, `keyframe`), of the state a run reaches at `at` "
         "s, or of `state`, a mujoco.MjData of this model (read, not changed). A sequence, as "
         "plumb.Frames: the run to `until` s at about `fps` frames per second, or each sample of "
-        "a plumb.Trajectory (`state`). `output` also writes the PNG or MP4. camera: auto, track, "
-        "fixed or a camera's name; highlight: bodies, geoms or joints to colour. Raises "
+        "a plumb.Trajectory (`state`). `output` also writes the PNG or MP4. camera: a camera of "
+        "the model by name or id, else auto, track or fixed (plumb:track etc. always mean "
+        "plumb's own); width and height by keyword; highlight: bodies, geoms or joints to "
+        "colour. Raises "
         "plumb.UnavailableError when this machine cannot render.");
 }
 

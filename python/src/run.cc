@@ -156,7 +156,7 @@ void BindRunCall(nb::module_& m) {
   m.def(
       "run",
       [](ModelArg model, double until, std::optional<double> every, StringsArg columns, SetArg set,
-         std::optional<std::string> keyframe, std::optional<FileArg> pose, QposArg qpos) {
+         std::optional<NameOrId> keyframe, std::optional<FileArg> pose, QposArg qpos) {
         auto t = std::make_shared<Trajectory>();
         CallNotices notices;
         std::string pose_file = OptionalPathArg(pose, "pose");
@@ -189,6 +189,7 @@ void BindRunCall(nb::module_& m) {
             spec.until = until;
             spec.every = t->every;
             spec.columns = t->columns;
+            spec.clock_time = true;  // .time is MjData.time
             spec.stop = stop;
             // one buffer, sized from the schedule, that the numpy array takes over
             TrajectorySink sink(rows);

@@ -118,3 +118,28 @@ def test_the_right_types_still_work(pendulum, tmp_path):
     assert t.columns == ["qpos[hinge]"]
     plumb.snapshot(pendulum).save(tmp_path / "s.json")
     assert plumb.diff(tmp_path / "s.json", pendulum).to_dict()
+
+
+# issue 49: a type nanobind refuses itself (None for the model, a str for a number) gave every
+# signature of the function (verify(None): 431 characters); the error names the argument
+@pytest.mark.parametrize("call,message", [
+    (lambda m: plumb.verify(None), "verify(): model expects Model | mujoco.MjModel | str | "
+                                   "os.PathLike[str], not None"),
+    (lambda m: plumb.verify(m, tol="x"), "verify(): tol expects float, not str"),
+    (lambda m: plumb.run(m, until=None), "run(): until expects float, not None"),
+    (lambda m: plumb.verify(m, keyframe=1.5), "verify(): keyframe expects str | int | None, "
+                                              "not float"),
+    (lambda m: plumb.render(m, camera=2.5), "render(): camera expects str | int, not float"),
+    (lambda m: plumb.verify(), "verify(): model is missing"),
+    (lambda m: plumb.verify(m, tool=1), "verify(): no argument is named 'tool'"),
+])
+def test_nanobinds_refusals_name_the_argument(pendulum, call, message):
+    with pytest.raises(TypeError) as caught:
+        call(pendulum)
+    assert str(caught.value).startswith(message), str(caught.value)
+    assert len(str(caught.value)) < 200 and "incompatible function arguments" not in str(caught.value)
+
+
+def test_set_of_a_number_names_set(pendulum):
+    with pytest.raises(TypeError, match=r"^set: expected a dict"):
+        plumb.verify(pendulum, set=5)

@@ -204,7 +204,7 @@ def test_type_stubs_describe_the_api():
         assert name in functions, name
     verify = functions["verify"]
     annotations = {a.arg: ast.unparse(a.annotation) for a in verify.args.args}
-    assert annotations["model"] == "Model | mujoco.MjModel | str | os.PathLike"
+    assert annotations["model"] == "Model | mujoco.MjModel | str | os.PathLike[str]"
     assert annotations["tol"] == "float"
     assert ast.unparse(verify.returns) == "VerifyResult"
     classes = {node.name for node in tree.body if isinstance(node, ast.ClassDef)}

