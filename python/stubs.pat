@@ -2,8 +2,9 @@
 # are Python objects to nanobind, so nanobind's stub generator writes `object` or a bare `list`.
 # Each entry is a regular expression for a name of plumb._plumb, then the lines that replace
 # its stub (\doc: its docstring; \name: the group of that name). Patterns apply in order, the
-# first that matches wins. python/tests/test_typing.py runs mypy --strict over a script that
-# touches every result type (python/tests/typed_user.py), so a wrong or missing type fails it.
+# first that matches wins. python/tests/test_typing.py runs mypy --strict (python/requirements-
+# typing.txt) over a script that touches every result type (python/tests/typed_user.py), so a
+# wrong or missing type fails it.
 
 plumb\._plumb\.__prefix__$:
     import numpy
