@@ -72,16 +72,20 @@ for n in $(seq 1 "$runs"); do
     row "holosoma_g1 vendor sim" "$d"
   fi
   if [[ -n "$gym" ]]; then
-    for mode in lockstep realtime; do
-      d="$out/rl_gym_g1-$mode-$n"
-      "$repo/tests/rehearse/unitree_rl_gym_g1/run.sh" --rl-gym "$gym" --python "$gympy" \
-        --mode "$mode" --until "$until" --out "$d" >/dev/null 2>&1 || true
-      row "rl_gym_g1 $mode" "$d"
+    for robot in g1 h1; do
+      for mode in lockstep realtime; do
+        d="$out/rl_gym_$robot-$mode-$n"
+        "$repo/tests/rehearse/unitree_rl_gym/run.sh" --rl-gym "$gym" --python "$gympy" \
+          --robot "$robot" --mode "$mode" --until "$until" --out "$d" >/dev/null 2>&1 || true
+        row "rl_gym_$robot $mode" "$d"
+      done
     done
-    d="$out/rl_gym_g1-vendor-$n"
-    "$repo/tests/rehearse/unitree_rl_gym_g1/vendor_sim.sh" --rl-gym "$gym" --python "$gympy" \
-      --out "$d" >/dev/null 2>&1 || true
-    row "rl_gym_g1 vendor sim" "$d"
+    for robot in g1 h1; do
+      d="$out/rl_gym_$robot-vendor-$n"
+      "$repo/tests/rehearse/unitree_rl_gym/vendor_sim.sh" --rl-gym "$gym" --python "$gympy" \
+        --robot "$robot" --out "$d" >/dev/null 2>&1 || true
+      row "rl_gym_$robot vendor sim" "$d"
+    done
   fi
 done
 echo "logs: $out"

@@ -347,16 +347,27 @@ CheckRow ClientWatch::RangeRow(const ClientMotorView& view, const MotorFacts& mo
 
 std::vector<CheckRow> ClientWatch::RangeRows(const ClientView& view) const {
   std::vector<CheckRow> rows;
+  int at_edge = 0;  // motors whose targets passed a range's end by less than the tolerance
+  double worst_at_edge = 0;
   for (std::size_t k = 0; k < view.motors.size() && k < mapped_.size(); ++k) {
-    if (view.motors[k].outside_range > 0) {
-      rows.push_back(RangeRow(view.motors[k], motors_[mapped_[k]]));
+    const MotorFacts& motor = motors_[mapped_[k]];
+    const ClientMotorView& m = view.motors[k];
+    if (m.outside_range > 0 && m.worst_outside > kRangeTolerance * (motor.hi - motor.lo)) {
+      rows.push_back(RangeRow(m, motor));
+    } else if (m.outside_range > 0) {
+      ++at_edge;
+      worst_at_edge = std::max(worst_at_edge, m.worst_outside);
     }
   }
   if (!rows.empty()) return rows;
   CheckRow row = ClientRow("client.range", "targets within the joints' range");
   row.status = CheckStatus::kPass;
   row.measured = {0, ""};
-  row.measured_text = "no target outside a joint's range";
+  row.measured_text = at_edge == 0 ? "no target outside a joint's range"
+                                   : "targets of " + std::to_string(at_edge) +
+                                         " motors at most " + Num(worst_at_edge) +
+                                         " beyond a range's end (within " +
+                                         Percent(kRangeTolerance) + " of its width)";
   return {row};
 }
 

@@ -193,6 +193,21 @@ TEST_F(ClientWatchGo2Test, ATargetBeyondTheRangeWarnsForThatMotor) {
   EXPECT_NEAR(range[0]->measured.value, 0.83776, 1e-6);
 }
 
+TEST_F(ClientWatchGo2Test, ATargetAtTheEdgeOfTheRangeIsNoFinding) {
+  // a policy's target a hair past a limit (1 mrad, well under 2 % of the calf's 1.88 rad)
+  stream_.targets[2] = -0.83776 + 1e-3;
+  ClientWatch watch = Watch();
+  FeedSteady(watch, *model_, stream_, 50);
+  ClientView view = watch.View(NAN);
+  EXPECT_EQ(view.motors[2].outside_range, 50);  // counted in the view
+  std::vector<CheckRow> rows = watch.Rows(view, BridgeStats{});
+  std::vector<const CheckRow*> range = FindAll(rows, "client.range");
+  ASSERT_EQ(range.size(), 1u);
+  EXPECT_EQ(range[0]->status, CheckStatus::kPass);
+  EXPECT_NE(range[0]->measured_text.find("1 motors at most 0.001 beyond"), std::string::npos)
+      << range[0]->measured_text;
+}
+
 TEST_F(ClientWatchGo2Test, PositionStopTargetsWithoutGainAreNotOutsideTheRange) {
   stream_.targets[2] = kPosStopF;
   stream_.kp = 0;  // torque control through tau: the target means nothing
