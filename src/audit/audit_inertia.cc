@@ -255,6 +255,29 @@ ShapeFit FitToShape(const BodyInertia& body, const Solid& shape) {
   return fit;
 }
 
+// A body's geoms at unlike densities (a geom's own mass or density) give the compiler another
+// inertia than the uniform fill: dm_control's pendulum carries its 1 kg in the sphere at the
+// tip of a massless rod, and its derived inertia is that sphere's, x0.17 of the fill's. Where
+// the fill does not fit, one geom alone whose centroid is the body's centre of mass may: the
+// compiler's result when that geom carries the mass. A placeholder's centre of mass seldom lies
+// on a geom's centroid, nor fits that geom alone.
+ShapeFit FitToOneGeom(const mjModel* m, const BodyInertia& body, const BodySolids& solids,
+                      ShapeFit fit) {
+  if (!(fit.factor > kShapeWarn)) return fit;
+  const mjtNum* com = m->body_ipos + 3 * body.b;
+  double near = 1e-3 * solids.all.HalfDiagonal();
+  for (int g = m->body_geomadr[body.b]; g < m->body_geomadr[body.b] + m->body_geomnum[body.b];
+       ++g) {
+    Solid one = GeomSolid(m, g);
+    if (!(one.volume > 0)) continue;
+    double d[3] = {one.centroid[0] - com[0], one.centroid[1] - com[1], one.centroid[2] - com[2]};
+    if (!(mju_norm3(d) <= near)) continue;
+    ShapeFit alone = FitToShape(body, one);
+    if (alone.factor <= kShapeWarn) return alone;
+  }
+  return fit;
+}
+
 std::string ShapeWords(const BodySolids& solids) {
   const Solid& shape = solids.shape;
   int meshes = solids.meshes;
@@ -288,22 +311,30 @@ std::string ShapeMeasured(const BodyInertia& body, const BodySolids& solids, con
 
 // Inertia against the body's shape: the inertia its geoms would have, filled uniformly at the
 // body's mass. A factor kShapeFail off is no solid of this shape (a 60 kg base with a
-// placeholder 0.001 kg*m^2 on every axis), kShapeWarn is suspect.
+// placeholder 0.001 kg*m^2 on every axis), kShapeWarn is suspect. Every body is judged, from
+// the compiled model alone, so a model and its file get one verdict: an inertia the compiler
+// derived from geoms of one density fits them by construction. `derived` (the MJCF says the
+// compiler derived it; unknown without the MJCF) only changes the advice.
 void InertiaAgainstShape(const BodyInertia& body, const BodySolids& solids, const ShapeFit& fit,
-                         std::vector<CheckRow>* out) {
+                         std::optional<bool> derived, std::vector<CheckRow>* out) {
   if (!(fit.factor > kShapeWarn)) return;
   bool low = ShapeTooSmall(fit);
+  std::string fix =
+      derived.value_or(false)
+          ? "the compiler derived this inertia from geoms of unlike densities (a geom's own "
+            "mass or density), or the shape plumb sees is not the one that carries the mass: "
+            "check the geoms' mass and density, or give the body an <inertial> from CAD"
+          : fmt::format("the inertia does not fit the body's shape ({:.3g} times too {}): a "
+                        "placeholder (0.001 on every axis?), other units (g*mm^2?), or a mass "
+                        "changed without its inertia. Take it from CAD, or omit <inertial> to "
+                        "let the compiler derive both from the geoms",
+                        fit.factor * fit.factor, low ? "small" : "large");
   out->push_back(WithNumbers(
       Make(L, "inertia.shape", body.element,
            ShapeMeasured(body, solids, fit),
            fmt::format("within x{:g} of the shape's (radius and each principal moment's root)",
                        kShapeWarn),
-           fit.factor > kShapeFail ? CheckStatus::kFail : CheckStatus::kWarn,
-           fmt::format("the inertia does not fit the body's shape ({:.3g} times too {}): a "
-                       "placeholder (0.001 on every axis?), other units (g*mm^2?), or a mass "
-                       "changed without its inertia. Take it from CAD, or omit <inertial> to let "
-                       "the compiler derive both from the geoms",
-                       fit.factor * fit.factor, low ? "small" : "large")),
+           fit.factor > kShapeFail ? CheckStatus::kFail : CheckStatus::kWarn, fix),
       {fit.factor, ""}, {kShapeWarn, ""}));
 }
 
@@ -355,21 +386,13 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
   const mjModel* m = model.get();
   double total = TotalMass(m, out);
   WeldGroups groups(m, data.get());
-  // which inertias were written by hand (and so can be wrong): mjSpec says, on 3.x and later
+  // which inertias were written by hand, where the MJCF says (mjSpec, 3.x and later): context
+  // for the advice only, never the verdict (a model without its MJCF gets the same rows)
   std::optional<std::vector<bool>> written;
   try {
     written = compat::ExplicitInertials(original.xml_text(), original.file(), original.get());
   } catch (const MujocoError&) {
-    written = std::nullopt;  // the source no longer parses: judge every inertia
-  }
-  if (!written) {
-    out->push_back(
-        Make(L, "inertia.shape", "", "not judged", "", CheckStatus::kSkip,
-             compat::kMujoco3
-                 ? "the model's MJCF could not be read back to tell an <inertial> written by hand "
-                   "from one the compiler derived from geoms (a binary .mjb model has none)"
-                 : "MuJoCo 2.x has no mjSpec to tell an <inertial> written by hand from one the "
-                   "compiler derived from geoms"));
+    written = std::nullopt;  // the source no longer parses
   }
   int listed = 0, moving = 0;
   for (int b = 1; b < m->nbody; ++b) {
@@ -383,22 +406,25 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     // a point mass (zero moments, welded on or carried by its group) has no shape to fit
     bool point = body.I[0] == 0 && body.I[1] == 0 && body.I[2] == 0;
     bool sound = body.positive && body.triangle && !body.marker && !point && body.mass > 0;
-    // an inertia the compiler derived from the geoms fits them by construction, unless --set
-    // changed the mass or the inertia since
+    // derived by the compiler from the geoms, as the MJCF says, and not changed by --set since
     bool changed = m->body_mass[b] != original->body_mass[b] ||
                    !std::equal(body.I, body.I + 3, original->body_inertia + 3 * b);
-    bool by_hand = written && ((*written)[b] || changed);
+    std::optional<bool> derived;
+    if (written) derived = !(*written)[b] && !changed;
     ShapeFit fit;
-    if (sound && solids.shape.volume > 0) fit = FitToShape(body, solids.shape);
-    if (by_hand && !std::isnan(fit.factor)) InertiaAgainstShape(body, solids, fit, out);
+    if (sound && solids.shape.volume > 0) {
+      fit = FitToOneGeom(m, body, solids, FitToShape(body, solids.shape));
+    }
+    if (!std::isnan(fit.factor)) InertiaAgainstShape(body, solids, fit, derived, out);
     if (sound) ComAgainstShape(m, body, solids, out);
     if (listed < kMaxListed && sound) {
       ++listed;
       const mjtNum* I = body.I;
       std::string against =
-          std::isnan(fit.gyration) ? ""
-          : by_hand ? fmt::format("; radius of gyration x{:.3g} of its shape's", fit.gyration)
-                    : "; derived from its geoms";
+          std::isnan(fit.gyration)
+              ? ""
+              : fmt::format("; radius of gyration x{:.3g} of its shape's{}", fit.gyration,
+                            derived.value_or(false) ? " (derived from its geoms)" : "");
       out->push_back(
           WithNumbers(Make(L, "inertia.body", body.element,
                            fmt::format("{:.4g} kg, I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2{}",

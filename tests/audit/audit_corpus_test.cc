@@ -113,7 +113,6 @@ TEST_F(AuditCorpusTest, AGroupedSkipListsItsElements) {
 }
 
 TEST_F(AuditCorpusTest, APlaceholderInertiaOnAMeshedLinkIsCaught) {
-  if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to tell written inertias";
   std::string ur5e = Path(kUr5e);
   if (ur5e.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
   EXPECT_TRUE(Findings(AuditFile(ur5e), "inertia.shape").empty())
@@ -230,7 +229,6 @@ TEST_F(AuditCorpusTest, AWheelOfAMirroredPairEditedOnOneSideIsCaught) {
 // A dexterous hand: the Shadow hand's first-finger proximal phalanx (30 g, its meshes only)
 // given the 0.001 kg*m^2 placeholder on every axis, 100 times its written moments.
 TEST_F(AuditCorpusTest, APlaceholderInertiaOnAFingerLinkIsCaught) {
-  if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to tell written inertias";
   std::string hand = Path(kShadowHand);
   if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
   ExpectQuiet(AuditFile(hand), {"inertia.shape"});

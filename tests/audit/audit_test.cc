@@ -285,19 +285,24 @@ std::string HeavyPole(const std::string& inertial) {
 TEST_F(AuditTest, InertiaImplausibleForMassAndSizeFails) {
   AuditReport r = AuditXml(
       HeavyPole(R"(<inertial pos="0 0 0.5" mass="1000" diaginertia="0.0094 0.0094 0.0001"/>)"));
-  if (!PLUMB_MUJOCO_HAS_SPEC) {
-    // 2.x cannot tell a written <inertial> from a derived one: one SKIP row says so
-    const CheckRow* skip = Find(r, "inertia.shape");
-    ASSERT_NE(skip, nullptr);
-    EXPECT_EQ(skip->status, CheckStatus::kSkip);
-    EXPECT_NE(skip->explanation.find("mjSpec"), std::string::npos) << skip->explanation;
-    return;
-  }
   const CheckRow* f = Find(r, "inertia.shape", "'pole'");
   ASSERT_NE(f, nullptr) << Failures(r);
   EXPECT_EQ(f->status, CheckStatus::kFail);
   EXPECT_NE(f->measured_text.find("1000 kg"), std::string::npos) << f->measured_text;
   EXPECT_NE(f->fix.find("too small"), std::string::npos) << f->fix;
+  // issue 49: the compiled model without its MJCF (as plumb.audit(mujoco.MjModel) gets it, on
+  // every MuJoCo, 2.x included) gets the same verdict, not a SKIP
+  Model compiled = Model::FromXmlString(
+      HeavyPole(R"(<inertial pos="0 0 0.5" mass="1000" diaginertia="0.0094 0.0094 0.0001"/>)"));
+  Model borrowed = Model::Borrow(compiled.get_mutable(), "pole");
+  AuditReport without = Audit(borrowed, AuditOptions{});
+  const CheckRow* same = Find(without, "inertia.shape", "'pole'");
+  ASSERT_NE(same, nullptr) << Failures(without);
+  EXPECT_EQ(same->status, CheckStatus::kFail);
+  for (const CheckRow& row : without.findings) {
+    bool inertia = row.id.rfind("inertia.", 0) == 0;
+    EXPECT_FALSE(inertia && row.status == CheckStatus::kSkip) << row.id;
+  }
   // the same pole as the compiler derives it, and a mass set on it, are plausible
   AuditReport nominal = AuditXml(HeavyPole(""));
   EXPECT_EQ(Find(nominal, "inertia.shape"), nullptr)
@@ -313,6 +318,25 @@ TEST_F(AuditTest, InertiaImplausibleForMassAndSizeFails) {
   const CheckRow* w = Find(wide, "inertia.shape", "'pole'");
   ASSERT_NE(w, nullptr);
   EXPECT_EQ(w->status, CheckStatus::kWarn);
+}
+
+// issue 49: every inertia is judged now, the derived ones too; one derived from geoms of unlike
+// densities (dm_control's pendulum: a massless rod, its 1 kg in the sphere at the tip) fits
+// that sphere alone, not the uniform fill of all three (x0.17), and raises nothing
+TEST_F(AuditTest, AnInertiaDerivedFromGeomsOfUnlikeDensitiesIsNotFlagged) {
+  constexpr char kTipMass[] = R"(<mujoco><worldbody><body name="pole" pos="0 0 .6">
+      <joint name="hinge" axis="0 1 0" damping="0.1"/>
+      <geom type="cylinder" fromto="0 -.03 0 0 .03 0" size="0.021" mass="0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 0.5" size="0.02" mass="0"/>
+      <geom type="sphere" pos="0 0 0.5" size="0.05" mass="1"/></body></worldbody></mujoco>)";
+  const CheckRow* row = Find(AuditXml(kTipMass), "inertia.shape");
+  EXPECT_EQ(row, nullptr) << row->measured_text;
+  // a tenth of the sphere's moments written at the rod's middle is no solid of this body, nor
+  // of the rod alone (whose centroid that is)
+  AuditReport moved = AuditXml(std::string(kTipMass).replace(
+      std::string(kTipMass).find("<geom"), 0,
+      R"(<inertial pos="0 0 0.25" mass="1" diaginertia="0.0001 0.0001 0.0001"/>)"));
+  EXPECT_NE(Find(moved, "inertia.shape", "'pole'"), nullptr) << Failures(moved);
 }
 
 TEST_F(AuditTest, MotorWithoutLimitsIsFlagged) {
