@@ -48,6 +48,11 @@ struct Simulated {
   std::string problem;  // what went bad, when it did
 };
 
+// An rms error within this many times a signal's noise is that noise: what a model that
+// explains all but the noise gives, with room for the noise estimate's own error (its median
+// of third differences is some 10 % off on a few hundred samples).
+constexpr double kFitNoiseMargin = 1.5;
+
 struct SignalFit {
   std::string column;  // as the log names it
   std::string path;    // the plumb path
@@ -60,11 +65,26 @@ struct SignalFit {
   double noise = 0;  // the log's noise (sigma) as its differences show it (NoiseFromDifferences)
   double noise_fit = 0;  // %: the fit of a model that explains all but that noise,
                          // 100 (1 - noise / rms(y - mean y))
+  double spread = 0;     // rms(y - mean y), the signal's own spread
+  // %: the fit judged against the noise, 100 (1 - sqrt(max(0, rms^2 - (m noise)^2)) / spread)
+  // with m = kFitNoiseMargin: the error beyond what the log's noise explains. 100 for a model
+  // that explains all but the noise, at any noise level, also on a nearly flat signal (whose
+  // `fit` reads far below 0)
+  double fit_beyond_noise = 0;
 };
+
+// The overall fit (%) of `signals` (CompareWithLog): all signals pooled, each sample's error
+// beyond the noise and each signal's spread in units of that signal's noise, as identify
+// weighs residuals: 100 (1 - sqrt(sum n max(0, rms^2 - (m noise)^2) / noise^2 /
+// sum n spread^2 / noise^2)), m = kFitNoiseMargin. A nearly flat signal (its spread about its
+// noise) weighs next to nothing in the denominator, so an exact model reads ~100 whatever it
+// does to that signal's `fit`; an error many times its noise still counts in full. 100 for no
+// signals.
+double OverallFit(const std::vector<SignalFit>& signals);
 
 struct ReplayResult {
   std::vector<SignalFit> signals;  // one per measured signal, in the log's order
-  double fit = 0;                  // %: the mean of the signals' fits
+  double fit = 0;                  // %: OverallFit of the signals
   Simulated simulated;
   std::vector<std::string> notes;  // start-state elements the log lacks, and the like
 };

@@ -144,9 +144,7 @@ void WriteReplayReport(const std::string& path, const Model& model, const RobotL
 
 // How the replay and identify reports mark a signal's fit, judged against the log's noise
 // (SignalFit::noise), not a fixed percentage: PASS when the rms error is within
-// kFitNoiseMargin times the noise (what a model that explains all but the noise gives, with
-// room for the noise estimate's own error); else FAIL below kFitFailPercent, WARN above.
-constexpr double kFitNoiseMargin = 1.5;
+// kFitNoiseMargin (plumb/replay.h) times the noise; else FAIL below kFitFailPercent, WARN above.
 constexpr double kFitFailPercent = 80;
 CheckStatus FitStatus(const SignalFit& fit);
 

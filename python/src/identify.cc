@@ -58,7 +58,8 @@ void BindReplay(nb::module_& m) {
                             "report.");
   type.def_prop_ro(
           "fit", [](const PyReplay& r) { return r.result.fit; },
-          "%: the mean of the signals' fits (100 is the log exactly)")
+          "%: the signals pooled in units of their noise, the error beyond it (100: the log up "
+          "to its noise); no nearly flat signal can sink it (fits_beyond_noise per signal)")
       .def_prop_ro(
           "columns",
           [](const PyReplay& r) {
@@ -69,7 +70,13 @@ void BindReplay(nb::module_& m) {
           "the measured signals, as the log names them")
       .def_prop_ro(
           "fits", [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::fit); },
-          "% per signal")
+          "% per signal, 100 (1 - rms / spread)")
+      .def_prop_ro(
+          "fits_beyond_noise",
+          [](const PyReplay& r) {
+            return FieldArray(r.result.signals, &SignalFit::fit_beyond_noise);
+          },
+          "% per signal, judged against its noise: the error beyond the noise over the spread")
       .def_prop_ro(
           "rms", [](const PyReplay& r) { return FieldArray(r.result.signals, &SignalFit::rms); },
           "rms of simulated - logged, per signal")

@@ -339,9 +339,28 @@ std::vector<SignalFit> CompareWithLog(const RobotLog& log, const Simulated& simu
     f.fit = spread2 > 0 ? 100 * (1 - std::sqrt(error2 / spread2)) : (error2 == 0 ? 100 : -INFINITY);
     f.noise = NoiseFromDifferences(s.value);
     f.noise_fit = spread2 > 0 ? 100 * (1 - f.noise / std::sqrt(spread2 / f.samples)) : 100;
+    f.spread = std::sqrt(spread2 / f.samples);
+    double margin = kFitNoiseMargin * f.noise;
+    double beyond = std::sqrt(std::max(0.0, f.rms * f.rms - margin * margin));
+    f.fit_beyond_noise =
+        f.spread > 0 ? 100 * (1 - beyond / f.spread) : (beyond == 0 ? 100 : -INFINITY);
     fits.push_back(f);
   }
   return fits;
+}
+
+double OverallFit(const std::vector<SignalFit>& signals) {
+  double beyond = 0, spread = 0;
+  for (const SignalFit& f : signals) {
+    double noise2 = f.noise * f.noise;
+    if (!(noise2 > 0)) noise2 = 1;  // NoiseFromDifferences gives none: the signal's own units
+    double margin2 = kFitNoiseMargin * kFitNoiseMargin * noise2;
+    beyond += f.samples * std::max(0.0, f.rms * f.rms - margin2) / noise2;
+    spread += f.samples * f.spread * f.spread / noise2;
+  }
+  if (std::isnan(beyond)) return -INFINITY;  // a diverged replay
+  if (!(spread > 0)) return beyond == 0 ? 100 : -INFINITY;
+  return 100 * (1 - std::sqrt(beyond / spread));
 }
 
 ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions& options) {
@@ -349,7 +368,7 @@ ReplayResult Replay(const Model& model, const RobotLog& log, const ReplayOptions
   ReplayResult r;
   r.simulated = Simulate(model, data, log, options);
   r.signals = CompareWithLog(log, r.simulated);
-  for (const SignalFit& f : r.signals) r.fit += f.fit / r.signals.size();
+  r.fit = OverallFit(r.signals);
   const mjModel* m = model.get();
   int held = 0;
   for (const LogSignal& s : log.measured) held += s.path.field == "qpos" || s.path.field == "qvel";

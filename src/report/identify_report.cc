@@ -24,14 +24,15 @@ std::vector<double> Padded(const std::vector<double>& v, std::size_t n) {
 std::string FitRows(const std::vector<SignalFit>& fits) {
   std::string rows =
       "<table><tr><th></th><th>signal</th><th>samples</th><th>rms error</th><th>max error</th>"
-      "<th>at t (s)</th><th>noise</th><th>fit %</th><th>fit % at the noise</th></tr>\n";
+      "<th>at t (s)</th><th>noise</th><th>fit %</th><th>fit % at the noise</th>"
+      "<th>fit % beyond the noise</th></tr>\n";
   for (const SignalFit& f : fits) {
     CheckStatus status = FitStatus(f);
     rows += fmt::format(
         "<tr class=\"row-{}\">{}<td>{}</td><td>{}</td><td>{:.4g}</td><td>{:.4g}</td>"
-        "<td>{:.4f}</td><td>{:.3g}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
+        "<td>{:.4f}</td><td>{:.3g}</td><td>{:.2f}</td><td>{:.2f}</td><td>{:.2f}</td></tr>\n",
         CheckStatusName(status), report::StatusCell(status), report::Escape(f.column), f.samples,
-        f.rms, f.max_abs, f.worst_time, f.noise, f.fit, f.noise_fit);
+        f.rms, f.max_abs, f.worst_time, f.noise, f.fit, f.noise_fit, f.fit_beyond_noise);
   }
   return rows + "</table>\n" +
          fmt::format(
@@ -243,8 +244,9 @@ void WriteReplayReport(const std::string& path, const Model& model, const RobotL
                                   options.input_delay, options.sensor_delay));
   page.Heading("How well the model matches the log");
   page.Paragraph(
-      fmt::format("Overall fit {:.2f} % (the mean of the signals' fits; 100 % is the "
-                  "log exactly, 0 % no better than each signal's mean).",
+      fmt::format("Overall fit {:.2f} % (the signals pooled in units of their noise, the "
+                  "error beyond it; 100 % is the log up to its noise, 0 % no better than each "
+                  "signal's mean).",
                   result.fit));
   page.Html(FitRows(result.signals));
   for (const std::string& note : result.notes) page.Paragraph("Note: " + note);

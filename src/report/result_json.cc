@@ -210,7 +210,9 @@ std::string ReplayToJson(const std::string& model, const RobotLog& log,
                        {"worst_time", f.worst_time},
                        {"fit", Number(f.fit)},
                        {"noise", Number(f.noise)},
-                       {"noise_fit", Number(f.noise_fit)}});
+                       {"noise_fit", Number(f.noise_fit)},
+                       {"spread", Number(f.spread)},
+                       {"fit_beyond_noise", Number(f.fit_beyond_noise)}});
   }
   j["signals"] = signals;
   j["fit"] = Number(r.fit);

@@ -152,11 +152,13 @@ std::string DiffTable(const SnapshotDiff& diff, const std::string& snapshot,
 std::string FitTable(const std::vector<SignalFit>& fits) {
   std::size_t width = 16;
   for (const SignalFit& f : fits) width = std::max(width, f.column.size());
-  std::string out = fmt::format("{:<{}} {:>8} {:>12} {:>12} {:>10} {:>8}\n", "signal", width,
-                                "samples", "rms error", "max error", "at t [s]", "fit %");
+  std::string out =
+      fmt::format("{:<{}} {:>8} {:>12} {:>12} {:>10} {:>8} {:>12}\n", "signal", width, "samples",
+                  "rms error", "max error", "at t [s]", "fit %", "> noise %");
   for (const SignalFit& f : fits) {
-    out += fmt::format("{:<{}} {:>8} {:>12.4g} {:>12.4g} {:>10.4f} {:>8.2f}\n", f.column, width,
-                       f.samples, f.rms, f.max_abs, f.worst_time, f.fit);
+    out += fmt::format("{:<{}} {:>8} {:>12.4g} {:>12.4g} {:>10.4f} {:>8.2f} {:>12.2f}\n",
+                       f.column, width, f.samples, f.rms, f.max_abs, f.worst_time, f.fit,
+                       f.fit_beyond_noise);
   }
   return out;
 }
@@ -177,8 +179,8 @@ std::string ReplayTable(const std::string& model, const RobotLog& log, const Rep
   }
   out += "\n" + FitTable(r.signals) + "\n";
   out += fmt::format(
-      "overall fit {:.2f} % (mean of the signals; 100: the log exactly, 0: no "
-      "better than each signal's mean)\n",
+      "overall fit {:.2f} % (the signals pooled in units of their noise, the error beyond it; "
+      "100: the log up to its noise, 0: no better than each signal's mean)\n",
       r.fit);
   for (const std::string& note : r.notes) out += "note: " + note + "\n";
   if (r.simulated.diverged) out += r.simulated.problem + "\n";
