@@ -205,6 +205,22 @@ TEST(CliSignalsTest, AHugeSweepSaysItsCostAndStreamsInFlatMemory) {
   EXPECT_NE(err.find("GB of csv output"), std::string::npos) << err;
 }
 
+// The cost line counts what runs: 9 cases x 2 metrics of one run length are 9 runs (it said
+// 18, and ran 18).
+TEST(CliSignalsTest, ASweepsCostLineCountsOneRunPerCaseForItsMetricsOfOneLength) {
+  TempDir dir;
+  CommandResult r = RunPlumb("sweep '" + testing::kPendulum +
+                                 "' --set 'qpos[hinge]=0.7' --vary 'dof_damping[hinge]=0:0.4:9' "
+                                 "--metric 'maxabs(qvel[hinge])' --metric energy_drift "
+                                 "--format csv",
+                             dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("sweep of 9 cases x 2 metrics: 9 runs, up to 1000 steps a case, 9000 "
+                       "steps in all"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CliSignalsTest, SweepMemoryDoesNotGrowWithTheNumberOfCases) {
   // a one-axis sweep kept every case for its no-effect note: 250 MB for a million cases
 #ifdef PLUMB_UNDER_ASAN
