@@ -11,6 +11,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "core/strings.h"
 
@@ -76,14 +77,17 @@ int AttributeLine(const std::string& text, const std::string& element,
     if (after >= text.size() || !(IsSpace(text[after]) || text[after] == '/')) continue;
     std::size_t end = text.find('>', after);
     if (end == std::string::npos) end = text.size();
-    for (std::size_t k = text.find(attribute, after); k < end;
-         k = text.find(attribute, k + 1)) {
+    // within the tag only: a search past its end would make a large file quadratic
+    const std::string_view tag = std::string_view(text).substr(0, end);
+    for (std::size_t k = tag.find(attribute, after); k != std::string_view::npos;
+         k = tag.find(attribute, k + 1)) {
       std::size_t next = k + attribute.size();
       while (next < end && IsSpace(text[next])) ++next;
       if (IsSpace(text[k - 1]) && next < end && text[next] == '=') {
         return 1 + static_cast<int>(std::count(text.begin(), text.begin() + k, '\n'));
       }
     }
+    at = end;
   }
   return 0;
 }
@@ -94,12 +98,14 @@ std::vector<std::string> Includes(const std::string& text) {
   for (std::size_t at = text.find("<include"); at != std::string::npos;
        at = text.find("<include", at + 1)) {
     std::size_t end = text.find('>', at);
-    std::size_t file = text.find("file", at);
-    if (end == std::string::npos || file == std::string::npos || file > end) continue;
-    std::size_t quote = text.find_first_of("\"'", file);
-    if (quote == std::string::npos || quote > end) continue;
-    std::size_t close = text.find(text[quote], quote + 1);
-    if (close == std::string::npos || close > end) continue;
+    if (end == std::string::npos) break;
+    const std::string_view tag = std::string_view(text).substr(0, end);  // this tag only
+    std::size_t file = tag.find("file", at);
+    if (file == std::string::npos) continue;
+    std::size_t quote = tag.find_first_of("\"'", file);
+    if (quote == std::string::npos) continue;
+    std::size_t close = tag.find(text[quote], quote + 1);
+    if (close == std::string::npos) continue;
     out.push_back(text.substr(quote + 1, close - quote - 1));
   }
   return out;
