@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <type_traits>
 
 #include "fixture.h"
@@ -126,6 +127,36 @@ TEST_F(ModelTest, ASchemaErrorInAnIncludedFileNamesThatFileItsLineAndTheAttribut
                                          "'; did you mean: size?"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// dexterity's Shadow hand keeps its servos in a file it includes: a misspelled gain there is
+// named in that file, at its line, with the gain meant.
+TEST_F(ModelTest, AMisspelledGainInTheShadowHandsIncludedActuatorsIsFoundThere) {
+  namespace fs = std::filesystem;
+  const std::string hand =
+      testing::RequireCorpusModel("dexterity-0.0.15/mjcf/shadow_hand_series_e.xml");
+  if (hand.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
+  const fs::path folder = fs::path(hand).parent_path();
+  TempDir dir;
+  const fs::path copy = fs::path(dir.path()) / folder.filename();
+  fs::create_directories(copy);
+  for (const auto& entry : fs::directory_iterator(folder.parent_path())) {  // meshes beside it
+    if (entry.path() != folder) fs::create_symlink(entry.path(), dir.File(entry.path().filename()));
+  }
+  fs::create_symlink(hand, copy / "shadow_hand_series_e.xml");
+  const std::string included = "shadow_hand_position_actuators.xml";
+  std::string actuators = testing::ReadFile((folder / included).string());
+  actuators.replace(actuators.find(R"(kp="20")"), 2, "kpp");  // line 25: A_WRJ1
+  WriteFile((copy / included).string(), actuators);
+  try {
+    Model::Load((copy / "shadow_hand_series_e.xml").string());
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    const std::string where = "'kpp' stands on line 25 of '" + (copy / included).string() +
+                              "' (included by '";
+    EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean: kp?"), std::string::npos) << e.what();
   }
 }
 
