@@ -348,9 +348,8 @@ TEST(FrictionCliTest, AuditTableGroupsTheSameFindingAboutSeveralElements) {
                            "bound\n      fix: a real motor saturates"),
             std::string::npos)
       << table.out;
-  // (MuJoCo 2.x adds the inertia.shape SKIP row: it cannot tell written inertias from derived)
-  bool old_mujoco = testing::CompiledMujocoVersion().rfind("2.", 0) == 0;
-  EXPECT_EQ(LinesStartingWith(table.out, "      fix: "), old_mujoco ? 2 : 1) << table.out;
+  // (inertia.shape judges from the geoms on every MuJoCo: no SKIP row on 2.x either)
+  EXPECT_EQ(LinesStartingWith(table.out, "      fix: "), 1) << table.out;
   EXPECT_NE(table.out.find("12 warned"), std::string::npos) << table.out;  // counts stay per row
 
   // --all: every warning on its own row; JSON the same whatever the table groups

@@ -389,7 +389,7 @@ TEST(CliRolloutTest, CtrlNoiseIsCentredOnThePendulumsStartCtrl) {
   WriteFile(dir.File("servo.xml"), R"(<mujoco><worldbody><body>
       <joint name="hinge" axis="0 1 0" damping="0.5"/>
       <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/></body></worldbody>
-    <actuator><position name="servo" joint="hinge" kp="50" ctrlrange="-3 3"/></actuator>
+    <actuator><position name="servo" joint="hinge" kp="50" ctrllimited="true" ctrlrange="-3 3"/></actuator>
     <keyframe><key name="held" qpos="1" ctrl="1"/><key name="far" qpos="1" ctrl="5"/></keyframe>
     </mujoco>)");
   const std::string args = " --count 3 --until 1 --ctrl-noise 0.01 --format csv "

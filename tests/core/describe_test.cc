@@ -228,13 +228,16 @@ TEST_F(DescribeTest, LoadingAddsWhatMujocoSaidToTheCallsNotices) {
 TEST_F(DescribeTest, IntvelocityAndAJointsActuatorForceRangeAreShownAsTheyAre) {
   testing::TempDir dir;
   std::string arm = dir.File("arm.xml");
-  testing::WriteFile(arm, testing::TwoHingeArm(R"(<intvelocity name="iv" joint="a" kp="10"
-      actrange="-1 1"/><position name="p" joint="b" kp="10" kv="1"/>)"));
+  testing::WriteFile(arm, testing::TwoHingeArm(R"(<general name="p" joint="b" gainprm="10"
+      biastype="affine" biasprm="0 -10 -1"/><general name="iv" joint="a" dyntype="integrator"
+      gainprm="10" biastype="affine" biasprm="0 -10"/>)"));  // position kp 10 kv 1 and
+  // intvelocity kp 10 as they compile (MuJoCo 2.x's position has no kv, its intvelocity no
+  // actrange; stateless actuators come first)
   ModelDescription d = Describe(Model::Load(arm));
   ASSERT_EQ(d.actuators.size(), 2u);
-  EXPECT_EQ(d.actuators[0].kind, "intvelocity");
-  EXPECT_EQ(d.actuators[0].ctrl_unit, "rad/s");
-  EXPECT_EQ(d.actuators[1].kind, "position");  // a position servo with damping kv
+  EXPECT_EQ(d.actuators[1].kind, "intvelocity");
+  EXPECT_EQ(d.actuators[1].ctrl_unit, "rad/s");
+  EXPECT_EQ(d.actuators[0].kind, "position");  // a position servo with damping kv
   if (!(mjVERSION_HEADER >= 300)) GTEST_SKIP() << "actuatorfrcrange came with MuJoCo 3";
   std::string bounded = dir.File("bounded.xml");
   std::string xml = testing::TwoHingeArm(R"(<motor name="m" joint="a" gear="2"/>)");

@@ -357,7 +357,10 @@ TEST(ClientWatchTest, ThePendulumAloneHasNoPdOfItsOwn) {
 
 TEST(ClientWatchTest, APositionActuatorOnAMotorsJointWarns) {
   Model model = Model::FromXmlString(
-      Pendulum("", R"(<position name="hold" joint="hinge" kp="50" kv="2"/>)"), "servo.xml");
+      // a position servo with kv 2, written as it compiles (MuJoCo 2.x's position has no kv)
+      Pendulum("", R"(<general name="hold" joint="hinge" gainprm="50" biastype="affine"
+                      biasprm="0 -50 -2"/>)"),
+      "servo.xml");
   BridgeConfig config;
   ClientWatch watch(model, HingeMotor(), config);
   ClientView view = watch.View(NAN);

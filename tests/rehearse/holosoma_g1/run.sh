@@ -44,7 +44,9 @@ bridge=("$plumb" bridge "$model" --config "$here/bridge.toml" --pose "$here/pose
 # stops it) at --until and judges: the band lets go at 6 s, A started the policy at 4 s, the
 # stick asks for 0.5 m/s from 9 s
 verdict=0
+# (onnxruntime keeps a device id below XDG_CACHE_HOME: the run's folder, not the user's cache)
 "${bridge[@]}" --client "$client" --client-env LOGURU_LEVEL=INFO \
+  --client-env "XDG_CACHE_HOME=$out/cache" \
   --client-output "$out/policy.txt" --first-command-timeout 60 \
   --assert "min(qpos[floating_base_joint][2]) > 0.5 during [6, $until]" \
   --assert "mean(qvel[floating_base_joint][0]) > 0.15 during [10, $walk_end]" \
