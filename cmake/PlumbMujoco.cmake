@@ -5,16 +5,22 @@
 # lib/libmujoco.so), an imported target mujoco::mujoco is made from that folder
 # instead, and PLUMB_MUJOCO_LIBDIR names the folder to put in RPATHs.
 
+# plumb's cache, as scripts/fetch-mujoco.sh finds it: $PLUMB_CACHE, else
+# ${XDG_CACHE_HOME:-$HOME/.cache}/plumb.
+function(plumb_cache_dir out)
+  if(DEFINED ENV{PLUMB_CACHE})
+    set(${out} "$ENV{PLUMB_CACHE}" PARENT_SCOPE)
+  elseif(DEFINED ENV{XDG_CACHE_HOME})
+    set(${out} "$ENV{XDG_CACHE_HOME}/plumb" PARENT_SCOPE)
+  else()
+    set(${out} "$ENV{HOME}/.cache/plumb" PARENT_SCOPE)
+  endif()
+endfunction()
+
 # PLUMB_MUJOCO names a version fetched into plumb's cache (scripts/fetch-mujoco.sh lays it
 # out as a release folder) or `debian`; MUJOCO_ROOT, when given, wins over it.
 function(plumb_mujoco_cache_root version out)
-  if(DEFINED ENV{PLUMB_CACHE})
-    set(cache "$ENV{PLUMB_CACHE}")
-  elseif(DEFINED ENV{XDG_CACHE_HOME})
-    set(cache "$ENV{XDG_CACHE_HOME}/plumb")
-  else()
-    set(cache "$ENV{HOME}/.cache/plumb")
-  endif()
+  plumb_cache_dir(cache)
   set(${out} "${cache}/mujoco/${version}" PARENT_SCOPE)
 endfunction()
 
