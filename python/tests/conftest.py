@@ -29,6 +29,15 @@ def pendulum() -> str:
     return str(ROOT / "models" / "pendulum.xml")
 
 
+# A robot of the corpus (PLUMB_CORPUS, else plumb's cache), or the test is skipped.
+def robot(relative: str) -> str:
+    root = pathlib.Path(os.environ.get("PLUMB_CORPUS", pathlib.Path.home() / ".cache/plumb/robots"))
+    path = root / relative
+    if not path.exists():
+        pytest.skip(f"robot corpus missing {relative} (make corpus)")
+    return str(path)
+
+
 def run_cli(*args: str, check_codes=(0, 1)) -> subprocess.CompletedProcess:
     """Runs the plumb command of this build ($PLUMB) and returns the finished process."""
     plumb = os.environ.get("PLUMB")

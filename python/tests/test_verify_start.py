@@ -2,25 +2,17 @@
 run the checks judged (issue 45)."""
 
 import os
-import pathlib
 
 import pytest
 
 import plumb
+from conftest import robot
 
 HUMANOID = "/usr/share/mujoco/model/humanoid/humanoid.xml"
 KEYED = """<mujoco><compiler angle="radian"/><worldbody><body>
   <joint name="a" axis="0 1 0" range="-1 1"/>
   <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02"/></body></worldbody>
   <keyframe><key name="home" qpos="0.5"/><key name="away" qpos="2"/></keyframe></mujoco>"""
-
-
-def robot(relative: str) -> str:
-    root = pathlib.Path(os.environ.get("PLUMB_CORPUS", pathlib.Path.home() / ".cache/plumb/robots"))
-    path = root / relative
-    if not path.exists():
-        pytest.skip(f"robot corpus missing {relative} (make corpus)")
-    return str(path)
 
 
 def row(result, id):
