@@ -6,6 +6,7 @@
 # table: diff before.tsv after.tsv
 #
 # Usage: bench/audit_findings.sh [PLUMB] > findings.tsv
+#        COMMANDS=audit bench/audit_findings.sh [PLUMB]   (one command only)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 plumb="$(realpath "${1:-$here/build/plumb}")"
@@ -19,7 +20,7 @@ trap 'rm -f "$out"; rm -rf "$work"' EXIT
   find "$root" -name '*.xml' | sort
   find "$here/tests/models/dm_control/suite" -maxdepth 1 -name '*.xml' | sort
 } | while read -r file; do
-  for command in audit verify; do
+  for command in ${COMMANDS:-audit verify}; do
     set +e
     (cd "$work" && timeout 600 "$plumb" "$command" "$file" --format json) >"$out" 2>/dev/null
     code=$?
