@@ -47,6 +47,13 @@ bool MustBeNonNegative(const Path& path) {
   return false;
 }
 
+// Whether a fit keeps `path` at >= 0 though MuJoCo takes a negative value: a damping. MuJoCo
+// runs a negative damper (it adds energy: verify plants one), but a fit that lands on one has
+// found no damper a robot has (a Go2's calf damping reached -0.34 in a 0.1 s window fit).
+bool FitKeepsNonNegative(const Path& path) {
+  return path.field == "dof_damping" || path.field == "tendon_damping";
+}
+
 // The first solve's weights are the noise the fit leaves within this fraction: then solving
 // again with the residuals' noise moved no estimate by more than 0.08 standard errors (the
 // arm and the pendulum, several seeds), and it is not done.
@@ -370,7 +377,7 @@ std::vector<FitParameter> ResolveFitParameters(const Model& model,
         FitParameter f;
         f.path = p;
         f.nominal = ReadValue(model, scratch, p);
-        if (MustBeNonNegative(p)) f.lo = 0;
+        if (MustBeNonNegative(p) || FitKeepsNonNegative(p)) f.lo = 0;
         params.push_back(f);
       }
     }

@@ -226,6 +226,23 @@ TEST_F(IdentifyTest, ABoundIsKeptAndSaid) {
   EXPECT_TRUE(said) << ::testing::PrintToString(r.warnings);
 }
 
+// A damping is kept at >= 0 without a --bounds: MuJoCo runs a negative damper, but no robot
+// has one. A log that gains energy (logged with damping -0.02) fitted from 0.2 ends on 0, said
+// so; unbounded, the fit would land near -0.02.
+TEST_F(IdentifyTest, AFittedDampingStaysNonNegative) {
+  Model model = Model::Load(testing::kPendulum);
+  EXPECT_EQ(ResolveFitParameters(model, {"dof_damping[hinge]"}, {})[0].lo, 0);
+  testing::LogSpec spec = PendulumDecaySpec();
+  spec.set.push_back("dof_damping[hinge]=-0.02");
+  RobotLog log = Log(spec, model);
+  IdentifyOptions o;
+  o.fit = {"dof_damping[hinge]"};
+  IdentifyResult r = Identify(WithDamping(model, 0.2), {log}, o);
+  ASSERT_EQ(r.estimates.size(), 1u);
+  EXPECT_EQ(r.estimates[0].value, 0);
+  EXPECT_TRUE(r.estimates[0].at_bound);
+}
+
 // Over many noise draws the truth falls within 2 standard errors about 95 % of the time:
 // the standard errors are honest.
 TEST_F(IdentifyTest, StandardErrorsAreHonestOverManySeeds) {
