@@ -188,14 +188,15 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
                    const AuditOptions& options, std::vector<Observed>* runs,
                    std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
-  if (compat::ActuatorCount(m) == 0) {
-    out->push_back(Make(L, "actuator.none", "", "no actuators", "", CheckStatus::kSkip,
-                        "a passive model: nothing to check in this layer"));
-    return;
-  }
   // the generalized force each joint needs to hold the reference pose (qvel = 0)
   mju_zero(data->qvel, m->nv);
   data.Forward();
+  if (compat::ActuatorCount(m) == 0) {
+    out->push_back(Make(L, "actuator.none", "", "no actuators", "", CheckStatus::kSkip,
+                        "a passive model: nothing to check in this layer but its springs"));
+    ServoTimescales(model, data, out);
+    return;
+  }
   int holding_rows = 0;
   for (int u = 0; u < compat::ActuatorCount(m); ++u) {
     CheckElement element = ElementOf(model, mjOBJ_ACTUATOR, u, "actuator");
@@ -214,6 +215,7 @@ void ActuatorLayer(const Model& original, const Model& model, Data& data,
   ListedNote(L, "actuator.holding", "holding rows", holding_rows, out);
   DelayRows(model, "actuator", L, "actuator.delay", out);
   ServoStability(model, data, out);
+  ServoTimescales(model, data, out);
   ActuatorRank(model, data, out);
   MirrorActuators(model, data, out);
   StepResponses(original, model, sets, ref, options, runs, out);

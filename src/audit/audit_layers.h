@@ -157,6 +157,10 @@ void StepResponses(const Model& original, const Model& model, const std::vector<
 // The stability margin of every servo (audit_servo.cc); `data` after mj_forward at the
 // reference pose.
 void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// actuator.timescale (audit_timescale.cc): the period and damping time of every servo and of
+// every joint and tendon spring against the timestep, judged by how far the integrator's step
+// response departs from the exact one; `data` after mj_forward at the reference pose.
+void ServoTimescales(const Model& model, const Data& data, std::vector<CheckRow>* out);
 // Mirror pairs (named left/right, FL/FR, ...) that do not mirror (audit_mirror.cc): joints'
 // limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
 void MirrorJoints(const Model& model, std::vector<CheckRow>* out);

@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "audit/audit_layers.h"
+#include "audit/servo_model.h"
 #include "core/mujoco_compat.h"
 
 namespace plumb::audit {
@@ -29,13 +30,7 @@ constexpr const char* L = "actuator";
 constexpr double kMarginWarn = 2;
 constexpr double kRk4Limit = 2.785;  // RK4's stability limit of omega*h for an oscillator
 
-struct Servo {
-  double kp = 0, kv = 0;  // actuator space: force per unit of length and of velocity
-  double inertia = 0;     // actuator space: 1 / (m^T M^-1 m)
-  double damping = 0;     // actuator space: joint damping the integrator treats implicitly
-};
-
-enum class Scheme { kEuler, kImplicit, kRk4 };
+}  // namespace
 
 Scheme SchemeOf(int integrator) {
   if (integrator == mjINT_EULER) return Scheme::kEuler;
@@ -43,39 +38,85 @@ Scheme SchemeOf(int integrator) {
   return Scheme::kImplicit;
 }
 
-const char* SchemeName(Scheme s) {
-  return s == Scheme::kEuler ? "Euler" : s == Scheme::kRk4 ? "RK4" : "an implicit integrator";
-}
-
 double Margin(const Servo& s, double h, Scheme scheme) {
   double a = s.kp * h * h / s.inertia, b = s.kv * h / s.inertia;
+  double d = s.ImplicitDamping();
   switch (scheme) {
     case Scheme::kEuler: {
-      double room = 4 + 2 * s.damping * h / s.inertia;  // 4 I + 2 h d, over I
+      double room = 4 + 2 * d * h / s.inertia;  // 4 I + 2 h d, over I
       // (kv + d) h / (I + h d) < 2, over I
       return std::min(a + 2 * b > 0 ? room / (a + 2 * b) : INFINITY,
-                      b > 0 ? (2 + s.damping * h / s.inertia) / b : INFINITY);
+                      b > 0 ? (2 + d * h / s.inertia) / b : INFINITY);
     }
     case Scheme::kRk4:
       return std::min(a > 0 ? kRk4Limit * kRk4Limit / a : INFINITY,
                       b > 0 ? kRk4Limit / b : INFINITY);
     case Scheme::kImplicit:
-      return a > 0 ? (4 + 2 * (s.kv + s.damping) * h / s.inertia) / a : INFINITY;
+      return a > 0 ? (4 + 2 * (s.kv + d) * h / s.inertia) / a : INFINITY;
   }
   return INFINITY;
+}
+
+bool AlongTransmission(const mjModel* m, const mjData* d, const std::vector<mjtNum>& moment,
+                       Servo* s) {
+  std::vector<mjtNum> solved(m->nv);
+  mj_solveM(m, const_cast<mjData*>(d), solved.data(), moment.data(), 1);
+  double s_inv = mju_dot(moment.data(), solved.data(), m->nv);
+  if (!(s_inv > 0)) return false;
+  s->inertia = 1 / s_inv;
+  // joint damping along the transmission, 1 / sum(m_i^2 / d_i): none when a dof it moves has
+  // none; Euler integrates it implicitly unless eulerdamp is off
+  s->damping_implicit = m->opt.integrator != mjINT_RK4 &&
+                        (m->opt.integrator != mjINT_EULER || compat::EulerDampsImplicitly(m));
+  double inverse = 0;
+  for (int i = 0; i < m->nv; ++i) {
+    if (moment[i] == 0) continue;
+    if (!(m->dof_damping[i] > 0)) {
+      inverse = INFINITY;
+      break;
+    }
+    inverse += moment[i] * moment[i] / m->dof_damping[i];
+  }
+  s->damping = inverse > 0 && std::isfinite(inverse) ? 1 / inverse : 0;
+  return true;
+}
+
+std::optional<Servo> ServoGains(const mjModel* m, const mjData* d, int u) {
+  bool gain = m->actuator_gaintype[u] == mjGAIN_FIXED || m->actuator_gaintype[u] == compat::kGainPid;
+  if (!gain || m->actuator_biastype[u] != mjBIAS_AFFINE) return std::nullopt;
+  // a pid keeps its kp and kv in the affine bias too
+  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
+  Servo s{std::max(0.0, -bias[1]), std::max(0.0, -bias[2])};
+  if (s.kp <= 0 && s.kv <= 0) return std::nullopt;
+  int out = static_cast<int>(compat::ActuatorOutputs(m, u).first);
+  if (!AlongTransmission(m, d, compat::ActuatorMomentRow(m, d, out), &s)) return std::nullopt;
+  return s;
+}
+
+bool Coupled(const mjModel* m, int j) {
+  for (int e = 0; e < m->neq; ++e) {
+    if (m->eq_type[e] == mjEQ_JOINT && (m->eq_obj1id[e] == j || m->eq_obj2id[e] == j)) return true;
+  }
+  return false;
+}
+
+namespace {
+
+const char* SchemeName(Scheme s) {
+  return s == Scheme::kEuler ? "Euler" : s == Scheme::kRk4 ? "RK4" : "an implicit integrator";
 }
 
 // The inertia (actuator space) at which the margin reaches `target`.
 double InertiaFor(const Servo& s, double h, Scheme scheme, double target) {
   switch (scheme) {
     case Scheme::kEuler:
-      return std::max((target * (s.kp * h * h + 2 * s.kv * h) - 2 * h * s.damping) / 4,
-                      (target * s.kv * h - s.damping * h) / 2);
+      return std::max((target * (s.kp * h * h + 2 * s.kv * h) - 2 * h * s.ImplicitDamping()) / 4,
+                      (target * s.kv * h - s.ImplicitDamping() * h) / 2);
     case Scheme::kRk4:
       return std::max(target * s.kp * h * h / (kRk4Limit * kRk4Limit),
                       target * s.kv * h / kRk4Limit);
     case Scheme::kImplicit:
-      return std::max(0.0, (target * s.kp * h * h - 2 * (s.kv + s.damping) * h) / 4);
+      return std::max(0.0, (target * s.kp * h * h - 2 * (s.kv + s.ImplicitDamping()) * h) / 4);
   }
   return 0;
 }
@@ -84,49 +125,9 @@ double InertiaFor(const Servo& s, double h, Scheme scheme, double target) {
 // are no smaller): kp h^2 + 2 (kv - d / target) h <= 4 I / target.
 double TimestepFor(const Servo& s, double target) {
   double m = s.inertia * 4 / target;
-  double kv = s.kv - s.damping / target;
+  double kv = s.kv - s.ImplicitDamping() / target;
   if (s.kp <= 0) return kv > 0 ? m / (2 * kv) : INFINITY;
   return (-2 * kv + std::sqrt(4 * kv * kv + 4 * s.kp * m)) / (2 * s.kp);
-}
-
-// A fixed-gain actuator with an affine bias that feeds back its length (kp) or velocity (kv).
-std::optional<Servo> ServoGains(const mjModel* m, const mjData* d, int u) {
-  if (m->actuator_gaintype[u] != mjGAIN_FIXED || m->actuator_biastype[u] != mjBIAS_AFFINE) {
-    return std::nullopt;
-  }
-  const mjtNum* bias = m->actuator_biasprm + mjNBIAS * u;
-  Servo s{std::max(0.0, -bias[1]), std::max(0.0, -bias[2])};
-  if (s.kp <= 0 && s.kv <= 0) return std::nullopt;
-  int out = static_cast<int>(compat::ActuatorOutputs(m, u).first);
-  std::vector<mjtNum> moment = compat::ActuatorMomentRow(m, d, out), solved(m->nv);
-  mj_solveM(m, const_cast<mjData*>(d), solved.data(), moment.data(), 1);
-  double s_inv = mju_dot(moment.data(), solved.data(), m->nv);
-  if (!(s_inv > 0)) return std::nullopt;
-  s.inertia = 1 / s_inv;
-  // joint damping along the transmission, 1 / sum(m_i^2 / d_i): none when a dof it moves has
-  // none; Euler integrates it implicitly unless eulerdamp is off
-  bool implicit = m->opt.integrator != mjINT_RK4 &&
-                  (m->opt.integrator != mjINT_EULER || compat::EulerDampsImplicitly(m));
-  double inverse = 0;
-  for (int i = 0; i < m->nv && implicit; ++i) {
-    if (moment[i] == 0) continue;
-    if (!(m->dof_damping[i] > 0)) {
-      inverse = INFINITY;
-      break;
-    }
-    inverse += moment[i] * moment[i] / m->dof_damping[i];
-  }
-  s.damping = implicit && inverse > 0 && std::isfinite(inverse) ? 1 / inverse : 0;
-  return s;
-}
-
-// Whether an equality constraint ties joint j to another joint: then the link the servo moves
-// is not free, which the margin does not model.
-bool Coupled(const mjModel* m, int j) {
-  for (int e = 0; e < m->neq; ++e) {
-    if (m->eq_type[e] == mjEQ_JOINT && (m->eq_obj1id[e] == j || m->eq_obj2id[e] == j)) return true;
-  }
-  return false;
 }
 
 CheckRow StabilityRow(const Model& model, int u, const Servo& s) {
@@ -151,7 +152,9 @@ CheckRow StabilityRow(const Model& model, int u, const Servo& s) {
   std::string measured = fmt::format(
       "margin {:.3g} under {} at h = {:g} s (kp {:.4g}, kv {:.4g}{} on an effective inertia of {})",
       margin, SchemeName(scheme), h, s.kp, s.kv,
-      s.damping > 0 ? fmt::format(", joint damping {:.4g} (implicit)", s.damping) : "", inertia);
+      s.ImplicitDamping() > 0 ? fmt::format(", joint damping {:.4g} (implicit)", s.ImplicitDamping())
+                              : "",
+      inertia);
   if (scheme != Scheme::kEuler) {
     measured += fmt::format("; under Euler: {:.3g}", Margin(s, h, Scheme::kEuler));
   }

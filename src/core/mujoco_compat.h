@@ -437,6 +437,37 @@ inline std::vector<mjtNum> ActuatorMomentRow(const mjModel* m, const mjData* d, 
 }
 
 namespace detail {
+// 3.x keeps the sparse structure of ten_J in mjModel
+template <typename M, typename D>
+auto TendonRow(const M* m, const D* d, int t, std::vector<mjtNum>* row, int)
+    -> decltype(m->ten_J_rownnz, void()) {
+  for (int k = 0; k < m->ten_J_rownnz[t]; ++k) {
+    int adr = m->ten_J_rowadr[t] + k;
+    (*row)[m->ten_J_colind[adr]] = d->ten_J[adr];
+  }
+}
+// 2.x: ntendon x nv, sparse (structure in mjData) when the model is
+template <typename M, typename D>
+void TendonRow(const M* m, const D* d, int t, std::vector<mjtNum>* row, long) {
+  if (!mj_isSparse(m)) {
+    for (int i = 0; i < m->nv; ++i) (*row)[i] = d->ten_J[t * m->nv + i];
+    return;
+  }
+  for (int k = 0; k < d->ten_J_rownnz[t]; ++k) {
+    int adr = d->ten_J_rowadr[t] + k;
+    (*row)[d->ten_J_colind[adr]] = d->ten_J[adr];
+  }
+}
+}  // namespace detail
+
+// Row `t` of the tendon Jacobian (d length / d qvel), dense, after mj_forward.
+inline std::vector<mjtNum> TendonJacobianRow(const mjModel* m, const mjData* d, int t) {
+  std::vector<mjtNum> row(m->nv, 0.0);
+  detail::TendonRow(m, d, t, &row, 0);
+  return row;
+}
+
+namespace detail {
 template <typename M>
 auto ActuatorPlugin(const M* m, int u, int) -> decltype(m->actuator_plugin, int()) {
   return m->actuator_plugin[u];
@@ -677,6 +708,31 @@ inline std::string PluginName(const mjModel* m, int instance) {
 #else
   (void)m;
   (void)instance;
+  return "";
+#endif
+}
+
+// Whether <flag spring="disable"/> (3.x) or passive="disable" (2.x) switches joint and tendon
+// springs off.
+inline bool SpringsDisabled(const mjModel* m) {
+#if mjVERSION_HEADER >= 300
+  return m->opt.disableflags & mjDSBL_SPRING;
+#else
+  return m->opt.disableflags & mjDSBL_PASSIVE;
+#endif
+}
+
+// The value of config attribute `key` of plugin instance `instance` (a mujoco.pid's "kp"), ""
+// when it has none (always on 2.x, which has no plugins).
+inline std::string PluginConfig(const mjModel* m, int instance, const char* key) {
+#if mjVERSION_HEADER >= 300
+  if (instance < 0 || instance >= m->nplugin) return "";
+  const char* value = mj_getPluginConfig(m, instance, key);
+  return value ? value : "";
+#else
+  (void)m;
+  (void)instance;
+  (void)key;
   return "";
 #endif
 }
