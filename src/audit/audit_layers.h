@@ -115,6 +115,10 @@ void DelayRows(const Model& model, const std::string& kind, const char* layer, c
 // The layers, in the order the audit runs them; each appends its findings to `out` and
 // the runs it made to `runs`.
 void StructureLayer(const Model& model, std::vector<CheckRow>* out);
+// structure.solref_clamp (audit_solref.cc): constraints whose standard solref timeconst MuJoCo's
+// refsafe limit raises to 2 x timestep, a WARN row per kind of constraint, written timeconst
+// and default class; one PASS row when none is, a SKIP when refsafe is disabled.
+void SolrefClamps(const Model& model, std::vector<CheckRow>* out);
 // The start the audit judges from (`data` after mj_forward there, `ref` its reference pose and
 // `start` its description): a FAIL row per joint outside its range (there, or at qpos0 when
 // `ref` moved it inside) and one for contacts deeper than their solimp width

@@ -277,6 +277,7 @@ void StructureLayer(const Model& model, std::vector<CheckRow>* out) {
   NqNv(model, out);
   ActuatorsAndSensors(model, out);
   DelayRows(model, "sensor", L, "structure.sensor_delay", out);
+  SolrefClamps(model, out);
 }
 
 }  // namespace plumb::audit

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/mujoco_compat.h"
+#include "core/solref.h"
 #include "core/strings.h"
 #include "plumb/error.h"
 #include "plumb/run.h"
@@ -178,55 +179,6 @@ void Recommend(double tol, ConvergenceResult* out) {
   }
 }
 
-// The time constant a contact between geoms g and h starts from, before MuJoCo's clamp, as
-// mj_contactParam chooses it: the higher priority geom's own, else the two mixed by their
-// solmix weights (standard format), or the smaller (direct format, not clamped).
-double ContactTimeconst(const mjModel* m, int g, int h) {
-  const mjtNum* a = m->geom_solref + mjNREF * g;
-  const mjtNum* b = m->geom_solref + mjNREF * h;
-  if (m->geom_priority[g] != m->geom_priority[h]) {
-    return m->geom_priority[g] > m->geom_priority[h] ? a[0] : b[0];
-  }
-  if (a[0] <= 0 || b[0] <= 0) return std::min(a[0], b[0]);
-  double wa = m->geom_solmix[g], wb = m->geom_solmix[h];
-  double mix = 0.5;
-  if (wa >= mjMINVAL && wb >= mjMINVAL) {
-    mix = wa / (wa + wb);
-  } else if (wa >= mjMINVAL || wb >= mjMINVAL) {
-    mix = wa >= mjMINVAL ? 1.0 : 0.0;
-  }
-  return mix * a[0] + (1 - mix) * b[0];
-}
-
-// Whether a contact of geom g can start from a time constant below `floor`: with some geom of
-// another body its contype/conaffinity let it touch. A geom whose every contact mixes to the
-// floor or above is left as it is (MuJoCo clamps none of them at any level).
-bool GeomContactBelow(const mjModel* m, int g, double floor) {
-  for (int h = 0; h < m->ngeom; ++h) {
-    if (m->geom_bodyid[h] == m->geom_bodyid[g]) continue;
-    if (!(m->geom_contype[g] & m->geom_conaffinity[h]) &&
-        !(m->geom_contype[h] & m->geom_conaffinity[g])) {
-      continue;
-    }
-    double timeconst = ContactTimeconst(m, g, h);
-    if (timeconst > 0 && timeconst < floor) return true;
-  }
-  return false;
-}
-
-// Whether row `i` of the solref array `name` can make a constraint MuJoCo clamps below `floor`:
-// a limited joint or tendon, a dof or tendon with friction loss, a geom with a contact below
-// the floor; every equality, pair, flex and the override's.
-bool RowActs(const mjModel* m, const std::string& name, long i, double floor) {
-  if (name == "geom_solref") return GeomContactBelow(m, static_cast<int>(i), floor);
-  if (name == "jnt_solref") return m->jnt_limited[i] != 0;
-  if (name == "dof_solref") return m->dof_frictionloss[i] > 0;
-  if (name == "tendon_solref_lim") return m->tendon_limited[i] != 0;
-  if (name == "tendon_solref_fri") return m->tendon_frictionloss[i] > 0;
-  if (name == "opt.o_solref") return (m->opt.enableflags & mjENBL_OVERRIDE) != 0;
-  return true;
-}
-
 }  // namespace
 
 bool LevelMeetsTolerance(const ConvergenceLevel& level, bool finest, double target) {
@@ -251,16 +203,14 @@ std::vector<Assignment> HoldSolref(const Model& model, double floor, std::string
   std::vector<Assignment> out;
   std::vector<std::string> counts;
   const mjModel* m = model.get();
+  std::vector<internal::SolrefBelow> below = internal::SolrefsBelow(m, floor);
   for (const compat::SolrefArray& a : compat::ClampedSolrefArrays(m)) {
-    if (!compat::ReferenceTimeconstClamped(m)) break;  // refsafe off: MuJoCo clamps nothing
     std::vector<double> values(a.data, a.data + a.rows * mjNREF);
     int raised = 0;
-    for (long i = 0; i < a.rows; ++i) {
-      double& timeconst = values[static_cast<std::size_t>(i) * mjNREF];
-      if (timeconst > 0 && timeconst < floor && RowActs(m, a.name, i, floor)) {
-        timeconst = floor;
-        ++raised;
-      }
+    for (const internal::SolrefBelow& row : below) {
+      if (row.array != a.name) continue;
+      values[static_cast<std::size_t>(row.row) * mjNREF] = floor;
+      ++raised;
     }
     if (raised == 0) continue;
     Assignment set;
