@@ -83,6 +83,7 @@ class TimescaleTest : public ::testing::Test {
                            const std::string& where) {
     const CheckRow* row = Named(rows, element);
     ASSERT_NE(row, nullptr) << Text(rows);
+    RecordProperty(element, row->measured_text);  // in --gtest_output=xml, for docs/audit.md
     EXPECT_EQ(row->status, CheckStatus::kWarn) << Text(rows);
     EXPECT_GT(row->measured.value, 10) << row->measured_text;
     EXPECT_NE(row->measured_text.find("period "), std::string::npos) << row->measured_text;
@@ -197,6 +198,33 @@ TEST_F(TimescaleTest, AStiffSpringOnALightJointIsCaught) {
   const CheckRow* row = Named(rows, "right_spring_link_joint");
   ASSERT_NE(row, nullptr);
   EXPECT_EQ(row->element.kind, "joint");
+}
+
+TEST_F(TimescaleTest, ANativePidAndAPidPluginAreJudgedToo) {
+  // MuJoCo's pid keeps kp and kv in its affine bias; the mujoco.pid plugin's kp and kd are its
+  // config, and its kd an explicit force under every integrator
+  if (!(mjVERSION_HEADER >= 3012000)) GTEST_SKIP() << "pid actuators came with MuJoCo 3.12";
+  const char* xml = R"(<mujoco><option timestep="0.002" integrator="implicitfast"/>
+    <extension><plugin plugin="mujoco.pid"><instance name="pid">
+      <config key="kp" value="40"/><config key="kd" value="0.01"/></instance></plugin></extension>
+    <worldbody><body><joint name="a" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01"/>
+      <body pos="0.1 0 0"><joint name="b" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.1 0 0" size="0.01"/></body></body></worldbody>
+    <actuator><pid name="native" joint="a" kp="10" kv="0.001" ctrlrange="-1 1"/>
+      <plugin name="plugin" joint="b" plugin="mujoco.pid" instance="pid" ctrllimited="true"
+              ctrlrange="-1 1"/></actuator></mujoco>)";
+  std::string path = dir_.File("pid.xml");
+  testing::WriteFile(path, xml);
+  std::vector<CheckRow> rows = Rows(path);
+  // 15 steps a period, next to no damping: stable, off by a quarter of the step
+  ExpectCaught(rows, "native", "joint 'a'");
+  // 2.8 steps a period with an explicit kd: diverges
+  const CheckRow* plugin = Named(rows, "plugin");
+  ASSERT_NE(plugin, nullptr) << Text(rows);
+  EXPECT_EQ(plugin->status, CheckStatus::kFail) << Text(rows);
+  EXPECT_NE(plugin->measured_text.find("mujoco.pid kp 40, kd 0.01"), std::string::npos)
+      << plugin->measured_text;
 }
 
 }  // namespace
