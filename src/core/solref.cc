@@ -44,6 +44,17 @@ bool MayTouch(const mjModel* m, int g, int h) {
 // Whether the model can make contacts at all.
 bool Contacts(const mjModel* m) { return !Disabled(m, mjDSBL_CONTACT); }
 
+// Whether some contact can happen: an explicit pair, or two geoms that may touch.
+bool AnyContact(const mjModel* m) {
+  if (m->npair > 0) return true;
+  for (int g = 0; g < m->ngeom; ++g) {
+    for (int h = g + 1; h < m->ngeom; ++h) {
+      if (MayTouch(m, g, h)) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 double ContactTimeconst(const mjModel* m, int g, int h) {
@@ -85,7 +96,7 @@ bool SolrefRowActs(const mjModel* m, const std::string& array, long row, double 
     return own_contact && m->opt.cone == mjCONE_ELLIPTIC && m->pair_dim[row] > 1;
   }
   if (array == "flex_solref") return own_contact && compat::FlexMakesContacts(m, row);
-  if (array == "opt.o_solref") return Override(m) && Contacts(m);
+  if (array == "opt.o_solref") return Override(m) && Contacts(m) && AnyContact(m);
   if (array == "jnt_solref") return !Disabled(m, mjDSBL_LIMIT) && m->jnt_limited[row] != 0;
   if (array == "tendon_solref_lim") return !Disabled(m, mjDSBL_LIMIT) && m->tendon_limited[row] != 0;
   if (array == "dof_solref") return !Disabled(m, mjDSBL_FRICTIONLOSS) && m->dof_frictionloss[row] > 0;

@@ -29,8 +29,8 @@ double LowestContactTimeconst(const mjModel* m, int g);
 // or tendon with friction loss, a geom with a dynamic contact below the floor, an explicit
 // pair, every equality and flex with contacts; pair_solreffriction only under the elliptic
 // cone (the pyramidal one ignores it). Under <flag override="enable"/> opt.o_solref replaces
-// every contact's solref and solreffriction; constraint kinds the model's disable flags switch
-// off make none.
+// every contact's solref and solreffriction, and acts when some contact can happen. Constraint
+// kinds the model's disable flags switch off make none.
 bool SolrefRowActs(const mjModel* m, const std::string& array, long row, double floor);
 
 // One solref row whose standard time constant is below a floor and makes a constraint.

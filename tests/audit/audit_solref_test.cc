@@ -239,6 +239,11 @@ TEST_F(SolrefClampTest, MixedContactsFrictionLossTendonsAndTheOverride) {
   EXPECT_NE(Find(over, {"solref timeconst 0.0025 s on opt.o_solref", "raised to 0.004 s"}), nullptr)
       << Text(over);
   EXPECT_EQ(Find(over, {"on geoms"}), nullptr) << Text(over);
+  // ... and only where some contact can happen: the ball with contype 0 touches nothing
+  std::vector<CheckRow> untouched =
+      Rows(Edited(overridden, {{R"(solref="0.001 1"/></body>)",
+                                R"(solref="0.001 1" contype="0" conaffinity="0"/></body>)"}}));
+  EXPECT_EQ(Find(untouched, {"o_solref"}), nullptr) << Text(untouched);
 }
 
 // The clean robots keep every solref they write: one PASS row each, no finding.
