@@ -204,29 +204,6 @@ void WeldGroup(const Model& model, const BodyInertia& body, const WeldGroups& gr
                   {ratio, ""}, {1e3, ""}));
 }
 
-// The density the mass implies in the volume of the body's shape (a mesh's when it is closed):
-// 1 .. 25000 kg/m^3 for primitives (no solid is lighter than air or heavier than osmium), 10 ..
-// 1e5 with a mesh, which often shows part of a link while its motor hides in the parent's
-// mesh (Mini Cheetah's hips: 28600); a mesh in mm is still 1e9 off. A body welded to its
-// parent is skipped: which of a weld group's bodies carries its mass is arbitrary.
-void Density(const mjModel* m, const BodyInertia& body, const BodySolids& solids,
-             std::vector<CheckRow>* out) {
-  const Solid& shape = solids.shape;
-  if (!(shape.volume > 0) || shape.approximate || !(body.mass > 0)) return;
-  if (m->body_weldid[body.b] != body.b) return;
-  bool mesh = solids.meshes > 0;
-  double lo = mesh ? 10 : 1, hi = mesh ? 1e5 : 25000;
-  double density = body.mass / shape.volume;
-  if (density >= lo && density <= hi) return;
-  out->push_back(WithNumbers(
-      Make(L, "inertia.density", body.element,
-           fmt::format("{:.4g} kg/m^3 ({:.4g} kg in {:.3g} m^3)", density, body.mass, shape.volume),
-           fmt::format("{:g} .. {:g} kg/m^3", lo, hi), CheckStatus::kWarn,
-           "no solid is this light or heavy (water 1000, steel 7850): check "
-           "the mass, the geom sizes and their units (a mesh in mm is 1e9 times too big)"),
-      {density, "kg/m^3"}, {density < lo ? lo : hi, "kg/m^3"}));
-}
-
 // How the body's inertia compares with its shape's at the body's mass.
 struct ShapeFit {
   std::array<double, 3> body{}, shape{};  // principal moments, ascending, kg*m^2
@@ -389,10 +366,14 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
   // which inertias were written by hand, where the MJCF says (mjSpec, 3.x and later): context
   // for the advice only, never the verdict (a model without its MJCF gets the same rows)
   std::optional<std::vector<bool>> written;
+  // the masses geoms write (mjSpec too): the density check judges them where the compiler used them
+  std::optional<std::vector<double>> geom_masses;
   try {
     written = compat::ExplicitInertials(original.xml_text(), original.file(), original.get());
+    geom_masses = compat::WrittenGeomMasses(original.xml_text(), original.file(), original.get());
   } catch (const MujocoError&) {
     written = std::nullopt;  // the source no longer parses
+    geom_masses = std::nullopt;
   }
   int listed = 0, moving = 0;
   for (int b = 1; b < m->nbody; ++b) {
@@ -402,7 +383,8 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     Principal(body, out);
     WeldGroup(model, body, groups, total, out);
     BodySolids solids = BodySolid(m, b);
-    Density(m, body, solids, out);
+    WeldGroupDensity(model, b, geom_masses ? &*geom_masses : nullptr, written ? &*written : nullptr,
+                     out);
     // a point mass (zero moments, welded on or carried by its group) has no shape to fit
     bool point = body.I[0] == 0 && body.I[1] == 0 && body.I[2] == 0;
     bool sound = body.positive && body.triangle && !body.marker && !point && body.mass > 0;

@@ -165,6 +165,14 @@ void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>*
 // every joint and tendon spring against the timestep, judged by how far the integrator's step
 // response departs from the exact one; `data` after mj_forward at the reference pose.
 void ServoTimescales(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// inertia.density (audit_density.cc) for body b when it is the root of a moving weld group (b
+// and the bodies welded to it, which move as one; nothing for a body welded to its parent): a
+// WARN row about b when the group's mass in the volume of its bodies' shapes is no solid's
+// density, and where the MJCF is at hand a WARN row per geom whose written mass is none in its
+// own volume (`geom_masses`: compat::WrittenGeomMasses, `written`: compat::ExplicitInertials;
+// null when unknown), unless that geom is the cause the group's row names.
+void WeldGroupDensity(const Model& model, int b, const std::vector<double>* geom_masses,
+                      const std::vector<bool>* written, std::vector<CheckRow>* out);
 // Mirror pairs (named left/right, FL/FR, ...) that do not mirror (audit_mirror.cc): joints'
 // limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
 void MirrorJoints(const Model& model, std::vector<CheckRow>* out);

@@ -16,8 +16,10 @@
 #include <mujoco/mjxmacro.h>
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -465,6 +467,22 @@ inline void ResetState(const mjModel* m, mjData* d) {
 #endif
 }
 
+namespace detail {
+#if PLUMB_MUJOCO_HAS_SPEC
+struct SpecDeleter {
+  void operator()(mjSpec* spec) const { mj_deleteSpec(spec); }
+};
+// The mjSpec of the MJCF text `xml`, else of the file `path`; null when it does not parse.
+inline std::unique_ptr<mjSpec, SpecDeleter> ParseSpec(const std::string& xml,
+                                                      const std::string& path) {
+  char error[500] = "";
+  return std::unique_ptr<mjSpec, SpecDeleter>(
+      xml.empty() ? mj_parseXML(path.c_str(), nullptr, error, sizeof(error))
+                  : mj_parseXMLString(xml.c_str(), nullptr, error, sizeof(error)));
+}
+#endif
+}  // namespace detail
+
 // Per body id, whether its mass and inertia were written in an <inertial> element (true) or
 // derived by the compiler from its geoms (false), read with mjSpec from the MJCF text `xml`,
 // else from the file `path`. nullopt when that cannot be told: MuJoCo 2.x has no mjSpec, a
@@ -473,9 +491,8 @@ inline std::optional<std::vector<bool>> ExplicitInertials(const std::string& xml
                                                           const std::string& path,
                                                           const mjModel* m) {
 #if PLUMB_MUJOCO_HAS_SPEC
-  char error[500] = "";
-  mjSpec* spec = xml.empty() ? mj_parseXML(path.c_str(), nullptr, error, sizeof(error))
-                             : mj_parseXMLString(xml.c_str(), nullptr, error, sizeof(error));
+  auto parsed = detail::ParseSpec(xml, path);
+  mjSpec* spec = parsed.get();
   if (!spec) return std::nullopt;
   std::vector<bool> out;
   bool aligned = true;
@@ -491,7 +508,6 @@ inline std::optional<std::vector<bool>> ExplicitInertials(const std::string& xml
     if (spec->compiler.inertiafromgeom == mjINERTIAFROMGEOM_TRUE) explicit_inertial = false;
     out.push_back(explicit_inertial);
   }
-  mj_deleteSpec(spec);
   if (!aligned || static_cast<int>(out.size()) != m->nbody) return std::nullopt;
   return out;
 #else
@@ -500,6 +516,45 @@ inline std::optional<std::vector<bool>> ExplicitInertials(const std::string& xml
   (void)m;
   return std::nullopt;
 #endif
+}
+
+// Per geom id, the mass (kg) its MJCF writes in a `mass` attribute (its own or its default
+// class's), read with mjSpec from the MJCF text `xml`, else from the file `path`: mjsGeom::mass
+// is NaN unless written (MuJoCo's user code defaults it so on 3.x and 4.x). NaN too for a geom
+// whose mass spreads over its surface (shellinertia, or its mesh's inertia="shell"), which has
+// no volume to hold it. nullopt when that cannot be told: MuJoCo 2.x has no mjSpec, a binary
+// model has no source, or the parsed geoms do not line up with the compiled ones (by count, and
+// by the geom's and its body's names where named).
+inline std::optional<std::vector<double>> WrittenGeomMasses(
+    [[maybe_unused]] const std::string& xml, [[maybe_unused]] const std::string& path,
+    [[maybe_unused]] const mjModel* m) {
+#if PLUMB_MUJOCO_HAS_SPEC
+  auto spec = detail::ParseSpec(xml, path);
+  if (!spec) return std::nullopt;
+  auto same = [](const char* written, const char* compiled) {
+    return !written || !*written || (compiled && std::strcmp(written, compiled) == 0);
+  };
+  std::vector<double> out;
+  for (mjsElement* e = mjs_firstElement(spec.get(), mjOBJ_GEOM); e;
+       e = mjs_nextElement(spec.get(), e)) {
+    const int g = static_cast<int>(out.size());
+    mjsBody* body = mjs_getParent(e);
+    if (g >= m->ngeom || !same(mjs_getString(mjs_getName(e)), mj_id2name(m, mjOBJ_GEOM, g)) ||
+        !body ||
+        !same(mjs_getString(mjs_getName(body->element)),
+              mj_id2name(m, mjOBJ_BODY, m->geom_bodyid[g]))) {
+      return std::nullopt;
+    }
+    const mjsGeom* geom = mjs_asGeom(e);
+    bool shell = geom->typeinertia == mjINERTIA_SHELL;
+    const char* mesh = mjs_getString(geom->meshname);
+    mjsElement* asset = mesh && *mesh ? mjs_findElement(spec.get(), mjOBJ_MESH, mesh) : nullptr;
+    if (asset) shell = shell || mjs_asMesh(asset)->inertia == mjMESH_INERTIA_SHELL;
+    out.push_back(shell ? NAN : geom->mass);
+  }
+  if (static_cast<int>(out.size()) == m->ngeom) return out;
+#endif
+  return std::nullopt;
 }
 
 // The bound a joint puts on the total actuator force at its dofs (actuatorfrcrange, 3.x);
