@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "audit/check_rows.h"
 #include "corpus_robots.h"
 #include "fixture.h"
 #include "plumb/audit.h"
@@ -27,30 +28,8 @@ using Edits = std::vector<std::pair<std::string, std::string>>;
 
 class TimescaleTest : public ::testing::Test {
  protected:
-  // The rows of actuator.timescale of the audit of `path` (all statuses).
   static std::vector<CheckRow> Rows(const std::string& path) {
-    std::vector<CheckRow> out;
-    for (const CheckRow& row : Audit(Model::Load(path), AuditOptions{}).findings) {
-      if (row.id == kCheck) out.push_back(row);
-    }
-    return out;
-  }
-
-  static std::vector<CheckRow> Findings(const std::vector<CheckRow>& rows) {
-    std::vector<CheckRow> out;
-    for (const CheckRow& row : rows) {
-      if (row.status == CheckStatus::kWarn || row.status == CheckStatus::kFail) out.push_back(row);
-    }
-    return out;
-  }
-
-  static std::string Text(const std::vector<CheckRow>& rows) {
-    std::string out;
-    for (const CheckRow& row : rows) {
-      out += std::string(CheckStatusName(row.status)) + " " + row.About() + ": " +
-             row.measured_text + " | " + row.fix + "\n";
-    }
-    return out;
+    return testing::CheckRows(path, kCheck);
   }
 
   // The row about element `name`; nullptr when there is none.
@@ -82,9 +61,9 @@ class TimescaleTest : public ::testing::Test {
   static void ExpectCaught(const std::vector<CheckRow>& rows, const std::string& element,
                            const std::string& where) {
     const CheckRow* row = Named(rows, element);
-    ASSERT_NE(row, nullptr) << Text(rows);
+    ASSERT_NE(row, nullptr) << testing::RowsText(rows);
     RecordProperty(element, row->measured_text);  // in --gtest_output=xml, for docs/audit.md
-    EXPECT_EQ(row->status, CheckStatus::kWarn) << Text(rows);
+    EXPECT_EQ(row->status, CheckStatus::kWarn) << testing::RowsText(rows);
     EXPECT_GT(row->measured.value, 10) << row->measured_text;
     EXPECT_NE(row->measured_text.find("period "), std::string::npos) << row->measured_text;
     EXPECT_NE(row->measured_text.find("damping time "), std::string::npos) << row->measured_text;
@@ -103,11 +82,11 @@ TEST_F(TimescaleTest, CleanRobotsAreQuiet) {
     if (path.empty()) continue;
     ++audited;
     std::vector<CheckRow> rows = Rows(path);
-    EXPECT_TRUE(Findings(rows).empty()) << robot << "\n" << Text(Findings(rows));
+    EXPECT_TRUE(testing::FindingRows(rows).empty()) << robot << "\n" << testing::RowsText(testing::FindingRows(rows));
   }
   std::string allegro = MenagerieAllegro(dir_.path());
   if (!allegro.empty()) {
-    EXPECT_TRUE(Findings(Rows(allegro)).empty()) << Text(Findings(Rows(allegro)));
+    EXPECT_TRUE(testing::FindingRows(Rows(allegro)).empty()) << testing::RowsText(testing::FindingRows(Rows(allegro)));
   }
   if (audited == 0) GTEST_SKIP() << "no robot corpus (make corpus)";
 }
@@ -119,10 +98,10 @@ TEST_F(TimescaleTest, AnOverdampedArmWithoutArmatureIsNotAFinding) {
   if (ur5e.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
   std::vector<CheckRow> rows = Rows(Edited(ur5e, {{R"( armature="0.1")", ""}}));
   const CheckRow* wrist = Named(rows, "wrist_3");
-  ASSERT_NE(wrist, nullptr) << Text(rows);
-  EXPECT_EQ(wrist->status, CheckStatus::kPass) << Text(rows);
+  ASSERT_NE(wrist, nullptr) << testing::RowsText(rows);
+  EXPECT_EQ(wrist->status, CheckStatus::kPass) << testing::RowsText(rows);
   EXPECT_LT(wrist->measured.value, 1) << wrist->measured_text;
-  EXPECT_TRUE(Findings(rows).empty()) << Text(Findings(rows));
+  EXPECT_TRUE(testing::FindingRows(rows).empty()) << testing::RowsText(testing::FindingRows(rows));
 }
 
 TEST_F(TimescaleTest, Ur5eWithoutArmatureOrKvIsCaught) {
@@ -134,7 +113,7 @@ TEST_F(TimescaleTest, Ur5eWithoutArmatureOrKvIsCaught) {
                                                   {R"(biasprm="0 -2000 -400")", R"(biasprm="0 -2000 0")"},
                                                   {R"(biasprm="0 -500 -100")", R"(biasprm="0 -500 0")"}}));
   ExpectCaught(rows, "wrist_1", "joint 'wrist_1_joint'");
-  EXPECT_EQ(Named(rows, "wrist_3"), nullptr) << Text(rows);
+  EXPECT_EQ(Named(rows, "wrist_3"), nullptr) << testing::RowsText(rows);
 }
 
 TEST_F(TimescaleTest, PandaWithoutArmatureOrKvIsCaught) {
@@ -179,7 +158,7 @@ TEST_F(TimescaleTest, G1ServosWithoutKvAreCaught) {
   if (!(mjVERSION_HEADER >= 3000000)) GTEST_SKIP() << "G1Servos writes position kv (MuJoCo 3)";
   std::string g1 = G1Servos(dir_.path());
   if (g1.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
-  EXPECT_TRUE(Findings(Rows(g1)).empty()) << Text(Findings(Rows(g1)));
+  EXPECT_TRUE(testing::FindingRows(Rows(g1)).empty()) << testing::RowsText(testing::FindingRows(Rows(g1)));
   testing::TempDir other;  // beside the servo copy, not over it
   std::vector<CheckRow> rows =
       Rows(Edited(g1, {{R"( kv="10")", ""}, {R"( kv="2")", ""}}, other.path()));
@@ -221,8 +200,8 @@ TEST_F(TimescaleTest, ANativePidAndAPidPluginAreJudgedToo) {
   ExpectCaught(rows, "native", "joint 'a'");
   // 2.8 steps a period with an explicit kd: diverges
   const CheckRow* plugin = Named(rows, "plugin");
-  ASSERT_NE(plugin, nullptr) << Text(rows);
-  EXPECT_EQ(plugin->status, CheckStatus::kFail) << Text(rows);
+  ASSERT_NE(plugin, nullptr) << testing::RowsText(rows);
+  EXPECT_EQ(plugin->status, CheckStatus::kFail) << testing::RowsText(rows);
   EXPECT_NE(plugin->measured_text.find("mujoco.pid kp 40, kd 0.01"), std::string::npos)
       << plugin->measured_text;
 }
