@@ -135,7 +135,10 @@ void GroupRow(const Model& model, const Group& group, const std::vector<WrongGeo
   for (const WrongGeom& geom : geoms) {
     fix += "; " + GeomWords(model, geom) + ": check that mass and the geom's size, and their units";
   }
-  fix += "; a mass lumped there on purpose: declare it in the accept list, with the reason";
+  // a body with nothing welded to it and no written mass to name keeps the row it always had
+  if (welded > 0 || !geoms.empty()) {
+    fix += "; a mass lumped there on purpose: declare it in the accept list, with the reason";
+  }
   out->push_back(WithNumbers(
       Make(L, "inertia.density", ElementOf(model, mjOBJ_BODY, root, "body"), measured,
            fmt::format("{:g} .. {:g} kg/m^3", band.lo, band.hi), CheckStatus::kWarn, fix),

@@ -160,6 +160,35 @@ TEST_F(WeldDensityTest, AToolFlangesMassInGramsIsCaught) {
                "geom", "flange", {"mass=\"500\" kg written", "body 'tool_flange'"});
 }
 
+// One cause, one row: a sphere's mass written in grams makes its body's group too heavy too, so
+// the group's row names the sphere and the sphere gets no row of its own (body 'a'); where the
+// group still passes (body 'b': its 1 kg box dilutes the sphere's 20 kg to 21000 kg/m^3), the
+// sphere's own row names it. Body 'c' has nothing welded and no written mass: the row it always
+// had, with no word of weld groups or of the accept list.
+TEST_F(WeldDensityTest, AGeomIsNamedOnceInTheRowItsMassCauses) {
+  if (!PLUMB_MUJOCO_HAS_SPEC) GTEST_SKIP() << "needs mjSpec to read the geoms' masses";
+  Model model = Model::FromXmlString(R"(<mujoco><worldbody>
+    <body name="a"><freejoint/><geom type="box" size=".05 .05 .05"/>
+      <geom name="a_lump" size=".005" mass="50"/></body>
+    <body name="b" pos="1 0 0"><freejoint/><geom type="box" size=".05 .05 .05"/>
+      <geom name="b_lump" size=".005" mass="20"/></body>
+    <body name="c" pos="2 0 0"><freejoint/>
+      <inertial pos="0 0 0" mass="30" diaginertia=".001 .001 .001"/>
+      <geom type="box" size=".05 .05 .05"/></body>
+  </worldbody></mujoco>)");
+  std::vector<CheckRow> rows = DensityRows(Audit(model, AuditOptions{}).findings);
+  ASSERT_EQ(rows.size(), 3u) << Rows(rows);
+  EXPECT_EQ(rows[0].About(), "body 'a' (id 1)");
+  EXPECT_NE(rows[0].fix.find("geom 'a_lump'"), std::string::npos) << Rows(rows);
+  EXPECT_EQ(rows[1].About(), "geom 'b_lump' (id 3)");
+  EXPECT_NE(rows[1].measured_text.find("in body 'b'"), std::string::npos) << Rows(rows);
+  EXPECT_EQ(rows[2].About(), "body 'c' (id 3)");
+  EXPECT_EQ(rows[2].measured_text, "3e+04 kg/m^3 (30 kg in 0.001 m^3)");
+  EXPECT_EQ(rows[2].fix,
+            "no solid is this light or heavy (water 1000, steel 7850): check the mass, the geom "
+            "sizes and their units (a mesh in mm is 1e9 times too big)");
+}
+
 // A lump meant as one (the G1's 5 kg hand of the first test, modelled as a point on purpose) is
 // declared in the accept list: its row stays, with its status, marked accepted with the reason,
 // and fails no run.
