@@ -252,90 +252,6 @@ inline bool FlexMakesContacts(const mjModel* m, long f) {
 #endif
 }
 
-// The default class an element takes its solref attributes from, as its MJCF says: the class's
-// name ("main" for the top-level default) and the time constants (solref[0]) that class gives
-// each solref attribute of the element's kind, in the order of ClampedSolrefArrays' arrays of
-// that kind: geom {solref}, joint {solreflimit, solreffriction}, tendon {solreflimit,
-// solreffriction}, equality {solref}, pair {solref, solreffriction}.
-struct SolrefClass {
-  std::string name;
-  double timeconst[2] = {0, 0};
-};
-
-// Per compiled id, for geoms, joints, tendons, equalities and pairs, each element's SolrefClass,
-// read with mjSpec from the MJCF text `xml`, else from the file `path`. A kind whose parsed
-// elements do not line up with the compiled ones (by count and by name where named) is left
-// empty, and everything is nullopt when the source cannot be parsed or on 2.x (no mjSpec).
-struct SolrefClasses {
-  std::vector<SolrefClass> geom, joint, tendon, equality, pair;
-};
-
-namespace detail {
-#if PLUMB_MUJOCO_HAS_SPEC
-// The SolrefClass of every parsed element of `type`, or empty when they do not line up with
-// the compiled model's.
-template <class Read>
-std::vector<SolrefClass> SpecClasses(mjSpec* spec, const mjModel* m, mjtObj type, int count,
-                                     Read read) {
-  std::vector<SolrefClass> out;
-  for (mjsElement* e = mjs_firstElement(spec, type); e; e = mjs_nextElement(spec, e)) {
-    int id = static_cast<int>(out.size());
-    const char* name = mjs_getString(mjs_getName(e));
-    const char* compiled = id < count ? mj_id2name(m, type, id) : nullptr;
-    if (id >= count || (name && *name && (!compiled || std::strcmp(name, compiled) != 0))) {
-      return {};
-    }
-    SolrefClass c;
-    const mjsDefault* def = mjs_getDefault(e);
-    if (def) {
-      const char* class_name = mjs_getString(mjs_getName(def->element));
-      c.name = class_name ? class_name : "";
-      read(def, c.timeconst);
-    }
-    out.push_back(c);
-  }
-  if (static_cast<int>(out.size()) != count) return {};
-  return out;
-}
-#endif
-}  // namespace detail
-
-inline std::optional<SolrefClasses> SolrefDefaultClasses([[maybe_unused]] const std::string& xml,
-                                                         [[maybe_unused]] const std::string& path,
-                                                         [[maybe_unused]] const mjModel* m) {
-  std::optional<SolrefClasses> out;
-#if PLUMB_MUJOCO_HAS_SPEC
-  char error[500] = "";
-  mjSpec* spec = xml.empty() ? mj_parseXML(path.c_str(), nullptr, error, sizeof(error))
-                             : mj_parseXMLString(xml.c_str(), nullptr, error, sizeof(error));
-  if (!spec) return out;
-  out.emplace();
-  out->geom = detail::SpecClasses(spec, m, mjOBJ_GEOM, m->ngeom, [](const mjsDefault* d, double* t) {
-    t[0] = d->geom->solref[0];
-  });
-  out->joint = detail::SpecClasses(spec, m, mjOBJ_JOINT, m->njnt,
-                                   [](const mjsDefault* d, double* t) {
-                                     t[0] = d->joint->solref_limit[0];
-                                     t[1] = d->joint->solref_friction[0];
-                                   });
-  out->tendon = detail::SpecClasses(spec, m, mjOBJ_TENDON, m->ntendon,
-                                    [](const mjsDefault* d, double* t) {
-                                      t[0] = d->tendon->solref_limit[0];
-                                      t[1] = d->tendon->solref_friction[0];
-                                    });
-  out->equality = detail::SpecClasses(spec, m, mjOBJ_EQUALITY, m->neq,
-                                      [](const mjsDefault* d, double* t) {
-                                        t[0] = d->equality->solref[0];
-                                      });
-  out->pair = detail::SpecClasses(spec, m, mjOBJ_PAIR, m->npair, [](const mjsDefault* d, double* t) {
-    t[0] = d->pair->solref[0];
-    t[1] = d->pair->solreffriction[0];
-  });
-  mj_deleteSpec(spec);
-#endif
-  return out;
-}
-
 // Solver iterations used by the last step (summed over islands on 3.x).
 inline int SolverIterations(const mjData* d) {
 #if mjVERSION_HEADER >= 300
@@ -555,6 +471,88 @@ inline std::optional<std::vector<double>> WrittenGeomMasses(
   if (static_cast<int>(out.size()) == m->ngeom) return out;
 #endif
   return std::nullopt;
+}
+
+// The default class an element takes its solref attributes from, as its MJCF says: the class's
+// name ("main" for the top-level default) and the time constants (solref[0]) that class gives
+// each solref attribute of the element's kind, in the order of ClampedSolrefArrays' arrays of
+// that kind: geom {solref}, joint {solreflimit, solreffriction}, tendon {solreflimit,
+// solreffriction}, equality {solref}, pair {solref, solreffriction}.
+struct SolrefClass {
+  std::string name;
+  double timeconst[2] = {0, 0};
+};
+
+// Per compiled id, for geoms, joints, tendons, equalities and pairs, each element's SolrefClass,
+// read with mjSpec from the MJCF text `xml`, else from the file `path`. A kind whose parsed
+// elements do not line up with the compiled ones (by count and by name where named) is left
+// empty, and everything is nullopt when the source cannot be parsed or on 2.x (no mjSpec).
+struct SolrefClasses {
+  std::vector<SolrefClass> geom, joint, tendon, equality, pair;
+};
+
+namespace detail {
+#if PLUMB_MUJOCO_HAS_SPEC
+// The SolrefClass of every parsed element of `type`, or empty when they do not line up with
+// the compiled model's.
+template <class Read>
+std::vector<SolrefClass> SpecClasses(mjSpec* spec, const mjModel* m, mjtObj type, int count,
+                                     Read read) {
+  std::vector<SolrefClass> out;
+  for (mjsElement* e = mjs_firstElement(spec, type); e; e = mjs_nextElement(spec, e)) {
+    int id = static_cast<int>(out.size());
+    const char* name = mjs_getString(mjs_getName(e));
+    const char* compiled = id < count ? mj_id2name(m, type, id) : nullptr;
+    if (id >= count || (name && *name && (!compiled || std::strcmp(name, compiled) != 0))) {
+      return {};
+    }
+    SolrefClass c;
+    const mjsDefault* def = mjs_getDefault(e);
+    if (def) {
+      const char* class_name = mjs_getString(mjs_getName(def->element));
+      c.name = class_name ? class_name : "";
+      read(def, c.timeconst);
+    }
+    out.push_back(c);
+  }
+  if (static_cast<int>(out.size()) != count) return {};
+  return out;
+}
+#endif
+}  // namespace detail
+
+inline std::optional<SolrefClasses> SolrefDefaultClasses([[maybe_unused]] const std::string& xml,
+                                                         [[maybe_unused]] const std::string& path,
+                                                         [[maybe_unused]] const mjModel* m) {
+  std::optional<SolrefClasses> out;
+#if PLUMB_MUJOCO_HAS_SPEC
+  auto parsed = detail::ParseSpec(xml, path);
+  mjSpec* spec = parsed.get();
+  if (!spec) return out;
+  out.emplace();
+  out->geom = detail::SpecClasses(spec, m, mjOBJ_GEOM, m->ngeom, [](const mjsDefault* d, double* t) {
+    t[0] = d->geom->solref[0];
+  });
+  out->joint = detail::SpecClasses(spec, m, mjOBJ_JOINT, m->njnt,
+                                   [](const mjsDefault* d, double* t) {
+                                     t[0] = d->joint->solref_limit[0];
+                                     t[1] = d->joint->solref_friction[0];
+                                   });
+  out->tendon = detail::SpecClasses(spec, m, mjOBJ_TENDON, m->ntendon,
+                                    [](const mjsDefault* d, double* t) {
+                                      t[0] = d->tendon->solref_limit[0];
+                                      t[1] = d->tendon->solref_friction[0];
+                                    });
+  out->equality = detail::SpecClasses(spec, m, mjOBJ_EQUALITY, m->neq,
+                                      [](const mjsDefault* d, double* t) {
+                                        t[0] = d->equality->solref[0];
+                                      });
+  out->pair = detail::SpecClasses(spec, m, mjOBJ_PAIR, m->npair, [](const mjsDefault* d, double* t) {
+    t[0] = d->pair->solref[0];
+    t[1] = d->pair->solreffriction[0];
+  });
+#endif
+  return out;
 }
 
 // The bound a joint puts on the total actuator force at its dofs (actuatorfrcrange, 3.x);
