@@ -398,7 +398,11 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
       fit = FitToOneGeom(m, body, solids, FitToShape(body, solids.shape));
     }
     if (!std::isnan(fit.factor)) InertiaAgainstShape(body, solids, fit, derived, out);
-    if (sound) ComAgainstShape(m, body, solids, out);
+    if (sound) {
+      size_t before = out->size();
+      ComAgainstShape(m, body, solids, out);
+      InertialFrameAgainstShape(model, b, solids, out->size() > before, out);
+    }
     if (listed < kMaxListed && sound) {
       ++listed;
       const mjtNum* I = body.I;

@@ -19,6 +19,8 @@
 
 namespace plumb::audit {
 
+struct BodySolids;  // body_shape.h
+
 // Per-element rows are listed for up to this many elements; beyond, a summary row.
 constexpr int kMaxListed = 60;
 
@@ -165,6 +167,14 @@ void ServoStability(const Model& model, const Data& data, std::vector<CheckRow>*
 // every joint and tendon spring against the timestep, judged by how far the integrator's step
 // response departs from the exact one; `data` after mj_forward at the reference pose.
 void ServoTimescales(const Model& model, const Data& data, std::vector<CheckRow>* out);
+// The centre of mass and principal axes of body b against those of its shape (`solids.shape`,
+// or the other of its visual and colliding geoms where that shape has open meshes and they are
+// closed) filled uniformly (audit_inertia_frame.cc): WARN row inertia.frame when the inertial
+// frame looks written in another frame. `com_flagged`: inertia.com already flags
+// the body's centre of mass, so only the axes can raise the row. For a body whose mass and
+// principal moments are sound (positive, triangle, not a marker).
+void InertialFrameAgainstShape(const Model& model, int b, const BodySolids& solids,
+                               bool com_flagged, std::vector<CheckRow>* out);
 // inertia.density (audit_density.cc) for body b when it is the root of a moving weld group (b
 // and the bodies welded to it, which move as one; nothing for a body welded to its parent): a
 // WARN row about b when the group's mass in the volume of its bodies' shapes is no solid's

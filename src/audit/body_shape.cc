@@ -169,6 +169,7 @@ void Add(const Solid& part, Solid* sum) {
   sum->second = second;
   sum->approximate = sum->approximate || part.approximate;
   sum->geoms += part.geoms;
+  sum->meshes += part.meshes;
 }
 
 }  // namespace
@@ -219,6 +220,7 @@ Solid GeomSolid(const mjModel* m, int g) {
   out.volume = local.volume;
   out.approximate = local.approximate;
   out.geoms = 1;
+  out.meshes = type == mjGEOM_MESH;
   for (int i = 0; i < 3; ++i) {
     out.centroid[i] = pos[i] + R[3 * i] * c[0] + R[3 * i + 1] * c[1] + R[3 * i + 2] * c[2];
   }
@@ -246,8 +248,8 @@ Solid GeomSolid(const mjModel* m, int g) {
 }
 
 BodySolids BodySolid(const mjModel* m, int b) {
-  Solid visual, colliding;
   BodySolids out;
+  Solid &visual = out.visual, &colliding = out.colliding;
   for (int g = m->body_geomadr[b]; g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
     bool collides = m->geom_contype[g] != 0 || m->geom_conaffinity[g] != 0;
     Solid part = GeomSolid(m, g);

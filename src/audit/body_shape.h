@@ -20,6 +20,7 @@ struct Solid {
   std::array<double, 3> lo{}, hi{};  // the box of the body frame that holds every vertex
   bool approximate = false;          // a mesh that is not closed, taken as its box
   int geoms = 0;
+  int meshes = 0;  // of them, meshes
 
   // Principal moments (ascending, kg*m^2) of the inertia this solid has at `mass`.
   std::array<double, 3> PrincipalMoments(double mass) const;
@@ -39,6 +40,7 @@ Solid GeomSolid(const mjModel* m, int g);
 // Volumes 0 when the body has no geom with a volume.
 struct BodySolids {
   Solid shape, all;
+  Solid visual, colliding;  // the two sets `shape` was chosen from
   int meshes = 0;  // mesh geoms of the body
 };
 BodySolids BodySolid(const mjModel* m, int b);
