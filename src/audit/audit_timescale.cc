@@ -16,6 +16,7 @@
 #include <string>
 
 #include "audit/audit_layers.h"
+#include "audit/clamped_step.h"
 #include "audit/linear_step.h"
 #include "audit/servo_model.h"
 #include "core/mujoco_compat.h"
@@ -39,15 +40,100 @@ struct Element {
   LinearElement linear;
   double scale = 1;  // the inertia at `where` per unit of `linear.inertia` (gear^2)
   int dof = -1;      // the dof whose armature resolves it, -1 when none does alone
+  // A position servo with a force clamp: the step its response is judged at and the clamps
+  // (clamped_step.h); its row is the worse of the linear and the clamped judgement.
+  std::optional<ClampedServo> clamped;
+  std::string step_source;  // "10 % of ctrlrange", ...
 };
 
 std::string Seconds(double t) {
   if (!std::isfinite(t)) return "none";
+  if (t < 1e-3) return fmt::format("{:.3g} us", t * 1e6);
   return t < 1 ? fmt::format("{:.3g} ms", t * 1e3) : fmt::format("{:.3g} s", t);
 }
 
 std::string Steps(double t, double h) {
   return std::isfinite(t) ? fmt::format(" ({:.3g} steps)", t / h) : "";
+}
+
+// What the row judges: the linear element's step response or, for a servo whose force
+// saturates on its step, the clamped one when that is worse.
+struct Verdict {
+  double error = 0, linear_error = 0;
+  bool diverges = false, clamped = false;
+  CheckStatus status = CheckStatus::kPass;
+};
+
+Verdict Judge(const Element& e, double h, int integrator) {
+  Verdict v;
+  v.diverges = Diverges(e.linear, h, integrator);
+  v.error = v.linear_error = v.diverges ? INFINITY : StepError(e.linear, h, integrator);
+  if (!v.diverges && e.clamped && Saturates(*e.clamped)) {
+    double clamped = ClampedStepError(*e.clamped, h, integrator);
+    if (clamped > v.error) v.error = clamped, v.clamped = true;
+  }
+  v.status = v.diverges             ? CheckStatus::kFail
+             : v.error > kErrorWarn ? CheckStatus::kWarn
+                                    : CheckStatus::kPass;
+  return v;
+}
+
+std::string Percent(double error) {
+  return std::isfinite(error) ? fmt::format("{:.3g} %", 100 * error) : "all";
+}
+
+// The saturation part of a clamped servo's measured text.
+std::string SaturationText(const Element& e, const Verdict& v, double h) {
+  const ClampedServo& c = *e.clamped;
+  bool actuator = std::min(c.force_hi, -c.force_lo) <= std::min(c.joint_hi, -c.joint_lo);
+  double limit = std::min({c.force_hi, -c.force_lo, c.joint_hi, -c.joint_lo});
+  double damping_time = c.inertia / (c.kv + c.damping);
+  return fmt::format(
+      "; its force saturates at {} {:.3g} for steps beyond {:.3g}, and a step of {:.3g} ({}) "
+      "is off by {} of the step ({}; the linear small-signal response {}): {}, and the "
+      "damping time I/(kv+d) = {} is {:.3g} steps",
+      actuator ? "forcerange +-" : "the joint's actuatorfrcrange +-", limit, limit / c.kp, c.step,
+      e.step_source, Percent(v.error), v.clamped ? "the worse, judged" : "the linear one is worse",
+      Percent(v.linear_error),
+      actuator ? "while saturated MuJoCo integrates kv explicitly (mjd_actuator_vel in "
+                 "engine_derivative.c drops the velocity derivative of a force at forcerange)"
+               : "while saturated MuJoCo integrates kv explicitly (MuJoCo 4.0 drops the "
+                 "velocity derivative under the joint's clamp too)",
+      Seconds(damping_time), damping_time / h);
+}
+
+std::string FixText(const Model& model, const Element& e, const Verdict& v) {
+  const mjModel* m = model.get();
+  double h = m->opt.timestep;
+  int integrator = m->opt.integrator;
+  const LinearElement& lin = e.linear;
+  double inertia = v.clamped ? ClampedInertiaFor(*e.clamped, h, integrator, kErrorWarn)
+                             : InertiaFor(lin, h, integrator, kErrorWarn);
+  double step = v.clamped ? ClampedTimestepFor(*e.clamped, h, integrator, kErrorWarn)
+                          : TimestepFor(lin, h, integrator, kErrorWarn);
+  std::string heavier =
+      !std::isfinite(inertia) ? ""
+      : e.dof >= 0 ? fmt::format("armature >= {:.3g} on {}{}, ",
+                                 m->dof_armature[e.dof] + (inertia - lin.inertia) * e.scale,
+                                 e.where, e.what == "servo" ? " (the motor's reflected inertia)" : "")
+                   : fmt::format("{:.3g} more inertia along {} (armature), ",
+                                 (inertia - lin.inertia) * e.scale, e.where);
+  auto count = [h](double t) {
+    return std::isfinite(t) ? fmt::format("{:.3g} steps", t / h) : std::string("none");
+  };
+  double period =
+      lin.stiffness > 0 ? 2 * M_PI * std::sqrt(lin.inertia / lin.stiffness) : INFINITY;
+  double damping_time = lin.damping > 0 ? lin.inertia / lin.damping : INFINITY;
+  return fmt::format(
+      "the {} at {} {}: its motion is the integrator's, not the model's (period {}, damping "
+      "time {}{}). Give it {}{}or lower {}",
+      e.what, e.where,
+      v.diverges ? "diverges at this timestep"
+      : v.clamped ? "chatters when its force saturates"
+                  : "is faster than the timestep resolves",
+      count(period), count(damping_time),
+      v.clamped ? fmt::format(", judged on a saturating step of {:.3g}", e.clamped->step) : "",
+      heavier, step > 0 ? fmt::format("a timestep <= {:.3g} s, ", step) : "", e.lower);
 }
 
 CheckRow Row(const Model& model, const Element& e) {
@@ -58,49 +144,78 @@ CheckRow Row(const Model& model, const Element& e) {
   double period =
       lin.stiffness > 0 ? 2 * M_PI * std::sqrt(lin.inertia / lin.stiffness) : INFINITY;
   double damping_time = lin.damping > 0 ? lin.inertia / lin.damping : INFINITY;
-  bool diverges = Diverges(lin, h, integrator);
-  double error = diverges ? INFINITY : StepError(lin, h, integrator);
-  CheckStatus status = diverges              ? CheckStatus::kFail
-                       : error > kErrorWarn ? CheckStatus::kWarn
-                                             : CheckStatus::kPass;
+  Verdict v = Judge(e, h, integrator);
   std::string armature =
       e.dof >= 0 ? fmt::format(" (armature {:.3g})", m->dof_armature[e.dof]) : "";
   std::string name = compat::NameOf(compat::kIntegrators, integrator);
   std::string measured = fmt::format(
       "period {}{}, damping time {}{} ({}) on an effective inertia of {:.3g} at {}{}; step "
-      "response off by {} of the step under {} at h = {:g} s",
+      "response off by {} of the step under {} at h = {:g} s{}",
       Seconds(period), Steps(period, h), Seconds(damping_time), Steps(damping_time, h), e.gains,
-      lin.inertia * e.scale, e.where, armature,
-      std::isfinite(error) ? fmt::format("{:.3g} %", 100 * error) : "all", name, h);
-  std::string fix;
-  if (status == CheckStatus::kPass) {
-    fix = "the integrator's step response of the " + e.what +
-          "'s linear model against the exact one";
-  } else {
-    double inertia = InertiaFor(lin, h, integrator, kErrorWarn);
-    double step = TimestepFor(lin, h, integrator, kErrorWarn);
-    std::string heavier =
-        !std::isfinite(inertia) ? ""
-        : e.dof >= 0 ? fmt::format("armature >= {:.3g} on {}{}, ",
-                                   m->dof_armature[e.dof] + (inertia - lin.inertia) * e.scale,
-                                   e.where, e.what == "servo" ? " (the motor's reflected inertia)" : "")
-                     : fmt::format("{:.3g} more inertia along {} (armature), ",
-                                   (inertia - lin.inertia) * e.scale, e.where);
-    auto count = [h](double t) {
-      return std::isfinite(t) ? fmt::format("{:.3g} steps", t / h) : std::string("none");
-    };
-    fix = fmt::format(
-        "the {} at {} {}: its motion is the integrator's, not the model's (period {}, damping "
-        "time {}). Give it {}{}or lower {}",
-        e.what, e.where,
-        diverges ? "diverges at this timestep" : "is faster than the timestep resolves",
-        count(period), count(damping_time), heavier,
-        step > 0 ? fmt::format("a timestep <= {:.3g} s, ", step) : "", e.lower);
-  }
+      lin.inertia * e.scale, e.where, armature, Percent(v.error), name, h,
+      e.clamped && Saturates(*e.clamped) && !v.diverges ? SaturationText(e, v, h) : "");
+  std::string fix = v.status == CheckStatus::kPass
+                        ? "the integrator's step response of the " + e.what +
+                              "'s linear model against the exact one" +
+                              (e.clamped && Saturates(*e.clamped)
+                                   ? ", and of its clamped model on a saturating step"
+                                   : "")
+                        : FixText(model, e, v);
   return WithNumbers(Make(L, kCheck, e.element, measured,
                           fmt::format("step response off by <= {:g} %", 100 * kErrorWarn),
-                          status, fix),
-                     {std::isfinite(error) ? 100 * error : NAN, "%"}, {100 * kErrorWarn, "%"});
+                          v.status, fix),
+                     {std::isfinite(v.error) ? 100 * v.error : NAN, "%"},
+                     {100 * kErrorWarn, "%"});
+}
+
+// The step a position servo's clamped model is judged at, in actuator units: kStepShare of
+// what its ctrlrange asks for, at most kRangeShare of its joint's range (the step responses'
+// own sizes, step_setup.cc), or kStepShare when neither is limited; 0 when none applies.
+double ServoStep(const mjModel* m, int u, int joint, double kp, std::string* source) {
+  constexpr double kStepShare = 0.1, kRangeShare = 0.25;
+  double gain = m->actuator_gainprm[mjNGAIN * u];  // target length = gain * ctrl / kp
+  double step = INFINITY;
+  *source = "";
+  if (ActuatorCtrlLimited(m, u) && gain != 0) {
+    const mjtNum* range = ActuatorCtrlRange(m, u);
+    step = kStepShare * std::fabs(range[1] - range[0]) * std::fabs(gain) / kp;
+    *source = "10 % of its ctrlrange";
+  }
+  if (joint >= 0 && m->jnt_limited[joint]) {
+    double width = kRangeShare * std::fabs(ActuatorGear(m, u)) *
+                   (m->jnt_range[2 * joint + 1] - m->jnt_range[2 * joint]);
+    if (width < step) step = width, *source = "25 % of its joint's range";
+  }
+  if (!std::isfinite(step)) step = kStepShare, *source = "0.1 of its length";
+  return step > 0 ? step : 0;
+}
+
+// Servo s (kp > 0, fixed gain) of actuator u as a clamped servo when a forcerange or its
+// joint's actuatorfrcrange bounds its force.
+std::optional<ClampedServo> Clamped(const mjModel* m, int u, int joint, const Servo& s,
+                                    std::string* source) {
+  if (!(s.kp > 0)) return std::nullopt;
+  ClampedServo c;
+  if (m->actuator_forcelimited[u]) {
+    c.force_lo = m->actuator_forcerange[2 * u];
+    c.force_hi = m->actuator_forcerange[2 * u + 1];
+  }
+  if (joint >= 0) {
+    if (auto range = compat::JointActuatorForceRange(m, joint)) {
+      double gear = ActuatorGear(m, u);
+      if (gear != 0) {
+        double a = range->first / gear, b = range->second / gear;
+        c.joint_lo = std::min(a, b), c.joint_hi = std::max(a, b);
+      }
+    }
+  }
+  if (!(c.force_lo < 0 && c.force_hi > 0 && c.joint_lo < 0 && c.joint_hi > 0)) return std::nullopt;
+  if (std::isinf(std::min({c.force_hi, -c.force_lo, c.joint_hi, -c.joint_lo}))) return std::nullopt;
+  c.inertia = s.inertia, c.kp = s.kp, c.kv = s.kv, c.damping = s.damping;
+  c.implicit_damping = s.ImplicitDamping();
+  c.step = ServoStep(m, u, joint, s.kp, source);
+  if (!(c.step > 0)) return std::nullopt;
+  return c;
 }
 
 // Actuator u as a servo: kp and kv (or a mujoco.pid plugin's kp and kd) along its
@@ -154,6 +269,7 @@ std::optional<Element> ServoElement(const Model& model, const mjData* d, int u) 
                         plugin ? "kd" : "kv", s->kv,
                         s->damping > 0 ? fmt::format(", joint damping {:.4g}", s->damping) : "");
   e.lower = plugin ? "the plugin's kp/kd" : "kp/kv";
+  if (!plugin) e.clamped = Clamped(m, u, joint, *s, &e.step_source);
   return e;
 }
 

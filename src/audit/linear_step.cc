@@ -9,11 +9,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 namespace plumb::audit {
 namespace {
-
-using Mat = std::array<double, 4>;  // row-major 2x2
 
 constexpr int kMinSteps = 10, kMaxSteps = 100000;
 constexpr double kPi = 3.14159265358979323846;
@@ -22,6 +21,8 @@ Mat Mul(const Mat& a, const Mat& b) {
   return {a[0] * b[0] + a[1] * b[2], a[0] * b[1] + a[1] * b[3], a[2] * b[0] + a[3] * b[2],
           a[2] * b[1] + a[3] * b[3]};
 }
+
+}  // namespace
 
 // exp(A h) in closed form, from A's eigenvalues s +- q (s = trace / 2).
 Mat Exact(const LinearElement& e, double h) {
@@ -53,6 +54,8 @@ Mat Exact(const LinearElement& e, double h) {
           f * (c + g * shifted[3])};
 }
 
+namespace {
+
 // The integrator's one-step map.
 Mat Discrete(const LinearElement& e, double h, int integrator) {
   double k = e.stiffness / e.inertia, c = e.damping / e.inertia;
@@ -79,22 +82,22 @@ double SpectralRadius(const Mat& a) {
 
 // Steps over which the step response settles.
 int HorizonSteps(const LinearElement& e, double h) {
-  double det = e.stiffness / e.inertia, s = 0.5 * e.damping / e.inertia;
-  double horizon;
-  if (e.stiffness <= 0) {
-    horizon = 4 / (2 * s);  // four damping times I / c
-  } else if (s * s < det) {
-    double period = 2 * kPi / std::sqrt(det);
-    horizon = s > 0 ? std::min(4 / s, 5 * period) : 5 * period;
-  } else {
-    double slow = det / (s + std::sqrt(s * s - det));  // the slower real mode's rate
-    horizon = 4 / slow;
-  }
-  double steps = std::ceil(horizon / h);
+  double steps = std::ceil(SettleTime(e) / h);
   return static_cast<int>(std::clamp(steps, double(kMinSteps), double(kMaxSteps)));
 }
 
 }  // namespace
+
+double SettleTime(const LinearElement& e) {
+  double det = e.stiffness / e.inertia, s = 0.5 * e.damping / e.inertia;
+  if (e.stiffness <= 0) return 4 / (2 * s);  // four damping times I / c
+  if (s * s < det) {
+    double period = 2 * kPi / std::sqrt(det);
+    return s > 0 ? std::min(4 / s, 5 * period) : 5 * period;
+  }
+  double slow = det / (s + std::sqrt(s * s - det));  // the slower real mode's rate
+  return 4 / slow;
+}
 
 double StepError(const LinearElement& e, double h, int integrator) {
   if (!(e.inertia > 0) || (e.stiffness <= 0 && e.damping <= 0)) return 0;
@@ -119,31 +122,26 @@ bool Diverges(const LinearElement& e, double h, int integrator) {
   return SpectralRadius(Discrete(e, h, integrator)) > 1 + 1e-9;
 }
 
-double TimestepFor(const LinearElement& e, double h, int integrator, double bound) {
-  if (StepError(e, h, integrator) <= bound) return h;
-  double lo = std::log(h * 1e-6), hi = std::log(h);
-  if (StepError(e, std::exp(lo), integrator) > bound) return 0;
-  for (int i = 0; i < 50; ++i) {
+double LogBisect(const std::function<double(double)>& error, double from, double to,
+                 double bound, int iterations) {
+  double lo = std::log(from), hi = std::log(to);
+  if (error(from) <= bound) return from;
+  if (error(to) > bound) return to > from ? INFINITY : 0;
+  for (int i = 0; i < iterations; ++i) {
     double mid = 0.5 * (lo + hi);
-    (StepError(e, std::exp(mid), integrator) <= bound ? lo : hi) = mid;
+    (error(std::exp(mid)) <= bound ? hi : lo) = mid;
   }
-  return std::exp(lo);
+  return std::exp(hi);
+}
+
+double TimestepFor(const LinearElement& e, double h, int integrator, double bound) {
+  return LogBisect([&](double step) { return StepError(e, step, integrator); }, h, h * 1e-6,
+                   bound, 50);
 }
 
 double InertiaFor(const LinearElement& e, double h, int integrator, double bound) {
-  LinearElement heavier = e;
-  auto error_at = [&](double log_inertia) {
-    heavier.inertia = std::exp(log_inertia);
-    return StepError(heavier, h, integrator);
-  };
-  double lo = std::log(e.inertia), hi = std::log(e.inertia * 1e8);
-  if (error_at(lo) <= bound) return e.inertia;
-  if (error_at(hi) > bound) return INFINITY;
-  for (int i = 0; i < 50; ++i) {
-    double mid = 0.5 * (lo + hi);
-    (error_at(mid) <= bound ? hi : lo) = mid;
-  }
-  return std::exp(hi);
+  auto error = [&](const LinearElement& x) { return StepError(x, h, integrator); };
+  return InertiaBisect(e, error, bound, 50);
 }
 
 }  // namespace plumb::audit
