@@ -97,8 +97,11 @@ std::string SaturationText(const Element& e, const Verdict& v, double h) {
       Percent(v.linear_error),
       actuator ? "while saturated MuJoCo integrates kv explicitly (mjd_actuator_vel in "
                  "engine_derivative.c drops the velocity derivative of a force at forcerange)"
-               : "while saturated MuJoCo integrates kv explicitly (MuJoCo 4.0 drops the "
-                 "velocity derivative under the joint's clamp too)",
+      : c.joint_clamp_drops_kv
+          ? "while saturated MuJoCo integrates kv explicitly (MuJoCo 4 drops the velocity "
+            "derivative under the joint's clamp too)"
+          : "MuJoCo 3 keeps kv implicit under the joint's clamp, so the velocity ramps by F/kv a "
+            "step",
       Seconds(damping_time), damping_time / h);
 }
 
@@ -211,6 +214,7 @@ std::optional<ClampedServo> Clamped(const mjModel* m, int u, int joint, const Se
   }
   if (!(c.force_lo < 0 && c.force_hi > 0 && c.joint_lo < 0 && c.joint_hi > 0)) return std::nullopt;
   if (std::isinf(std::min({c.force_hi, -c.force_lo, c.joint_hi, -c.joint_lo}))) return std::nullopt;
+  c.joint_clamp_drops_kv = compat::kJointClampDropsActuatorDerivative;
   c.inertia = s.inertia, c.kp = s.kp, c.kv = s.kv, c.damping = s.damping;
   c.implicit_damping = s.ImplicitDamping();
   c.step = ServoStep(m, u, joint, s.kp, source);

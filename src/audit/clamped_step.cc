@@ -17,12 +17,16 @@ namespace {
 
 constexpr int kMinSteps = 10, kMaxSteps = 100000;
 
-// The servo's force at (x, v) after both clamps, and whether a clamp holds it (MuJoCo's test
-// for forcerange: the clamped force at or beyond a bound; the same for the joint's clamp).
-double Force(const ClampedServo& s, double x, double v, bool* clamped) {
+// The servo's force at (x, v) after both clamps, and whether a clamp that drops kv's derivative
+// holds it (MuJoCo's test for forcerange: the clamped force at or beyond a bound; the same for
+// the joint's clamp where it drops it).
+double Force(const ClampedServo& s, double x, double v, bool* drops_kv) {
   double f = std::clamp(-s.kp * x - s.kv * v, s.force_lo, s.force_hi);
   double g = std::clamp(f, s.joint_lo, s.joint_hi);
-  if (clamped) *clamped = f <= s.force_lo || f >= s.force_hi || g <= s.joint_lo || g >= s.joint_hi;
+  if (drops_kv) {
+    *drops_kv = f <= s.force_lo || f >= s.force_hi ||
+                (s.joint_clamp_drops_kv && (g <= s.joint_lo || g >= s.joint_hi));
+  }
   return g;
 }
 

@@ -4,9 +4,10 @@
 // clamp: mjd_actuator_vel (engine_derivative.c) skips an actuator whose force sits at its
 // forcerange, so in the saturated steps the servo's damping is explicit. A joint's
 // actuatorfrcrange (clampVec on qfrc_actuator in mj_fwdActuation, after the actuator's own
-// clamp) does the same in MuJoCo 4.0.0 as measured (a wrist step's first step moves h^2 F / I,
-// kv's share gone), though the engine source of August 2026 tests only forcerange; the model
-// follows the measurement. Private to the audit.
+// clamp) does the same in MuJoCo 4.0 as measured (a wrist step's first step moves h^2 F / I,
+// kv's share gone) but not in 3.11 (compat::kJointClampDropsActuatorDerivative), though the
+// engine source of August 2026 tests only forcerange; the model follows the measurement.
+// Private to the audit.
 
 #ifndef PLUMB_SRC_AUDIT_CLAMPED_STEP_H_
 #define PLUMB_SRC_AUDIT_CLAMPED_STEP_H_
@@ -21,10 +22,12 @@ struct ClampedServo {
   double kp = 0, kv = 0;        // the servo's gains
   double damping = 0;           // d: joint damping along the transmission
   double implicit_damping = 0;  // the part of d the integrator solves implicitly
-  // MuJoCo's actuator forcerange and the joint's actuatorfrcrange seen in actuator units (kv's
-  // derivative dropped while either holds the force); +-inf when none.
+  // MuJoCo's actuator forcerange and the joint's actuatorfrcrange seen in actuator units; +-inf
+  // when none. kv's derivative is dropped while forcerange holds the force, and while the
+  // joint's clamp does when joint_clamp_drops_kv.
   double force_lo = -INFINITY, force_hi = INFINITY;
   double joint_lo = -INFINITY, joint_hi = INFINITY;
+  bool joint_clamp_drops_kv = true;
   double step = 0;  // the step: x from -step to rest at 0, step > 0
 };
 
@@ -35,7 +38,7 @@ bool Saturates(const ClampedServo& s);
 // enough to arrive (the linear element's settling time plus the saturated travel, 10 to
 // 100000 steps). The discrete map is the integrator's: mjINT_RK4 classic RK4 on the clamped
 // ODE; Euler v' = v + h f / (I + h d_implicit); implicit and implicitfast the same with kv
-// added to the implicit part in the steps where no clamp holds the force. The
+// added to the implicit part in the steps where no clamp that drops it holds the force. The
 // exact motion is flowed in closed form over `substeps` pieces per step, each piece linear or
 // saturated as it starts. +inf when the discrete motion runs away (beyond 1e6 steps).
 double ClampedStepError(const ClampedServo& s, double h, int integrator, int substeps = 64);

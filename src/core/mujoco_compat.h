@@ -568,6 +568,13 @@ inline std::optional<std::pair<double, double>> JointActuatorForceRange(const mj
 #endif
 }
 
+// Whether the implicit integrators leave an actuator's velocity derivative (a servo's kv) out of
+// qDeriv while its joint's actuatorfrcrange holds the force, as they do for every version while
+// the actuator's own forcerange holds it (mjd_actuator_vel). Measured on one clamped hinge's
+// first implicitfast step: MuJoCo 3.11 keeps kv implicit (it moves h^2 F / (I + h kv)), 4.0.0 and
+// 4.0.1 drop it (h^2 F / I); the versions between are not measured.
+inline constexpr bool kJointClampDropsActuatorDerivative = mjVERSION_HEADER >= 4000000;
+
 namespace detail {
 template <typename D>
 auto MomentRow(const mjModel* m, const D* d, int out, std::vector<mjtNum>* row, int)
