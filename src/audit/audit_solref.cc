@@ -138,12 +138,8 @@ std::vector<Group> Groups(const Model& model, const std::vector<internal::Solref
     g.timeconst = row.timeconst;
     g.source = source;
     g.ids.push_back(id);
-    for (const compat::SolrefArray& a : compat::ClampedSolrefArrays(m)) {
-      if (row.array == a.name) g.dampratio = a.data[row.row * mjNREF + 1];
-    }
-    if (row.array == "geom_solref") {
-      g.lowest_contact = std::min(g.lowest_contact, internal::LowestContactTimeconst(m, id));
-    }
+    g.dampratio = row.dampratio;
+    if (!std::isnan(row.contact)) g.lowest_contact = std::min(g.lowest_contact, row.contact);
   }
   std::vector<Group> out;
   for (auto& [key, g] : groups) out.push_back(std::move(g));
@@ -196,7 +192,7 @@ std::pair<double, std::string> Smallest(const Model& model) {
     if (kind == nullptr) continue;
     double t = row.timeconst;
     int id = static_cast<int>(row.row);
-    if (row.array == "geom_solref") t = std::max(t, internal::LowestContactTimeconst(m, id));
+    if (!std::isnan(row.contact)) t = std::max(t, row.contact);
     if (row.array == "dof_solref") id = m->dof_jntid[row.row];
     if (t < best.first) {
       best = {t, fmt::format("{} of {} {}", kind->constraint, kind->noun,

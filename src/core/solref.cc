@@ -55,8 +55,9 @@ bool AnyContact(const mjModel* m) {
   return false;
 }
 
-}  // namespace
-
+// The time constant a dynamic contact between geoms g and h starts from, before the clamp, as
+// mj_contactParam chooses it: the higher priority geom's own, else the two mixed by their
+// solmix weights (standard format), or the smaller (a direct one: negative, never clamped).
 double ContactTimeconst(const mjModel* m, int g, int h) {
   const mjtNum* a = m->geom_solref + mjNREF * g;
   const mjtNum* b = m->geom_solref + mjNREF * h;
@@ -74,6 +75,8 @@ double ContactTimeconst(const mjModel* m, int g, int h) {
   return mix * a[0] + (1 - mix) * b[0];
 }
 
+// The lowest ContactTimeconst of geom g's dynamic contacts, over the geoms it may touch;
+// +infinity when it touches none.
 double LowestContactTimeconst(const mjModel* m, int g) {
   double lowest = INFINITY;
   for (int h = 0; h < m->ngeom; ++h) {
@@ -84,12 +87,18 @@ double LowestContactTimeconst(const mjModel* m, int g) {
   return lowest;
 }
 
-bool SolrefRowActs(const mjModel* m, const std::string& array, long row, double floor) {
+// Whether row `row` of the solref array `array` makes a constraint whose time constant starts
+// below `floor` (ActingSolrefsBelow says which); a geom's row sets `contact` to the lowest time
+// constant its contacts start from.
+bool RowActs(const mjModel* m, const std::string& array, long row, double floor,
+             double* contact) {
   if (Disabled(m, mjDSBL_CONSTRAINT)) return false;
   // the contacts' own solrefs, which <flag override="enable"/> replaces with opt.o_solref
   bool own_contact = !Override(m) && Contacts(m);
   if (array == "geom_solref") {
-    return own_contact && LowestContactTimeconst(m, static_cast<int>(row)) < floor;
+    if (!own_contact) return false;
+    *contact = LowestContactTimeconst(m, static_cast<int>(row));
+    return *contact < floor;
   }
   if (array == "pair_solref") return own_contact;
   if (array == "pair_solreffriction") {
@@ -107,6 +116,8 @@ bool SolrefRowActs(const mjModel* m, const std::string& array, long row, double 
   return true;
 }
 
+}  // namespace
+
 std::vector<SolrefBelow> ActingSolrefsBelow(const mjModel* m, double floor) {
   std::vector<SolrefBelow> out;
   for (const compat::SolrefArray& a : compat::ClampedSolrefArrays(m)) {
@@ -115,7 +126,10 @@ std::vector<SolrefBelow> ActingSolrefsBelow(const mjModel* m, double floor) {
       // standard format only: a direct (negative) solref is never clamped, and a mixed one
       // MuJoCo replaces with its default
       if (!(solref[0] > 0 && solref[1] > 0 && solref[0] < floor)) continue;
-      if (SolrefRowActs(m, a.name, i, floor)) out.push_back({a.name, i, solref[0]});
+      double contact = NAN;
+      if (RowActs(m, a.name, i, floor, &contact)) {
+        out.push_back({a.name, i, solref[0], solref[1], contact});
+      }
     }
   }
   return out;

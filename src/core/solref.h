@@ -9,39 +9,33 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 namespace plumb::internal {
-
-// The time constant a dynamic contact between geoms g and h starts from, before the clamp, as
-// mj_contactParam chooses it: the higher priority geom's own, else the two mixed by their
-// solmix weights (standard format), or the smaller (a direct one: negative, never clamped).
-double ContactTimeconst(const mjModel* m, int g, int h);
-
-// The lowest ContactTimeconst of geom g's dynamic contacts: over the geoms it may touch
-// (contype/conaffinity, less the same weld group, the parent-child filter, <exclude>d body
-// pairs and geom pairs an explicit <pair> sets); +infinity when it touches none.
-double LowestContactTimeconst(const mjModel* m, int g);
-
-// Whether row `row` of the solref array `array` (a compat::ClampedSolrefArrays name) can make
-// a constraint whose standard time constant is below `floor`: a limited joint or tendon, a dof
-// or tendon with friction loss, a geom with a dynamic contact below the floor, an explicit
-// pair, every equality and flex with contacts; pair_solreffriction only under the elliptic
-// cone (the pyramidal one ignores it). Under <flag override="enable"/> opt.o_solref replaces
-// every contact's solref and solreffriction, and acts when some contact can happen. Constraint
-// kinds the model's disable flags switch off make none.
-bool SolrefRowActs(const mjModel* m, const std::string& array, long row, double floor);
 
 // One solref row whose standard time constant is below a floor and makes a constraint.
 struct SolrefBelow {
   std::string array;  // "geom_solref", "jnt_solref", ... (compat::ClampedSolrefArrays)
   long row = 0;
   double timeconst = 0;  // solref[0] as the model holds it
+  double dampratio = 0;  // solref[1]
+  // a geom's row: the lowest time constant its dynamic contacts start from, as mj_contactParam
+  // chooses it (the higher priority geom's own, else the two mixed by their solmix weights)
+  // over the geoms it may touch (contype/conaffinity, less the same weld group, the
+  // parent-child filter, <exclude>d body pairs and geom pairs an explicit <pair> sets); NaN
+  // for other rows
+  double contact = NAN;
 };
 
-// Every such row for `floor`, array by array in ClampedSolrefArrays' order, whether or not
-// refsafe is on.
+// Every row whose standard time constant is below `floor` and makes a constraint, array by
+// array in ClampedSolrefArrays' order, whether or not refsafe is on: a limited joint or
+// tendon, a dof or tendon with friction loss, a geom with a dynamic contact below the floor, an
+// explicit pair, every equality and flex with contacts; pair_solreffriction only under the
+// elliptic cone (the pyramidal one ignores it). Under <flag override="enable"/> opt.o_solref
+// replaces every contact's solref and solreffriction, and acts when some contact can happen.
+// Constraint kinds the model's disable flags switch off make none.
 std::vector<SolrefBelow> ActingSolrefsBelow(const mjModel* m, double floor);
 
 // The rows MuJoCo raises to `floor` = 2 x timestep: ActingSolrefsBelow, none when refsafe is
