@@ -49,11 +49,11 @@ struct Group {
   int heaviest = -1;
 };
 
-Group ReadGroup(const mjModel* m, int root) {
+Group ReadGroup(const mjModel* m, int root, const std::vector<BodySolids>& shapes) {
   Group group;
   for (int b = root; b < m->nbody; ++b) {
     if (m->body_weldid[b] != root) continue;
-    const BodySolids solids = BodySolid(m, b);
+    const BodySolids& solids = shapes[b];
     group.bodies.push_back(b);
     group.mass += m->body_mass[b];
     group.volume += solids.shape.volume;
@@ -164,11 +164,12 @@ void GeomRow(const Model& model, const WrongGeom& geom, std::vector<CheckRow>* o
 
 }  // namespace
 
-void WeldGroupDensity(const Model& model, int b, const std::vector<double>* geom_masses,
-                      const std::vector<bool>* written, std::vector<CheckRow>* out) {
+void WeldGroupDensity(const Model& model, int b, const std::vector<BodySolids>& shapes,
+                      const std::vector<double>* geom_masses, const std::vector<bool>* written,
+                      std::vector<CheckRow>* out) {
   const mjModel* m = model.get();
   if (m->body_weldid[b] != b) return;
-  const Group group = ReadGroup(m, b);
+  const Group group = ReadGroup(m, b, shapes);
   std::vector<WrongGeom> geoms;
   if (geom_masses && written) geoms = WrongGeoms(m, group, *geom_masses, *written);
   int side = 0;

@@ -255,14 +255,6 @@ ShapeFit FitToOneGeom(const mjModel* m, const BodyInertia& body, const BodySolid
   return fit;
 }
 
-std::string ShapeWords(const BodySolids& solids) {
-  const Solid& shape = solids.shape;
-  int meshes = solids.meshes;
-  return fmt::format("its {} geom{}{}{}", shape.geoms, shape.geoms == 1 ? "" : "s",
-                     meshes ? fmt::format(" ({} mesh{})", meshes, meshes == 1 ? "" : "es") : "",
-                     shape.approximate ? ", open meshes taken as their boxes" : "");
-}
-
 // Whether the body's inertia is too small for its shape, by the figure that decided.
 bool ShapeTooSmall(const ShapeFit& fit) {
   return fit.decider < 0 ? fit.gyration < 1 : fit.body[fit.decider] < fit.shape[fit.decider];
@@ -282,7 +274,7 @@ std::string ShapeMeasured(const BodyInertia& body, const BodySolids& solids, con
   return fmt::format(
       "I = ({:.3g}, {:.3g}, {:.3g}) kg*m^2 for {:.4g} kg: {} of {}, filled uniformly (I = "
       "({:.3g}, {:.3g}, {:.3g}))",
-      fit.body[0], fit.body[1], fit.body[2], body.mass, decided, ShapeWords(solids), fit.shape[0],
+      fit.body[0], fit.body[1], fit.body[2], body.mass, decided, ShapeWords(solids.shape), fit.shape[0],
       fit.shape[1], fit.shape[2]);
 }
 
@@ -375,6 +367,11 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     written = std::nullopt;  // the source no longer parses
     geom_masses = std::nullopt;
   }
+  // each moving body's solids, once: a weld group's density reads its bodies' too
+  std::vector<BodySolids> shapes(m->nbody);
+  for (int b = 1; b < m->nbody; ++b) {
+    if (Moves(m, b)) shapes[b] = BodySolid(m, b);
+  }
   int listed = 0, moving = 0;
   for (int b = 1; b < m->nbody; ++b) {
     if (!Moves(m, b)) continue;
@@ -382,9 +379,9 @@ void InertiaLayer(const Model& original, const Model& model, Data& data,
     BodyInertia body = ReadBody(model, b, groups);
     Principal(body, out);
     WeldGroup(model, body, groups, total, out);
-    BodySolids solids = BodySolid(m, b);
-    WeldGroupDensity(model, b, geom_masses ? &*geom_masses : nullptr, written ? &*written : nullptr,
-                     out);
+    const BodySolids& solids = shapes[b];
+    WeldGroupDensity(model, b, shapes, geom_masses ? &*geom_masses : nullptr,
+                     written ? &*written : nullptr, out);
     // a point mass (zero moments, welded on or carried by its group) has no shape to fit
     bool point = body.I[0] == 0 && body.I[1] == 0 && body.I[2] == 0;
     bool sound = body.positive && body.triangle && !body.marker && !point && body.mass > 0;

@@ -133,9 +133,7 @@ std::string Measured(const mjModel* m, int b, const Solid& shape, const FrameFit
                 "{:.2f}) vs ({:.2f}, {:.2f}, {:.2f}))",
                 fit.angle, MomentWord(fit.axis), fit.body_axis[0], fit.body_axis[1],
                 fit.body_axis[2], fit.shape_axis[0], fit.shape_axis[1], fit.shape_axis[2]);
-  return fmt::format(
-      "{}; {}; shape: {} geom{}{}", offset, axes, shape.geoms, shape.geoms == 1 ? "" : "s",
-      shape.meshes ? fmt::format(" ({} mesh{})", shape.meshes, shape.meshes == 1 ? "" : "es") : "");
+  return fmt::format("{}; {}; shape: {}", offset, axes, ShapeWords(shape));
 }
 
 // The solid to hold the inertial frame against: the body's shape, or where that has open meshes

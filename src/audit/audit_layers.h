@@ -180,9 +180,11 @@ void InertialFrameAgainstShape(const Model& model, int b, const BodySolids& soli
 // WARN row about b when the group's mass in the volume of its bodies' shapes is no solid's
 // density, and where the MJCF is at hand a WARN row per geom whose written mass is none in its
 // own volume (`geom_masses`: compat::WrittenGeomMasses, `written`: compat::ExplicitInertials;
-// null when unknown), unless that geom is the cause the group's row names.
-void WeldGroupDensity(const Model& model, int b, const std::vector<double>* geom_masses,
-                      const std::vector<bool>* written, std::vector<CheckRow>* out);
+// null when unknown), unless that geom is the cause the group's row names. `shapes`: BodySolid
+// of every moving body, by body id.
+void WeldGroupDensity(const Model& model, int b, const std::vector<BodySolids>& shapes,
+                      const std::vector<double>* geom_masses, const std::vector<bool>* written,
+                      std::vector<CheckRow>* out);
 // Mirror pairs (named left/right, FL/FR, ...) that do not mirror (audit_mirror.cc): joints'
 // limits and range widths, bodies' masses and principal moments, actuators' gears and gains.
 void MirrorJoints(const Model& model, std::vector<CheckRow>* out);

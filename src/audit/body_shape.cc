@@ -4,6 +4,8 @@
 
 #include "audit/body_shape.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -259,6 +261,14 @@ BodySolids BodySolid(const mjModel* m, int b) {
   }
   out.shape = visual.volume > colliding.volume ? visual : colliding;
   return out;
+}
+
+std::string ShapeWords(const Solid& shape) {
+  return fmt::format("its {} geom{}{}{}", shape.geoms, shape.geoms == 1 ? "" : "s",
+                     shape.meshes ? fmt::format(" ({} mesh{})", shape.meshes,
+                                                shape.meshes == 1 ? "" : "es")
+                                  : "",
+                     shape.approximate ? ", open meshes taken as their boxes" : "");
 }
 
 }  // namespace plumb::audit

@@ -9,6 +9,7 @@
 #include <mujoco/mujoco.h>
 
 #include <array>
+#include <string>
 
 namespace plumb::audit {
 
@@ -29,6 +30,10 @@ struct Solid {
   // Half the box's diagonal, m.
   double HalfDiagonal() const;
 };
+
+// How a row names a solid: "its 3 geoms (2 meshes)", ", open meshes taken as their boxes" added
+// when it is approximate.
+std::string ShapeWords(const Solid& shape);
 
 // The solid of geom g in its body's frame; volume 0 for planes, height fields and SDFs.
 Solid GeomSolid(const mjModel* m, int g);
