@@ -61,6 +61,7 @@ std::string Steps(double t, double h) {
 struct Verdict {
   double error = 0, linear_error = 0;
   bool diverges = false, clamped = false;
+  bool saturates = false;  // a clamped servo whose step saturates its force, judged both ways
   CheckStatus status = CheckStatus::kPass;
 };
 
@@ -68,7 +69,8 @@ Verdict Judge(const Element& e, double h, int integrator) {
   Verdict v;
   v.diverges = Diverges(e.linear, h, integrator);
   v.error = v.linear_error = v.diverges ? INFINITY : StepError(e.linear, h, integrator);
-  if (!v.diverges && e.clamped && Saturates(*e.clamped)) {
+  v.saturates = !v.diverges && e.clamped && Saturates(*e.clamped);
+  if (v.saturates) {
     double clamped = ClampedStepError(*e.clamped, h, integrator);
     if (clamped > v.error) v.error = clamped, v.clamped = true;
   }
@@ -87,7 +89,7 @@ std::string SaturationText(const Element& e, const Verdict& v, double h) {
   const ClampedServo& c = *e.clamped;
   bool actuator = std::min(c.force_hi, -c.force_lo) <= std::min(c.joint_hi, -c.joint_lo);
   double limit = std::min({c.force_hi, -c.force_lo, c.joint_hi, -c.joint_lo});
-  double damping_time = c.inertia / (c.kv + c.damping);
+  double damping_time = e.linear.DampingTime();  // I / (kv + d)
   return fmt::format(
       "; its force saturates at {} {:.3g} for steps beyond {:.3g}, and a step of {:.3g} ({}) "
       "is off by {} of the step ({}; the linear small-signal response {}): {}, and the "
@@ -124,9 +126,6 @@ std::string FixText(const Model& model, const Element& e, const Verdict& v) {
   auto count = [h](double t) {
     return std::isfinite(t) ? fmt::format("{:.3g} steps", t / h) : std::string("none");
   };
-  double period =
-      lin.stiffness > 0 ? 2 * M_PI * std::sqrt(lin.inertia / lin.stiffness) : INFINITY;
-  double damping_time = lin.damping > 0 ? lin.inertia / lin.damping : INFINITY;
   return fmt::format(
       "the {} at {} {}: its motion is the integrator's, not the model's (period {}, damping "
       "time {}{}). Give it {}{}or lower {}",
@@ -134,7 +133,7 @@ std::string FixText(const Model& model, const Element& e, const Verdict& v) {
       v.diverges ? "diverges at this timestep"
       : v.clamped ? "chatters when its force saturates"
                   : "is faster than the timestep resolves",
-      count(period), count(damping_time),
+      count(lin.Period()), count(lin.DampingTime()),
       v.clamped ? fmt::format(", judged on a saturating step of {:.3g}", e.clamped->step) : "",
       heavier, step > 0 ? fmt::format("a timestep <= {:.3g} s, ", step) : "", e.lower);
 }
@@ -144,9 +143,7 @@ CheckRow Row(const Model& model, const Element& e) {
   double h = m->opt.timestep;
   int integrator = m->opt.integrator;
   const LinearElement& lin = e.linear;
-  double period =
-      lin.stiffness > 0 ? 2 * M_PI * std::sqrt(lin.inertia / lin.stiffness) : INFINITY;
-  double damping_time = lin.damping > 0 ? lin.inertia / lin.damping : INFINITY;
+  double period = lin.Period(), damping_time = lin.DampingTime();
   Verdict v = Judge(e, h, integrator);
   std::string armature =
       e.dof >= 0 ? fmt::format(" (armature {:.3g})", m->dof_armature[e.dof]) : "";
@@ -156,13 +153,12 @@ CheckRow Row(const Model& model, const Element& e) {
       "response off by {} of the step under {} at h = {:g} s{}",
       Seconds(period), Steps(period, h), Seconds(damping_time), Steps(damping_time, h), e.gains,
       lin.inertia * e.scale, e.where, armature, Percent(v.error), name, h,
-      e.clamped && Saturates(*e.clamped) && !v.diverges ? SaturationText(e, v, h) : "");
+      v.saturates ? SaturationText(e, v, h) : "");
   std::string fix = v.status == CheckStatus::kPass
                         ? "the integrator's step response of the " + e.what +
                               "'s linear model against the exact one" +
-                              (e.clamped && Saturates(*e.clamped)
-                                   ? ", and of its clamped model on a saturating step"
-                                   : "")
+                              (v.saturates ? ", and of its clamped model on a saturating step"
+                                           : "")
                         : FixText(model, e, v);
   return WithNumbers(Make(L, kCheck, e.element, measured,
                           fmt::format("step response off by <= {:g} %", 100 * kErrorWarn),

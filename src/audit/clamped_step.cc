@@ -15,8 +15,6 @@
 namespace plumb::audit {
 namespace {
 
-constexpr int kMinSteps = 10, kMaxSteps = 100000;
-
 // The servo's force at (x, v) after both clamps, and whether a clamp that drops kv's derivative
 // holds it (MuJoCo's test for forcerange: the clamped force at or beyond a bound; the same for
 // the joint's clamp where it drops it).
@@ -89,14 +87,14 @@ class ExactFlow {
   double rate_, decay_;
 };
 
-int HorizonSteps(const ClampedServo& s, double h) {
+// The time the step takes to arrive: the linear element's settling time, plus the travel
+// under the limit (bang-bang, or at the velocity the joint damping lets it reach).
+double ArrivalTime(const ClampedServo& s) {
   double settle = SettleTime({s.inertia, s.kp, s.kv + s.damping, 0});
   double limit = Limit(s);
-  // bang-bang travel under the limit, or at the velocity the joint damping lets it reach
   double travel = limit > 0 ? 4 * std::sqrt(s.step * s.inertia / limit) + s.step * s.damping / limit
                             : 0;
-  double steps = std::ceil((settle + travel) / h);
-  return static_cast<int>(std::clamp(steps, double(kMinSteps), double(kMaxSteps)));
+  return settle + travel;
 }
 
 }  // namespace
@@ -107,7 +105,7 @@ double ClampedStepError(const ClampedServo& s, double h, int integrator, int sub
   if (!(s.inertia > 0) || !(s.step > 0)) return 0;
   ExactFlow exact(s, h / substeps);
   double x = -s.step, v = 0, rx = -s.step, rv = 0, worst = 0;
-  for (int n = HorizonSteps(s, h); n > 0; --n) {
+  for (int n = HorizonSteps(ArrivalTime(s), h); n > 0; --n) {
     Discrete(s, h, integrator, &x, &v);
     for (int k = 0; k < substeps; ++k) exact.Flow(&rx, &rv);
     double err = std::fabs(x - rx) / s.step;

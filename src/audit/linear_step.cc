@@ -80,13 +80,18 @@ double SpectralRadius(const Mat& a) {
   return std::fabs(half) + std::sqrt(disc);
 }
 
-// Steps over which the step response settles.
-int HorizonSteps(const LinearElement& e, double h) {
-  double steps = std::ceil(SettleTime(e) / h);
-  return static_cast<int>(std::clamp(steps, double(kMinSteps), double(kMaxSteps)));
+}  // namespace
+
+double LinearElement::Period() const {
+  return stiffness > 0 ? 2 * kPi * std::sqrt(inertia / stiffness) : INFINITY;
 }
 
-}  // namespace
+double LinearElement::DampingTime() const { return damping > 0 ? inertia / damping : INFINITY; }
+
+int HorizonSteps(double seconds, double h) {
+  double steps = std::ceil(seconds / h);
+  return static_cast<int>(std::clamp(steps, double(kMinSteps), double(kMaxSteps)));
+}
 
 double SettleTime(const LinearElement& e) {
   double det = e.stiffness / e.inertia, s = 0.5 * e.damping / e.inertia;
@@ -107,7 +112,7 @@ double StepError(const LinearElement& e, double h, int integrator) {
   double x[2] = {-1, 0}, y[2] = {-1, 0};
   if (judged == 1) x[0] = y[0] = 0, x[1] = y[1] = -1;
   double worst = 0;
-  for (int n = HorizonSteps(e, h); n > 0; --n) {
+  for (int n = HorizonSteps(SettleTime(e), h); n > 0; --n) {
     double x0 = exact[0] * x[0] + exact[1] * x[1], x1 = exact[2] * x[0] + exact[3] * x[1];
     double y0 = step[0] * y[0] + step[1] * y[1], y1 = step[2] * y[0] + step[3] * y[1];
     x[0] = x0, x[1] = x1, y[0] = y0, y[1] = y1;

@@ -20,7 +20,16 @@ struct LinearElement {
   double damping = 0;    // c >= 0, all of it
   // The part of c the Euler-type maps solve implicitly: (I + h c_implicit) (v' - v) = h f.
   double implicit_damping = 0;
+
+  // Its time scales, s: the period 2 pi sqrt(I / k) and the damping time I / c; +inf without
+  // a spring or a damper.
+  double Period() const;
+  double DampingTime() const;
 };
+
+// The number of steps of h in `seconds`, from 10 to 100000: the horizon a step response is
+// judged over.
+int HorizonSteps(double seconds, double h);
 
 // The exact map of (x, v) over time t: exp(A t), A = [0 1; -k/I -c/I] (clamped_step.cc
 // flows the unsaturated stretches of its reference with it).
